@@ -1,0 +1,90 @@
+// Alchemy ambient obscurance (McGuire et al. 2011; seed 000 §3.2.6, §4.6; seed 002 §2.E; seed 003 eq. 1):
+//
+//     A = max(0, 1 - (2 sigma / s) * sum_i max(0, v_i . n - z_C beta) / (v_i . v_i + epsilon)) ^ k
+//
+// with v_i = Q_i - C, C the view position of this pixel, n its normal, Q_i the view position at tap i,
+// s the number of taps evaluated, sigma = intensity, k = contrast, beta = bias, z_C beta the bias scaled
+// with distance. Sign: the paper writes + z_C beta with z_C < 0 (view-space z); our z_C is the positive
+// linear depth, so the bias is subtracted.
+//
+// Taps lie on a disc in screen space whose radius is the world radius frame.clip.z projected at depth z_C,
+// rotated per pixel (common/noise.glsl) and later blurred. Each tap is unprojected to the surface seen
+// there; the 1/|v|^2 falloff makes far taps (e.g. background) contribute nothing, so there is no range
+// check. Only taps that land on screen count in s.
+//
+// Axes: samples (N = AO_SAMPLES disc taps, common/kernels.glsl), progressive (1: only half
+// h = frame.frame_index.y of them, i = 2k + h, s <= N/2, seed 000 §4.10), normals and position and
+// reconstruct (via common/fetch.glsl), precision (estimator math in AOP).
+// Fetches per pixel: N + 1 depth (or position) texels, 1 normal (0 for normals = depth); N/2 + 1 progressive.
+#include "common/target.glsl"
+#include "common/frame.glsl"
+#include "common/fetch.glsl"
+#include "common/kernels.glsl"
+#include "common/noise.glsl"
+
+AO_UBO(1) uniform AOParams {
+    float intensity; // sigma
+    float contrast;  // k
+    float bias;      // beta
+    float epsilon;   // keeps the falloff finite for taps next to C
+} params;
+
+AO_LOC(0) in vec2 v_uv;
+layout(location = 0) out vec4 o_color;
+
+#if AO_PROGRESSIVE
+const int AO_TAPS = AO_SAMPLES / 2;
+#else
+const int AO_TAPS = AO_SAMPLES;
+#endif
+
+void main() {
+    vec3 c = ao_position(v_uv);
+    // Before the early-out: the depth-derived normal takes derivatives, which need uniform control flow.
+    AOP vec3 n = ao_normal(v_uv, c);
+    float z_c = -c.z;
+    if (ao_is_background(z_c)) {
+        o_color = vec4(1.0);
+        return;
+    }
+
+    // Disc radius in AO pixels, capped at a quarter of the screen so near geometry cannot make every tap
+    // miss the cache (or the screen).
+    float radius_px = min(frame.clip.z * frame.clip.w / z_c, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+    vec2 radius_uv = radius_px * frame.ao_size.zw;
+    vec2 rot = ao_rotation(ivec2(gl_FragCoord.xy));
+    mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x);
+
+    AOP float z_bias = z_c * params.bias;
+    AOP float epsilon = params.epsilon;
+    AOP float sum = 0.0;
+    int used = 0;
+#if AO_PROGRESSIVE
+    bool odd = frame.frame_index.y != 0;
+#endif
+    for (int k = 0; k < AO_TAPS; ++k) {
+#if AO_PROGRESSIVE
+        // A select between two constants once unrolled, rather than trigonometry on a runtime index.
+        vec2 d = odd ? ao_disc_sample(2 * k + 1, AO_SAMPLES) : ao_disc_sample(2 * k, AO_SAMPLES);
+#else
+        vec2 d = ao_disc_sample(k, AO_SAMPLES);
+#endif
+        vec2 uv = v_uv + (rotation * d) * radius_uv;
+        if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
+            continue;
+        }
+        // The difference of two nearby positions is taken in highp; only the small result drops to AOP.
+        AOP vec3 v = ao_position(uv) - c;
+        sum += max(0.0, dot(v, n) - z_bias) / (dot(v, v) + epsilon);
+        ++used;
+    }
+
+    AOP float a = 1.0;
+    if (used > 0) {
+        AOP float sigma = params.intensity;
+        AOP float contrast = params.contrast;
+        AOP float s = float(used);
+        a = pow(max(0.0, 1.0 - 2.0 * sigma / s * sum), contrast);
+    }
+    o_color = vec4(a, 1.0, 1.0, 1.0);
+}

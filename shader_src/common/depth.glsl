@@ -1,0 +1,30 @@
+// Linear depth (positive view-space distance, cleared to far) and the G-buffer texel lookup shared by
+// every G-buffer read. Needs no axis.
+#include "common/frame.glsl"
+
+AO_BINDING(2) uniform sampler2D ao_depth_tex;
+
+// G-buffer texel nearest to uv, clamped to the texture. G-buffer reads are point samples (texelFetch): a
+// filtered depth or position between two surfaces is a point on neither. The quarter-texel shift matters at
+// reduced AO resolution, where AO pixel centres fall exactly on full-resolution texel edges: it makes the
+// AO, blur and upsample passes all pick the same texel for the same AO pixel despite rounding.
+ivec2 ao_texel(vec2 uv, ivec2 size) {
+    return clamp(ivec2(floor(uv * vec2(size) - 0.25)), ivec2(0), size - 1);
+}
+
+// Centre of texel t in uv; view positions are rebuilt there so that xy and depth describe the same point.
+vec2 ao_texel_uv(ivec2 t, ivec2 size) {
+    return (vec2(t) + 0.5) / vec2(size);
+}
+
+float ao_depth_texel(ivec2 t) {
+    return texelFetch(ao_depth_tex, t, 0).r;
+}
+
+float ao_depth(vec2 uv) {
+    return ao_depth_texel(ao_texel(uv, textureSize(ao_depth_tex, 0)));
+}
+
+bool ao_is_background(float z) {
+    return z >= frame.clip.y * 0.999;
+}

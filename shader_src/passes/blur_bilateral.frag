@@ -1,0 +1,48 @@
+// Full 2-D bilateral filter at AO resolution (seed 000 §3.3.1, eq. 3.3): gaussian in distance times a
+// relative-depth weight over a (2R+1)^2 window, normalised by the weight sum. (2R+1)^2 taps against the
+// separable blur's 2 x (2R+1); seed 000 §5.7 finds the quality difference small. Reads: precision.
+#include "common/target.glsl"
+#include "common/frame.glsl"
+#include "common/depth.glsl"
+#include "common/bilateral.glsl"
+
+AO_UBO(1) uniform AOParams {
+    float radius_px;   // window half-size (integer part, 1 ... AO_BLUR_MAX_RADIUS)
+    float depth_sigma; // relative depth difference at which a tap's weight falls to 1/e
+} params;
+
+AO_BINDING(5) uniform sampler2D ao_input_tex;
+
+AO_LOC(0) in vec2 v_uv;
+layout(location = 0) out vec4 o_color;
+
+// Constant loop bounds (the manifest caps radius_px at 8); taps beyond the runtime radius are skipped.
+const int AO_BLUR_MAX_RADIUS = 8;
+
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    ivec2 size = ivec2(frame.ao_size.xy);
+    float z = ao_depth(v_uv);
+    if (ao_is_background(z)) {
+        o_color = vec4(1.0);
+        return;
+    }
+
+    int r = clamp(int(params.radius_px), 1, AO_BLUR_MAX_RADIUS);
+    AOP float sum = 0.0;
+    AOP float weight_sum = 0.0; // >= 1: the centre tap has weight 1
+    for (int y = -AO_BLUR_MAX_RADIUS; y <= AO_BLUR_MAX_RADIUS; ++y) {
+        for (int x = -AO_BLUR_MAX_RADIUS; x <= AO_BLUR_MAX_RADIUS; ++x) {
+            ivec2 q = p + ivec2(x, y);
+            if (max(abs(x), abs(y)) > r || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) {
+                continue;
+            }
+            float z_q = ao_depth((vec2(q) + 0.5) * frame.ao_size.zw);
+            AOP float w = ao_spatial_weight(float(x * x + y * y), float(r))
+                        * ao_depth_weight(z_q, z, params.depth_sigma);
+            sum += w * texelFetch(ao_input_tex, q, 0).r;
+            weight_sum += w;
+        }
+    }
+    o_color = vec4(sum / weight_sum, 1.0, 1.0, 1.0);
+}

@@ -1,0 +1,49 @@
+// Depth-aware separable blur at AO resolution (seed 000 §3.3.2, §4.3.4; seed 002 §3.2): run twice, with
+// params.axis = 0 (horizontal) then 1 (vertical). Each pass is a 1-D bilateral filter, gaussian in
+// distance times a relative-depth weight, normalised by this pixel's own weight sum. (The seed's combined
+// formula divides both passes by one 1/W_p^2; each pass has its own per-pixel sum, and only that keeps
+// flat regions at their value.) Reads: precision.
+#include "common/target.glsl"
+#include "common/frame.glsl"
+#include "common/depth.glsl"
+#include "common/bilateral.glsl"
+
+AO_UBO(1) uniform AOParams {
+    float radius_px;   // taps on each side of the centre (integer part, 1 ... AO_BLUR_MAX_RADIUS)
+    float depth_sigma; // relative depth difference at which a tap's weight falls to 1/e
+    float axis;        // renderer-set: 0 = horizontal, 1 = vertical
+} params;
+
+AO_BINDING(5) uniform sampler2D ao_input_tex;
+
+AO_LOC(0) in vec2 v_uv;
+layout(location = 0) out vec4 o_color;
+
+// Constant loop bound (the manifest caps radius_px at 8); taps beyond the runtime radius are skipped.
+const int AO_BLUR_MAX_RADIUS = 8;
+
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    ivec2 size = ivec2(frame.ao_size.xy);
+    float z = ao_depth(v_uv);
+    if (ao_is_background(z)) {
+        o_color = vec4(1.0);
+        return;
+    }
+
+    ivec2 dir = params.axis < 0.5 ? ivec2(1, 0) : ivec2(0, 1);
+    int r = clamp(int(params.radius_px), 1, AO_BLUR_MAX_RADIUS);
+    AOP float sum = 0.0;
+    AOP float weight_sum = 0.0; // >= 1: the centre tap has weight 1
+    for (int i = -AO_BLUR_MAX_RADIUS; i <= AO_BLUR_MAX_RADIUS; ++i) {
+        ivec2 q = p + i * dir;
+        if (abs(i) > r || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) {
+            continue;
+        }
+        float z_q = ao_depth((vec2(q) + 0.5) * frame.ao_size.zw);
+        AOP float w = ao_spatial_weight(float(i * i), float(r)) * ao_depth_weight(z_q, z, params.depth_sigma);
+        sum += w * texelFetch(ao_input_tex, q, 0).r;
+        weight_sum += w;
+    }
+    o_color = vec4(sum / weight_sum, 1.0, 1.0, 1.0);
+}

@@ -1,0 +1,178 @@
+// aovar: thin subcommands over the libraries (DESIGN.md §6).
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "compile/cache.h"
+#include "compile/generate.h"
+#include "shadergen/expand.h"
+#include "util/fs.h"
+
+namespace {
+using namespace aovar;
+
+struct CommonOptions {
+  std::string manifest = "shader_src/aovar.toml";
+  std::vector<std::string> globs;
+  std::vector<std::string> targets;
+  int jobs = 0;
+  bool werror = false;
+  std::string cache_dir;
+  bool no_cache = false;
+};
+
+void add_common(CLI::App* cmd, CommonOptions& o) {
+  cmd->add_option("--manifest,-m", o.manifest, "manifest file")->capture_default_str();
+  cmd->add_option("--variants", o.globs, "only variants whose key matches this glob (repeatable)");
+  cmd->add_option("--targets", o.targets, "vulkan,gl45,gles30 (default: the manifest's)")->delimiter(',');
+  cmd->add_option("--jobs,-j", o.jobs, "compile threads (default: cores)");
+  cmd->add_flag("--werror", o.werror, "treat glslang warnings as errors");
+  cmd->add_option("--cache-dir", o.cache_dir, "compile cache (default: $AOVAR_CACHE_DIR or ~/.cache/aovar)");
+  cmd->add_flag("--no-cache", o.no_cache, "compile everything, read and write no cache");
+}
+
+compile::CompileOptions compile_options(const CommonOptions& o) {
+  compile::CompileOptions c;
+  for (const auto& t : o.targets) {
+    auto target = variants::parse_target(t);
+    if (!target) throw std::runtime_error("--targets: unknown target '" + t + "' (use vulkan, gl45, gles30)");
+    c.targets.push_back(*target);
+  }
+  c.jobs = o.jobs;
+  c.werror = o.werror;
+  c.globs = o.globs;
+  if (!o.no_cache) c.cache_dir = o.cache_dir.empty() ? compile::CompileCache::default_dir() : std::filesystem::path(o.cache_dir);
+  return c;
+}
+
+// Prints diagnostics; returns false (and says so) when anything failed.
+bool report_diagnostics(const compile::CompiledSpace& c) {
+  for (const auto& d : c.diagnostics) std::cerr << d << "\n";
+  if (c.ok()) return true;
+  int failed = 0;
+  for (const auto& s : c.stats) failed += s.failed;
+  std::cerr << fmt::format("aovar: {} error(s), {} program build(s) failed; nothing was written\n", c.errors, failed);
+  return false;
+}
+
+std::string summary_table(const compile::CompiledSpace& c) {
+  std::string s = fmt::format("{:<8} {:>9} {:>7} {:>9} {:>7} {:>7} {:>12}\n", "target", "programs", "unique",
+                              "compiled", "cached", "failed", "spirv bytes");
+  for (std::size_t t = 0; t < c.targets.size(); ++t) {
+    const auto& st = c.stats[t];
+    s += fmt::format("{:<8} {:>9} {:>7} {:>9} {:>7} {:>7} {:>12}\n", variants::target_name(c.targets[t]),
+                     st.programs, st.unique, st.compiled, st.cached, st.failed, st.spirv_bytes);
+  }
+  return s + fmt::format("{}  ({} variants)\n", compile::counts_line(c), c.space.variants.size());
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+int run_list(const CommonOptions& o, bool show_pruned) {
+  auto c = compile::compile_space(o.manifest, compile_options(o));
+  if (!report_diagnostics(c)) return 1;
+  for (std::size_t v = 0; v < c.space.variants.size(); ++v) {
+    std::cout << c.space.variants[v].key;
+    if (c.variant_same_as[v] >= 0) std::cout << "  same as " << c.space.variants[c.variant_same_as[v]].key;
+    std::cout << "\n";
+  }
+  if (show_pruned)
+    for (const auto& p : c.space.pruned)
+      std::cout << p.key << "  dropped: " << c.manifest.rules[p.rule].reason << " (" << c.manifest.error_prefix()
+                << ":" << c.manifest.rules[p.rule].pos.line << ")\n";
+  std::cout << "# " << compile::counts_line(c) << "\n";
+  return 0;
+}
+
+int run_generate(const CommonOptions& o, const compile::OutputOptions& out) {
+  auto start = std::chrono::steady_clock::now();
+  auto options = compile_options(o);
+  auto c = compile::plan_space(o.manifest, options);
+  std::string print = compile::fingerprint(c, options, out);
+  if (!out.check) {
+    if (auto summary = compile::fresh_outputs(c, print, out)) {
+      compile::finish_outputs(c, out);
+      std::cout << *summary
+                << fmt::format("up to date: nothing compiled, no file written -> {} ({:.2f} s)\n",
+                               util::display_path(out.out), seconds_since(start));
+      return 0;
+    }
+  }
+  compile::build_programs(c, options);
+  if (!report_diagnostics(c)) return 1;
+  auto r = compile::write_outputs(c, out);
+  if (out.check) {
+    for (const auto& f : r.changed) std::cerr << "stale: " << f << "\n";
+    if (!r.changed.empty()) {
+      std::cerr << fmt::format("aovar: {} generated file(s) in {} are out of date: run aovar generate --out {}\n",
+                               r.changed.size(), util::display_path(out.out), util::display_path(out.out));
+      return 1;
+    }
+    std::cout << fmt::format("{} files up to date in {}\n", r.unchanged, util::display_path(out.out));
+    return 0;
+  }
+  std::string summary = summary_table(c);
+  compile::record_outputs(out, print, summary, r.files);
+  std::cout << summary
+            << fmt::format("files: {} written, {} unchanged, {} removed -> {} ({:.2f} s)\n", r.written, r.unchanged,
+                           r.removed, util::display_path(out.out), seconds_since(start));
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"aovar: generate, validate and measure SSAO shader variants"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("aovar 0.1.0 (") + compile::compiler_version() + ")");
+
+  CommonOptions list_opts;
+  bool show_pruned = false;
+  auto* list = app.add_subcommand("list", "print the variants after rules (one key a line) and the counts");
+  add_common(list, list_opts);
+  list->add_flag("--pruned", show_pruned, "also print every dropped variant with the rule's reason");
+
+  CommonOptions gen_opts;
+  compile::OutputOptions out;
+  std::string out_dir, depfile, depfile_target, stamp, emit = "index,source,spirv,cpp";
+  auto* gen = app.add_subcommand("generate", "templates -> per-target sources, SPIR-V, variants.json, C++ embedding");
+  add_common(gen, gen_opts);
+  gen->add_option("--out,-o", out_dir, "output folder")->required();
+  gen->add_option("--depfile", depfile, "write a gcc-style depfile listing the manifest and every template read");
+  gen->add_option("--depfile-target", depfile_target, "the output the depfile names (default: OUT/variants.json)");
+  gen->add_option("--stamp", stamp, "touch this file after a successful run (for build systems)");
+  gen->add_option("--emit", emit, "what to write: index,source,spirv,cpp")->capture_default_str();
+  gen->add_option("--namespace", out.cpp_namespace, "C++ namespace and file name of the embedding")->capture_default_str();
+  gen->add_flag("--check", out.check, "write nothing; exit 1 when any output would change (CI staleness check)");
+
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (list->parsed()) return run_list(list_opts, show_pruned);
+    out.out = out_dir;
+    out.emit = 0;
+    std::size_t start = 0;
+    while (start <= emit.size()) {
+      std::size_t end = emit.find(',', start);
+      std::string item = emit.substr(start, end == std::string::npos ? std::string::npos : end - start);
+      if (item == "index") out.emit |= compile::emit_index;
+      else if (item == "source") out.emit |= compile::emit_source;
+      else if (item == "spirv") out.emit |= compile::emit_spirv;
+      else if (item == "cpp") out.emit |= compile::emit_cpp;
+      else throw std::runtime_error("--emit: unknown item '" + item + "' (use index, source, spirv, cpp)");
+      if (end == std::string::npos) break;
+      start = end + 1;
+    }
+    if (!depfile.empty()) out.depfile = depfile;
+    if (!depfile_target.empty()) out.depfile_target = depfile_target;
+    if (!stamp.empty()) out.stamp = stamp;
+    return run_generate(gen_opts, out);
+  } catch (const std::exception& e) {
+    std::cerr << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,353 @@
+#include "compile/generate.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <fmt/format.h>
+#include <map>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "compile/cache.h"
+#include "shadergen/expand.h"
+#include "util/fs.h"
+#include "util/hash.h"
+
+namespace aovar::compile {
+namespace fs = std::filesystem;
+using variants::Target;
+
+int CompiledSpace::target_index(Target t) const {
+  auto it = std::find(targets.begin(), targets.end(), t);
+  return it == targets.end() ? -1 : static_cast<int>(it - targets.begin());
+}
+
+std::vector<std::string> CompiledSpace::variants_using(int t, int program) const {
+  std::vector<std::string> out;
+  for (const auto& v : space.variants)
+    for (const auto& pass : v.passes)
+      if (pass[0] == program || pass[1] == program) {
+        out.push_back(v.key);
+        break;
+      }
+  return out;
+}
+
+std::string counts_line(const CompiledSpace& c) {
+  if (c.space.filtered_out)  // --variants: dedup is over the selected variants only
+    return fmt::format("space {} / rules {} / selected {} / dedup {}", c.space.space, c.space.collapsed,
+                       c.space.variants.size(), c.dedup);
+  return fmt::format("space {} / rules {} / dedup {}", c.space.space, c.space.collapsed, c.dedup);
+}
+
+namespace {
+
+std::string program_hash(const std::string& text, variants::StageKind stage, Target target) {
+  util::Hasher h;
+  h.add(shadergen::generator_version()).add(compiler_version()).add(variants::target_name(target));
+  h.add(variants::stage_name(stage)).add(text);
+  return h.hex();
+}
+
+void run_parallel(std::size_t count, int jobs, const std::function<void(std::size_t)>& task) {
+  unsigned n = jobs > 0 ? static_cast<unsigned>(jobs) : std::max(1u, std::thread::hardware_concurrency());
+  n = static_cast<unsigned>(std::min<std::size_t>(n, count));
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    for (std::size_t i = next++; i < count; i = next++) task(i);
+  };
+  std::vector<std::thread> threads;
+  for (unsigned i = 1; i < n; ++i) threads.emplace_back(worker);
+  worker();
+  for (auto& t : threads) t.join();
+}
+
+struct GroupedDiagnostic {
+  std::string first_program;
+  std::string target;
+  int others = 0;
+};
+
+}  // namespace
+
+CompiledSpace plan_space(const fs::path& manifest_path, const CompileOptions& options) {
+  auto start = std::chrono::steady_clock::now();
+  CompiledSpace c;
+  c.manifest = variants::load_manifest(manifest_path);
+  c.space = variants::build_space(c.manifest, options.globs);
+  c.targets = options.targets.empty() ? c.manifest.targets : options.targets;
+  const auto& programs = c.space.programs;
+  const std::string manifest_display = c.manifest.error_prefix();
+
+  // Expand every program for every target on this thread: cheap, and it fixes the set of files read.
+  shadergen::TemplateReader reader(c.manifest.root);
+  std::vector<std::vector<shadergen::ExpandedSource>> expanded(c.targets.size());
+  for (std::size_t t = 0; t < c.targets.size(); ++t)
+    for (const auto& spec : programs) expanded[t].push_back(shadergen::expand(reader, spec, c.targets[t], manifest_display));
+  c.files = reader.files_read();
+  std::map<fs::path, int> file_index;
+  for (std::size_t i = 0; i < c.files.size(); ++i) file_index[c.files[i]] = static_cast<int>(i);
+
+  c.builds.assign(c.targets.size(), std::vector<ProgramBuild>(programs.size()));
+  for (std::size_t t = 0; t < c.targets.size(); ++t)
+    for (std::size_t p = 0; p < programs.size(); ++p) {
+      ProgramBuild& b = c.builds[t][p];
+      b.source = std::move(expanded[t][p].text);
+      for (const auto& f : expanded[t][p].files) b.files.push_back(file_index.at(f));
+      b.hash = program_hash(b.source, programs[p].stage, c.targets[t]);
+    }
+
+  c.seconds_compile = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return c;
+}
+
+void build_programs(CompiledSpace& c, const CompileOptions& options) {
+  auto start = std::chrono::steady_clock::now();
+  const auto& programs = c.space.programs;
+  const std::string manifest_display = c.manifest.error_prefix();
+  CompileCache cache(options.cache_dir);
+  run_parallel(c.targets.size() * programs.size(), options.jobs, [&](std::size_t i) {
+    std::size_t t = i / programs.size(), p = i % programs.size();
+    ProgramBuild& b = c.builds[t][p];
+    if (auto hit = cache.load(b.hash)) {
+      b.output = std::move(*hit);
+    } else {
+      b.output = compile_program(b.source, programs[p].stage, c.targets[t]);
+      b.compiled = true;
+      cache.store(b.hash, b.output);
+    }
+    b.ok = b.output.ok;
+  });
+
+  // Diagnostics, grouped so one template error shared by 400 programs reads as one line.
+  std::map<std::string, GroupedDiagnostic> grouped;
+  std::vector<std::string> order;
+  auto report = [&](const std::string& line, const std::string& program, Target target) {
+    auto [it, fresh] = grouped.try_emplace(line, GroupedDiagnostic{program, std::string(variants::target_name(target))});
+    if (fresh) order.push_back(line);
+    else ++it->second.others;
+  };
+  for (std::size_t t = 0; t < c.targets.size(); ++t) {
+    for (std::size_t p = 0; p < programs.size(); ++p) {
+      ProgramBuild& b = c.builds[t][p];
+      for (const auto& d : b.output.diagnostics) {
+        bool warning = d.severity == Diagnostic::Severity::warning;
+        if (warning && options.werror) b.ok = false;
+        std::string where;
+        if (d.source > 0 && d.source <= static_cast<int>(b.files.size()))
+          where = fmt::format("{}:{}: ", util::display_path(c.files[b.files[d.source - 1]]), d.line);
+        else if (d.source == 0)
+          where = fmt::format("{}: (generated preamble, line {}): ", programs[p].template_path, d.line);
+        else
+          where = util::display_path(c.manifest.root / programs[p].template_path) + ": ";
+        std::string sev = !warning ? "error" : options.werror ? "error (warning, --werror)" : "warning";
+        report(where + sev + ": " + d.message, programs[p].key, c.targets[t]);
+      }
+      if (b.ok) {  // every manifest parameter must be a float member of the stage's AOParams block
+        for (const auto& param : programs[p].params) {
+          auto it = std::find_if(b.output.params_block.begin(), b.output.params_block.end(),
+                                 [&](const UniformMember& m) { return m.name == param.name; });
+          if (it != b.output.params_block.end() && it->is_float) continue;
+          b.ok = false;
+          report(fmt::format("{}:{}:{}: error: parameter '{}' is not a float member of block AOParams in {}",
+                             manifest_display, param.pos.line, param.pos.column, param.name,
+                             programs[p].template_path),
+                 programs[p].key, c.targets[t]);
+        }
+      }
+    }
+  }
+  for (const auto& line : order) {
+    const auto& g = grouped[line];
+    bool is_error = line.find(": error") != std::string::npos;
+    (is_error ? c.errors : c.warnings)++;
+    std::string text = fmt::format("{} [{}; {}]", line, g.first_program, g.target);
+    if (g.others) text += fmt::format(" (and {} more program{})", g.others, g.others == 1 ? "" : "s");
+    c.diagnostics.push_back(std::move(text));
+  }
+
+  // Dedup: programs with identical SPIR-V (or identical preprocessed ES source) share one entry.
+  c.stats.assign(c.targets.size(), TargetStats{});
+  for (std::size_t t = 0; t < c.targets.size(); ++t) {
+    std::map<std::string, int> first;
+    TargetStats& s = c.stats[t];
+    for (std::size_t p = 0; p < programs.size(); ++p) {
+      ProgramBuild& b = c.builds[t][p];
+      ++s.programs;
+      (b.compiled ? s.compiled : s.cached)++;
+      if (!b.ok) {
+        ++s.failed;
+        if (c.errors == 0) c.errors = 1;  // a failed program is an error even without a message
+        continue;
+      }
+      auto [it, fresh] = first.emplace(b.output.identity, static_cast<int>(p));
+      if (!fresh) {
+        b.same_as = it->second;
+        continue;
+      }
+      ++s.unique;
+      s.spirv_bytes += b.output.spirv.size() * 4;
+    }
+  }
+
+  // Variant dedup: same canonical programs on every target and same pipeline axes = same variant.
+  std::map<std::string, int> seen;
+  std::vector<variants::Axis> pipeline = c.manifest.pipeline_reads;
+  for (const auto& pass : c.manifest.passes)
+    for (auto a : pass.when.axes()) pipeline.push_back(a);
+  // GLSL ES has no SPIR-V: its identity is the preprocessed text, which keeps dead functions. So when a
+  // SPIR-V target was generated, variants are compared on the SPIR-V targets only.
+  bool have_spirv = std::any_of(c.targets.begin(), c.targets.end(), [](Target t) { return t != Target::gles30; });
+  c.variant_same_as.assign(c.space.variants.size(), -1);
+  for (std::size_t v = 0; v < c.space.variants.size(); ++v) {
+    const auto& var = c.space.variants[v];
+    std::string id;
+    for (std::size_t t = 0; t < c.targets.size(); ++t)
+      for (const auto& pass : var.passes)
+        if (!(have_spirv && c.targets[t] == Target::gles30))
+        for (int prog : pass) {
+          int canon = prog < 0 ? prog : (c.builds[t][prog].same_as >= 0 ? c.builds[t][prog].same_as : prog);
+          id += std::to_string(canon) + ",";
+        }
+    for (auto a : pipeline) id += std::to_string(var.point[variants::index(a)]) + ";";
+    auto [it, fresh] = seen.emplace(id, static_cast<int>(v));
+    if (!fresh) c.variant_same_as[v] = it->second;
+  }
+  c.dedup = seen.size();
+  c.seconds_compile += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+CompiledSpace compile_space(const fs::path& manifest_path, const CompileOptions& options) {
+  CompiledSpace c = plan_space(manifest_path, options);
+  build_programs(c, options);
+  return c;
+}
+
+std::string fingerprint(const CompiledSpace& c, const CompileOptions& co, const OutputOptions& o) {
+  util::Hasher h;
+  h.add(shadergen::generator_version()).add(compiler_version()).add(c.manifest.text);
+  for (auto t : c.targets) h.add(variants::target_name(t));
+  h.add(o.emit).add(o.cpp_namespace).add(co.werror ? 1 : 0);
+  for (const auto& g : co.globs) h.add(g);
+  for (const auto& target : c.builds)
+    for (const auto& b : target) h.add(b.hash);
+  return h.hex();
+}
+
+namespace {
+constexpr const char* kStateFile = ".aovar-state";
+
+std::string file_signature(const fs::path& p) {
+  std::error_code ec;
+  auto size = fs::file_size(p, ec);
+  if (ec) return "missing";
+  auto time = fs::last_write_time(p, ec).time_since_epoch().count();
+  return std::to_string(size) + "@" + std::to_string(time);
+}
+}  // namespace
+
+std::optional<std::string> fresh_outputs(const CompiledSpace& planned, const std::string& print,
+                                         const OutputOptions& o) {
+  auto state = util::read_file(o.out / kStateFile);
+  if (!state) return std::nullopt;
+  std::istringstream in(*state);
+  std::string line, summary;
+  if (!std::getline(in, line) || line != print) return std::nullopt;
+  while (std::getline(in, line) && line != "--") summary += line + "\n";
+  while (std::getline(in, line)) {  // "<signature> <relative path>"
+    std::size_t space = line.find(' ');
+    if (space == std::string::npos || file_signature(o.out / line.substr(space + 1)) != line.substr(0, space))
+      return std::nullopt;
+  }
+  return summary;
+}
+
+void record_outputs(const OutputOptions& o, const std::string& print, const std::string& summary,
+                    const std::vector<fs::path>& files) {
+  std::string state = print + "\n" + summary;
+  if (!summary.empty() && summary.back() != '\n') state += "\n";
+  state += "--\n";
+  for (const auto& f : files) state += file_signature(f) + " " + f.lexically_relative(o.out).string() + "\n";
+  util::write_if_changed(o.out / kStateFile, state);
+}
+
+OutputReport write_outputs(const CompiledSpace& c, const OutputOptions& o) {
+  std::map<fs::path, std::string> files;
+  if (o.emit & emit_index) files[o.out / "variants.json"] = index_json(c);
+  for (std::size_t t = 0; t < c.targets.size(); ++t) {
+    fs::path dir = o.out / std::string(variants::target_name(c.targets[t]));
+    for (std::size_t p = 0; p < c.space.programs.size(); ++p) {
+      const ProgramBuild& b = c.builds[t][p];
+      if (!b.ok || b.same_as >= 0) continue;
+      const std::string& key = c.space.programs[p].key;
+      if (o.emit & emit_source) files[dir / key] = b.source;
+      if ((o.emit & emit_spirv) && !b.output.spirv.empty())
+        files[dir / (key + ".spv")] =
+            std::string(reinterpret_cast<const char*>(b.output.spirv.data()), b.output.spirv.size() * 4);
+    }
+  }
+  if (o.emit & emit_cpp) {
+    auto [header, source] = cpp_embedding(c, o.cpp_namespace);
+    files[o.out / (o.cpp_namespace + ".h")] = std::move(header);
+    files[o.out / (o.cpp_namespace + ".cpp")] = std::move(source);
+  }
+
+  OutputReport r;
+  for (const auto& [path, content] : files) {
+    r.files.push_back(path);
+    if (o.check) {
+      auto old = util::read_file(path);
+      if (old && *old == content) ++r.unchanged;
+      else r.changed.push_back(util::display_path(path) + (old ? " (differs)" : " (missing)"));
+      continue;
+    }
+    if (util::write_if_changed(path, content) == util::WriteResult::written) {
+      ++r.written;
+      r.changed.push_back(util::display_path(path));
+    } else {
+      ++r.unchanged;
+    }
+  }
+  // Programs that no longer exist leave no stale files behind in the folders this run owns.
+  if (o.emit & (emit_source | emit_spirv)) {
+    for (Target t : c.targets) {
+      fs::path dir = o.out / std::string(variants::target_name(t));
+      std::error_code ec;
+      for (const auto& entry : fs::directory_iterator(dir, ec)) {
+        std::string ext = entry.path().extension().string();
+        if (ext != ".vert" && ext != ".frag" && ext != ".spv") continue;
+        if (files.count(entry.path())) continue;
+        r.changed.push_back(util::display_path(entry.path()) + " (stale)");
+        ++r.removed;
+        if (!o.check) fs::remove(entry.path(), ec);
+      }
+    }
+  }
+  if (o.check) return r;
+  finish_outputs(c, o);
+  return r;
+}
+
+void finish_outputs(const CompiledSpace& c, const OutputOptions& o) {
+  if (o.depfile) {  // gcc-style: <output>: <manifest> <templates and includes>
+    auto escape = [](const fs::path& p) {
+      std::string s, raw = fs::absolute(p).lexically_normal().string();
+      for (char ch : raw) {
+        if (ch == ' ' || ch == '#') s += '\\';
+        if (ch == '$') s += '$';
+        s += ch;
+      }
+      return s;
+    };
+    std::string dep = escape(o.depfile_target.value_or(o.out / "variants.json")) + ":";
+    dep += " \\\n  " + escape(c.manifest.path);
+    for (const auto& f : c.files) dep += " \\\n  " + escape(f);
+    dep += "\n";
+    util::write_if_changed(*o.depfile, dep);
+  }
+  if (o.stamp) util::write_atomic(*o.stamp, "");
+}
+
+}  // namespace aovar::compile

@@ -1,0 +1,107 @@
+#pragma once
+// The variant compiler: manifest -> variant space -> expanded sources -> glslang (thread pool, cache)
+// -> dedup -> outputs (per-target sources and SPIR-V, variants.json, C++ embedding, depfile).
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "compile/glslang_compiler.h"
+#include "variants/space.h"
+
+namespace aovar::compile {
+
+struct CompileOptions {
+  std::vector<variants::Target> targets;  // empty = the manifest's
+  int jobs = 0;                           // 0 = hardware threads
+  bool werror = false;
+  std::filesystem::path cache_dir;        // empty = no cache
+  std::vector<std::string> globs;         // --variants
+};
+
+struct ProgramBuild {  // one program on one target
+  bool ok = false;
+  bool compiled = false;  // false when it came from the cache (or was not attempted)
+  std::string hash;       // content hash: source text, stage, target, compiler and generator versions
+  std::string source;     // the emitted source
+  std::vector<int> files; // indices into CompiledSpace::files that this program read
+  CompileOutput output;
+  int same_as = -1;       // program index holding the identical program on this target, -1 if canonical
+};
+
+struct TargetStats {
+  int programs = 0, unique = 0, compiled = 0, cached = 0, failed = 0;
+  std::uint64_t spirv_bytes = 0;  // unique programs only
+};
+
+struct CompiledSpace {
+  variants::Manifest manifest;
+  variants::VariantSpace space;
+  std::vector<variants::Target> targets;
+  std::vector<std::vector<ProgramBuild>> builds;  // [target][program]
+  std::vector<std::filesystem::path> files;       // every template and include read, sorted
+  std::vector<int> variant_same_as;               // per variant: -1, or index of the variant it duplicates
+  std::uint64_t dedup = 0;                        // variants left after dedup
+  std::vector<TargetStats> stats;                 // per target
+  std::vector<std::string> diagnostics;           // formatted, grouped: "file:line: error: msg [key; target]"
+  int errors = 0, warnings = 0;
+  double seconds_compile = 0;
+
+  bool ok() const { return errors == 0; }
+  int target_index(variants::Target t) const;
+  // Variants that use program `program` on target slot `t` (for "naming every failing variant").
+  std::vector<std::string> variants_using(int t, int program) const;
+};
+
+// plan_space: manifest, variant space, expanded sources and content hashes (no compiling).
+// build_programs: cache or compile every planned program, collect diagnostics, dedup.
+// compile_space = both. All throw variants::ManifestError / shadergen::TemplateError for manifest and
+// template problems; compile errors are collected in the result (all of them, with template positions).
+struct OutputOptions;
+CompiledSpace plan_space(const std::filesystem::path& manifest, const CompileOptions& options);
+void build_programs(CompiledSpace& planned, const CompileOptions& options);
+
+// Throws variants::ManifestError / shadergen::TemplateError for manifest and template problems;
+// compile errors are collected in the result (all of them, with template positions).
+CompiledSpace compile_space(const std::filesystem::path& manifest, const CompileOptions& options);
+
+enum Emit : unsigned { emit_index = 1, emit_source = 2, emit_spirv = 4, emit_cpp = 8, emit_all = 15 };
+
+struct OutputOptions {
+  std::filesystem::path out;
+  unsigned emit = emit_all;
+  std::string cpp_namespace = "aovar_shaders";
+  std::optional<std::filesystem::path> depfile;
+  std::optional<std::filesystem::path> depfile_target;  // default: <out>/variants.json
+  std::optional<std::filesystem::path> stamp;
+  bool check = false;  // compare only: write nothing, list what would change
+};
+
+struct OutputReport {
+  int written = 0, unchanged = 0, removed = 0;
+  std::vector<std::string> changed;  // paths written (or, with check, that would be written/removed)
+  std::vector<std::filesystem::path> files;  // every output of this run
+};
+
+OutputReport write_outputs(const CompiledSpace& compiled, const OutputOptions& options);
+// The depfile and stamp (write_outputs calls it; a no-op run calls it alone).
+void finish_outputs(const CompiledSpace& planned, const OutputOptions& options);
+
+// No-op detection: a fingerprint of everything the outputs depend on (program hashes, manifest, options).
+// record_outputs stores it with each output's size and mtime; fresh_outputs returns the stored summary
+// when the fingerprint matches and no output was touched since, so a no-op run compiles and writes nothing.
+std::string fingerprint(const CompiledSpace& planned, const CompileOptions& co, const OutputOptions& o);
+std::optional<std::string> fresh_outputs(const CompiledSpace& planned, const std::string& print,
+                                         const OutputOptions& o);
+void record_outputs(const OutputOptions& o, const std::string& print, const std::string& summary,
+                    const std::vector<std::filesystem::path>& files);
+
+// The counts line: "space N / rules R / dedup D".
+std::string counts_line(const CompiledSpace& c);
+
+// Renderers and tests: variants.json text and the C++ embedding (header, source).
+std::string index_json(const CompiledSpace& c);
+std::pair<std::string, std::string> cpp_embedding(const CompiledSpace& c, const std::string& ns);
+
+}  // namespace aovar::compile

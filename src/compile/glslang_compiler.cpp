@@ -1,0 +1,184 @@
+#include "compile/glslang_compiler.h"
+
+#include <glslang/Public/ResourceLimits.h>
+#include <glslang/Public/ShaderLang.h>
+#include <glslang/SPIRV/GlslangToSpv.h>
+#include <spirv-tools/libspirv.hpp>
+
+#include <mutex>
+#include <sstream>
+
+#include "util/hash.h"
+
+namespace aovar::compile {
+using variants::StageKind;
+using variants::Target;
+
+void initialise_compiler() {
+  static std::once_flag once;
+  std::call_once(once, [] { glslang::InitializeProcess(); });
+}
+
+std::string compiler_version() {
+  glslang::Version v = glslang::GetVersion();
+  return "glslang " + std::to_string(v.major) + "." + std::to_string(v.minor) + "." + std::to_string(v.patch) +
+         v.flavor + " / " + spvSoftwareVersionString();
+}
+
+namespace {
+
+// glslang writes "ERROR: 3:42: 'x' : undeclared identifier"; we keep source string, line and text.
+void parse_log(const std::string& log, std::vector<Diagnostic>& out) {
+  std::istringstream in(log);
+  std::string line;
+  while (std::getline(in, line)) {
+    Diagnostic d;
+    std::string rest;
+    if (line.rfind("ERROR: ", 0) == 0) {
+      rest = line.substr(7);
+    } else if (line.rfind("WARNING: ", 0) == 0) {
+      d.severity = Diagnostic::Severity::warning;
+      rest = line.substr(9);
+    } else {
+      continue;
+    }
+    if (rest.find("compilation errors.") != std::string::npos || rest.find("compilation terminated") == 0) continue;
+    int src = 0, ln = 0, consumed = 0;
+    if (std::sscanf(rest.c_str(), "%d:%d: %n", &src, &ln, &consumed) == 2 && consumed > 0) {
+      d.source = src;
+      d.line = ln;
+      rest = rest.substr(consumed);
+    }
+    d.message = rest;
+    bool dup = false;
+    for (const auto& e : out) dup |= e.source == d.source && e.line == d.line && e.message == d.message;
+    if (!dup) out.push_back(std::move(d));
+  }
+}
+
+struct FrontEnd {
+  glslang::EShClient client;
+  glslang::EShTargetClientVersion client_version;
+  glslang::EShTargetLanguageVersion spirv_version;
+  EShMessages messages;
+  bool emit_spirv;
+  spv_target_env validate_env;
+};
+
+EShLanguage language(StageKind s) { return s == StageKind::vertex ? EShLangVertex : EShLangFragment; }
+
+bool is_float_type(int gl_type) { return gl_type == 0x1406; /* GL_FLOAT */ }
+
+// Parses, links and (optionally) emits and validates SPIR-V. Appends diagnostics; returns success.
+bool run(const std::string& source, StageKind stage, const FrontEnd& fe, CompileOutput& out, bool reflect,
+         std::string* preprocessed) {
+  EShLanguage lang = language(stage);
+  glslang::TShader shader(lang);
+  const char* text = source.c_str();
+  int length = static_cast<int>(source.size());
+  shader.setStringsWithLengths(&text, &length, 1);
+  shader.setEnvInput(glslang::EShSourceGlsl, lang, fe.client, fe.client == glslang::EShClientNone ? 0 : 100);
+  if (fe.client != glslang::EShClientNone) {
+    shader.setEnvClient(fe.client, fe.client_version);
+    shader.setEnvTarget(glslang::EShTargetSpv, fe.spirv_version);
+  }
+  const TBuiltInResource* resources = GetDefaultResources();
+  if (preprocessed) {  // a separate TShader: one TShader is parsed once
+    glslang::TShader pre(lang);
+    pre.setStringsWithLengths(&text, &length, 1);
+    pre.setEnvInput(glslang::EShSourceGlsl, lang, fe.client, 0);
+    glslang::TShader::ForbidIncluder no_includes;
+    if (!pre.preprocess(resources, 100, ENoProfile, false, false, fe.messages, preprocessed, no_includes)) {
+      parse_log(pre.getInfoLog(), out.diagnostics);
+      return false;
+    }
+  }
+  bool ok = shader.parse(resources, 100, false, fe.messages);
+  parse_log(shader.getInfoLog(), out.diagnostics);
+  if (!ok) return false;
+  glslang::TProgram program;
+  program.addShader(&shader);
+  ok = program.link(fe.messages);
+  parse_log(program.getInfoLog(), out.diagnostics);
+  if (!ok) return false;
+  if (reflect && program.buildReflection(EShReflectionAllBlockVariables)) {
+    for (int i = 0; i < program.getNumUniformVariables(); ++i) {
+      const glslang::TObjectReflection& u = program.getUniform(i);
+      for (const char* prefix : {"AOParams.", "params."}) {
+        if (u.name.rfind(prefix, 0) == 0)
+          out.params_block.push_back({u.name.substr(std::string(prefix).size()), is_float_type(u.glDefineType)});
+      }
+    }
+  }
+  if (!fe.emit_spirv) return true;
+
+  glslang::SpvOptions options;
+  options.generateDebugInfo = false;
+  options.disableOptimizer = true;
+  options.validate = false;  // validated below with the target's environment
+  spv::SpvBuildLogger logger;
+  out.spirv.clear();
+  glslang::GlslangToSpv(*program.getIntermediate(lang), out.spirv, &logger, &options);
+  for (const std::string& msg : {logger.getAllMessages()}) {
+    if (msg.empty()) continue;
+    out.diagnostics.push_back({Diagnostic::Severity::warning, -1, 0, "SPIR-V back end: " + msg});
+  }
+  spvtools::SpirvTools tools(fe.validate_env);
+  std::string errors;
+  tools.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t& pos, const char* m) {
+    errors += "spirv-val: " + std::string(m) + " (word " + std::to_string(pos.index) + ")";
+  });
+  if (!tools.Validate(out.spirv)) {
+    out.diagnostics.push_back({Diagnostic::Severity::error, -1, 0, errors.empty() ? "spirv-val failed" : errors});
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+CompileOutput compile_program(const std::string& source, StageKind stage, Target target) {
+  initialise_compiler();
+  CompileOutput out;
+  const auto cascading = static_cast<EShMessages>(EShMsgCascadingErrors);
+  switch (target) {
+    case Target::vulkan: {
+      FrontEnd fe{glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2, glslang::EShTargetSpv_1_5,
+                  static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules | cascading), true,
+                  SPV_ENV_VULKAN_1_2};
+      out.ok = run(source, stage, fe, out, true, nullptr);
+      break;
+    }
+    case Target::gl45: {
+      FrontEnd glsl{glslang::EShClientNone, glslang::EShTargetClientVersion{}, glslang::EShTargetLanguageVersion{},
+                    cascading, false, SPV_ENV_OPENGL_4_5};
+      FrontEnd spirv{glslang::EShClientOpenGL, glslang::EShTargetOpenGL_450, glslang::EShTargetSpv_1_0,
+                     static_cast<EShMessages>(EShMsgSpvRules | cascading), true, SPV_ENV_OPENGL_4_5};
+      out.ok = run(source, stage, glsl, out, true, nullptr) && run(source, stage, spirv, out, false, nullptr);
+      break;
+    }
+    case Target::gles30: {
+      FrontEnd fe{glslang::EShClientNone, glslang::EShTargetClientVersion{}, glslang::EShTargetLanguageVersion{},
+                  cascading, false, SPV_ENV_UNIVERSAL_1_0};
+      std::string pre;
+      out.ok = run(source, stage, fe, out, true, &pre);
+      // Preprocessed text without #line/blank lines: equal text = same program whatever the defines were.
+      std::string normalised;
+      std::istringstream in(pre);
+      for (std::string line; std::getline(in, line);) {
+        if (line.find_first_not_of(" \t") == std::string::npos || line.rfind("#line", 0) == 0) continue;
+        normalised += line;
+        normalised += '\n';
+      }
+      out.identity = util::hash_hex(normalised);
+      break;
+    }
+  }
+  if (out.ok && target != Target::gles30)
+    out.identity = util::hash_hex(std::string_view(reinterpret_cast<const char*>(out.spirv.data()),
+                                                   out.spirv.size() * sizeof(std::uint32_t)));
+  if (!out.ok) out.spirv.clear();
+  return out;
+}
+
+}  // namespace aovar::compile

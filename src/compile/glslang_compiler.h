@@ -1,0 +1,43 @@
+#pragma once
+// In-process glslang front end + SPIR-V back end + SPIRV-Tools validation for one program and target.
+// Thread-safe: call from any number of threads (initialise_compiler() runs glslang's process setup once).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "variants/manifest.h"
+
+namespace aovar::compile {
+
+struct Diagnostic {
+  enum class Severity { error, warning };
+  Severity severity = Severity::error;
+  int source = -1;  // source-string number from the #line directives (0 = preamble, k = file k), -1 = none
+  int line = 0;
+  std::string message;
+};
+
+struct UniformMember {
+  std::string name;  // member name without the block prefix
+  bool is_float = false;
+};
+
+struct CompileOutput {
+  bool ok = false;
+  std::vector<std::uint32_t> spirv;      // vulkan: Vulkan SPIR-V 1.5; gl45: GL SPIR-V 1.0; gles30: empty
+  std::string identity;                  // equal identity = same program (SPIR-V bytes or preprocessed text)
+  std::vector<Diagnostic> diagnostics;
+  std::vector<UniformMember> params_block;  // members of block AOParams (all, used or not)
+};
+
+void initialise_compiler();
+
+// vulkan: GLSL 450 -> SPIR-V 1.5 (Vulkan 1.2 rules), validated by spirv-val.
+// gl45: GLSL 450 core validated as OpenGL GLSL, plus GL SPIR-V (ARB_gl_spirv) validated by spirv-val.
+// gles30: GLSL ES 3.00 validated by glslang's ES front end; identity from the preprocessed text.
+CompileOutput compile_program(const std::string& source, variants::StageKind stage, variants::Target target);
+
+// "glslang 12.0.0 / SPIRV-Tools ..." — part of every program's content hash.
+std::string compiler_version();
+
+}  // namespace aovar::compile

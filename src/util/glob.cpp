@@ -1,0 +1,16 @@
+#include "util/glob.h"
+
+#include <fnmatch.h>
+#include <string>
+
+namespace aovar::util {
+bool glob_match(std::string_view pattern, std::string_view text) {
+  return ::fnmatch(std::string(pattern).c_str(), std::string(text).c_str(), 0) == 0;
+}
+bool glob_any(const std::vector<std::string>& patterns, std::string_view text) {
+  if (patterns.empty()) return true;
+  for (const auto& p : patterns)
+    if (glob_match(p, text)) return true;
+  return false;
+}
+}  // namespace aovar::util

@@ -1,0 +1,114 @@
+#pragma once
+// The manifest (shader_src/aovar.toml): axes and their values, rules, passes, algorithms, targets.
+// Every error names the manifest file, line and column (ManifestError).
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "variants/axes.h"
+
+namespace aovar::variants {
+
+struct SourcePos {
+  int line = 0;
+  int column = 0;
+};
+
+// "path:line:column: error: what" — one line, ready for stderr.
+class ManifestError : public std::runtime_error {
+ public:
+  ManifestError(const std::string& file, SourcePos pos, const std::string& what);
+  SourcePos pos;
+};
+
+// A point in the variant space is one value index per axis; -1 marks a collapsed (unread) axis.
+using Point = std::array<int, kAxisCount>;
+
+// A conjunction over axes: each constrained axis lists the value indices it accepts.
+struct Predicate {
+  std::array<std::uint64_t, kAxisCount> allowed{};  // bit i = value i accepted; 0 = axis unconstrained
+  bool matches(const Point& p) const;
+  bool unconstrained() const;
+  std::vector<Axis> axes() const;
+};
+
+struct Rule {
+  enum class Kind { skip, only };
+  Kind kind = Kind::skip;
+  Predicate when;   // skip: unused; only: the variants the rule is about
+  Predicate match;  // skip: dropped when matched; only: kept only when matched
+  std::string reason;
+  SourcePos pos;
+};
+
+struct Param {
+  std::string name;
+  double value = 0, min = 0, max = 0;
+  std::string source;  // where the default comes from (seed section)
+  SourcePos pos;
+};
+
+struct Stage {
+  bool present = false;
+  std::string template_pattern;   // may contain {axis} placeholders
+  bool reads_algorithm = false;   // `reads = "algorithm"`: reads and params come from [algorithms.<name>]
+  std::vector<Axis> reads;
+  std::vector<Axis> placeholders;
+  SourcePos pos;
+};
+
+enum class StageKind { vertex, fragment };
+inline constexpr std::array<StageKind, 2> kStages = {StageKind::vertex, StageKind::fragment};
+std::string_view stage_name(StageKind s);       // "vertex" / "fragment"
+std::string_view stage_extension(StageKind s);  // "vert" / "frag"
+
+struct Pass {
+  std::string name;
+  Predicate when;
+  Stage vertex, fragment;
+  std::vector<Param> params;
+  SourcePos pos;
+  const Stage& stage(StageKind s) const { return s == StageKind::vertex ? vertex : fragment; }
+};
+
+struct Algorithm {
+  std::string name;
+  std::vector<Axis> reads;
+  std::vector<Param> params;
+  std::string source;
+  SourcePos pos;
+};
+
+enum class Target { vulkan, gl45, gles30 };
+inline constexpr std::array<Target, 3> kAllTargets = {Target::vulkan, Target::gl45, Target::gles30};
+std::string_view target_name(Target t);
+std::optional<Target> parse_target(std::string_view name);
+
+struct Manifest {
+  std::filesystem::path path;  // as given
+  std::filesystem::path root;  // templates are resolved relative to this folder (the manifest's)
+  std::string text;            // the manifest bytes
+  std::string name;
+  std::vector<Target> targets;
+  std::array<std::vector<AxisValue>, kAxisCount> values;
+  std::array<SourcePos, kAxisCount> axis_pos;
+  std::vector<Rule> rules;
+  std::vector<Axis> pipeline_reads;
+  std::vector<Pass> passes;
+  std::vector<Algorithm> algorithms;
+
+  const Algorithm* algorithm(std::string_view name) const;
+  const std::vector<AxisValue>& axis_values(Axis a) const { return values[index(a)]; }
+  const AxisValue& value(Axis a, int i) const { return values[index(a)][i]; }
+  std::string error_prefix() const;  // display path of the manifest
+};
+
+Manifest load_manifest(const std::filesystem::path& path);
+Manifest parse_manifest(std::string_view text, const std::filesystem::path& path);
+
+}  // namespace aovar::variants

@@ -1,0 +1,196 @@
+#include "variants/space.h"
+
+#include <algorithm>
+#include <fmt/format.h>
+#include <map>
+#include <set>
+
+#include "util/glob.h"
+
+namespace aovar::variants {
+
+namespace {
+
+const std::vector<Axis>& stage_reads(const Manifest& m, const Stage& s, const Point& p) {
+  if (!s.reads_algorithm) return s.reads;
+  return m.algorithm(m.value(Axis::algorithm, p[index(Axis::algorithm)]).text)->reads;
+}
+
+std::string resolve_template(const Manifest& m, const Stage& s, const Point& p) {
+  std::string out = s.template_pattern;
+  for (Axis a : s.placeholders) {
+    std::string token = "{" + std::string(axis_info(a).name) + "}";
+    const std::string& value = m.value(a, p[index(a)]).text;
+    for (std::size_t at = out.find(token); at != std::string::npos; at = out.find(token, at + value.size()))
+      out.replace(at, token.size(), value);
+  }
+  return out;
+}
+
+std::string stem_of(const std::string& path) {
+  std::size_t slash = path.find_last_of('/');
+  std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+  std::size_t dot = name.find('.');
+  return dot == std::string::npos ? name : name.substr(0, dot);
+}
+
+ProgramSpec make_program(const Manifest& m, const Pass& pass, StageKind kind, const Point& p) {
+  const Stage& s = pass.stage(kind);
+  ProgramSpec spec;
+  spec.stage = kind;
+  spec.pos = s.pos;
+  spec.template_path = resolve_template(m, s, p);
+  spec.key = stem_of(spec.template_path);
+  for (Axis a : stage_reads(m, s, p)) {
+    const AxisValue& v = m.value(a, p[index(a)]);
+    spec.key += "-" + key_token(a, v);
+    spec.defines.emplace_back(define_name(a, v), "1");
+    switch (axis_info(a).kind) {
+      case AxisKind::integer:
+      case AxisKind::fraction: spec.defines.emplace_back("AO_" + upper_identifier(axis_info(a).name), v.text); break;
+      case AxisKind::boolean:
+        spec.defines.emplace_back("AO_" + upper_identifier(axis_info(a).name), v.text == "true" ? "1" : "0");
+        break;
+      case AxisKind::name: break;
+    }
+  }
+  spec.key += ".";
+  spec.key += stage_extension(kind);
+  if (kind == StageKind::fragment) {
+    spec.params = pass.params;
+    if (s.reads_algorithm) {
+      const auto& extra = m.algorithm(m.value(Axis::algorithm, p[index(Axis::algorithm)]).text)->params;
+      spec.params.insert(spec.params.end(), extra.begin(), extra.end());
+    }
+  }
+  return spec;
+}
+
+}  // namespace
+
+std::string variant_key(const Manifest& m, const Point& p) {
+  std::string key;
+  for (int a = 0; a < kAxisCount; ++a) {
+    if (a) key += '-';
+    key += p[a] < 0 ? collapsed_token(axis_at(a)) : key_token(axis_at(a), m.value(axis_at(a), p[a]));
+  }
+  return key;
+}
+
+std::array<bool, kAxisCount> read_axes(const Manifest& m, const Point& p) {
+  std::array<bool, kAxisCount> read{};
+  read[index(Axis::algorithm)] = true;
+  for (Axis a : m.pipeline_reads) read[index(a)] = true;
+  for (const Pass& pass : m.passes) {
+    for (Axis a : pass.when.axes()) read[index(a)] = true;  // deciding whether the pass runs reads them
+    if (!pass.when.matches(p)) continue;
+    for (StageKind k : kStages) {
+      const Stage& s = pass.stage(k);
+      for (Axis a : stage_reads(m, s, p)) read[index(a)] = true;
+      for (Axis a : s.placeholders) read[index(a)] = true;
+    }
+  }
+  return read;
+}
+
+VariantSpace build_space(const Manifest& m, const std::vector<std::string>& globs) {
+  VariantSpace out;
+  out.rule_drops.assign(m.rules.size(), 0);
+  std::vector<std::uint64_t> would_drop(m.rules.size(), 0);  // each rule alone, for "matches nothing"
+
+  std::array<int, kAxisCount> sizes{};
+  out.space = 1;
+  for (int a = 0; a < kAxisCount; ++a) {
+    sizes[a] = static_cast<int>(m.values[a].size());
+    out.space *= static_cast<std::uint64_t>(sizes[a]);
+  }
+
+  std::map<std::string, VariantEntry> variants;
+  std::map<std::string, ProgramSpec> programs;
+  auto drops = [](const Rule& r, const Point& p) {
+    return r.kind == Rule::Kind::skip ? r.match.matches(p) : (r.when.matches(p) && !r.match.matches(p));
+  };
+
+  Point p{};
+  for (std::uint64_t n = 0; n < out.space; ++n) {
+    std::uint64_t rest = n;
+    for (int a = kAxisCount - 1; a >= 0; --a) {
+      p[a] = static_cast<int>(rest % sizes[a]);
+      rest /= sizes[a];
+    }
+    int dropped_by = -1;
+    for (std::size_t r = 0; r < m.rules.size(); ++r) {
+      if (!drops(m.rules[r], p)) continue;
+      ++would_drop[r];
+      if (dropped_by < 0) dropped_by = static_cast<int>(r);
+    }
+    if (dropped_by >= 0) {
+      ++out.rule_drops[dropped_by];
+      out.pruned.push_back({variant_key(m, p), dropped_by});
+      continue;
+    }
+    ++out.after_rules;
+
+    auto read = read_axes(m, p);
+    Point collapsed = p;
+    for (int a = 0; a < kAxisCount; ++a)
+      if (!read[a]) collapsed[a] = -1;
+    std::string key = variant_key(m, collapsed);
+    if (variants.count(key)) continue;
+    if (!util::glob_any(globs, key)) {
+      ++out.filtered_out;
+      variants.emplace(key, VariantEntry{});  // remember, so the collapse count stays right
+      continue;
+    }
+    VariantEntry v;
+    v.key = key;
+    v.point = collapsed;
+    for (const Pass& pass : m.passes) {
+      std::array<int, 2> ids{kNoProgram, kNoProgram};
+      if (pass.when.matches(p)) {
+        for (StageKind k : kStages) {
+          ProgramSpec spec = make_program(m, pass, k, p);
+          auto [it, fresh] = programs.emplace(spec.key, spec);
+          if (!fresh && it->second.template_path != spec.template_path)
+            throw ManifestError(m.error_prefix(), spec.pos,
+                                fmt::format("templates '{}' and '{}' give the same program key '{}': rename one",
+                                            it->second.template_path, spec.template_path, spec.key));
+          ids[k == StageKind::vertex ? 0 : 1] = 0;  // resolved to an index below
+        }
+      }
+      v.passes.push_back(ids);
+    }
+    variants.emplace(key, std::move(v));
+  }
+
+  for (std::size_t r = 0; r < m.rules.size(); ++r)
+    if (would_drop[r] == 0)
+      throw ManifestError(m.error_prefix(), m.rules[r].pos,
+                          "this rule matches no variant of the space, so it drops nothing: check its axis values "
+                          "against [axes] or remove it");
+
+  out.collapsed = variants.size();
+  std::map<std::string, int> program_index;
+  for (auto& [key, spec] : programs) {
+    program_index[key] = static_cast<int>(out.programs.size());
+    out.programs.push_back(std::move(spec));
+  }
+  for (auto& [key, v] : variants) {
+    if (v.key.empty()) continue;  // filtered out by the globs
+    // Recompute the program indices from the (representative) full point of this collapsed variant.
+    Point full = v.point;
+    for (int a = 0; a < kAxisCount; ++a)
+      if (full[a] < 0) full[a] = 0;
+    for (std::size_t i = 0; i < m.passes.size(); ++i) {
+      if (v.passes[i][1] == kNoProgram) continue;
+      for (StageKind k : kStages)
+        v.passes[i][k == StageKind::vertex ? 0 : 1] = program_index.at(make_program(m, m.passes[i], k, full).key);
+    }
+    out.variants.push_back(std::move(v));
+  }
+  std::sort(out.pruned.begin(), out.pruned.end(),
+            [](const PrunedVariant& a, const PrunedVariant& b) { return a.key < b.key; });
+  return out;
+}
+
+}  // namespace aovar::variants
