@@ -9,8 +9,8 @@
 //
 // Taps lie on a disc in screen space whose radius is the world radius frame.clip.z projected at depth z_C,
 // rotated per pixel (common/noise.glsl) and later blurred. Each tap is unprojected to the surface seen
-// there; the 1/|v|^2 falloff makes far taps (e.g. background) contribute nothing, so there is no range
-// check. Only taps that land on screen count in s.
+// there; the 1/|v|^2 falloff makes far taps (e.g. background) contribute almost nothing, so there is no
+// range check. Only taps that land on screen count in s.
 //
 // Axes: samples (N = AO_SAMPLES disc taps, common/kernels.glsl), progressive (1: only half
 // h = frame.frame_index.y of them, i = 2k + h, s <= N/2, seed 000 §4.10), normals and position and

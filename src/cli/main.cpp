@@ -107,7 +107,8 @@ int run_generate(const CommonOptions& o, const compile::OutputOptions& out) {
   if (!report_diagnostics(c)) return 1;
   auto r = compile::write_outputs(c, out);
   if (out.check) {
-    for (const auto& f : r.changed) std::cerr << "stale: " << f << "\n";
+    for (std::size_t i = 0; i < r.changed.size() && i < 20; ++i) std::cerr << "stale: " << r.changed[i] << "\n";
+    if (r.changed.size() > 20) std::cerr << "stale: ... and " << r.changed.size() - 20 << " more\n";
     if (!r.changed.empty()) {
       std::cerr << fmt::format("aovar: {} generated file(s) in {} are out of date: run aovar generate --out {}\n",
                                r.changed.size(), util::display_path(out.out), util::display_path(out.out));

@@ -10,6 +10,12 @@ using variants::AxisKind;
 
 namespace {
 
+std::string float_literal(double v) {
+  std::string s = fmt::format("{:.9g}", v);
+  if (s.find_first_of(".e") == std::string::npos) s += ".0";
+  return s + "f";
+}
+
 std::string enum_name(Axis a) {  // "depth_format" -> "DepthFormat"
   std::string out;
   bool up = true;
@@ -38,7 +44,7 @@ std::string field_value(const variants::Manifest& m, Axis a, int i) {
     case AxisKind::name: return enum_name(a) + "::" + v.text;
     case AxisKind::integer: return v.text;
     case AxisKind::boolean: return v.text;
-    case AxisKind::fraction: return v.text.find('.') == std::string::npos ? v.text + ".0f" : v.text + "f";
+    case AxisKind::fraction: return float_literal(v.number);
   }
   return "0";
 }
@@ -141,7 +147,9 @@ inline const PassPrograms& programs(const Variant& v, Target t, Pass p) {
       if (c.targets[t] != variants::Target::vulkan) glsl = raw_string(b.source);
       if (!spec.params.empty()) {
         s += fmt::format("const Param kParams_{}[] = {{", id);
-        for (const auto& prm : spec.params) s += fmt::format(" {{\"{}\", {}f, {}f, {}f}},", prm.name, prm.value, prm.min, prm.max);
+        for (const auto& prm : spec.params)
+          s += fmt::format(" {{\"{}\", {}, {}, {}}},", prm.name, float_literal(prm.value), float_literal(prm.min),
+                           float_literal(prm.max));
         s += " };\n";
         params = "kParams_" + id;
       }

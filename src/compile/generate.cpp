@@ -64,7 +64,8 @@ void run_parallel(std::size_t count, int jobs, const std::function<void(std::siz
   for (auto& t : threads) t.join();
 }
 
-struct GroupedDiagnostic {
+struct GroupedDiagnostic {  // one message at one place on one target, and how many programs share it
+  std::string line;
   std::string first_program;
   std::string target;
   int others = 0;
@@ -125,8 +126,9 @@ void build_programs(CompiledSpace& c, const CompileOptions& options) {
   std::map<std::string, GroupedDiagnostic> grouped;
   std::vector<std::string> order;
   auto report = [&](const std::string& line, const std::string& program, Target target) {
-    auto [it, fresh] = grouped.try_emplace(line, GroupedDiagnostic{program, std::string(variants::target_name(target))});
-    if (fresh) order.push_back(line);
+    std::string tn(variants::target_name(target));
+    auto [it, fresh] = grouped.try_emplace(line + "\x1f" + tn, GroupedDiagnostic{line, program, tn});
+    if (fresh) order.push_back(it->first);
     else ++it->second.others;
   };
   for (std::size_t t = 0; t < c.targets.size(); ++t) {
@@ -159,11 +161,11 @@ void build_programs(CompiledSpace& c, const CompileOptions& options) {
       }
     }
   }
-  for (const auto& line : order) {
-    const auto& g = grouped[line];
-    bool is_error = line.find(": error") != std::string::npos;
+  for (const auto& id : order) {
+    const auto& g = grouped[id];
+    bool is_error = g.line.find(": error") != std::string::npos;
     (is_error ? c.errors : c.warnings)++;
-    std::string text = fmt::format("{} [{}; {}]", line, g.first_program, g.target);
+    std::string text = fmt::format("{} [{}; {}]", g.line, g.first_program, g.target);
     if (g.others) text += fmt::format(" (and {} more program{})", g.others, g.others == 1 ? "" : "s");
     c.diagnostics.push_back(std::move(text));
   }
@@ -225,8 +227,19 @@ CompiledSpace compile_space(const fs::path& manifest_path, const CompileOptions&
   return c;
 }
 
+namespace {
+std::string file_signature(const fs::path& p) {
+  std::error_code ec;
+  auto size = fs::file_size(p, ec);
+  if (ec) return "missing";
+  auto time = fs::last_write_time(p, ec).time_since_epoch().count();
+  return std::to_string(size) + "@" + std::to_string(time);
+}
+}  // namespace
+
 std::string fingerprint(const CompiledSpace& c, const CompileOptions& co, const OutputOptions& o) {
   util::Hasher h;
+  h.add(file_signature("/proc/self/exe"));  // a rebuilt generator may emit differently
   h.add(shadergen::generator_version()).add(compiler_version()).add(c.manifest.text);
   for (auto t : c.targets) h.add(variants::target_name(t));
   h.add(o.emit).add(o.cpp_namespace).add(co.werror ? 1 : 0);
@@ -238,14 +251,6 @@ std::string fingerprint(const CompiledSpace& c, const CompileOptions& co, const 
 
 namespace {
 constexpr const char* kStateFile = ".aovar-state";
-
-std::string file_signature(const fs::path& p) {
-  std::error_code ec;
-  auto size = fs::file_size(p, ec);
-  if (ec) return "missing";
-  auto time = fs::last_write_time(p, ec).time_since_epoch().count();
-  return std::to_string(size) + "@" + std::to_string(time);
-}
 }  // namespace
 
 std::optional<std::string> fresh_outputs(const CompiledSpace& planned, const std::string& print,

@@ -1,0 +1,125 @@
+// Manifest errors carry file, line and column; good manifests parse into the expected structure.
+#include <gtest/gtest.h>
+
+#include "variants/manifest.h"
+#include "variants/space.h"
+
+namespace {
+using namespace aovar::variants;
+
+// A small, complete manifest; tests edit one piece of it.
+const std::string kBase = R"([manifest]
+targets = ["vulkan"]
+[axes]
+algorithm = ["alchemy"]
+samples = [4, 8]
+progressive = [false]
+normals = ["rg8", "depth"]
+position = ["depth", "position"]
+reconstruct = ["similar_triangles", "inverse_projection"]
+depth_format = ["r16f"]
+blur = ["none", "separable"]
+resolution = [1.0, 0.5]
+precision = ["highp"]
+[[rules]]
+skip = { resolution = 0.5, blur = "none" }
+reason = "blocky"
+[pipeline]
+reads = ["depth_format", "resolution"]
+[passes.gbuffer]
+vertex = { template = "passes/gbuffer.vert" }
+fragment = { template = "passes/gbuffer.frag", reads = ["normals", "position"] }
+[passes.ao]
+vertex = { template = "passes/fullscreen.vert" }
+fragment = { template = "ao/{algorithm}.glsl", reads = "algorithm" }
+[passes.blur]
+when = { blur = "separable" }
+vertex = { template = "passes/fullscreen.vert" }
+fragment = { template = "passes/blur_{blur}.frag" }
+[algorithms.alchemy]
+reads = ["samples", "normals", "position", "reconstruct"]
+params.intensity = { default = 1.0, min = 0.0, max = 4.0 }
+)";
+
+std::string with(const std::string& from, const std::string& to) {
+  std::string s = kBase;
+  auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) s.replace(at, from.size(), to);
+  return s;
+}
+
+// Expects a ManifestError whose message starts with "m.toml:<line>:<column>: error:" and contains `what`.
+void expect_error(const std::string& text, int line, int column, const std::string& what) {
+  try {
+    Manifest m = parse_manifest(text, "m.toml");
+    build_space(m);
+    FAIL() << "no error; expected " << what;
+  } catch (const ManifestError& e) {
+    std::string msg = e.what();
+    EXPECT_EQ(msg.rfind("m.toml:" + std::to_string(line) + ":" + std::to_string(column) + ": error: ", 0), 0u) << msg;
+    EXPECT_NE(msg.find(what), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
+  }
+}
+
+TEST(Manifest, ParsesAxesRulesPassesAndParams) {
+  Manifest m = parse_manifest(kBase, "m.toml");
+  EXPECT_EQ(m.axis_values(Axis::samples).size(), 2u);
+  EXPECT_EQ(m.value(Axis::resolution, 1).text, "0.5");
+  ASSERT_EQ(m.passes.size(), 3u);
+  EXPECT_EQ(m.passes[0].name, "gbuffer");  // file order, not alphabetical
+  EXPECT_EQ(m.passes[2].name, "blur");
+  EXPECT_TRUE(m.passes[1].fragment.reads_algorithm);
+  ASSERT_EQ(m.rules.size(), 1u);
+  EXPECT_EQ(m.rules[0].pos.line, 15);
+  ASSERT_NE(m.algorithm("alchemy"), nullptr);
+  EXPECT_EQ(m.algorithm("alchemy")->params.at(0).name, "intensity");
+}
+
+TEST(Manifest, UnknownAxisNamesItsPosition) {
+  expect_error(with("precision = [\"highp\"]", "precisoin = [\"highp\"]"), 13, 1, "unknown axis 'precisoin'");
+}
+
+TEST(Manifest, BadValueNamesItsPosition) {
+  expect_error(with("normals = [\"rg8\", \"depth\"]", "normals = [\"rg8\", \"rgb9\"]"), 7, 19,
+               "'rgb9' is not a value of axis 'normals'");
+  expect_error(with("resolution = [1.0, 0.5]", "resolution = [1.0, 0.3]"), 12, 20, "resolution must be 1/k");
+  expect_error(with("samples = [4, 8]", "samples = [4, \"8\"]"), 5, 15, "integers");
+}
+
+TEST(Manifest, RuleThatMatchesNothingIsAnError) {
+  // Every variant with blur = none already has blur = none: the rule can never drop anything.
+  expect_error(with("skip = { resolution = 0.5, blur = \"none\" }", "when = { blur = \"none\" }\nonly = { blur = \"none\" }"),
+               15, 8, "matches no variant");
+}
+
+TEST(Manifest, RuleValueMustBeListedInAxes) {
+  expect_error(with("skip = { resolution = 0.5,", "skip = { resolution = 0.25,"), 15, 23,
+               "value 0.25 is not listed in [axes].resolution");
+}
+
+TEST(Manifest, DuplicateKeyIsReportedByPosition) {
+  expect_error(with("samples = [4, 8]", "samples = [4, 8]\nsamples = [16]"), 6, 11, "cannot redefine");
+}
+
+TEST(Manifest, UnknownKeyAndMissingReason) {
+  expect_error(with("reason = \"blocky\"", "reasn = \"blocky\""), 16, 1, "unknown key 'reasn'");
+  expect_error(with("reason = \"blocky\"\n", ""), 14, 1, "needs a 'reason'");
+}
+
+TEST(Manifest, ParamDefaultOutsideRange) {
+  expect_error(with("default = 1.0, min = 0.0, max = 4.0", "default = 5.0, min = 0.0, max = 4.0"), 31, 32,
+               "outside [0, 4]");
+}
+
+TEST(Manifest, MissingFileIsOneLine) {
+  try {
+    load_manifest("/nonexistent/aovar.toml");
+    FAIL();
+  } catch (const ManifestError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/aovar.toml: error: cannot read"), std::string::npos);
+  }
+}
+
+}  // namespace

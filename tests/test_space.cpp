@@ -1,0 +1,130 @@
+// Enumeration, rules, collapse of unread axes, key spelling and stability.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include "test_support.h"
+#include "variants/manifest.h"
+#include "variants/space.h"
+
+namespace {
+using namespace aovar::variants;
+
+Manifest default_manifest() { return load_manifest(aovar::test::source_dir() / "shader_src/aovar.toml"); }
+
+TEST(Space, CountsFollowTheProductAndTheRules) {
+  Manifest m = default_manifest();
+  VariantSpace s = build_space(m);
+  std::uint64_t product = 1;
+  for (const auto& values : m.values) product *= values.size();
+  EXPECT_EQ(s.space, product);
+  std::uint64_t dropped = 0;
+  for (auto d : s.rule_drops) dropped += d;
+  EXPECT_EQ(s.after_rules + dropped, s.space);
+  EXPECT_EQ(s.pruned.size(), dropped);
+  EXPECT_LE(s.collapsed, s.after_rules);
+  EXPECT_GE(s.variants.size(), 700u) << "issue 2: at least 700 Alchemy variants";
+  for (std::size_t r = 0; r < m.rules.size(); ++r) EXPECT_GT(s.rule_drops[r], 0u) << "rule " << r;
+}
+
+TEST(Space, RulesDropWhatTheySayAndNothingElse) {
+  Manifest m = default_manifest();
+  VariantSpace s = build_space(m);
+  for (const auto& v : s.variants) {
+    // skip progressive without blur; only r16f with mediump (the default manifest's rules)
+    EXPECT_FALSE(v.key.find("-p1-") != std::string::npos && v.key.find("-bno-") != std::string::npos) << v.key;
+    EXPECT_FALSE(v.key.find("-d32-") != std::string::npos && v.key.ends_with("-mp")) << v.key;
+  }
+  // Every pruned variant names a rule whose predicate matches it.
+  for (const auto& p : s.pruned) {
+    ASSERT_GE(p.rule, 0);
+    ASSERT_LT(p.rule, static_cast<int>(m.rules.size()));
+  }
+  auto pruned_key = [&](const std::string& k) {
+    return std::any_of(s.pruned.begin(), s.pruned.end(), [&](const PrunedVariant& p) { return p.key == k; });
+  };
+  EXPECT_TRUE(pruned_key("alchemy-s08-p1-nrg8-zdep-rst-d16-bno-x1-hp"));
+  EXPECT_FALSE(pruned_key("alchemy-s08-p1-nrg8-zdep-rst-d16-bsep-x1-hp"));
+}
+
+TEST(Space, AxesAnAlgorithmDoesNotReadCollapse) {
+  Manifest m = default_manifest();
+  // Pretend Alchemy read no normals and no precision: those axes collapse to "_n" and "_f".
+  auto& reads = m.algorithms.at(0).reads;
+  reads.erase(std::remove(reads.begin(), reads.end(), Axis::normals), reads.end());
+  reads.erase(std::remove(reads.begin(), reads.end(), Axis::precision), reads.end());
+  // The G-buffer and blur stages still read normals/precision, so make them not read them either.
+  for (auto& p : m.passes) {
+    p.fragment.reads.clear();
+  }
+  m.rules.clear();
+  VariantSpace s = build_space(m);
+  std::set<std::string> keys;
+  for (const auto& v : s.variants) {
+    keys.insert(v.key);
+    EXPECT_NE(v.key.find("-_n-"), std::string::npos) << v.key;
+    EXPECT_TRUE(v.key.ends_with("-_f")) << v.key;
+  }
+  EXPECT_EQ(keys.size(), s.variants.size());
+  EXPECT_EQ(s.collapsed * m.values[index(Axis::normals)].size() * m.values[index(Axis::precision)].size(), s.space);
+}
+
+TEST(Space, KeysAreCanonicalSortedAndStable) {
+  Manifest m = default_manifest();
+  VariantSpace a = build_space(m);
+  VariantSpace b = build_space(default_manifest());
+  ASSERT_EQ(a.variants.size(), b.variants.size());
+  for (std::size_t i = 0; i < a.variants.size(); ++i) EXPECT_EQ(a.variants[i].key, b.variants[i].key);
+  EXPECT_TRUE(std::is_sorted(a.variants.begin(), a.variants.end(),
+                             [](const VariantEntry& x, const VariantEntry& y) { return x.key < y.key; }));
+  // The documented spelling (variants/axes.h): a key users and caches rely on.
+  Point p{};
+  auto at = [&](Axis axis, const std::string& text) {
+    const auto& vals = m.axis_values(axis);
+    auto it = std::find_if(vals.begin(), vals.end(), [&](const AxisValue& v) { return v.text == text; });
+    return static_cast<int>(it - vals.begin());
+  };
+  p[index(Axis::algorithm)] = at(Axis::algorithm, "alchemy");
+  p[index(Axis::samples)] = at(Axis::samples, "8");
+  p[index(Axis::progressive)] = at(Axis::progressive, "false");
+  p[index(Axis::normals)] = at(Axis::normals, "rg8");
+  p[index(Axis::position)] = at(Axis::position, "depth");
+  p[index(Axis::reconstruct)] = at(Axis::reconstruct, "similar_triangles");
+  p[index(Axis::depth_format)] = at(Axis::depth_format, "r16f");
+  p[index(Axis::blur)] = at(Axis::blur, "separable");
+  p[index(Axis::resolution)] = at(Axis::resolution, "0.5");
+  p[index(Axis::precision)] = at(Axis::precision, "mediump");
+  EXPECT_EQ(variant_key(m, p), "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x2-mp");
+  p[index(Axis::normals)] = -1;
+  EXPECT_EQ(variant_key(m, p), "alchemy-s08-p0-_n-zdep-rst-d16-bsep-x2-mp");
+}
+
+TEST(Space, ProgramsAreSharedBetweenVariants) {
+  VariantSpace s = build_space(default_manifest());
+  // The AO program does not read blur, resolution or depth format: 3 x 3 x 2 variants could share one.
+  std::size_t ao_programs = std::count_if(s.programs.begin(), s.programs.end(),
+                                          [](const ProgramSpec& p) { return p.key.rfind("alchemy-", 0) == 0; });
+  EXPECT_LT(ao_programs * 4, s.variants.size());
+  for (const auto& p : s.programs) {
+    if (p.key == "fullscreen.vert") EXPECT_TRUE(p.defines.empty());
+    if (p.key.rfind("alchemy-s08-p1-", 0) == 0) {
+      bool has_samples = false, has_progressive = false;
+      for (const auto& [name, value] : p.defines) {
+        has_samples |= name == "AO_SAMPLES" && value == "8";
+        has_progressive |= name == "AO_PROGRESSIVE" && value == "1";
+      }
+      EXPECT_TRUE(has_samples && has_progressive) << p.key;
+    }
+  }
+}
+
+TEST(Space, GlobsSelectVariants) {
+  Manifest m = default_manifest();
+  VariantSpace s = build_space(m, {"alchemy-s04-*-x4-*"});
+  ASSERT_FALSE(s.variants.empty());
+  for (const auto& v : s.variants) EXPECT_NE(v.key.find("-x4-"), std::string::npos);
+  EXPECT_EQ(s.variants.size() + s.filtered_out, s.collapsed);
+}
+
+}  // namespace

@@ -1,0 +1,57 @@
+#include "test_support.h"
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <stdexcept>
+#include <sys/wait.h>
+
+#include "util/fs.h"
+
+namespace aovar::test {
+namespace fs = std::filesystem;
+
+TempDir::TempDir() {
+  std::random_device rd;
+  path_ = fs::temp_directory_path() / ("aovar-test-" + std::to_string(rd()) + std::to_string(rd()));
+  fs::create_directories(path_);
+}
+TempDir::~TempDir() {
+  std::error_code ec;
+  fs::remove_all(path_, ec);
+}
+
+fs::path source_dir() { return AOVAR_SOURCE_DIR; }
+
+fs::path copy_shader_src(const TempDir& dir) {
+  fs::copy(source_dir() / "shader_src", dir / "shader_src", fs::copy_options::recursive);
+  return dir / "shader_src" / "aovar.toml";
+}
+
+void append_line(const fs::path& file, const std::string& line) {
+  std::ofstream(file, std::ios::app) << line << "\n";
+}
+
+void replace_in_file(const fs::path& file, const std::string& from, const std::string& to) {
+  std::string text = util::read_file(file).value();
+  auto at = text.find(from);
+  if (at == std::string::npos) throw std::runtime_error("'" + from + "' not found in " + file.string());
+  text.replace(at, from.size(), to);
+  util::write_atomic(file, text);
+}
+
+CommandResult run_aovar(const std::string& args) {
+  std::string cmd = std::string(AOVAR_EXE) + " " + args + " 2>&1";
+  CommandResult r;
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return r;
+  std::array<char, 4096> buf;
+  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), pipe)) r.output.append(buf.data(), n);
+  int status = ::pclose(pipe);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+}  // namespace aovar::test

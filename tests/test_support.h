@@ -1,0 +1,30 @@
+#pragma once
+#include <filesystem>
+#include <string>
+
+namespace aovar::test {
+
+// A fresh folder under the system temp dir, removed when the object goes away.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& rel) const { return path_ / rel; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+std::filesystem::path source_dir();                 // the repository root
+std::filesystem::path copy_shader_src(const TempDir& dir);  // copy of shader_src/, returns its manifest
+void append_line(const std::filesystem::path& file, const std::string& line);
+void replace_in_file(const std::filesystem::path& file, const std::string& from, const std::string& to);
+
+struct CommandResult {
+  int status = -1;
+  std::string output;  // stdout and stderr together
+};
+CommandResult run_aovar(const std::string& args);  // runs the built CLI
+
+}  // namespace aovar::test
