@@ -97,7 +97,10 @@ int run_generate(const CommonOptions& o, const compile::OutputOptions& out) {
   if (!out.check) {
     if (auto summary = compile::fresh_outputs(c, print, out)) {
       compile::finish_outputs(c, out);
-      std::cout << *summary
+      // The recorded table's compiled/cached columns describe the run that wrote the files: show only
+      // its counts line.
+      std::size_t counts = summary->find("space ");
+      std::cout << (counts == std::string::npos ? std::string() : summary->substr(counts))
                 << fmt::format("up to date: nothing compiled, no file written -> {} ({:.2f} s)\n",
                                util::display_path(out.out), seconds_since(start));
       return 0;
