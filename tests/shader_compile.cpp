@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
     int failing = 0;
     for (std::size_t p = 0; p < c.space.programs.size(); ++p) {
       if (c.builds[0][p].ok) continue;
-      for (const auto& key : c.variants_using(0, static_cast<int>(p))) {
+      for (const auto& key : c.variants_using(static_cast<int>(p))) {
         std::cout << "FAILED variant " << key << " (program " << c.space.programs[p].key << ")\n";
         ++failing;
       }

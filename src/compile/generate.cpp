@@ -24,7 +24,7 @@ int CompiledSpace::target_index(Target t) const {
   return it == targets.end() ? -1 : static_cast<int>(it - targets.begin());
 }
 
-std::vector<std::string> CompiledSpace::variants_using(int t, int program) const {
+std::vector<std::string> CompiledSpace::variants_using(int program) const {
   std::vector<std::string> out;
   for (const auto& v : space.variants)
     for (const auto& pass : v.passes)

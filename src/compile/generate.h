@@ -50,8 +50,8 @@ struct CompiledSpace {
 
   bool ok() const { return errors == 0; }
   int target_index(variants::Target t) const;
-  // Variants that use program `program` on target slot `t` (for "naming every failing variant").
-  std::vector<std::string> variants_using(int t, int program) const;
+  // Variants that use program `program` (for "naming every failing variant").
+  std::vector<std::string> variants_using(int program) const;
 };
 
 // plan_space: manifest, variant space, expanded sources and content hashes (no compiling).

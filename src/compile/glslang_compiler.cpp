@@ -119,10 +119,8 @@ bool run(const std::string& source, StageKind stage, const FrontEnd& fe, Compile
   spv::SpvBuildLogger logger;
   out.spirv.clear();
   glslang::GlslangToSpv(*program.getIntermediate(lang), out.spirv, &logger, &options);
-  for (const std::string& msg : {logger.getAllMessages()}) {
-    if (msg.empty()) continue;
+  if (std::string msg = logger.getAllMessages(); !msg.empty())
     out.diagnostics.push_back({Diagnostic::Severity::warning, -1, 0, "SPIR-V back end: " + msg});
-  }
   spvtools::SpirvTools tools(fe.validate_env);
   std::string errors;
   tools.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t& pos, const char* m) {

@@ -107,6 +107,7 @@ VariantSpace build_space(const Manifest& m, const std::vector<std::string>& glob
 
   std::map<std::string, VariantEntry> variants;
   std::map<std::string, ProgramSpec> programs;
+  std::map<std::string, std::vector<std::array<std::string, 2>>> pass_programs;  // variant -> program keys
   auto drops = [](const Rule& r, const Point& p) {
     return r.kind == Rule::Kind::skip ? r.match.matches(p) : (r.when.matches(p) && !r.match.matches(p));
   };
@@ -145,8 +146,9 @@ VariantSpace build_space(const Manifest& m, const std::vector<std::string>& glob
     VariantEntry v;
     v.key = key;
     v.point = collapsed;
+    auto& keys = pass_programs[key];
     for (const Pass& pass : m.passes) {
-      std::array<int, 2> ids{kNoProgram, kNoProgram};
+      std::array<std::string, 2>& ids = keys.emplace_back();
       if (pass.when.matches(p)) {
         for (StageKind k : kStages) {
           ProgramSpec spec = make_program(m, pass, k, p);
@@ -155,10 +157,9 @@ VariantSpace build_space(const Manifest& m, const std::vector<std::string>& glob
             throw ManifestError(m.error_prefix(), spec.pos,
                                 fmt::format("templates '{}' and '{}' give the same program key '{}': rename one",
                                             it->second.template_path, spec.template_path, spec.key));
-          ids[k == StageKind::vertex ? 0 : 1] = 0;  // resolved to an index below
+          ids[k == StageKind::vertex ? 0 : 1] = spec.key;
         }
       }
-      v.passes.push_back(ids);
     }
     variants.emplace(key, std::move(v));
   }
@@ -177,15 +178,9 @@ VariantSpace build_space(const Manifest& m, const std::vector<std::string>& glob
   }
   for (auto& [key, v] : variants) {
     if (v.key.empty()) continue;  // filtered out by the globs
-    // Recompute the program indices from the (representative) full point of this collapsed variant.
-    Point full = v.point;
-    for (int a = 0; a < kAxisCount; ++a)
-      if (full[a] < 0) full[a] = 0;
-    for (std::size_t i = 0; i < m.passes.size(); ++i) {
-      if (v.passes[i][1] == kNoProgram) continue;
-      for (StageKind k : kStages)
-        v.passes[i][k == StageKind::vertex ? 0 : 1] = program_index.at(make_program(m, m.passes[i], k, full).key);
-    }
+    for (const auto& ids : pass_programs.at(key))
+      v.passes.push_back({ids[0].empty() ? kNoProgram : program_index.at(ids[0]),
+                          ids[1].empty() ? kNoProgram : program_index.at(ids[1])});
     out.variants.push_back(std::move(v));
   }
   std::sort(out.pruned.begin(), out.pruned.end(),
