@@ -1,0 +1,75 @@
+#pragma once
+// One interface over Mesa's two CPU drivers: "lavapipe" (Vulkan 1.3 through the loader) and "osmesa"
+// (OpenGL 4.5 core through OSMesa). A backend uploads a scene, prepares a variant's PipelinePlan, renders
+// frames with a time per draw, and reads the result back as floats.
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "image/image.h"
+#include "render/frame.h"
+#include "render/plan.h"
+#include "scene/scene.h"
+
+namespace aovar::render {
+
+// One line for stderr: what failed and what to do ("no Vulkan CPU device (lavapipe) found: install
+// mesa-vulkan-drivers (scripts/deps)").
+class BackendError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct BackendOptions {
+  int threads = 2;          // LP_NUM_THREADS, set before the driver loads
+  bool validation = false;  // lavapipe: enable VK_LAYER_KHRONOS_validation; errors throw BackendError
+};
+
+struct DeviceInfo {
+  std::string backend;      // "lavapipe" / "osmesa"
+  std::string device;       // "llvmpipe (LLVM 15.0.6, 256 bits)"
+  std::string api_version;  // "Vulkan 1.3.230" / "OpenGL 4.5 (Core Profile) Mesa 22.3.6"
+  std::string driver;       // "Mesa 22.3.6"
+  int threads = 0;          // LP_NUM_THREADS in effect
+};
+
+// A prepared variant: its textures, pipelines and per-frame state (progressive history) on one backend.
+class PreparedPipeline {
+ public:
+  virtual ~PreparedPipeline() = default;
+  double create_ms = 0;  // time spent creating shaders, pipelines and targets (not the first-draw JIT)
+};
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual const DeviceInfo& info() const = 0;
+  virtual ClipDepth clip_depth() const = 0;
+
+  // Uploads the scene's vertex and index buffers (replacing any previous scene).
+  virtual void set_scene(const scene::Scene& scene) = 0;
+
+  // Builds every texture, shader and pipeline of the plan for an output of `size`.
+  // Throws BackendError when the driver rejects a shader (naming the program key and the driver's log).
+  virtual std::unique_ptr<PreparedPipeline> prepare(const PipelinePlan& plan, Extent size) = 0;
+
+  // Renders one frame and waits for it. Returns the time of each draw in ms, in plan.draws order:
+  // lavapipe from timestamp queries, osmesa from a wall clock around each draw plus glFinish.
+  virtual std::vector<double> render(PreparedPipeline& pipeline, const FrameSetup& frame) = 0;
+
+  // The result texture of the last rendered frame, as floats, row 0 = bottom of the view.
+  virtual image::FloatImage read_result(PreparedPipeline& pipeline) = 0;
+};
+
+std::vector<std::string> backend_names();  // {"lavapipe", "osmesa"}
+
+// Throws BackendError (unknown name, missing driver, failed context) with what to do.
+std::unique_ptr<Backend> make_backend(std::string_view name, const BackendOptions& options);
+
+// Implementations (render/lavapipe.cpp, render/osmesa.cpp).
+std::unique_ptr<Backend> make_lavapipe_backend(const BackendOptions& options);
+std::unique_ptr<Backend> make_osmesa_backend(const BackendOptions& options);
+
+}  // namespace aovar::render

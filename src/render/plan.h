@@ -1,0 +1,83 @@
+#pragma once
+// A variant's AO pipeline as a small render graph that every backend executes the same way: textures
+// (formats, sizes, clears) and an ordered list of draws (programs, parameter blocks, inputs, outputs).
+// All the knowledge of what a variant's axes mean for rendering lives here, not in the backends.
+//
+//   gbuffer (scene geometry, depth test) -> depth [+ normal] [+ position]        full resolution
+//   ao          fullscreen -> ao_half[parity]                                    AO resolution
+//   progressive fullscreen: ao_half[parity] + ao_half[1 - parity] -> ao_avg       AO resolution
+//   blur        separable: 2 draws (axis 0, 1) via blur_tmp; bilateral: 1 draw   AO resolution
+//   upsample    fullscreen -> ao_full (depth-aware)                               full resolution
+//
+// The last draw's output is the result; it is R32F so NaN and Inf survive to the read-back.
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "compile/generate.h"
+#include "render/frame.h"
+
+namespace aovar::render {
+
+enum class Format { r16f, r32f, rgba8, rg8, rgba32f };
+const char* format_name(Format f);
+int format_bytes(Format f);
+
+struct Texture {
+  std::string name;
+  Format format = Format::r16f;
+  bool full_resolution = true;      // else the AO pass extent
+  bool double_buffered = false;     // ao_half: frame parity p writes copy p; inputs may read the other
+  bool cleared = false;             // cleared to `clear` at the start of each frame (G-buffer targets)
+  std::array<float, 4> clear{0, 0, 0, 0};  // may use kClearFar (replaced by the view's far plane)
+};
+inline constexpr float kClearFar = -12345.0f;   // placeholder: +far
+inline constexpr float kClearNegFar = -54321.0f;  // placeholder: -far
+
+struct TextureRef {
+  int texture = -1;
+  bool previous = false;  // double-buffered texture: the copy written in the previous frame
+};
+
+struct Shader {
+  std::string program_key;          // e.g. "alchemy-s08-p0-nrg8-zdep-rst-hp.frag"
+  variants::StageKind stage = variants::StageKind::fragment;
+  std::vector<std::uint32_t> spirv;  // Vulkan SPIR-V (backend "lavapipe")
+  std::string glsl;                  // GLSL 450 core source (backend "osmesa")
+};
+
+struct Draw {
+  std::string name;   // "gbuffer", "ao", "progressive", "blur.h", "blur.v", "blur", "upsample"
+  std::string pass;   // timing group: the manifest pass name ("blur" for both separable draws)
+  bool geometry = false;  // draw the scene's triangles with a depth test; else a fullscreen triangle
+  int vertex = -1, fragment = -1;   // indices into PipelinePlan::shaders
+  std::vector<float> params;        // AOParams contents (std140: consecutive floats), empty = no block
+  std::vector<std::pair<int, TextureRef>> inputs;  // (binding, texture) for bindings 2..6
+  std::vector<TextureRef> outputs;  // colour attachment per location (texture -1 = location unused)
+  bool full_resolution = true;      // viewport: full output or AO extent
+};
+
+struct PipelinePlan {
+  std::string variant;  // key
+  std::map<std::string, std::string> axes;  // axis name -> value (collapsed axes get the manifest's first)
+  double resolution = 1.0;
+  bool progressive = false;
+  std::vector<Shader> shaders;
+  std::vector<Texture> textures;
+  std::vector<Draw> draws;
+  int result = -1;  // texture holding the final AO (full resolution, R32F)
+
+  std::vector<std::string> passes() const;  // timing groups in draw order, unique
+};
+
+// Parameter values by "<pass>.<name>" (e.g. "ao.intensity", "blur.radius_px"); missing = manifest default.
+using ParamOverrides = std::map<std::string, double>;
+
+// Builds the plan of variant `variant` (index into compiled.space.variants) for `target` (vulkan: SPIR-V,
+// gl45: GLSL source). `compiled` must hold successful builds for that target. Throws std::runtime_error
+// for an override naming no parameter, or a renderer-set block member the renderer does not know.
+PipelinePlan plan_pipeline(const compile::CompiledSpace& compiled, int variant, variants::Target target,
+                           const ParamOverrides& overrides = {});
+
+}  // namespace aovar::render
