@@ -118,7 +118,8 @@ AO_BINDING(5) uniform sampler2D ao_input_tex;
 AO_LOC(0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;
 
-// Constant loop bounds (the manifest caps radius_px at 8); taps beyond the runtime radius are skipped.
+// The manifest caps radius_px at 8. The loops run to the runtime radius: constant bounds of 8 with the
+// extra taps skipped cost 17 x 17 iterations per pixel whatever the radius (measured: ~94 ms at 640x360).
 const int AO_BLUR_MAX_RADIUS = 8;
 
 void main() {
@@ -133,10 +134,10 @@ void main() {
     int r = clamp(int(params.radius_px), 1, AO_BLUR_MAX_RADIUS);
     AOP float sum = 0.0;
     AOP float weight_sum = 0.0; // >= 1: the centre tap has weight 1
-    for (int y = -AO_BLUR_MAX_RADIUS; y <= AO_BLUR_MAX_RADIUS; ++y) {
-        for (int x = -AO_BLUR_MAX_RADIUS; x <= AO_BLUR_MAX_RADIUS; ++x) {
+    for (int y = -r; y <= r; ++y) {
+        for (int x = -r; x <= r; ++x) {
             ivec2 q = p + ivec2(x, y);
-            if (max(abs(x), abs(y)) > r || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) {
+            if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) {
                 continue;
             }
             float z_q = ao_depth((vec2(q) + 0.5) * frame.ao_size.zw);

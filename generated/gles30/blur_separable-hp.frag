@@ -121,7 +121,8 @@ AO_BINDING(5) uniform sampler2D ao_input_tex;
 AO_LOC(0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;
 
-// Constant loop bound (the manifest caps radius_px at 8); taps beyond the runtime radius are skipped.
+// The manifest caps radius_px at 8. The loop runs to the runtime radius: a constant bound of 8 with the
+// extra taps skipped cost 17 iterations per pixel whatever the radius (measured: 3x the time at r = 2).
 const int AO_BLUR_MAX_RADIUS = 8;
 
 void main() {
@@ -137,9 +138,9 @@ void main() {
     int r = clamp(int(params.radius_px), 1, AO_BLUR_MAX_RADIUS);
     AOP float sum = 0.0;
     AOP float weight_sum = 0.0; // >= 1: the centre tap has weight 1
-    for (int i = -AO_BLUR_MAX_RADIUS; i <= AO_BLUR_MAX_RADIUS; ++i) {
+    for (int i = -r; i <= r; ++i) {
         ivec2 q = p + i * dir;
-        if (abs(i) > r || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) {
+        if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) {
             continue;
         }
         float z_q = ao_depth((vec2(q) + 0.5) * frame.ao_size.zw);

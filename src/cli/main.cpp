@@ -5,9 +5,11 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <unistd.h>
 
 #include "compile/cache.h"
 #include "compile/generate.h"
+#include "measure/measure.h"
 #include "shadergen/expand.h"
 #include "util/fs.h"
 
@@ -128,6 +130,73 @@ int run_generate(const CommonOptions& o, const compile::OutputOptions& out) {
   return 0;
 }
 
+render::Extent parse_size(const std::string& text) {
+  render::Extent e;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &e.width, &x, &e.height, &extra) != 3 || (x != 'x' && x != 'X') ||
+      e.width < 1 || e.height < 1 || e.width > 16384 || e.height > 16384)
+    throw std::runtime_error("--size: expected WxH such as 640x360 (1 to 16384 each), got '" + text + "'");
+  return e;
+}
+
+render::ParamOverrides parse_params(const std::vector<std::string>& items) {
+  render::ParamOverrides out;
+  for (const auto& item : items) {
+    auto eq = item.find('=');
+    std::size_t used = 0;
+    double value = 0;
+    try {
+      if (eq != std::string::npos) value = std::stod(item.substr(eq + 1), &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (eq == std::string::npos || item.find('.') > eq || used == 0 || used != item.size() - eq - 1)
+      throw std::runtime_error("--param: expected PASS.NAME=NUMBER such as ao.intensity=1.5, got '" + item + "'");
+    out[item.substr(0, eq)] = value;
+  }
+  return out;
+}
+
+// The measured rows as a table: one line per variant, view and backend.
+void print_measure_table(const measure::MeasureResult& r) {
+  std::cout << fmt::format("{:<46} {:<9} {:<10} {:>8} {:>8} {:>8} {:>6}  {}\n", "variant", "backend", "view",
+                           "min ms", "median", "p90", "rel", "passes (min ms)");
+  for (const auto& row : r.rows) {
+    std::string passes;
+    for (const auto& [name, s] : row.passes) passes += fmt::format("{} {:.2f}  ", name, s.min);
+    std::cout << fmt::format("{:<46} {:<9} {:<10} {:>8.2f} {:>8.2f} {:>8.2f} {:>6.2f}  {}{}\n", row.variant,
+                             row.backend, row.view, row.time.min, row.time.median, row.time.p90, row.rel_time, passes,
+                             row.is_reference ? "(reference)" : row.reused ? "(reused)" : "");
+  }
+}
+
+int run_measure(const CommonOptions& common, measure::MeasureOptions o, const std::string& size,
+                const std::vector<std::string>& params, const std::string& out) {
+  o.manifest = common.manifest;
+  o.globs = common.globs;
+  o.jobs = common.jobs;
+  o.size = parse_size(size);
+  o.params = parse_params(params);
+  o.out = out;
+  if (!common.no_cache)
+    o.cache_dir = common.cache_dir.empty() ? compile::CompileCache::default_dir() : std::filesystem::path(common.cache_dir);
+  bool tty = isatty(fileno(stderr));
+  auto progress = [tty](const std::string& line) {
+    if (line.rfind("note: ", 0) == 0) std::cerr << (tty ? "\r\033[K" : "") << line << "\n";
+    else if (tty) std::cerr << "\r\033[K" << line << std::flush;
+  };
+  auto r = measure::run_measure(o, progress);
+  if (tty) std::cerr << "\r\033[K";
+  print_measure_table(r);
+  for (const auto& d : r.devices)
+    std::cout << fmt::format("# {}: {}, {}, {} threads\n", d.backend, d.device, d.api_version, d.threads);
+  std::cout << fmt::format("# scene {} ({} triangles), radius {:.3g}, {} at {}, {} reps after {} warm-up; {}; "
+                           "{} rows ({} reused) in {:.1f} s{}\n",
+                           r.scene, r.triangles, r.radius, o.reference, size, o.reps, o.warmup, r.counts, r.rows.size(),
+                           r.reused, r.wall_s, out.empty() ? "" : " -> " + util::display_path(std::filesystem::path(out) / "measure.json"));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -154,9 +223,38 @@ int main(int argc, char** argv) {
   gen->add_option("--namespace", out.cpp_namespace, "C++ namespace and file name of the embedding")->capture_default_str();
   gen->add_flag("--check", out.check, "write nothing; exit 1 when any output would change (CI staleness check)");
 
+  CommonOptions measure_common;
+  measure::MeasureOptions mo;
+  std::string measure_size = "640x360", measure_out, measure_scene = "builtin:atrium", views_file;
+  std::vector<std::string> measure_params;
+  auto* meas = app.add_subcommand("measure", "render and time variants on a scene through lavapipe / OSMesa");
+  add_common(meas, measure_common);
+  meas->add_option("--scene,-s", measure_scene, "builtin:atrium|spheres|stairs|cornell or an .obj/.gltf/.glb file")
+      ->capture_default_str();
+  meas->add_option("--views-file", views_file, "views side file (TOML or JSON) for the scene");
+  meas->add_option("--view", mo.views, "view name (repeatable; default: the scene's first view)");
+  meas->add_option("--backend,-b", mo.backends, "lavapipe, osmesa (repeatable or comma-separated)")
+      ->delimiter(',')->capture_default_str();
+  meas->add_option("--size", measure_size, "output size WxH")->capture_default_str();
+  meas->add_option("--reps", mo.reps, "timed rounds (min-of-N)")->capture_default_str();
+  meas->add_option("--warmup", mo.warmup, "discarded frames after the first (JIT) frame")->capture_default_str();
+  meas->add_option("--threads", mo.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
+  meas->add_option("--batch", mo.batch, "pipelines prepared and interleaved at once")->capture_default_str();
+  meas->add_option("--reference", mo.reference, "variant timed in every round (rel_time = 1)")->capture_default_str();
+  meas->add_option("--radius", mo.radius, "AO radius in world units (default: the scene's)");
+  meas->add_option("--param", measure_params, "override a parameter: PASS.NAME=VALUE (repeatable)");
+  meas->add_option("--out,-o", measure_out, "output folder: measure.json and images/");
+  meas->add_flag("!--no-images", mo.images, "write no PFM/PNG images");
+  meas->add_flag("!--no-reuse", mo.reuse, "measure everything again even when OUT/measure.json has the row");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (list->parsed()) return run_list(list_opts, show_pruned);
+    if (meas->parsed()) {
+      mo.scene = measure_scene;
+      mo.views_file = views_file;
+      return run_measure(measure_common, mo, measure_size, measure_params, measure_out);
+    }
     out.out = out_dir;
     out.emit = 0;
     std::size_t start = 0;

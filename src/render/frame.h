@@ -18,7 +18,7 @@ struct Extent {
 // read-back images have row 0 at the bottom of the view on both.
 enum class ClipDepth { zero_to_one, minus_one_to_one };
 
-// std140 layout of `AOFrame`: 3 mat4, 6 vec4, 1 ivec4 = 304 bytes.
+// std140 layout of `AOFrame`: 3 mat4, 5 vec4, 1 ivec4 = 288 bytes.
 struct FrameBlock {
   glm::mat4 view;
   glm::mat4 proj;
@@ -30,7 +30,7 @@ struct FrameBlock {
   glm::vec4 clip;
   glm::ivec4 frame_index;
 };
-static_assert(sizeof(FrameBlock) == 304, "AOFrame is 304 bytes in std140");
+static_assert(sizeof(FrameBlock) == 288, "AOFrame is 288 bytes in std140");
 
 struct FrameSetup {
   const scene::View* view = nullptr;

@@ -80,4 +80,9 @@ using ParamOverrides = std::map<std::string, double>;
 PipelinePlan plan_pipeline(const compile::CompiledSpace& compiled, int variant, variants::Target target,
                            const ParamOverrides& overrides = {});
 
+// The plan cut after draw `last_draw` (e.g. "ao"), whose output becomes the result (single-buffered,
+// R32F): for reading intermediate passes, e.g. one progressive half, in tests and stress checks.
+// Throws std::runtime_error when the plan has no such draw.
+PipelinePlan plan_prefix(const PipelinePlan& plan, const std::string& last_draw);
+
 }  // namespace aovar::render

@@ -1,0 +1,408 @@
+#include "measure/measure.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <optional>
+#include <set>
+
+#include <fmt/format.h>
+#include <malloc.h>
+#include <nlohmann/json.hpp>
+
+#include "compile/generate.h"
+#include "shadergen/expand.h"
+#include "util/fs.h"
+#include "util/glob.h"
+#include "util/hash.h"
+
+namespace aovar::measure {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+variants::Target backend_target(const std::string& backend) {
+  if (backend == "lavapipe") return variants::Target::vulkan;
+  if (backend == "osmesa") return variants::Target::gl45;
+  throw render::BackendError(fmt::format("unknown backend '{}' (use lavapipe or osmesa)", backend));
+}
+
+std::string size_text(render::Extent e) { return fmt::format("{}x{}", e.width, e.height); }
+
+json stats_json(const TimeStats& s) {
+  return {{"min", s.min}, {"median", s.median}, {"p90", s.p90}, {"n", s.n}};
+}
+TimeStats stats_from(const json& j) {
+  return {j.at("min").get<double>(), j.at("median").get<double>(), j.at("p90").get<double>(), j.at("n").get<int>()};
+}
+
+json row_json(const MeasureRow& r, const MeasureResult& res, const MeasureOptions& o) {
+  json axes = json::object();
+  for (const auto& [k, v] : r.axes) axes[k] = v;
+  json passes = json::object();
+  for (const auto& [k, s] : r.passes) passes[k] = stats_json(s);
+  return {{"variant", r.variant}, {"axes", axes}, {"duplicates", r.duplicates}, {"scene", res.scene},
+          {"view", r.view}, {"backend", r.backend}, {"size", size_text(o.size)}, {"threads", o.threads},
+          {"radius", res.radius}, {"spirv_hash", r.spirv_hash}, {"inputs_hash", r.inputs_hash},
+          {"time_ms", stats_json(r.time)}, {"passes", passes}, {"rel_time", r.rel_time},
+          {"rel_time_median", r.rel_time_median}, {"reference", r.reference}, {"is_reference", r.is_reference},
+          {"create_ms", r.create_ms}, {"first_frame_ms", r.first_frame_ms}, {"jit_ms", r.jit_ms},
+          {"health", {{"nan", r.health.nan}, {"inf", r.health.inf}, {"out_of_range", r.health.out_of_range},
+                      {"pixels", r.health.pixels}}},
+          {"mean_visibility", r.mean_visibility}, {"image", r.image}, {"preview", r.preview}};
+}
+
+MeasureRow row_from(const json& j) {
+  MeasureRow r;
+  r.variant = j.at("variant");
+  for (auto& [k, v] : j.at("axes").items()) r.axes.emplace_back(k, v.get<std::string>());
+  r.duplicates = j.at("duplicates").get<std::vector<std::string>>();
+  r.backend = j.at("backend");
+  r.view = j.at("view");
+  r.spirv_hash = j.at("spirv_hash");
+  r.inputs_hash = j.at("inputs_hash");
+  r.time = stats_from(j.at("time_ms"));
+  for (auto& [k, v] : j.at("passes").items()) r.passes.emplace_back(k, stats_from(v));
+  r.rel_time = j.at("rel_time");
+  r.rel_time_median = j.at("rel_time_median");
+  r.reference = j.at("reference");
+  r.is_reference = j.at("is_reference");
+  r.create_ms = j.at("create_ms");
+  r.first_frame_ms = j.at("first_frame_ms");
+  r.jit_ms = j.at("jit_ms");
+  const json& h = j.at("health");
+  r.health = {h.at("nan"), h.at("inf"), h.at("out_of_range"), h.at("pixels")};
+  r.mean_visibility = j.at("mean_visibility");
+  r.image = j.at("image");
+  r.preview = j.at("preview");
+  r.reused = true;
+  return r;
+}
+
+// Rows of an earlier measure.json by inputs hash; a missing or unreadable file reuses nothing.
+std::map<std::string, MeasureRow> previous_rows(const fs::path& out, const Progress& say) {
+  std::map<std::string, MeasureRow> rows;
+  auto text = util::read_file(out / "measure.json");
+  if (!text) return rows;
+  try {
+    json doc = json::parse(*text);  // named: a temporary in the range-for would die before the loop
+    for (const auto& j : doc.at("rows")) {
+      MeasureRow r = row_from(j);
+      if (!r.image.empty() && !fs::exists(out / r.image)) continue;  // its image went missing: measure again
+      rows.emplace(r.inputs_hash, std::move(r));
+    }
+  } catch (const std::exception& e) {
+    rows.clear();  // an older or damaged file: measure everything again
+    if (say) say(fmt::format("note: {}: not reused ({}); measuring everything again",
+                             util::display_path(out / "measure.json"), e.what()));
+  }
+  return rows;
+}
+
+struct VariantInputs {
+  std::string spirv_hash, inputs_hash;
+};
+
+VariantInputs variant_inputs(const compile::CompiledSpace& c, int v, int t, const render::PipelinePlan& plan,
+                             const std::string& context) {
+  util::Hasher programs;
+  for (const auto& pass : c.space.variants[v].passes)
+    for (int p : pass)
+      if (p >= 0) programs.add(c.builds[t][p].hash);
+  VariantInputs in;
+  in.spirv_hash = programs.hex();
+  util::Hasher all;
+  all.add(in.spirv_hash).add(context);
+  for (const auto& d : plan.draws) {
+    all.add(d.name);
+    for (float f : d.params) all.add(fmt::format("{}", f));
+  }
+  for (const auto& tex : plan.textures) all.add(tex.name).add(render::format_name(tex.format));
+  in.inputs_hash = all.hex();
+  return in;
+}
+
+std::string view_text(const scene::View& v) {
+  return fmt::format("{} {} {} {} {} {} {} {} {} {} {} {} {}", v.name, v.eye.x, v.eye.y, v.eye.z, v.target.x,
+                     v.target.y, v.target.z, v.up.x, v.up.y, v.up.z, v.fov_y_deg, v.near_plane, v.far_plane);
+}
+
+void write_json(const MeasureResult& res, const MeasureOptions& o) {
+  if (o.out.empty()) return;
+  util::write_atomic(o.out / "measure.json", to_json(res, o).dump(1) + "\n");
+}
+
+struct Candidate {
+  int variant;
+  render::PipelinePlan plan;
+  VariantInputs inputs;
+};
+
+}  // namespace
+
+void keep_heap_mapped() {
+  // llvmpipe allocates and frees large vertex-setup buffers on every geometry draw. With glibc's default
+  // thresholds those come from fresh mmaps or are trimmed back to the OS each time, so each frame pays
+  // page faults again and G-buffer times jump 2-4x at random (atrium: 5.3 ms alone, 13-20 ms between AO
+  // passes). Keeping freed memory in the heap removes that noise from every backend alike.
+  static const bool once = [] {
+    mallopt(M_TRIM_THRESHOLD, 1 << 30);
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+    return true;
+  }();
+  (void)once;
+}
+
+MeasureRow::Health image_health(const image::FloatImage& img) {
+  MeasureRow::Health h;
+  h.pixels = static_cast<long>(img.pixels.size());
+  for (float v : img.pixels) {
+    if (std::isnan(v)) ++h.nan;
+    else if (std::isinf(v)) ++h.inf;
+    else if (v < 0.0f || v > 1.0f) ++h.out_of_range;
+  }
+  return h;
+}
+
+MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
+  keep_heap_mapped();
+  auto start = Clock::now();
+  auto say = [&](const std::string& s) { if (progress) progress(s); };
+  if (o.reps < 1) throw std::runtime_error("--reps must be at least 1");
+  if (o.size.width < 1 || o.size.height < 1) throw std::runtime_error("--size must be WxH with W, H >= 1");
+  MeasureResult res;
+
+  scene::LoadOptions load;
+  load.views_file = o.views_file;
+  scene::Scene sc = scene::load_scene(o.scene, load);
+  std::vector<const scene::View*> views;
+  if (o.views.empty()) views.push_back(&sc.views.front());
+  for (const auto& name : o.views) views.push_back(&sc.view(name));
+  res.scene = sc.name;
+  res.scene_hash = sc.content_hash;
+  res.triangles = sc.triangle_count();
+  res.radius = o.radius > 0 ? o.radius : sc.ao_radius;
+
+  // Compile what the backends need (the reference variant too, when globs would leave it out).
+  std::vector<variants::Target> targets;
+  for (const auto& b : o.backends) {
+    auto t = backend_target(b);
+    if (std::find(targets.begin(), targets.end(), t) == targets.end()) targets.push_back(t);
+  }
+  compile::CompileOptions co;
+  co.targets = targets;
+  co.globs = o.globs;
+  if (!co.globs.empty()) co.globs.push_back(o.reference);
+  co.cache_dir = o.cache_dir;
+  co.jobs = o.jobs;
+  auto compile_start = Clock::now();
+  compile::CompiledSpace c = compile::compile_space(o.manifest, co);
+  res.compile_s = seconds_since(compile_start);
+  if (!c.ok())
+    throw std::runtime_error(fmt::format("{} (and {} more diagnostics): fix the templates first (aovar generate shows all)",
+                                         c.diagnostics.empty() ? "compile failed" : c.diagnostics.front(),
+                                         c.diagnostics.empty() ? 0 : c.diagnostics.size() - 1));
+
+  // Selection: globs, then variant dedup (duplicates are listed on their canonical row, not re-measured).
+  std::vector<int> selected;
+  std::map<int, std::vector<std::string>> duplicates;
+  int reference = -1;
+  for (std::size_t v = 0; v < c.space.variants.size(); ++v) {
+    const std::string& key = c.space.variants[v].key;
+    int canon = c.variant_same_as[v] >= 0 ? c.variant_same_as[v] : static_cast<int>(v);
+    if (key == o.reference) reference = canon;
+    if (!util::glob_any(o.globs, key)) continue;
+    if (canon != static_cast<int>(v)) duplicates[canon].push_back(key);
+    else selected.push_back(static_cast<int>(v));
+  }
+  if (selected.empty())
+    throw std::runtime_error(fmt::format("{}: no variant matches --variants {} (aovar list shows the keys)",
+                                         c.manifest.error_prefix(), fmt::join(o.globs, " ")));
+  if (reference < 0) {
+    reference = selected.front();
+    say(fmt::format("note: reference {} is not in the manifest; using {}", o.reference, c.space.variants[reference].key));
+  }
+  bool reference_selected = std::find(selected.begin(), selected.end(), reference) != selected.end();
+  res.counts = compile::counts_line(c);
+
+  auto previous = o.reuse && !o.out.empty() ? previous_rows(o.out, progress) : std::map<std::string, MeasureRow>{};
+
+  for (const auto& backend_name : o.backends) {
+    variants::Target target = backend_target(backend_name);
+    int t = c.target_index(target);
+    render::BackendOptions bo;
+    bo.threads = o.threads;
+    auto backend = render::make_backend(backend_name, bo);
+    res.devices.push_back(backend->info());
+    backend->set_scene(sc);
+
+    for (const scene::View* view : views) {
+      std::string context = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", shadergen::generator_version(),
+                                        sc.content_hash, view_text(*view), backend_name, backend->info().device,
+                                        backend->info().driver, size_text(o.size), o.threads, o.reps, o.warmup,
+                                        res.radius);
+      context += "|" + c.space.variants[reference].key;
+      auto make = [&](int v) {
+        Candidate cand{v, render::plan_pipeline(c, v, target, o.params), {}};
+        cand.inputs = variant_inputs(c, v, t, cand.plan, context);
+        return cand;
+      };
+      auto new_row = [&](const Candidate& cand) {
+        MeasureRow row;
+        row.variant = cand.plan.variant;
+        for (const auto& [k, v] : cand.plan.axes) row.axes.emplace_back(k, v);
+        if (auto d = duplicates.find(cand.variant); d != duplicates.end()) row.duplicates = d->second;
+        row.backend = backend_name;
+        row.view = view->name;
+        row.spirv_hash = cand.inputs.spirv_hash;
+        row.inputs_hash = cand.inputs.inputs_hash;
+        row.reference = c.space.variants[reference].key;
+        return row;
+      };
+
+      // Reuse rows whose inputs are unchanged; everything else is measured in batches with the reference.
+      std::vector<Candidate> todo;
+      for (int v : selected) {
+        if (v == reference) continue;
+        Candidate cand = make(v);
+        if (auto it = previous.find(cand.inputs.inputs_hash); it != previous.end()) {
+          res.rows.push_back(it->second);
+          ++res.reused;
+          continue;
+        }
+        todo.push_back(std::move(cand));
+      }
+      // The reference is re-measured whenever anything else is (rel_time needs it in the same rounds).
+      Candidate ref = make(reference);
+      if (todo.empty()) {
+        if (!reference_selected) continue;
+        if (auto it = previous.find(ref.inputs.inputs_hash); it != previous.end()) {
+          res.rows.push_back(it->second);
+          ++res.reused;
+          continue;
+        }
+      }
+
+      std::string where = fmt::format("{} {}", backend_name, view->name);
+      auto prep_start = Clock::now();
+      auto ref_pipeline = backend->prepare(ref.plan, o.size);
+      PipelineTiming ref_timing;  // accumulates over batches
+      double ref_first_ms = 0;
+      int batch_size = std::max(1, o.batch - 1);
+      int batches = std::max<int>(1, static_cast<int>((todo.size() + batch_size - 1) / batch_size));
+      for (int b = 0; b < batches; ++b) {
+        std::size_t lo = static_cast<std::size_t>(b) * batch_size;
+        std::size_t hi = std::min(todo.size(), lo + batch_size);
+        RunRecord run{backend_name, view->name, static_cast<int>(hi - lo) + 1};
+        std::vector<std::unique_ptr<render::PreparedPipeline>> prepared;
+        std::vector<render::PreparedPipeline*> pointers{ref_pipeline.get()};
+        for (std::size_t i = lo; i < hi; ++i) {
+          say(fmt::format("{}: batch {}/{}: preparing {}", where, b + 1, batches, todo[i].plan.variant));
+          prepared.push_back(backend->prepare(todo[i].plan, o.size));
+          pointers.push_back(prepared.back().get());
+        }
+        run.prepare_s = seconds_since(prep_start);
+
+        TimingOptions to{o.warmup, o.reps, res.radius};
+        auto timed = time_round_robin(*backend, pointers, *view, to, [&](const std::string& s) {
+          say(fmt::format("{}: batch {}/{}: {} ({} pipelines)", where, b + 1, batches, s, pointers.size()));
+        });
+        run.warmup_s = timed.wall_warmup_s;
+        run.timed_wall_s = timed.wall_timed_s;
+        run.timed_sum_s = timed.sum_timed_s;
+        const PipelineTiming& batch_ref = timed.pipelines[0];
+        if (b == 0) ref_first_ms = batch_ref.first_frame_ms;
+        double ref_min = summarize(batch_ref.total_ms).min;
+        for (std::size_t k = 0; k < batch_ref.total_ms.size(); ++k) {
+          ref_timing.total_ms.push_back(batch_ref.total_ms[k]);
+          ref_timing.draw_ms.push_back(batch_ref.draw_ms[k]);
+        }
+
+        auto read_start = Clock::now();
+        auto finish = [&](MeasureRow& row, const Candidate& cand, render::PreparedPipeline& p,
+                          const PipelineTiming& timing) {
+          row.time = summarize(timing.total_ms);
+          row.passes = pass_stats(cand.plan, timing);
+          row.create_ms = p.create_ms;
+          row.first_frame_ms = timing.first_frame_ms;
+          row.jit_ms = std::max(0.0, timing.first_frame_ms - row.time.min);
+          row.result = backend->read_result(p);
+          row.health = image_health(row.result);
+          double sum = 0;
+          for (float v : row.result.pixels) sum += std::isfinite(v) ? v : 0.0f;
+          row.mean_visibility = row.result.pixels.empty() ? 0 : sum / row.result.pixels.size();
+          if (!o.out.empty() && o.images) {
+            fs::path rel = fs::path("images") / backend_name / view->name / row.variant;
+            image::write_pfm(o.out / (rel.string() + ".pfm"), row.result);
+            image::write_png(o.out / (rel.string() + ".png"), row.result);
+            row.image = rel.string() + ".pfm";
+            row.preview = rel.string() + ".png";
+          }
+        };
+        for (std::size_t i = lo; i < hi; ++i) {
+          const PipelineTiming& timing = timed.pipelines[i - lo + 1];
+          MeasureRow row = new_row(todo[i]);
+          finish(row, todo[i], *prepared[i - lo], timing);
+          row.rel_time = ref_min > 0 ? row.time.min / ref_min : 0;
+          row.rel_time_median = median_ratio(timing, batch_ref);
+          res.rows.push_back(std::move(row));
+        }
+        if (b == batches - 1) {  // the reference's own row, from every round of every batch
+          MeasureRow row = new_row(ref);
+          row.is_reference = !reference_selected;
+          ref_timing.first_frame_ms = ref_first_ms;
+          finish(row, ref, *ref_pipeline, ref_timing);
+          row.rel_time = row.rel_time_median = 1.0;
+          res.rows.push_back(std::move(row));
+        }
+        run.readback_s = seconds_since(read_start);
+        res.runs.push_back(run);
+        res.wall_s = seconds_since(start);
+        write_json(res, o);  // after every batch: an interruption loses at most one batch
+        prep_start = Clock::now();
+      }
+    }
+  }
+  std::stable_sort(res.rows.begin(), res.rows.end(), [](const MeasureRow& a, const MeasureRow& b) {
+    return std::tie(a.backend, a.view, a.variant) < std::tie(b.backend, b.view, b.variant);
+  });
+  res.wall_s = seconds_since(start);
+  write_json(res, o);
+  return res;
+}
+
+json to_json(const MeasureResult& res, const MeasureOptions& o) {
+  json devices = json::array();
+  for (const auto& d : res.devices)
+    devices.push_back({{"backend", d.backend}, {"device", d.device}, {"api", d.api_version}, {"driver", d.driver},
+                       {"threads", d.threads}});
+  json runs = json::array();
+  for (const auto& r : res.runs)
+    runs.push_back({{"backend", r.backend}, {"view", r.view}, {"pipelines", r.pipelines}, {"prepare_s", r.prepare_s},
+                    {"warmup_s", r.warmup_s}, {"timed_wall_s", r.timed_wall_s}, {"timed_sum_s", r.timed_sum_s},
+                    {"readback_s", r.readback_s}});
+  json rows = json::array();
+  for (const auto& r : res.rows) rows.push_back(row_json(r, res, o));
+  return {{"tool", "aovar measure"},
+          {"scene", {{"name", res.scene}, {"hash", res.scene_hash}, {"triangles", res.triangles}}},
+          {"manifest", util::display_path(o.manifest)},
+          {"counts", res.counts},
+          {"size", size_text(o.size)},
+          {"reps", o.reps},
+          {"warmup", o.warmup},
+          {"threads", o.threads},
+          {"radius", res.radius},
+          {"devices", devices},
+          {"runs", runs},
+          {"wall_s", res.wall_s},
+          {"compile_s", res.compile_s},
+          {"reused", res.reused},
+          {"rows", rows}};
+}
+
+}  // namespace aovar::measure

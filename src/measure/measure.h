@@ -1,0 +1,95 @@
+#pragma once
+// `aovar measure`: compile the selected variants, render each one's full AO pipeline on a scene's views
+// through the chosen backends, time them round-robin against a reference variant, and write
+// measure.json plus a float image (PFM) and an 8-bit preview (PNG) per variant, view and backend.
+// Rows are keyed by a hash of everything that determines them, so an interrupted or repeated run reuses
+// what it already measured (measure.json is rewritten atomically after every batch).
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "measure/stats.h"
+#include "measure/timing.h"
+#include "render/backend.h"
+
+namespace aovar::measure {
+
+// The default reference variant: Alchemy, 8 samples, the mobile-typical buffers (seed 000's configuration).
+inline constexpr const char* kDefaultReference = "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
+
+struct MeasureOptions {
+  std::filesystem::path manifest = "shader_src/aovar.toml";
+  std::string scene = "builtin:atrium";
+  std::filesystem::path views_file;        // side file for the scene's views (optional)
+  std::vector<std::string> views;          // empty: the scene's first view (overview)
+  std::vector<std::string> backends = {"lavapipe"};
+  std::vector<std::string> globs;          // --variants
+  std::string reference = kDefaultReference;  // falls back to the first selected variant when absent
+  render::Extent size{640, 360};
+  int reps = 10;
+  int warmup = 2;
+  int threads = 2;
+  int batch = 24;                          // pipelines prepared and interleaved at once (memory bound)
+  float radius = 0;                        // world units; 0 = the scene's default
+  render::ParamOverrides params;           // "<pass>.<name>" -> value
+  std::filesystem::path out;               // empty: no files (tests)
+  bool images = true;
+  bool reuse = true;                       // keep rows of an earlier measure.json whose inputs match
+  std::filesystem::path cache_dir;         // compile cache (empty = none)
+  int jobs = 0;
+};
+
+struct MeasureRow {
+  std::string variant;
+  std::vector<std::pair<std::string, std::string>> axes;
+  std::vector<std::string> duplicates;  // selected variants with the same programs (not measured again)
+  std::string backend, view;
+  std::string spirv_hash;               // hash of every program the pipeline runs (backend's target)
+  std::string inputs_hash;              // programs, scene, view, backend, device, size, threads, reps, params
+  TimeStats time;                       // total per frame
+  std::vector<std::pair<std::string, TimeStats>> passes;
+  double rel_time = 0, rel_time_median = 0;
+  std::string reference;
+  bool is_reference = false;            // the reference, measured although no --variants glob selected it
+  double create_ms = 0, first_frame_ms = 0, jit_ms = 0;
+  struct Health { long nan = 0, inf = 0, out_of_range = 0, pixels = 0; } health;
+  double mean_visibility = 0;
+  std::string image, preview;           // paths relative to the output folder
+  image::FloatImage result;             // kept in memory for callers (tests); not serialised
+  bool reused = false;
+};
+
+struct RunRecord {  // one batch on one backend and view: where the time went
+  std::string backend, view;
+  int pipelines = 0;
+  double prepare_s = 0, warmup_s = 0, timed_wall_s = 0, timed_sum_s = 0, readback_s = 0;
+};
+
+struct MeasureResult {
+  std::string scene, scene_hash;
+  std::size_t triangles = 0;
+  float radius = 0;
+  std::vector<render::DeviceInfo> devices;
+  std::vector<MeasureRow> rows;
+  std::vector<RunRecord> runs;
+  std::string counts;  // "space N / rules R / selected S / dedup D"
+  double wall_s = 0, compile_s = 0;
+  int reused = 0;
+};
+
+// Throws std::runtime_error (and the scene/manifest/backend errors) with one-line messages. `progress`
+// gets transient status lines, and lines starting "note: " that a user should see even without a terminal.
+MeasureResult run_measure(const MeasureOptions& options, const Progress& progress = {});
+
+nlohmann::json to_json(const MeasureResult& result, const MeasureOptions& options);
+
+// Sets glibc's heap thresholds so freed driver buffers stay mapped (run_measure calls it; timing code
+// outside run_measure should too). Process-wide and idempotent.
+void keep_heap_mapped();
+
+// Health of a float image: NaN, Inf and values outside [0, 1].
+MeasureRow::Health image_health(const image::FloatImage& img);
+
+}  // namespace aovar::measure

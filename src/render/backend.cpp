@@ -1,0 +1,15 @@
+#include "render/backend.h"
+
+#include <fmt/format.h>
+
+namespace aovar::render {
+
+std::vector<std::string> backend_names() { return {"lavapipe", "osmesa"}; }
+
+std::unique_ptr<Backend> make_backend(std::string_view name, const BackendOptions& options) {
+  if (name == "lavapipe") return make_lavapipe_backend(options);
+  if (name == "osmesa") return make_osmesa_backend(options);
+  throw BackendError(fmt::format("unknown backend '{}' (use lavapipe or osmesa)", name));
+}
+
+}  // namespace aovar::render

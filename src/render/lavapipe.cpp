@@ -1,0 +1,701 @@
+// lavapipe backend: executes a PipelinePlan with Vulkan 1.3 dynamic rendering on Mesa's CPU driver and times
+// every draw with timestamp queries.
+//
+// Per prepared pipeline: every plan texture (two images when double-buffered), a depth buffer, one graphics
+// pipeline per draw, descriptor sets per draw and frame parity, the frame and parameter uniform buffers, a
+// timestamp query pool and command buffers recorded once per parity (re-recorded only when the clear values
+// or the scene change). Between draws every texture rests in SHADER_READ_ONLY_OPTIMAL.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <memory>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "render/backend.h"
+#include "render/lavapipe_device.h"
+
+// Vulkan structs are written `VkFoo foo{VK_STRUCTURE_TYPE_FOO};`: the rest zero-initialised on purpose.
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+
+namespace aovar::render {
+namespace {
+using namespace lvp;
+
+VkFormat vk_format(Format f) {
+  switch (f) {
+    case Format::r16f: return VK_FORMAT_R16_SFLOAT;
+    case Format::r32f: return VK_FORMAT_R32_SFLOAT;
+    case Format::rgba8: return VK_FORMAT_R8G8B8A8_UNORM;
+    case Format::rg8: return VK_FORMAT_R8G8_UNORM;
+    case Format::rgba32f: return VK_FORMAT_R32G32B32A32_SFLOAT;
+  }
+  return VK_FORMAT_UNDEFINED;
+}
+
+constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+
+VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize a) { return a > 1 ? (v + a - 1) / a * a : v; }
+
+std::uint64_t next_scene_generation() {
+  static std::atomic<std::uint64_t> counter{0};  // unique across backends: a recorded frame names its scene
+  return ++counter;
+}
+
+struct SceneBuffers {
+  Buffer positions, normals, indices;
+  std::uint32_t index_count = 0;
+  std::uint64_t generation = 0;  // 0 = no scene
+};
+
+struct TextureImages {
+  Image copies[2];
+  int count = 1;
+};
+
+struct DrawState {
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  VkExtent2D extent{};
+  VkDescriptorSet sets[2]{};  // per frame parity (one when nothing is double-buffered)
+  VkDeviceSize params_offset = 0, params_range = 0;
+};
+
+class LavapipePipeline final : public PreparedPipeline {
+ public:
+  explicit LavapipePipeline(std::shared_ptr<Device> d) : dev(std::move(d)) {}
+  ~LavapipePipeline() override;
+
+  std::shared_ptr<Device> dev;
+  Extent size, ao;
+  std::vector<Texture> textures;
+  std::vector<Draw> draws;  // copies of the plan's textures and draws; the SPIR-V is not kept
+  int result = -1;
+  int parities = 1;        // 2 when some texture is double-buffered
+  bool has_geometry = false;
+
+  std::vector<TextureImages> images;
+  Image depth;
+  std::vector<DrawState> states;
+  Buffer frame_ubo, params_ubo, readback;
+  VkDescriptorPool descriptor_pool = VK_NULL_HANDLE;
+  VkQueryPool queries = VK_NULL_HANDLE;
+  VkCommandBuffer frame_cmd[2]{};
+  VkCommandBuffer readback_cmd = VK_NULL_HANDLE;
+  VkFence fence = VK_NULL_HANDLE;
+
+  struct Recorded {
+    bool valid = false;
+    float far_plane = 0;
+    std::uint64_t scene = 0;
+  } recorded[2];
+  int last_parity = -1;  // parity of the last rendered frame, -1 before the first
+  std::vector<std::uint64_t> stamps;  // reused per frame
+  std::vector<double> times;
+
+  // The image a reference names in frame parity p: double-buffered textures are written in copy p, and
+  // `previous` reads the other copy (written by the previous frame).
+  const Image& image(TextureRef ref, int p) const {
+    const TextureImages& t = images[ref.texture];
+    if (t.count == 1) return t.copies[0];
+    return t.copies[ref.previous ? 1 - p : p];
+  }
+
+  void record_frame(int p, float far_plane, const SceneBuffers& scene);
+};
+
+LavapipePipeline::~LavapipePipeline() {
+  if (!dev || !dev->device) return;
+  VkDevice d = dev->device;
+  vkQueueWaitIdle(dev->queue);  // nothing of ours may still be in flight (a failed wait leaves no trace otherwise)
+  for (VkCommandBuffer& c : frame_cmd)
+    if (c) vkFreeCommandBuffers(d, dev->pool, 1, &c);
+  if (readback_cmd) vkFreeCommandBuffers(d, dev->pool, 1, &readback_cmd);
+  if (fence) vkDestroyFence(d, fence, nullptr);
+  if (queries) vkDestroyQueryPool(d, queries, nullptr);
+  if (descriptor_pool) vkDestroyDescriptorPool(d, descriptor_pool, nullptr);  // frees the sets
+  for (DrawState& s : states)
+    if (s.pipeline) vkDestroyPipeline(d, s.pipeline, nullptr);
+  for (TextureImages& t : images)
+    for (Image& i : t.copies) dev->destroy(i);
+  dev->destroy(depth);
+  dev->destroy(frame_ubo);
+  dev->destroy(params_ubo);
+  dev->destroy(readback);
+}
+
+// Replaces the clear placeholders (plan.h) by the view's far plane.
+VkClearValue clear_value(const Texture& t, float far_plane) {
+  VkClearValue v{};
+  for (int i = 0; i < 4; ++i) {
+    float c = t.clear[i];
+    if (c == kClearFar) c = far_plane;
+    else if (c == kClearNegFar) c = -far_plane;
+    v.color.float32[i] = c;
+  }
+  return v;
+}
+
+void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& scene) {
+  VkCommandBuffer cmd = frame_cmd[p];
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
+  vkCmdResetQueryPool(cmd, queries, 0, static_cast<uint32_t>(2 * draws.size()));
+
+  std::vector<VkImageMemoryBarrier2> barriers;
+  std::vector<VkRenderingAttachmentInfo> attachments;
+  for (std::size_t i = 0; i < draws.size(); ++i) {
+    const Draw& d = draws[i];
+    const DrawState& s = states[i];
+
+    // The start stamp goes before the barrier: lavapipe executes a barrier by flushing and waiting for the
+    // rasteriser, so the stamp lands in a scene of its own, taken when the previous draw has finished, and
+    // not among this draw's tiles (llvmpipe stamps per tile and keeps the latest).
+    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, queries, static_cast<uint32_t>(2 * i));
+
+    barriers.clear();
+    attachments.clear();
+    for (const TextureRef& out : d.outputs) {
+      VkRenderingAttachmentInfo a{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+      if (out.texture < 0) {  // location unused: no view, writes discarded
+        a.imageView = VK_NULL_HANDLE;
+        attachments.push_back(a);
+        continue;
+      }
+      const Texture& t = textures[out.texture];
+      const Image& img = image(TextureRef{out.texture, false}, p);
+      // Cleared targets and fullscreen outputs (every texel rewritten) need no old contents.
+      bool load = !t.cleared && d.geometry;
+      barriers.push_back(image_barrier(
+          img.image, VK_IMAGE_ASPECT_COLOR_BIT,
+          load ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
+          VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+          VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
+              VK_PIPELINE_STAGE_2_COPY_BIT,
+          VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+          VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT));
+      a.imageView = img.view;
+      a.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+      a.loadOp = t.cleared ? VK_ATTACHMENT_LOAD_OP_CLEAR : load ? VK_ATTACHMENT_LOAD_OP_LOAD
+                                                                : VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+      a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+      if (t.cleared) a.clearValue = clear_value(t, far_plane);
+      attachments.push_back(a);
+    }
+    VkRenderingAttachmentInfo depth_attachment{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    if (d.geometry) {
+      barriers.push_back(image_barrier(
+          depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+          VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+          VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+          VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+          VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT));
+      depth_attachment.imageView = depth.view;
+      depth_attachment.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+      depth_attachment.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+      depth_attachment.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+      depth_attachment.clearValue.depthStencil = {1.0f, 0};
+    }
+    pipeline_barrier(cmd, barriers.data(), static_cast<uint32_t>(barriers.size()));
+
+    VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    ri.renderArea = {{0, 0}, s.extent};
+    ri.layerCount = 1;
+    ri.colorAttachmentCount = static_cast<uint32_t>(attachments.size());
+    ri.pColorAttachments = attachments.data();
+    if (d.geometry) ri.pDepthAttachment = &depth_attachment;
+    vkCmdBeginRendering(cmd, &ri);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, s.pipeline);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, dev->pipeline_layout, 0, 1, &s.sets[p % parities],
+                            0, nullptr);
+    if (d.geometry) {
+      VkBuffer vb[2] = {scene.positions.buffer, scene.normals.buffer};
+      VkDeviceSize offsets[2] = {0, 0};
+      vkCmdBindVertexBuffers(cmd, 0, 2, vb, offsets);
+      vkCmdBindIndexBuffer(cmd, scene.indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+      vkCmdDrawIndexed(cmd, scene.index_count, 1, 0, 0, 0);
+    } else {
+      vkCmdDraw(cmd, 3, 1, 0, 0);  // fullscreen triangle, no vertex input
+    }
+    vkCmdEndRendering(cmd);
+    // The end stamp flushes the draw first (any stage but TOP_OF_PIPE does on lavapipe).
+    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT, queries, static_cast<uint32_t>(2 * i + 1));
+
+    barriers.clear();
+    for (const TextureRef& out : d.outputs) {
+      if (out.texture < 0) continue;
+      barriers.push_back(image_barrier(image(TextureRef{out.texture, false}, p).image, VK_IMAGE_ASPECT_COLOR_BIT,
+                                       VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                                       VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                       VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                                       VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                                       VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
+                                       VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT));
+    }
+    pipeline_barrier(cmd, barriers.data(), static_cast<uint32_t>(barriers.size()));
+  }
+  check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+  recorded[p] = {true, far_plane, scene.generation};
+}
+
+// Throws BackendError for a plan this backend cannot execute (a bug in the planner, not user input).
+void validate_plan(const PipelinePlan& plan) {
+  auto bad = [&](const std::string& what) {
+    throw BackendError(fmt::format("lavapipe: plan of {} is malformed: {}", plan.variant, what));
+  };
+  int nt = static_cast<int>(plan.textures.size()), ns = static_cast<int>(plan.shaders.size());
+  if (plan.draws.empty()) bad("no draws");
+  if (plan.result < 0 || plan.result >= nt) bad("no result texture");
+  const Texture& r = plan.textures[plan.result];
+  // Full resolution normally; a plan_prefix cut may end at AO resolution (read back at that size).
+  if (r.format != Format::r32f) bad("the result is not an r32f texture");
+  for (const Draw& d : plan.draws) {
+    if (d.vertex < 0 || d.vertex >= ns || d.fragment < 0 || d.fragment >= ns)
+      bad(fmt::format("draw {} names no shader", d.name));
+    if (d.outputs.empty()) bad(fmt::format("draw {} has no outputs", d.name));
+    for (const TextureRef& o : d.outputs) {
+      if (o.texture >= nt) bad(fmt::format("draw {} writes texture {}", d.name, o.texture));
+      if (o.texture >= 0 && plan.textures[o.texture].full_resolution != d.full_resolution)
+        bad(fmt::format("draw {} writes {} at another resolution", d.name, plan.textures[o.texture].name));
+      for (const auto& [binding, in] : d.inputs)
+        if (o.texture >= 0 && in.texture == o.texture && !in.previous)
+          bad(fmt::format("draw {} reads the texture it writes", d.name));
+    }
+    for (const auto& [binding, in] : d.inputs) {
+      if (binding < static_cast<int>(kFirstSampler) || binding >= static_cast<int>(kBindingCount))
+        bad(fmt::format("draw {} binds a texture at binding {} (2..6 only)", d.name, binding));
+      if (in.texture < 0 || in.texture >= nt) bad(fmt::format("draw {} reads texture {}", d.name, in.texture));
+    }
+  }
+}
+
+class LavapipeBackend final : public Backend {
+ public:
+  explicit LavapipeBackend(const BackendOptions& options) : dev_(std::make_shared<Device>(options)) {}
+  ~LavapipeBackend() override {
+    vkDeviceWaitIdle(dev_->device);
+    release_scene();
+  }
+
+  const DeviceInfo& info() const override { return dev_->info; }
+  ClipDepth clip_depth() const override { return ClipDepth::zero_to_one; }
+
+  void set_scene(const scene::Scene& scene) override;
+  std::unique_ptr<PreparedPipeline> prepare(const PipelinePlan& plan, Extent size) override;
+  std::vector<double> render(PreparedPipeline& pipeline, const FrameSetup& frame) override;
+  image::FloatImage read_result(PreparedPipeline& pipeline) override;
+
+ private:
+  LavapipePipeline& ours(PreparedPipeline& p) {
+    auto* lp = dynamic_cast<LavapipePipeline*>(&p);
+    if (!lp || lp->dev != dev_) throw BackendError("lavapipe: this pipeline was prepared by another backend");
+    return *lp;
+  }
+  void release_scene() {
+    dev_->destroy(scene_.positions);
+    dev_->destroy(scene_.normals);
+    dev_->destroy(scene_.indices);
+    scene_ = SceneBuffers{};
+  }
+  void create_pipelines(const PipelinePlan& plan, LavapipePipeline& pp);
+  void init_textures(LavapipePipeline& pp);
+
+  std::shared_ptr<Device> dev_;
+  SceneBuffers scene_;
+};
+
+void LavapipeBackend::set_scene(const scene::Scene& scene) {
+  if (scene.normals.size() != scene.positions.size())
+    throw BackendError(fmt::format("lavapipe: scene {} has {} normals for {} positions", scene.name,
+                                   scene.normals.size(), scene.positions.size()));
+  if (scene.indices.size() % 3 != 0)
+    throw BackendError(fmt::format("lavapipe: scene {} has {} indices, not a triangle list", scene.name,
+                                   scene.indices.size()));
+  // A CPU driver reads out-of-range vertices from host memory: refuse them here rather than crash there.
+  for (std::uint32_t i : scene.indices)
+    if (i >= scene.positions.size())
+      throw BackendError(fmt::format("lavapipe: scene {} has index {} past its {} vertices", scene.name, i,
+                                     scene.positions.size()));
+  vkDeviceWaitIdle(dev_->device);  // recorded frames may still name the old buffers
+  release_scene();
+  auto upload = [&](const void* data, std::size_t bytes, VkBufferUsageFlags usage) {
+    Buffer b = dev_->create_buffer(std::max<std::size_t>(bytes, 16), usage);  // no zero-sized buffers
+    if (bytes) std::memcpy(b.mapped, data, bytes);
+    return b;
+  };
+  scene_.positions = upload(scene.positions.data(), scene.positions.size() * sizeof(glm::vec3),
+                            VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+  scene_.normals = upload(scene.normals.data(), scene.normals.size() * sizeof(glm::vec3),
+                          VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+  scene_.indices = upload(scene.indices.data(), scene.indices.size() * sizeof(std::uint32_t),
+                          VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+  scene_.index_count = static_cast<std::uint32_t>(scene.indices.size());
+  scene_.generation = next_scene_generation();
+}
+
+void LavapipeBackend::create_pipelines(const PipelinePlan& plan, LavapipePipeline& pp) {
+  VkDevice d = dev_->device;
+  std::vector<VkShaderModule> modules(plan.shaders.size(), VK_NULL_HANDLE);
+  auto release_modules = [&] {
+    for (VkShaderModule m : modules)
+      if (m) vkDestroyShaderModule(d, m, nullptr);
+  };
+  try {
+    for (std::size_t i = 0; i < plan.shaders.size(); ++i) {
+      const Shader& sh = plan.shaders[i];
+      if (sh.spirv.empty())
+        throw BackendError(fmt::format("lavapipe: program {} has no SPIR-V (compile the vulkan target)",
+                                       sh.program_key));
+      VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+      ci.codeSize = sh.spirv.size() * sizeof(std::uint32_t);
+      ci.pCode = sh.spirv.data();
+      VkResult r = vkCreateShaderModule(d, &ci, nullptr, &modules[i]);
+      if (r != VK_SUCCESS) {
+        modules[i] = VK_NULL_HANDLE;
+        throw BackendError(fmt::format("lavapipe: the driver rejected program {} ({})", sh.program_key,
+                                       result_name(r)));
+      }
+      dev_->check_validation(fmt::format("shader module creation of program {}", sh.program_key));
+    }
+
+    VkVertexInputBindingDescription vb[2] = {{0, sizeof(glm::vec3), VK_VERTEX_INPUT_RATE_VERTEX},
+                                             {1, sizeof(glm::vec3), VK_VERTEX_INPUT_RATE_VERTEX}};
+    VkVertexInputAttributeDescription va[2] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+                                               {1, 1, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+    for (std::size_t i = 0; i < plan.draws.size(); ++i) {
+      const Draw& dr = plan.draws[i];
+      DrawState& s = pp.states[i];
+      const Shader& vs = plan.shaders[dr.vertex];
+      const Shader& fs = plan.shaders[dr.fragment];
+      VkPipelineShaderStageCreateInfo stages[2]{};
+      stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+      stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+      stages[0].module = modules[dr.vertex];
+      stages[0].pName = "main";
+      stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+      stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+      stages[1].module = modules[dr.fragment];
+      stages[1].pName = "main";
+
+      VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+      if (dr.geometry) {
+        vi.vertexBindingDescriptionCount = 2;
+        vi.pVertexBindingDescriptions = vb;
+        vi.vertexAttributeDescriptionCount = 2;
+        vi.pVertexAttributeDescriptions = va;
+      }
+      VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+      ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+      VkViewport viewport{0, 0, float(s.extent.width), float(s.extent.height), 0.0f, 1.0f};
+      VkRect2D scissor{{0, 0}, s.extent};
+      VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+      vp.viewportCount = 1;
+      vp.pViewports = &viewport;
+      vp.scissorCount = 1;
+      vp.pScissors = &scissor;
+      VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+      rs.polygonMode = VK_POLYGON_MODE_FILL;
+      rs.cullMode = VK_CULL_MODE_NONE;  // the fullscreen triangle's winding flips with the API's y direction
+      rs.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+      rs.lineWidth = 1.0f;
+      VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+      ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+      VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+      ds.depthTestEnable = dr.geometry;
+      ds.depthWriteEnable = dr.geometry;
+      ds.depthCompareOp = VK_COMPARE_OP_LESS;
+      std::vector<VkPipelineColorBlendAttachmentState> blend(dr.outputs.size());
+      std::vector<VkFormat> formats(dr.outputs.size(), VK_FORMAT_UNDEFINED);
+      for (std::size_t o = 0; o < dr.outputs.size(); ++o) {
+        blend[o].colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                                  VK_COLOR_COMPONENT_A_BIT;
+        if (dr.outputs[o].texture >= 0) formats[o] = vk_format(plan.textures[dr.outputs[o].texture].format);
+      }
+      VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+      cb.attachmentCount = static_cast<uint32_t>(blend.size());
+      cb.pAttachments = blend.data();
+      // Locations keep their numbers: an unused one is VK_FORMAT_UNDEFINED (no attachment).
+      VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+      rendering.colorAttachmentCount = static_cast<uint32_t>(formats.size());
+      rendering.pColorAttachmentFormats = formats.data();
+      rendering.depthAttachmentFormat = dr.geometry ? kDepthFormat : VK_FORMAT_UNDEFINED;
+
+      VkGraphicsPipelineCreateInfo gci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+      gci.pNext = &rendering;
+      gci.stageCount = 2;
+      gci.pStages = stages;
+      gci.pVertexInputState = &vi;
+      gci.pInputAssemblyState = &ia;
+      gci.pViewportState = &vp;
+      gci.pRasterizationState = &rs;
+      gci.pMultisampleState = &ms;
+      gci.pDepthStencilState = &ds;
+      gci.pColorBlendState = &cb;
+      gci.layout = dev_->pipeline_layout;
+      VkResult r = vkCreateGraphicsPipelines(d, VK_NULL_HANDLE, 1, &gci, nullptr, &s.pipeline);
+      if (r != VK_SUCCESS) {
+        s.pipeline = VK_NULL_HANDLE;
+        throw BackendError(fmt::format("lavapipe: the driver rejected the pipeline of draw {} ({} + {}): {}",
+                                       dr.name, vs.program_key, fs.program_key, result_name(r)));
+      }
+      dev_->check_validation(fmt::format("pipeline creation of draw {} ({} + {})", dr.name, vs.program_key,
+                                         fs.program_key));
+    }
+  } catch (...) {
+    release_modules();
+    throw;
+  }
+  release_modules();  // pipelines keep what they need
+}
+
+// Defines every texel before the first frame: double-buffered textures start open (1.0) so that frame 0's
+// history is defined, the others start at 0. Leaves everything in SHADER_READ_ONLY_OPTIMAL.
+void LavapipeBackend::init_textures(LavapipePipeline& pp) {
+  VkCommandBuffer cmd = pp.frame_cmd[0];
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
+  std::vector<VkImageMemoryBarrier2> barriers;
+  for (const TextureImages& t : pp.images)
+    for (int c = 0; c < t.count; ++c)
+      barriers.push_back(image_barrier(t.copies[c].image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_NONE,
+                                       VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_CLEAR_BIT,
+                                       VK_ACCESS_2_TRANSFER_WRITE_BIT));
+  pipeline_barrier(cmd, barriers.data(), static_cast<uint32_t>(barriers.size()));
+  VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  for (std::size_t i = 0; i < pp.images.size(); ++i) {
+    float v = pp.textures[i].double_buffered ? 1.0f : 0.0f;
+    VkClearColorValue value{{v, v, v, v}};
+    for (int c = 0; c < pp.images[i].count; ++c)
+      vkCmdClearColorImage(cmd, pp.images[i].copies[c].image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &value, 1, &range);
+  }
+  for (auto& b : barriers) {
+    b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    b.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    b.srcStageMask = VK_PIPELINE_STAGE_2_CLEAR_BIT;
+    b.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+    b.dstStageMask = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+    b.dstAccessMask = VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT |
+                      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+  }
+  pipeline_barrier(cmd, barriers.data(), static_cast<uint32_t>(barriers.size()));
+  check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+  dev_->submit_and_wait(cmd, pp.fence);
+}
+
+std::unique_ptr<PreparedPipeline> LavapipeBackend::prepare(const PipelinePlan& plan, Extent size) {
+  auto start = std::chrono::steady_clock::now();
+  validate_plan(plan);
+  uint32_t max_dim = dev_->properties.limits.maxImageDimension2D;
+  if (size.width <= 0 || size.height <= 0 || uint32_t(size.width) > max_dim || uint32_t(size.height) > max_dim)
+    throw BackendError(fmt::format("lavapipe: output size {}x{} is out of range (1..{} per side)", size.width,
+                                   size.height, max_dim));
+  VkDevice d = dev_->device;
+  auto pp = std::make_unique<LavapipePipeline>(dev_);  // on a throw its destructor frees what exists
+  pp->size = size;
+  pp->ao = ao_extent(size, plan.resolution);
+  pp->textures = plan.textures;
+  pp->draws = plan.draws;
+  pp->result = plan.result;
+  for (const Texture& t : plan.textures)
+    if (t.double_buffered) pp->parities = 2;
+  for (const Draw& dr : plan.draws) pp->has_geometry |= dr.geometry;
+  auto extent_of = [&](bool full) {
+    Extent e = full ? pp->size : pp->ao;
+    return VkExtent2D{uint32_t(e.width), uint32_t(e.height)};
+  };
+
+  // Textures.
+  const VkFormatFeatureFlags needed = VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT;
+  const VkImageUsageFlags usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                                  VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  pp->images.resize(plan.textures.size());
+  for (std::size_t i = 0; i < plan.textures.size(); ++i) {
+    const Texture& t = plan.textures[i];
+    VkFormat f = vk_format(t.format);
+    VkFormatProperties fp;
+    vkGetPhysicalDeviceFormatProperties(dev_->physical, f, &fp);
+    if ((fp.optimalTilingFeatures & needed) != needed)
+      throw BackendError(fmt::format("lavapipe: {} cannot render to and sample format {} (texture {})",
+                                     dev_->info.device, format_name(t.format), t.name));
+    pp->images[i].count = t.double_buffered ? 2 : 1;
+    for (int c = 0; c < pp->images[i].count; ++c)
+      pp->images[i].copies[c] = dev_->create_image(extent_of(t.full_resolution), f, usage, VK_IMAGE_ASPECT_COLOR_BIT);
+  }
+  if (pp->has_geometry)
+    pp->depth = dev_->create_image(extent_of(true), kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                                   VK_IMAGE_ASPECT_DEPTH_BIT);
+
+  // Uniform buffers: AOFrame (rewritten each frame) and every draw's AOParams at aligned offsets.
+  pp->frame_ubo = dev_->create_buffer(sizeof(FrameBlock), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+  VkDeviceSize align = std::max<VkDeviceSize>(dev_->properties.limits.minUniformBufferOffsetAlignment, 16);
+  pp->states.resize(plan.draws.size());
+  VkDeviceSize params_size = 0;
+  for (std::size_t i = 0; i < plan.draws.size(); ++i) {
+    DrawState& s = pp->states[i];
+    s.extent = extent_of(plan.draws[i].full_resolution);
+    s.params_offset = params_size;
+    // std140 float members sit at 4 * i; a draw without a block still gets a small range for binding 1.
+    s.params_range = align_up(std::max<VkDeviceSize>(plan.draws[i].params.size() * sizeof(float), 16), 16);
+    params_size = align_up(params_size + s.params_range, align);
+  }
+  pp->params_ubo = dev_->create_buffer(params_size, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+  std::memset(pp->params_ubo.mapped, 0, params_size);
+  for (std::size_t i = 0; i < plan.draws.size(); ++i)
+    if (!plan.draws[i].params.empty())
+      std::memcpy(static_cast<char*>(pp->params_ubo.mapped) + pp->states[i].params_offset,
+                  plan.draws[i].params.data(), plan.draws[i].params.size() * sizeof(float));
+
+  // Descriptor sets: one per draw and parity.
+  uint32_t sets = static_cast<uint32_t>(plan.draws.size()) * pp->parities;
+  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2 * sets},
+                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, (kBindingCount - 2) * sets}};
+  VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  dpci.maxSets = sets;
+  dpci.poolSizeCount = 2;
+  dpci.pPoolSizes = sizes;
+  check(vkCreateDescriptorPool(d, &dpci, nullptr, &pp->descriptor_pool), "vkCreateDescriptorPool");
+  for (std::size_t i = 0; i < plan.draws.size(); ++i) {
+    const Draw& dr = plan.draws[i];
+    DrawState& s = pp->states[i];
+    for (int p = 0; p < pp->parities; ++p) {
+      VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+      ai.descriptorPool = pp->descriptor_pool;
+      ai.descriptorSetCount = 1;
+      ai.pSetLayouts = &dev_->set_layout;
+      check(vkAllocateDescriptorSets(d, &ai, &s.sets[p]), "vkAllocateDescriptorSets");
+      VkDescriptorBufferInfo buffers[2] = {{pp->frame_ubo.buffer, 0, sizeof(FrameBlock)},
+                                           {pp->params_ubo.buffer, s.params_offset, s.params_range}};
+      VkDescriptorImageInfo samplers[kBindingCount - kFirstSampler];
+      for (auto& si : samplers) si = {dev_->sampler, dev_->dummy.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+      for (const auto& [binding, ref] : dr.inputs) samplers[binding - kFirstSampler].imageView = pp->image(ref, p).view;
+      VkWriteDescriptorSet w[kBindingCount];
+      for (uint32_t b = 0; b < kBindingCount; ++b) {
+        w[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        w[b].dstSet = s.sets[p];
+        w[b].dstBinding = b;
+        w[b].descriptorCount = 1;
+        if (b < kFirstSampler) {
+          w[b].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+          w[b].pBufferInfo = &buffers[b];
+        } else {
+          w[b].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+          w[b].pImageInfo = &samplers[b - kFirstSampler];
+        }
+      }
+      vkUpdateDescriptorSets(d, kBindingCount, w, 0, nullptr);
+    }
+  }
+
+  create_pipelines(plan, *pp);
+
+  // Timestamps, command buffers, fence, read-back buffer.
+  VkQueryPoolCreateInfo qci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+  qci.queryType = VK_QUERY_TYPE_TIMESTAMP;
+  qci.queryCount = static_cast<uint32_t>(2 * plan.draws.size());
+  check(vkCreateQueryPool(d, &qci, nullptr, &pp->queries), "vkCreateQueryPool");
+  VkCommandBuffer cmds[3]{};
+  VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  cai.commandPool = dev_->pool;
+  cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cai.commandBufferCount = static_cast<uint32_t>(pp->parities) + 1;
+  check(vkAllocateCommandBuffers(d, &cai, cmds), "vkAllocateCommandBuffers");
+  for (int p = 0; p < pp->parities; ++p) pp->frame_cmd[p] = cmds[p];
+  pp->readback_cmd = cmds[pp->parities];
+  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  check(vkCreateFence(d, &fci, nullptr, &pp->fence), "vkCreateFence");
+  VkExtent2D result_extent = extent_of(plan.textures[plan.result].full_resolution);
+  pp->readback = dev_->create_buffer(VkDeviceSize(result_extent.width) * result_extent.height * sizeof(float),
+                                     VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+  pp->stamps.resize(2 * plan.draws.size());
+  pp->times.resize(plan.draws.size());
+
+  init_textures(*pp);
+  dev_->check_validation(fmt::format("prepare of {}", plan.variant));
+  pp->create_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return pp;
+}
+
+std::vector<double> LavapipeBackend::render(PreparedPipeline& pipeline, const FrameSetup& frame) {
+  LavapipePipeline& pp = ours(pipeline);
+  if (!frame.view) throw BackendError("lavapipe: render() needs a view");
+  if (pp.has_geometry && scene_.generation == 0) throw BackendError("lavapipe: render() before set_scene()");
+  FrameBlock block = make_frame_block(frame, pp.size, pp.ao, ClipDepth::zero_to_one);
+  std::memcpy(pp.frame_ubo.mapped, &block, sizeof block);  // the previous frame finished: fence waited
+
+  int p = pp.parities == 2 ? (frame.frame & 1) : 0;
+  float far_plane = frame.view->far_plane;
+  const auto& rec = pp.recorded[p];
+  if (!rec.valid || rec.far_plane != far_plane || rec.scene != scene_.generation) {
+    pp.recorded[p].valid = false;
+    pp.record_frame(p, far_plane, scene_);
+  }
+  dev_->submit_and_wait(pp.frame_cmd[p], pp.fence);
+  pp.last_parity = p;
+
+  uint32_t n = static_cast<uint32_t>(pp.stamps.size());
+  check(vkGetQueryPoolResults(dev_->device, pp.queries, 0, n, n * sizeof(std::uint64_t), pp.stamps.data(),
+                              sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+        "vkGetQueryPoolResults");
+  double ns_per_tick = dev_->properties.limits.timestampPeriod;
+  for (std::size_t i = 0; i < pp.times.size(); ++i) {
+    std::uint64_t ticks = (pp.stamps[2 * i + 1] - pp.stamps[2 * i]) & dev_->timestamp_mask;
+    pp.times[i] = double(ticks) * ns_per_tick * 1e-6;
+  }
+  if (dev_->validation_failed()) dev_->check_validation(fmt::format("frame {}", frame.frame));
+  return pp.times;
+}
+
+image::FloatImage LavapipeBackend::read_result(PreparedPipeline& pipeline) {
+  LavapipePipeline& pp = ours(pipeline);
+  if (pp.last_parity < 0) throw BackendError("lavapipe: read_result() before render()");
+  const Image& img = pp.image(TextureRef{pp.result, false}, pp.last_parity);
+
+  VkCommandBuffer cmd = pp.readback_cmd;
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
+  auto to_src = image_barrier(img.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                              VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                              VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                              VK_ACCESS_2_TRANSFER_READ_BIT);
+  pipeline_barrier(cmd, &to_src, 1);
+  VkBufferImageCopy copy{};
+  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  copy.imageExtent = {img.extent.width, img.extent.height, 1};
+  vkCmdCopyImageToBuffer(cmd, img.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pp.readback.buffer, 1, &copy);
+  auto back = image_barrier(img.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                            VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_NONE,
+                            VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                            VK_ACCESS_2_NONE);
+  VkBufferMemoryBarrier2 to_host{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
+  to_host.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
+  to_host.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+  to_host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
+  to_host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
+  to_host.srcQueueFamilyIndex = to_host.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  to_host.buffer = pp.readback.buffer;
+  to_host.size = VK_WHOLE_SIZE;
+  pipeline_barrier(cmd, &back, 1, &to_host, 1);
+  check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+  dev_->submit_and_wait(cmd, pp.fence);
+
+  // Row 0 of the image in memory is NDC y = -1, the bottom of the view (frame.h): no flip.
+  image::FloatImage out;
+  out.width = static_cast<int>(img.extent.width);
+  out.height = static_cast<int>(img.extent.height);
+  out.pixels.resize(std::size_t(out.width) * out.height);
+  std::memcpy(out.pixels.data(), pp.readback.mapped, out.pixels.size() * sizeof(float));
+  dev_->check_validation("read-back");
+  return out;
+}
+
+}  // namespace
+
+std::unique_ptr<Backend> make_lavapipe_backend(const BackendOptions& options) {
+  return std::make_unique<LavapipeBackend>(options);
+}
+
+}  // namespace aovar::render

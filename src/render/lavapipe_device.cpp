@@ -1,0 +1,499 @@
+#include "render/lavapipe_device.h"
+
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "render/lavapipe.h"
+
+// Vulkan structs are written `VkFoo foo{VK_STRUCTURE_TYPE_FOO};`: the rest zero-initialised on purpose.
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+
+namespace aovar::render {
+
+namespace {
+std::atomic<int> g_validation_errors{0};
+}
+
+int lavapipe_validation_error_count() { return g_validation_errors.load(); }
+
+namespace lvp {
+
+const char* result_name(VkResult r) {
+  switch (r) {
+    case VK_SUCCESS: return "VK_SUCCESS";
+    case VK_NOT_READY: return "VK_NOT_READY";
+    case VK_TIMEOUT: return "VK_TIMEOUT";
+    case VK_INCOMPLETE: return "VK_INCOMPLETE";
+    case VK_ERROR_OUT_OF_HOST_MEMORY: return "VK_ERROR_OUT_OF_HOST_MEMORY";
+    case VK_ERROR_OUT_OF_DEVICE_MEMORY: return "VK_ERROR_OUT_OF_DEVICE_MEMORY";
+    case VK_ERROR_INITIALIZATION_FAILED: return "VK_ERROR_INITIALIZATION_FAILED";
+    case VK_ERROR_DEVICE_LOST: return "VK_ERROR_DEVICE_LOST";
+    case VK_ERROR_MEMORY_MAP_FAILED: return "VK_ERROR_MEMORY_MAP_FAILED";
+    case VK_ERROR_LAYER_NOT_PRESENT: return "VK_ERROR_LAYER_NOT_PRESENT";
+    case VK_ERROR_EXTENSION_NOT_PRESENT: return "VK_ERROR_EXTENSION_NOT_PRESENT";
+    case VK_ERROR_FEATURE_NOT_PRESENT: return "VK_ERROR_FEATURE_NOT_PRESENT";
+    case VK_ERROR_INCOMPATIBLE_DRIVER: return "VK_ERROR_INCOMPATIBLE_DRIVER";
+    case VK_ERROR_TOO_MANY_OBJECTS: return "VK_ERROR_TOO_MANY_OBJECTS";
+    case VK_ERROR_FORMAT_NOT_SUPPORTED: return "VK_ERROR_FORMAT_NOT_SUPPORTED";
+    case VK_ERROR_FRAGMENTED_POOL: return "VK_ERROR_FRAGMENTED_POOL";
+    case VK_ERROR_OUT_OF_POOL_MEMORY: return "VK_ERROR_OUT_OF_POOL_MEMORY";
+    case VK_ERROR_INVALID_SHADER_NV: return "VK_ERROR_INVALID_SHADER_NV";
+    case VK_ERROR_UNKNOWN: return "VK_ERROR_UNKNOWN";
+    default: return "VkResult error";
+  }
+}
+
+void check(VkResult r, const char* what) {
+  if (r != VK_SUCCESS) throw BackendError(fmt::format("lavapipe: {} failed ({})", what, result_name(r)));
+}
+
+namespace {
+
+VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                          VkDebugUtilsMessageTypeFlagsEXT, const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                          void* user) {
+  if ((severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) && user)
+    static_cast<Device*>(user)->on_validation_error(data && data->pMessage ? data->pMessage : "(no message)");
+  return VK_FALSE;  // never abort the call: we report, the caller throws
+}
+
+bool has_layer(const char* name) {
+  uint32_t n = 0;
+  vkEnumerateInstanceLayerProperties(&n, nullptr);
+  std::vector<VkLayerProperties> layers(n);
+  vkEnumerateInstanceLayerProperties(&n, layers.data());
+  for (const auto& l : layers)
+    if (std::strcmp(l.layerName, name) == 0) return true;
+  return false;
+}
+
+bool has_instance_extension(const char* layer, const char* name) {
+  uint32_t n = 0;
+  vkEnumerateInstanceExtensionProperties(layer, &n, nullptr);
+  std::vector<VkExtensionProperties> ext(n);
+  vkEnumerateInstanceExtensionProperties(layer, &n, ext.data());
+  for (const auto& e : ext)
+    if (std::strcmp(e.extensionName, name) == 0) return true;
+  return false;
+}
+
+std::string version_text(uint32_t v) {
+  return fmt::format("{}.{}.{}", VK_API_VERSION_MAJOR(v), VK_API_VERSION_MINOR(v), VK_API_VERSION_PATCH(v));
+}
+
+constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+constexpr const char* kInstallDriver = "install mesa-vulkan-drivers (run scripts/deps)";
+
+}  // namespace
+
+Device::Device(const BackendOptions& options) {
+  if (options.threads < 0)
+    throw BackendError(fmt::format("lavapipe: thread count {} is negative (use 0 or more)", options.threads));
+  // llvmpipe reads LP_NUM_THREADS when lavapipe creates its screen (while the instance enumerates devices).
+  setenv("LP_NUM_THREADS", std::to_string(options.threads).c_str(), 1);
+  info.backend = "lavapipe";
+  info.threads = options.threads;
+
+  uint32_t loader = VK_API_VERSION_1_0;
+  if (vkEnumerateInstanceVersion(&loader) != VK_SUCCESS || loader < VK_API_VERSION_1_3)
+    throw BackendError(fmt::format("lavapipe: the Vulkan loader supports only Vulkan {} (1.3 needed): install "
+                                   "libvulkan1 >= 1.3 and mesa-vulkan-drivers (run scripts/deps)",
+                                   version_text(loader)));
+
+  std::vector<const char*> layers, extensions;
+  bool sync_validation = false;
+  if (options.validation) {
+    if (!has_layer(kValidationLayer))
+      throw BackendError("lavapipe: validation requested but the layer VK_LAYER_KHRONOS_validation is not "
+                         "installed: install vulkan-validationlayers (run scripts/deps)");
+    layers.push_back(kValidationLayer);
+    extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    if (has_instance_extension(kValidationLayer, VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME)) {
+      extensions.push_back(VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
+      sync_validation = true;
+    }
+  }
+
+  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  app.pApplicationName = "aovar";
+  app.pEngineName = "aovar";
+  app.apiVersion = VK_API_VERSION_1_3;
+
+  // Chained into the instance so that instance creation and destruction are validated too.
+  VkDebugUtilsMessengerCreateInfoEXT messenger_info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+  messenger_info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  messenger_info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                               VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                               VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+  messenger_info.pfnUserCallback = on_message;
+  messenger_info.pUserData = this;
+  // Synchronisation validation also checks our barriers (hazards between draws and frames).
+  VkValidationFeatureEnableEXT enables[] = {VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
+  VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+  features.enabledValidationFeatureCount = 1;
+  features.pEnabledValidationFeatures = enables;
+  if (sync_validation) messenger_info.pNext = &features;
+
+  VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  ici.pApplicationInfo = &app;
+  ici.enabledLayerCount = static_cast<uint32_t>(layers.size());
+  ici.ppEnabledLayerNames = layers.data();
+  ici.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
+  ici.ppEnabledExtensionNames = extensions.data();
+  if (options.validation) ici.pNext = &messenger_info;
+  VkResult r = vkCreateInstance(&ici, nullptr, &instance);
+  if (r != VK_SUCCESS) {
+    instance = VK_NULL_HANDLE;
+    if (r == VK_ERROR_INCOMPATIBLE_DRIVER)
+      throw BackendError(fmt::format("lavapipe: no Vulkan driver found (vkCreateInstance: {}): {}{}", result_name(r),
+                                     kInstallDriver,
+                                     std::getenv("VK_ICD_FILENAMES") || std::getenv("VK_DRIVER_FILES")
+                                         ? "; VK_ICD_FILENAMES/VK_DRIVER_FILES is set: check that it names lvp_icd.*.json"
+                                         : ""));
+    throw BackendError(fmt::format("lavapipe: cannot create a Vulkan 1.3 instance ({}): {}", result_name(r),
+                                   kInstallDriver));
+  }
+
+  try {
+    if (options.validation) {
+      auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+          vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
+      destroy_messenger_ = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+          vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
+      if (!create || !destroy_messenger_)
+        throw BackendError("lavapipe: the validation layer offers no VK_EXT_debug_utils messenger");
+      messenger_info.pNext = nullptr;
+      check(create(instance, &messenger_info, nullptr, &messenger_), "vkCreateDebugUtilsMessengerEXT");
+    }
+
+    // The CPU device: lavapipe. Other ICDs (intel, radeon) may be installed without their hardware.
+    uint32_t n = 0;
+    check(vkEnumeratePhysicalDevices(instance, &n, nullptr), "vkEnumeratePhysicalDevices");
+    std::vector<VkPhysicalDevice> devices(n);
+    if (n) check(vkEnumeratePhysicalDevices(instance, &n, devices.data()), "vkEnumeratePhysicalDevices");
+    std::string too_old;
+    for (VkPhysicalDevice d : devices) {
+      VkPhysicalDeviceProperties p;
+      vkGetPhysicalDeviceProperties(d, &p);
+      if (p.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU) continue;
+      if (p.apiVersion < VK_API_VERSION_1_3) {
+        too_old = fmt::format("{} (Vulkan {})", p.deviceName, version_text(p.apiVersion));
+        continue;
+      }
+      physical = d;
+      break;
+    }
+    if (!physical && !too_old.empty())
+      throw BackendError(fmt::format("lavapipe: the Vulkan CPU device {} is older than Vulkan 1.3: install "
+                                     "mesa-vulkan-drivers from Mesa 22.3 or later (run scripts/deps)", too_old));
+    if (!physical)
+      throw BackendError(fmt::format("lavapipe: no Vulkan CPU device (lavapipe) found: {}", kInstallDriver));
+
+    VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+    VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    props2.pNext = &driver;
+    vkGetPhysicalDeviceProperties2(physical, &props2);
+    properties = props2.properties;
+    vkGetPhysicalDeviceMemoryProperties(physical, &memory);
+    info.device = properties.deviceName;
+    info.api_version = "Vulkan " + version_text(properties.apiVersion);
+    info.driver = driver.driverInfo;
+
+    VkPhysicalDeviceVulkan13Features have13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+    VkPhysicalDeviceFeatures2 have{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    have.pNext = &have13;
+    vkGetPhysicalDeviceFeatures2(physical, &have);
+    if (!have13.dynamicRendering || !have13.synchronization2)
+      throw BackendError(fmt::format("lavapipe: {} lacks dynamicRendering or synchronization2: install "
+                                     "mesa-vulkan-drivers from Mesa 22.3 or later (run scripts/deps)", info.device));
+
+    uint32_t families = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(physical, &families, nullptr);
+    std::vector<VkQueueFamilyProperties> family(families);
+    vkGetPhysicalDeviceQueueFamilyProperties(physical, &families, family.data());
+    bool found = false;
+    for (uint32_t i = 0; i < families && !found; ++i)
+      if (family[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) {
+        queue_family = i;
+        found = true;
+      }
+    if (!found) throw BackendError(fmt::format("lavapipe: {} has no graphics queue", info.device));
+    uint32_t bits = family[queue_family].timestampValidBits;
+    if (bits == 0 || !properties.limits.timestampComputeAndGraphics)
+      throw BackendError(fmt::format("lavapipe: {} has no timestamp queries (draw times need them)", info.device));
+    timestamp_mask = bits >= 64 ? ~0ull : (1ull << bits) - 1;
+
+    float priority = 1.0f;
+    VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    qci.queueFamilyIndex = queue_family;
+    qci.queueCount = 1;
+    qci.pQueuePriorities = &priority;
+    // dynamicRendering must be enabled explicitly (DESIGN.md §4); synchronization2 for vkCmdPipelineBarrier2.
+    VkPhysicalDeviceVulkan13Features want13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+    want13.dynamicRendering = VK_TRUE;
+    want13.synchronization2 = VK_TRUE;
+    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    dci.pNext = &want13;
+    dci.queueCreateInfoCount = 1;
+    dci.pQueueCreateInfos = &qci;
+    check(vkCreateDevice(physical, &dci, nullptr, &device), "vkCreateDevice");
+    vkGetDeviceQueue(device, queue_family, 0, &queue);
+
+    create_shared_objects();
+    check_validation("device creation");
+  } catch (...) {
+    release();  // a throwing constructor runs no destructor: free whatever exists (every handle starts null)
+    throw;
+  }
+}
+
+Device::~Device() { release(); }
+
+void Device::release() {
+  if (device) {
+    vkDeviceWaitIdle(device);
+    destroy(dummy);
+    if (pipeline_layout) vkDestroyPipelineLayout(device, pipeline_layout, nullptr);
+    if (set_layout) vkDestroyDescriptorSetLayout(device, set_layout, nullptr);
+    if (sampler) vkDestroySampler(device, sampler, nullptr);
+    if (pool) vkDestroyCommandPool(device, pool, nullptr);
+    vkDestroyDevice(device, nullptr);
+    device = VK_NULL_HANDLE;
+    pipeline_layout = VK_NULL_HANDLE;
+    set_layout = VK_NULL_HANDLE;
+    sampler = VK_NULL_HANDLE;
+    pool = VK_NULL_HANDLE;
+  }
+  if (messenger_) {
+    destroy_messenger_(instance, messenger_, nullptr);
+    messenger_ = VK_NULL_HANDLE;
+  }
+  if (instance) {
+    vkDestroyInstance(instance, nullptr);
+    instance = VK_NULL_HANDLE;
+  }
+}
+
+void Device::create_shared_objects() {
+  VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;  // each pipeline re-records its own buffers
+  pci.queueFamilyIndex = queue_family;
+  check(vkCreateCommandPool(device, &pci, nullptr, &pool), "vkCreateCommandPool");
+
+  VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
+  sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+  sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  sci.maxLod = 0.0f;
+  check(vkCreateSampler(device, &sci, nullptr, &sampler), "vkCreateSampler");
+
+  VkDescriptorSetLayoutBinding b[kBindingCount]{};
+  for (uint32_t i = 0; i < kBindingCount; ++i) {
+    b[i].binding = i;
+    b[i].descriptorType = i < kFirstSampler ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    b[i].descriptorCount = 1;
+    b[i].stageFlags = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+  }
+  VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  lci.bindingCount = kBindingCount;
+  lci.pBindings = b;
+  check(vkCreateDescriptorSetLayout(device, &lci, nullptr, &set_layout), "vkCreateDescriptorSetLayout");
+  VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  plci.setLayoutCount = 1;
+  plci.pSetLayouts = &set_layout;
+  check(vkCreatePipelineLayout(device, &plci, nullptr, &pipeline_layout), "vkCreatePipelineLayout");
+
+  // The dummy texture, cleared once and left in SHADER_READ_ONLY for good.
+  dummy = create_image({1, 1}, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                       VK_IMAGE_ASPECT_COLOR_BIT);
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  VkFence fence = VK_NULL_HANDLE;
+  VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  ai.commandPool = pool;
+  ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  ai.commandBufferCount = 1;
+  check(vkAllocateCommandBuffers(device, &ai, &cmd), "vkAllocateCommandBuffers");
+  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  VkResult r = vkCreateFence(device, &fci, nullptr, &fence);
+  if (r == VK_SUCCESS) {
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    vkBeginCommandBuffer(cmd, &bi);
+    auto to_dst = image_barrier(dummy.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                                VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE,
+                                VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    pipeline_barrier(cmd, &to_dst, 1);
+    VkClearColorValue one{{1.0f, 1.0f, 1.0f, 1.0f}};
+    VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdClearColorImage(cmd, dummy.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &one, 1, &range);
+    auto to_read = image_barrier(dummy.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_CLEAR_BIT,
+                                 VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                                 VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    pipeline_barrier(cmd, &to_read, 1);
+    r = vkEndCommandBuffer(cmd);
+    if (r == VK_SUCCESS) {
+      try {
+        submit_and_wait(cmd, fence);
+      } catch (...) {
+        vkDestroyFence(device, fence, nullptr);
+        vkFreeCommandBuffers(device, pool, 1, &cmd);
+        throw;
+      }
+    }
+    vkDestroyFence(device, fence, nullptr);
+  }
+  vkFreeCommandBuffers(device, pool, 1, &cmd);
+  check(r, "initialising the dummy texture");
+}
+
+uint32_t Device::memory_type(uint32_t bits, VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred) const {
+  int fallback = -1;
+  for (uint32_t i = 0; i < memory.memoryTypeCount; ++i) {
+    if (!(bits & (1u << i))) continue;
+    VkMemoryPropertyFlags f = memory.memoryTypes[i].propertyFlags;
+    if ((f & required) != required) continue;
+    if ((f & preferred) == preferred) return i;
+    if (fallback < 0) fallback = static_cast<int>(i);
+  }
+  if (fallback < 0)
+    throw BackendError(fmt::format("lavapipe: {} offers no memory type with properties {:#x}", info.device, required));
+  return static_cast<uint32_t>(fallback);
+}
+
+Buffer Device::create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool readback) {
+  Buffer b;
+  b.size = size;
+  try {
+    VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    bci.size = size;
+    bci.usage = usage;
+    bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    check(vkCreateBuffer(device, &bci, nullptr, &b.buffer), "vkCreateBuffer");
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(device, b.buffer, &req);
+    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    mai.allocationSize = req.size;
+    mai.memoryTypeIndex = memory_type(req.memoryTypeBits,
+                                      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                                      readback ? VK_MEMORY_PROPERTY_HOST_CACHED_BIT : 0);
+    check(vkAllocateMemory(device, &mai, nullptr, &b.memory), "vkAllocateMemory (buffer)");
+    check(vkBindBufferMemory(device, b.buffer, b.memory, 0), "vkBindBufferMemory");
+    check(vkMapMemory(device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped), "vkMapMemory");
+  } catch (...) {
+    destroy(b);
+    throw;
+  }
+  return b;
+}
+
+Image Device::create_image(VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect) {
+  Image img;
+  img.format = format;
+  img.extent = extent;
+  try {
+    VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    ici.imageType = VK_IMAGE_TYPE_2D;
+    ici.format = format;
+    ici.extent = {extent.width, extent.height, 1};
+    ici.mipLevels = 1;
+    ici.arrayLayers = 1;
+    ici.samples = VK_SAMPLE_COUNT_1_BIT;
+    ici.tiling = VK_IMAGE_TILING_OPTIMAL;
+    ici.usage = usage;
+    ici.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    ici.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    check(vkCreateImage(device, &ici, nullptr, &img.image), "vkCreateImage");
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(device, img.image, &req);
+    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    mai.allocationSize = req.size;
+    mai.memoryTypeIndex = memory_type(req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    check(vkAllocateMemory(device, &mai, nullptr, &img.memory), "vkAllocateMemory (image)");
+    check(vkBindImageMemory(device, img.image, img.memory, 0), "vkBindImageMemory");
+    VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vci.image = img.image;
+    vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    vci.format = format;
+    vci.subresourceRange = {aspect, 0, 1, 0, 1};
+    check(vkCreateImageView(device, &vci, nullptr, &img.view), "vkCreateImageView");
+  } catch (...) {
+    destroy(img);
+    throw;
+  }
+  return img;
+}
+
+void Device::destroy(Buffer& b) {
+  if (b.memory && b.mapped) vkUnmapMemory(device, b.memory);
+  if (b.buffer) vkDestroyBuffer(device, b.buffer, nullptr);
+  if (b.memory) vkFreeMemory(device, b.memory, nullptr);
+  b = Buffer{};
+}
+
+void Device::destroy(Image& i) {
+  if (i.view) vkDestroyImageView(device, i.view, nullptr);
+  if (i.image) vkDestroyImage(device, i.image, nullptr);
+  if (i.memory) vkFreeMemory(device, i.memory, nullptr);
+  i = Image{};
+}
+
+void Device::submit_and_wait(VkCommandBuffer cmd, VkFence fence) {
+  check(vkResetFences(device, 1, &fence), "vkResetFences");
+  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cmd;
+  check(vkQueueSubmit(queue, 1, &si, fence), "vkQueueSubmit");
+  check(vkWaitForFences(device, 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+}
+
+void Device::on_validation_error(const char* message) {
+  std::lock_guard lock(mutex_);
+  if (errors_++ == 0) first_error_ = message;
+  g_validation_errors.fetch_add(1);
+  std::fprintf(stderr, "lavapipe: validation error: %s\n", message);
+}
+
+void Device::check_validation(const std::string& during) {
+  std::lock_guard lock(mutex_);
+  if (errors_ == 0) return;
+  std::string message = fmt::format("lavapipe: {} validation error(s) during {}; first: {}", errors_.load(),
+                                    during, first_error_);
+  errors_ = 0;
+  first_error_.clear();
+  throw BackendError(message);
+}
+
+VkImageMemoryBarrier2 image_barrier(VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
+                                    VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
+                                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
+  VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+  b.srcStageMask = src_stage;
+  b.srcAccessMask = src_access;
+  b.dstStageMask = dst_stage;
+  b.dstAccessMask = dst_access;
+  b.oldLayout = from;
+  b.newLayout = to;
+  b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.image = image;
+  b.subresourceRange = {aspect, 0, 1, 0, 1};
+  return b;
+}
+
+void pipeline_barrier(VkCommandBuffer cmd, const VkImageMemoryBarrier2* images, uint32_t count,
+                      const VkBufferMemoryBarrier2* buffers, uint32_t buffer_count) {
+  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dep.imageMemoryBarrierCount = count;
+  dep.pImageMemoryBarriers = images;
+  dep.bufferMemoryBarrierCount = buffer_count;
+  dep.pBufferMemoryBarriers = buffers;
+  vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+}  // namespace lvp
+}  // namespace aovar::render

@@ -1,0 +1,100 @@
+#pragma once
+// The lavapipe backend's Vulkan device: instance, CPU physical device, queue, validation messenger, memory
+// helpers and the objects every prepared pipeline shares (sampler, layouts, command pool, dummy texture).
+// Shared (std::shared_ptr) by the backend and its prepared pipelines, so either may be destroyed first.
+#include <atomic>
+#include <cstdint>
+#include <mutex>
+#include <string>
+
+#include <vulkan/vulkan.h>
+
+#include "render/backend.h"
+
+namespace aovar::render::lvp {
+
+const char* result_name(VkResult r);
+
+// Throws BackendError "lavapipe: <what> failed (VK_ERROR_...)" unless r is VK_SUCCESS.
+void check(VkResult r, const char* what);
+
+struct Buffer {
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  void* mapped = nullptr;  // host-visible, coherent, persistently mapped
+  VkDeviceSize size = 0;
+};
+
+struct Image {
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  VkExtent2D extent{};
+};
+
+// Every binding of the one descriptor set layout (docs/template-contract.md): 0 AOFrame, 1 AOParams,
+// 2..6 samplers.
+inline constexpr uint32_t kFrameBinding = 0, kParamsBinding = 1, kFirstSampler = 2, kBindingCount = 7;
+
+class Device {
+ public:
+  Device(const BackendOptions& options);
+  ~Device();
+  Device(const Device&) = delete;
+  Device& operator=(const Device&) = delete;
+
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physical = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  VkQueue queue = VK_NULL_HANDLE;
+  uint32_t queue_family = 0;
+  VkPhysicalDeviceProperties properties{};
+  VkPhysicalDeviceMemoryProperties memory{};
+  uint64_t timestamp_mask = ~0ull;  // timestampValidBits of the queue family
+
+  // Shared by all prepared pipelines.
+  VkCommandPool pool = VK_NULL_HANDLE;  // resettable command buffers, single-threaded use
+  VkSampler sampler = VK_NULL_HANDLE;   // nearest, clamp to edge: every read is a texel fetch or point sample
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  VkPipelineLayout pipeline_layout = VK_NULL_HANDLE;
+  Image dummy;  // 1x1, bound to the sampler bindings a draw does not use
+
+  DeviceInfo info;
+
+  // Memory helpers. Buffers are host-visible and mapped (lavapipe memory is all host memory anyway).
+  Buffer create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool readback = false);
+  Image create_image(VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect);
+  void destroy(Buffer& b);
+  void destroy(Image& i);
+
+  // Submits one command buffer and waits for it on `fence` (reset first).
+  void submit_and_wait(VkCommandBuffer cmd, VkFence fence);
+
+  // Throws BackendError with the first validation error reported since the last call (and forgets them).
+  void check_validation(const std::string& during);
+  bool validation_failed() const { return errors_.load() != 0; }  // cheap: no lock, no formatting
+
+  // Messenger callback target.
+  void on_validation_error(const char* message);
+
+ private:
+  uint32_t memory_type(uint32_t bits, VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred) const;
+  void create_shared_objects();
+  void release();
+
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  PFN_vkDestroyDebugUtilsMessengerEXT destroy_messenger_ = nullptr;
+  std::mutex mutex_;
+  std::atomic<int> errors_{0};
+  std::string first_error_;
+};
+
+// Layout transition of a whole single-mip colour or depth image.
+VkImageMemoryBarrier2 image_barrier(VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
+                                    VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
+                                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access);
+void pipeline_barrier(VkCommandBuffer cmd, const VkImageMemoryBarrier2* images, uint32_t count,
+                      const VkBufferMemoryBarrier2* buffers = nullptr, uint32_t buffer_count = 0);
+
+}  // namespace aovar::render::lvp

@@ -1,0 +1,229 @@
+#include "render/plan.h"
+
+#include <algorithm>
+#include <set>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace aovar::render {
+using variants::Axis;
+
+const char* format_name(Format f) {
+  switch (f) {
+    case Format::r16f: return "r16f";
+    case Format::r32f: return "r32f";
+    case Format::rgba8: return "rgba8";
+    case Format::rg8: return "rg8";
+    case Format::rgba32f: return "rgba32f";
+  }
+  return "?";
+}
+
+int format_bytes(Format f) {
+  switch (f) {
+    case Format::r16f: return 2;
+    case Format::r32f: return 4;
+    case Format::rgba8: return 4;
+    case Format::rg8: return 2;
+    case Format::rgba32f: return 16;
+  }
+  return 0;
+}
+
+std::vector<std::string> PipelinePlan::passes() const {
+  std::vector<std::string> out;
+  for (const auto& d : draws)
+    if (std::find(out.begin(), out.end(), d.pass) == out.end()) out.push_back(d.pass);
+  return out;
+}
+
+namespace {
+
+class PlanBuilder {
+ public:
+  PlanBuilder(const compile::CompiledSpace& c, int variant, variants::Target target, const ParamOverrides& o)
+      : c_(c), entry_(c.space.variants.at(variant)), target_(target), overrides_(o) {
+    t_ = c.target_index(target);
+    if (t_ < 0) throw std::runtime_error(fmt::format("target {} was not compiled", variants::target_name(target)));
+    plan_.variant = entry_.key;
+    for (int a = 0; a < variants::kAxisCount; ++a) {
+      int i = entry_.point[a] >= 0 ? entry_.point[a] : 0;  // collapsed: no stage reads it, any value will do
+      plan_.axes[std::string(variants::axis_info(variants::axis_at(a)).name)] =
+          c.manifest.value(variants::axis_at(a), i).text;
+    }
+  }
+
+  const std::string& axis(Axis a) { return plan_.axes[std::string(variants::axis_info(a).name)]; }
+
+  // {vertex, fragment} programs of a manifest pass, or nullptr when the variant does not run it.
+  const std::array<int, 2>* pass(const std::string& name) {
+    for (std::size_t i = 0; i < c_.manifest.passes.size(); ++i)
+      if (c_.manifest.passes[i].name == name) {
+        const auto& p = entry_.passes[i];
+        return p[0] == variants::kNoProgram && p[1] == variants::kNoProgram ? nullptr : &p;
+      }
+    return nullptr;
+  }
+
+  int shader(int program) {
+    auto [it, fresh] = shader_of_.emplace(program, static_cast<int>(plan_.shaders.size()));
+    if (!fresh) return it->second;
+    const compile::ProgramBuild& b = c_.builds[t_][program];
+    const variants::ProgramSpec& spec = c_.space.programs[program];
+    if (!b.ok) throw std::runtime_error(fmt::format("program {} did not compile", spec.key));
+    Shader s;
+    s.program_key = spec.key;
+    s.stage = spec.stage;
+    if (target_ == variants::Target::vulkan) s.spirv = b.output.spirv;
+    else s.glsl = b.source;
+    plan_.shaders.push_back(std::move(s));
+    return it->second;
+  }
+
+  // AOParams contents of a fragment program: manifest params (or overrides) by member name; members the
+  // renderer sets itself come from `renderer_set`.
+  std::vector<float> params(const std::string& pass_name, int program,
+                            const std::map<std::string, float>& renderer_set = {}) {
+    const compile::ProgramBuild& b = c_.builds[t_][program];
+    const variants::ProgramSpec& spec = c_.space.programs[program];
+    std::vector<float> out;
+    for (const auto& member : b.output.params_block) {
+      auto param = std::find_if(spec.params.begin(), spec.params.end(),
+                                [&](const variants::Param& p) { return p.name == member.name; });
+      if (param != spec.params.end()) {
+        std::string key = pass_name + "." + member.name;
+        auto o = overrides_.find(key);
+        used_.insert(key);
+        out.push_back(static_cast<float>(o != overrides_.end() ? o->second : param->value));
+      } else if (auto r = renderer_set.find(member.name); r != renderer_set.end()) {
+        out.push_back(r->second);
+      } else {
+        throw std::runtime_error(fmt::format("{}: AOParams member '{}' is neither a manifest parameter of pass "
+                                             "'{}' nor set by the renderer", spec.key, member.name, pass_name));
+      }
+    }
+    return out;
+  }
+
+  int texture(Texture t) {
+    plan_.textures.push_back(std::move(t));
+    return static_cast<int>(plan_.textures.size()) - 1;
+  }
+
+  // A fullscreen draw at AO or full resolution writing a fresh R16F texture.
+  int fullscreen(const std::string& name, const std::string& pass_name, const std::array<int, 2>& programs,
+                 std::vector<std::pair<int, TextureRef>> inputs, bool full_res,
+                 const std::map<std::string, float>& renderer_set = {}, bool double_buffered = false) {
+    int out = texture({name, Format::r16f, full_res, double_buffered, false, {}});
+    Draw d;
+    d.name = name;
+    d.pass = pass_name;
+    d.vertex = shader(programs[0]);
+    d.fragment = shader(programs[1]);
+    d.params = params(pass_name, programs[1], renderer_set);
+    d.inputs = std::move(inputs);
+    d.outputs = {TextureRef{out}};
+    d.full_resolution = full_res;
+    plan_.draws.push_back(std::move(d));
+    return out;
+  }
+
+  PipelinePlan build() {
+    plan_.resolution = std::stod(axis(Axis::resolution));
+    plan_.progressive = axis(Axis::progressive) == "true";
+    bool full_ao = plan_.resolution >= 1.0;
+
+    // G-buffer.
+    const auto* gbuffer = pass("gbuffer");
+    if (!gbuffer) throw std::runtime_error(plan_.variant + ": the manifest has no gbuffer pass");
+    Format depth_format = axis(Axis::depth_format) == "r16f" ? Format::r16f : Format::r32f;
+    int depth = texture({"depth", depth_format, true, false, true, {kClearFar, 0, 0, 0}});
+    int normal = -1, position = -1;
+    const std::string& normals = axis(Axis::normals);
+    if (normals != "depth")  // rgb8 is stored RGBA8: no API guarantees a renderable 24-bit format
+      normal = texture({"normal", normals == "rgb8" ? Format::rgba8 : Format::rg8, true, false, true, {}});
+    if (axis(Axis::position) == "position")
+      position = texture({"position", Format::rgba32f, true, false, true, {0, 0, kClearNegFar, 0}});
+    Draw g;
+    g.name = g.pass = "gbuffer";
+    g.geometry = true;
+    g.vertex = shader((*gbuffer)[0]);
+    g.fragment = shader((*gbuffer)[1]);
+    g.params = params("gbuffer", (*gbuffer)[1]);
+    g.outputs = {TextureRef{depth}, TextureRef{normal}, TextureRef{position}};
+    while (!g.outputs.empty() && g.outputs.back().texture < 0) g.outputs.pop_back();
+    plan_.draws.push_back(std::move(g));
+
+    // AO at its resolution; progressive variants keep both halves (double-buffered by frame parity).
+    const auto* ao = pass("ao");
+    if (!ao) throw std::runtime_error(plan_.variant + ": the manifest has no ao pass");
+    std::vector<std::pair<int, TextureRef>> gbuffer_inputs = {{2, TextureRef{depth}}};
+    if (normal >= 0) gbuffer_inputs.push_back({3, TextureRef{normal}});
+    if (position >= 0) gbuffer_inputs.push_back({4, TextureRef{position}});
+    int current = fullscreen("ao", "ao", *ao, gbuffer_inputs, full_ao, {}, plan_.progressive);
+
+    if (plan_.progressive) {
+      const auto* prog = pass("progressive");
+      if (!prog) throw std::runtime_error(plan_.variant + ": progressive variant but no progressive pass");
+      current = fullscreen("progressive", "progressive", *prog,
+                           {{5, TextureRef{current}}, {6, TextureRef{current, true}}}, full_ao);
+    }
+
+    if (const auto* blur = pass("blur")) {
+      if (axis(Axis::blur) == "separable") {
+        current = fullscreen("blur.h", "blur", *blur, {{2, TextureRef{depth}}, {5, TextureRef{current}}}, full_ao,
+                             {{"axis", 0.0f}});
+        current = fullscreen("blur.v", "blur", *blur, {{2, TextureRef{depth}}, {5, TextureRef{current}}}, full_ao,
+                             {{"axis", 1.0f}});
+      } else {
+        current = fullscreen("blur", "blur", *blur, {{2, TextureRef{depth}}, {5, TextureRef{current}}}, full_ao);
+      }
+    }
+
+    if (!full_ao) {
+      const auto* up = pass("upsample");
+      if (!up) throw std::runtime_error(plan_.variant + ": reduced resolution but no upsample pass");
+      current = fullscreen("upsample", "upsample", *up, {{2, TextureRef{depth}}, {5, TextureRef{current}}}, true);
+    }
+
+    plan_.textures[current].format = Format::r32f;  // the result: NaN and Inf survive the read-back
+    plan_.result = current;
+    for (const auto& [key, value] : overrides_)
+      if (!used_.count(key))
+        throw std::runtime_error(fmt::format("parameter '{}' is not a parameter of variant {} (use <pass>.<name>, "
+                                             "e.g. ao.intensity)", key, plan_.variant));
+    return std::move(plan_);
+  }
+
+ private:
+  const compile::CompiledSpace& c_;
+  const variants::VariantEntry& entry_;
+  variants::Target target_;
+  const ParamOverrides& overrides_;
+  int t_ = -1;
+  PipelinePlan plan_;
+  std::map<int, int> shader_of_;
+  std::set<std::string> used_;
+};
+
+}  // namespace
+
+PipelinePlan plan_pipeline(const compile::CompiledSpace& compiled, int variant, variants::Target target,
+                           const ParamOverrides& overrides) {
+  return PlanBuilder(compiled, variant, target, overrides).build();
+}
+
+PipelinePlan plan_prefix(const PipelinePlan& plan, const std::string& last_draw) {
+  auto it = std::find_if(plan.draws.begin(), plan.draws.end(), [&](const Draw& d) { return d.name == last_draw; });
+  if (it == plan.draws.end()) throw std::runtime_error(plan.variant + ": no draw named '" + last_draw + "'");
+  PipelinePlan cut = plan;
+  cut.draws.erase(cut.draws.begin() + (it - plan.draws.begin()) + 1, cut.draws.end());
+  int out = cut.draws.back().outputs.at(0).texture;
+  cut.textures[out].format = Format::r32f;
+  cut.textures[out].double_buffered = false;
+  cut.result = out;
+  return cut;
+}
+
+}  // namespace aovar::render

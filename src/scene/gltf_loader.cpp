@@ -1,0 +1,422 @@
+// glTF 2.0 (.gltf text, .glb binary) through tinygltf: the default scene's node tree is walked with node
+// transforms (matrix or TRS) applied to positions and normals (inverse transpose; winding flipped under
+// mirroring transforms), and every triangle primitive instance is merged. Images are not decoded (AO needs
+// no textures). The container and the JSON are checked here first so that broken files get a byte offset.
+#include <cstring>
+#include <optional>
+
+#include <fmt/format.h>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
+#include "scene/detail.h"
+#include "util/fs.h"
+
+namespace aovar::scene::detail {
+namespace {
+
+using Model = tinygltf::Model;
+
+// Validates the JSON text without building a document; on error gives the byte offset and message.
+struct JsonCheck : nlohmann::json_sax<nlohmann::json> {
+  std::size_t position = 0;
+  std::string message;
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(number_integer_t) override { return true; }
+  bool number_unsigned(number_unsigned_t) override { return true; }
+  bool number_float(number_float_t, const string_t&) override { return true; }
+  bool string(string_t&) override { return true; }
+  bool binary(binary_t&) override { return true; }
+  bool start_object(std::size_t) override { return true; }
+  bool key(string_t&) override { return true; }
+  bool end_object() override { return true; }
+  bool start_array(std::size_t) override { return true; }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t pos, const std::string&, const nlohmann::detail::exception& ex) override {
+    position = pos;
+    message = ex.what();
+    if (auto close = message.find("] "); message.starts_with("[json.") && close != std::string::npos)
+      message.erase(0, close + 2);  // drop "[json.exception.parse_error.101] "
+    return false;
+  }
+};
+
+void check_json(const std::string& display, std::string_view json, std::size_t base) {
+  JsonCheck check;
+  if (nlohmann::json::sax_parse(json.begin(), json.end(), &check)) return;
+  fail(fmt::format("{}: offset {}: error: invalid JSON: {} (the file is truncated or not glTF 2.0 JSON)", display,
+                   base + (check.position > 0 ? check.position - 1 : 0), check.message));
+}
+
+std::uint32_t u32_at(std::string_view b, std::size_t at) {
+  std::uint32_t v;
+  std::memcpy(&v, b.data() + at, 4);  // glTF binaries are little-endian, as is every supported host
+  return v;
+}
+
+// GLB container: 12-byte header, then a JSON chunk. Returns the file offset of the BIN chunk's data.
+std::optional<std::size_t> check_glb(const std::string& display, std::string_view bytes) {
+  auto bad = [&](std::size_t offset, const std::string& what) {
+    fail(fmt::format("{}: offset {}: error: {}", display, offset, what));
+  };
+  if (bytes.size() < 12)
+    bad(0, fmt::format("{} bytes is too short for a glTF binary header (12 bytes; the file "
+                       "is truncated or not a .glb)",
+                       bytes.size()));
+  if (bytes.substr(0, 4) != "glTF")
+    bad(0, "not a glTF binary: the file does not start with 'glTF' (a text glTF must be named .gltf)");
+  if (u32_at(bytes, 4) != 2)
+    bad(4, fmt::format("glTF binary version {} (only version 2 is supported)", u32_at(bytes, 4)));
+  if (u32_at(bytes, 8) > bytes.size())
+    bad(8, fmt::format("the header says {} bytes but the file has {} (the file is truncated)", u32_at(bytes, 8),
+                       bytes.size()));
+  if (bytes.size() < 20) bad(12, "no JSON chunk after the header (the file is truncated)");
+  std::uint64_t json_len = u32_at(bytes, 12);
+  if (bytes.substr(16, 4) != "JSON") bad(16, "the first chunk is not JSON (the file is corrupt)");
+  if (20 + json_len > bytes.size())
+    bad(12, fmt::format("the JSON chunk ({} bytes) runs past the end of the file "
+                        "(the file is truncated)",
+                        json_len));
+  check_json(display, bytes.substr(20, json_len), 20);
+  std::size_t bin = 20 + ((json_len + 3) & ~std::uint64_t{3});
+  if (bin + 8 <= bytes.size() && bytes.substr(bin + 4, 4) == std::string_view("BIN\0", 4)) return bin + 8;
+  return std::nullopt;
+}
+
+bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+  return true;
+}
+
+glm::mat4 local_matrix(const tinygltf::Node& n) {
+  if (n.matrix.size() == 16) {
+    glm::mat4 m;
+    for (int i = 0; i < 16; ++i) m[i / 4][i % 4] = static_cast<float>(n.matrix[i]);  // column-major, as glm
+    return m;
+  }
+  glm::mat4 m(1.0f);
+  if (n.translation.size() == 3) m = glm::translate(m, glm::vec3(n.translation[0], n.translation[1], n.translation[2]));
+  if (n.rotation.size() == 4) {  // glTF stores x, y, z, w; glm's constructor takes w first
+    const auto& r = n.rotation;
+    m *= glm::mat4(glm::mat4_cast(glm::normalize(glm::dquat(r[3], r[0], r[1], r[2]))));
+  }
+  if (n.scale.size() == 3) m = glm::scale(m, glm::vec3(n.scale[0], n.scale[1], n.scale[2]));
+  return m;
+}
+
+struct Instance {
+  int mesh;
+  glm::mat4 world;
+};
+
+// A typed, bounds-checked view of an accessor's elements.
+struct Stream {
+  const unsigned char* data = nullptr;
+  std::size_t stride = 0, count = 0;
+  int component = 0, components = 0;
+  bool normalized = false;
+
+  float get(std::size_t i, int c) const {
+    const unsigned char* p = data + i * stride;
+    switch (component) {
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+        float f;
+        std::memcpy(&f, p + 4 * c, 4);
+        return f;
+      }
+      case TINYGLTF_COMPONENT_TYPE_BYTE: {
+        auto v = static_cast<std::int8_t>(p[c]);
+        return normalized ? std::max(v / 127.0f, -1.0f) : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return normalized ? p[c] / 255.0f : p[c];
+      case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        std::int16_t v;
+        std::memcpy(&v, p + 2 * c, 2);
+        return normalized ? std::max(v / 32767.0f, -1.0f) : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        std::uint16_t v;
+        std::memcpy(&v, p + 2 * c, 2);
+        return normalized ? v / 65535.0f : v;
+      }
+      default:
+        return 0.0f;
+    }
+  }
+  std::uint32_t index(std::size_t i) const {
+    const unsigned char* p = data + i * stride;
+    switch (component) {
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return p[0];
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        std::uint16_t v;
+        std::memcpy(&v, p, 2);
+        return v;
+      }
+      default: {
+        std::uint32_t v;
+        std::memcpy(&v, p, 4);
+        return v;
+      }
+    }
+  }
+};
+
+class Loader {
+ public:
+  Loader(const Model& m, const std::string& display, std::optional<std::size_t> bin)
+      : m_(m), display_(display), bin_(bin) {}
+
+  std::vector<Instance> instances() {
+    std::vector<Instance> out;
+    int scene = m_.defaultScene >= 0 ? m_.defaultScene : (m_.scenes.empty() ? -1 : 0);
+    if (scene >= static_cast<int>(m_.scenes.size())) error(fmt::format("default scene {} does not exist", scene));
+    std::vector<int> roots;
+    if (scene >= 0) {
+      roots = m_.scenes[scene].nodes;
+    } else {  // no scenes: every node that is nobody's child
+      std::vector<char> child(m_.nodes.size(), 0);
+      for (const tinygltf::Node& n : m_.nodes)
+        for (int c : n.children)
+          if (c >= 0 && c < static_cast<int>(child.size())) child[c] = 1;
+      for (std::size_t i = 0; i < child.size(); ++i)
+        if (!child[i]) roots.push_back(static_cast<int>(i));
+    }
+    for (int r : roots) walk(r, glm::mat4(1.0f), 0, out);
+    return out;
+  }
+
+  // Vertices and indices that `instances` will produce (for the memory check before any copy).
+  std::pair<std::uint64_t, std::uint64_t> counts(const std::vector<Instance>& instances) {
+    std::uint64_t vertices = 0, indices = 0;
+    for (const Instance& in : instances)
+      for (const tinygltf::Primitive& p : m_.meshes[in.mesh].primitives) {
+        auto pos = p.attributes.find("POSITION");
+        if (!triangles(p) || pos == p.attributes.end()) continue;
+        std::uint64_t n = accessor(pos->second, "POSITION").count;
+        std::uint64_t corners = p.indices >= 0 ? accessor(p.indices, "indices").count : n;
+        vertices += n;
+        indices +=
+            p.mode == TINYGLTF_MODE_TRIANGLES || p.mode < 0 ? corners : 3 * (std::max<std::uint64_t>(corners, 2) - 2);
+      }
+    return {vertices, indices};
+  }
+
+  void emit(const Instance& in, Scene& s) {
+    const tinygltf::Mesh& mesh = m_.meshes[in.mesh];
+    const glm::mat3 linear(in.world);
+    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(linear));
+    const bool mirrored = glm::determinant(linear) < 0.0f;
+    for (std::size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
+      const tinygltf::Primitive& p = mesh.primitives[pi];
+      if (!triangles(p)) continue;  // points and lines have no surface to occlude
+      where_ = fmt::format("mesh {}{} primitive {}", in.mesh, mesh.name.empty() ? "" : " '" + mesh.name + "'", pi);
+      auto pos_it = p.attributes.find("POSITION");
+      if (pos_it == p.attributes.end()) error(where_ + " has no POSITION attribute", "add vertex positions");
+      Stream pos = stream(pos_it->second, "POSITION", TINYGLTF_TYPE_VEC3);
+      std::optional<Stream> nrm;
+      if (auto it = p.attributes.find("NORMAL"); it != p.attributes.end()) {
+        nrm = stream(it->second, "NORMAL", TINYGLTF_TYPE_VEC3);
+        if (nrm->count != pos.count)
+          error(fmt::format("{}: NORMAL has {} elements but POSITION has {}", where_, nrm->count, pos.count));
+      }
+      std::vector<std::uint32_t> corners;
+      if (p.indices >= 0) {
+        Stream idx = stream(p.indices, "indices", TINYGLTF_TYPE_SCALAR);
+        if (idx.component != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+            idx.component != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+            idx.component != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+          error(where_ + ": indices must be unsigned byte, short or int");
+        corners.resize(idx.count);
+        for (std::size_t i = 0; i < idx.count; ++i) {
+          corners[i] = idx.index(i);
+          if (corners[i] >= pos.count)
+            error(fmt::format("{}: index {} is {} but there are {} vertices", where_, i, corners[i], pos.count),
+                  "the file is corrupt");
+        }
+      } else {
+        corners.resize(pos.count);
+        for (std::size_t i = 0; i < pos.count; ++i) corners[i] = static_cast<std::uint32_t>(i);
+      }
+      std::vector<std::uint32_t> tris = to_list(p.mode, corners);
+      if (mirrored)
+        for (std::size_t i = 0; i + 2 < tris.size(); i += 3) std::swap(tris[i + 1], tris[i + 2]);
+
+      const std::uint32_t base = static_cast<std::uint32_t>(s.positions.size());
+      for (std::size_t i = 0; i < pos.count; ++i)
+        s.positions.push_back(glm::vec3(in.world * glm::vec4(pos.get(i, 0), pos.get(i, 1), pos.get(i, 2), 1.0f)));
+      if (nrm) {
+        for (std::size_t i = 0; i < pos.count; ++i) {
+          glm::vec3 n = normal_matrix * glm::vec3(nrm->get(i, 0), nrm->get(i, 1), nrm->get(i, 2));
+          s.normals.push_back(safe_normalize(n, glm::vec3(0.0f)));
+        }
+      }
+      // Smooth normals (per vertex index) where the file has none, computed in world space. (The glTF spec
+      // asks for flat normals there; smooth ones suit AO on scanned meshes and need no de-indexing.) Zero or
+      // broken normals from the file get the same treatment.
+      std::span<const glm::vec3> world(s.positions.data() + base, pos.count);
+      std::vector<glm::vec3> smooth;
+      for (std::size_t i = 0; i < pos.count; ++i) {
+        if (nrm && s.normals[base + i] != glm::vec3(0.0f)) continue;
+        if (smooth.empty()) smooth = smooth_normals(world, tris);
+        if (nrm)
+          s.normals[base + i] = smooth[i];
+        else
+          s.normals.push_back(smooth[i]);
+      }
+      for (std::uint32_t t : tris) s.indices.push_back(base + t);
+      ++s.mesh_count;
+    }
+  }
+
+ private:
+  static bool triangles(const tinygltf::Primitive& p) {
+    return p.mode < 0 || p.mode == TINYGLTF_MODE_TRIANGLES || p.mode == TINYGLTF_MODE_TRIANGLE_STRIP ||
+           p.mode == TINYGLTF_MODE_TRIANGLE_FAN;
+  }
+
+  static std::vector<std::uint32_t> to_list(int mode, std::vector<std::uint32_t>& c) {
+    if (mode < 0 || mode == TINYGLTF_MODE_TRIANGLES) {
+      c.resize(c.size() / 3 * 3);
+      return std::move(c);
+    }
+    std::vector<std::uint32_t> out;
+    for (std::size_t i = 2; i < c.size(); ++i) {
+      if (mode == TINYGLTF_MODE_TRIANGLE_FAN)
+        out.insert(out.end(), {c[0], c[i - 1], c[i]});
+      else if (i % 2 == 0)
+        out.insert(out.end(), {c[i - 2], c[i - 1], c[i]});
+      else
+        out.insert(out.end(), {c[i - 1], c[i - 2], c[i]});  // odd strip triangles keep the winding
+    }
+    return out;
+  }
+
+  [[noreturn]] void error(const std::string& what, const std::string& todo = "the file is not valid glTF 2.0",
+                          std::optional<std::size_t> offset = std::nullopt) const {
+    if (offset) fail(fmt::format("{}: offset {}: error: {} ({})", display_, *offset, what, todo));
+    fail(fmt::format("{}: error: {} ({})", display_, what, todo));
+  }
+
+  void walk(int node, const glm::mat4& parent, std::size_t depth, std::vector<Instance>& out) {
+    if (node < 0 || node >= static_cast<int>(m_.nodes.size())) error(fmt::format("node {} does not exist", node));
+    if (depth > m_.nodes.size()) error(fmt::format("node {} is its own ancestor (the node tree has a cycle)", node));
+    const tinygltf::Node& n = m_.nodes[node];
+    glm::mat4 world = parent * local_matrix(n);
+    if (n.mesh >= 0) {
+      if (n.mesh >= static_cast<int>(m_.meshes.size()))
+        error(fmt::format("node {} uses mesh {}, which does not exist", node, n.mesh));
+      out.push_back({n.mesh, world});
+    }
+    for (int c : n.children) walk(c, world, depth + 1, out);
+  }
+
+  const tinygltf::Accessor& accessor(int index, const char* what) const {
+    if (index < 0 || index >= static_cast<int>(m_.accessors.size()))
+      error(fmt::format("{}{}{} refers to accessor {}, which does not exist", where_, where_.empty() ? "" : " ", what,
+                        index));
+    return m_.accessors[index];
+  }
+
+  Stream stream(int index, const char* what, int type) const {
+    const tinygltf::Accessor& a = accessor(index, what);
+    const std::string label = fmt::format("{} {} (accessor {})", where_, what, index);
+    if (a.type != type) error(label + " has the wrong element type (POSITION and NORMAL are VEC3, indices SCALAR)");
+    if (a.sparse.isSparse) error(label + " is a sparse accessor", "sparse accessors are not supported; densify it");
+    if (a.bufferView < 0 || a.bufferView >= static_cast<int>(m_.bufferViews.size()))
+      error(label + " has no buffer view", "accessors without data are not supported");
+    const tinygltf::BufferView& v = m_.bufferViews[a.bufferView];
+    if (v.buffer < 0 || v.buffer >= static_cast<int>(m_.buffers.size()))
+      error(fmt::format("{}: buffer view {} refers to buffer {}, which does not exist", label, a.bufferView, v.buffer));
+    const std::vector<unsigned char>& data = m_.buffers[v.buffer].data;
+    const int elem = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType)) *
+                     tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type));
+    const int stride = a.ByteStride(v);
+    if (elem <= 0 || stride <= 0) error(label + " has an invalid component type or byte stride");
+    if (type == TINYGLTF_TYPE_VEC3 &&
+        (a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT || a.componentType == TINYGLTF_COMPONENT_TYPE_INT ||
+         a.componentType == TINYGLTF_COMPONENT_TYPE_DOUBLE))
+      error(label + " has an unsupported component type (use float)");
+    const std::uint64_t start = std::uint64_t{v.byteOffset} + a.byteOffset;
+    const std::uint64_t end =
+        a.count == 0 ? start : start + std::uint64_t{static_cast<unsigned>(stride)} * (a.count - 1) + elem;
+    if (end > std::uint64_t{v.byteOffset} + v.byteLength || end > data.size()) {
+      std::optional<std::size_t> at;
+      if (bin_ && v.buffer == 0 && m_.buffers[0].uri.empty()) at = *bin_ + start;
+      error(fmt::format("{} reads bytes {}..{} of buffer {}, which has {} (view ends at {})", label, start, end,
+                        v.buffer, data.size(), v.byteOffset + v.byteLength),
+            "the file is truncated or corrupt", at);
+    }
+    return Stream{data.data() + start,
+                  static_cast<std::size_t>(stride),
+                  a.count,
+                  a.componentType,
+                  tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type)),
+                  a.normalized};
+  }
+
+  const Model& m_;
+  const std::string& display_;
+  std::optional<std::size_t> bin_;
+  std::string where_;
+};
+
+}  // namespace
+
+Scene load_gltf(const std::filesystem::path& path, const std::string& display, const LoadOptions& options,
+                bool binary) {
+  std::error_code ec;
+  const std::uint64_t file_size = std::filesystem::file_size(path, ec);
+  if (ec) fail(fmt::format("{}: error: cannot open (check the path)", display));
+  // Peak while parsing is about 4x the file: the bytes read (1x), tinygltf's copy of the buffers (1x; for
+  // base64 data URIs the decoded 0.75x plus the JSON string 1x), and our output (positions + normals as
+  // float3 plus u32 indices: at most ~2x typical float3/u16 input). Instancing can multiply the output; that
+  // is checked exactly once the node tree is known.
+  check_memory(display, file_size * 4, memory_limit(options),
+               fmt::format("estimated as 4x the {} file", format_bytes(file_size)));
+  if (file_size > 0xffffffffu) fail(fmt::format("{}: error: glTF files over 4 GiB are not supported", display));
+  std::optional<std::string> bytes = util::read_file(path);
+  if (!bytes) fail(fmt::format("{}: error: cannot open (check the path and permissions)", display));
+  if (bytes->empty()) fail(fmt::format("{}: offset 0: error: the file is empty (export the scene again)", display));
+
+  std::optional<std::size_t> bin;
+  if (binary)
+    bin = check_glb(display, *bytes);
+  else
+    check_json(display, *bytes, 0);
+
+  tinygltf::TinyGLTF gltf;
+  gltf.SetImageLoader(&skip_image, nullptr);
+  Model model;
+  std::string err, warn;
+  const std::string base_dir = path.parent_path().string();
+  const auto size = static_cast<unsigned int>(bytes->size());
+  bool ok = binary ? gltf.LoadBinaryFromMemory(&model, &err, &warn,
+                                               reinterpret_cast<const unsigned char*>(bytes->data()), size, base_dir)
+                   : gltf.LoadASCIIFromString(&model, &err, &warn, bytes->data(), size, base_dir);
+  bytes.reset();
+  if (!ok || !err.empty())
+    fail(fmt::format("{}: error: {} (check that the file is valid glTF 2.0 and its buffers exist)", display,
+                     err.empty() ? "tinygltf could not load the file" : one_line(err)));
+
+  Loader loader(model, display, bin);
+  std::vector<Instance> instances = loader.instances();
+  auto [vertices, indices] = loader.counts(instances);
+  check_size(display, vertices, indices, options);
+  Scene scene;
+  scene.positions.reserve(vertices);
+  scene.normals.reserve(vertices);
+  scene.indices.reserve(indices);
+  for (const Instance& in : instances) loader.emit(in, scene);
+  if (scene.indices.empty())
+    fail(
+        fmt::format("{}: error: no triangles in the default scene ({} mesh instance{}; add triangle meshes to the "
+                    "scene's nodes)",
+                    display, instances.size(), instances.size() == 1 ? "" : "s"));
+  return scene;
+}
+
+}  // namespace aovar::scene::detail

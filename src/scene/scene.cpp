@@ -1,0 +1,233 @@
+// Scene loading entry point (dispatch by spec), camera paths, view lookup and the helpers every loader
+// shares: one-line errors, memory limits, normals, bounds and the content hash.
+#include "scene/scene.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include "scene/detail.h"
+#include "util/fs.h"
+#include "util/hash.h"
+
+namespace aovar::scene {
+namespace fs = std::filesystem;
+
+static_assert(sizeof(glm::vec3) == 12, "positions and normals are hashed and uploaded as packed floats");
+
+namespace detail {
+
+std::string one_line(std::string_view text) {
+  std::string out;
+  bool blank = false;
+  for (char c : text) {
+    if (c == '\n' || c == '\r' || c == '\t' || c == ' ') {
+      blank = true;
+      continue;
+    }
+    if (blank && !out.empty()) out += ' ';
+    blank = false;
+    out += c;
+  }
+  return out;
+}
+
+void fail(std::string_view message) { throw SceneError(one_line(message)); }
+
+std::string format_bytes(std::uint64_t bytes) {
+  const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};
+  double v = static_cast<double>(bytes);
+  int u = 0;
+  while (v >= 1024.0 && u < 4) v /= 1024.0, ++u;
+  return u == 0 ? fmt::format("{} bytes", bytes) : fmt::format("{:.1f} {}", v, units[u]);
+}
+
+std::uint64_t memory_limit(const LoadOptions& options) {
+  if (options.memory_limit) return options.memory_limit;
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  std::uint64_t kib = 0;
+  std::string unit;
+  while (in >> key >> kib >> unit)
+    if (key == "MemAvailable:") return kib * 1024 / 2;
+  long pages = ::sysconf(_SC_AVPHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+  if (pages > 0 && page > 0) return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) / 2;
+  return std::uint64_t{4} << 30;  // unknown: assume a modest machine
+}
+
+void check_memory(const std::string& display, std::uint64_t estimate, std::uint64_t limit, std::string_view what) {
+  if (estimate <= limit) return;
+  fail(
+      fmt::format("{}: error: scene too large: needs about {} in memory ({}), limit {} (use a smaller or "
+                  "decimated scene, or free memory: the limit is half of the available memory)",
+                  display, format_bytes(estimate), what, format_bytes(limit)));
+}
+
+std::uint64_t scene_bytes(std::uint64_t vertices, std::uint64_t indices) {
+  return vertices * 2 * sizeof(glm::vec3) + indices * sizeof(std::uint32_t);
+}
+
+void check_size(const std::string& display, std::uint64_t vertices, std::uint64_t indices, const LoadOptions& options) {
+  if (indices / 3 > kMaxTriangles || vertices >= 0xffffffffu)
+    fail(
+        fmt::format("{}: error: {} triangles and {} vertices is more than aovar handles (at most {} triangles; "
+                    "decimate the mesh)",
+                    display, indices / 3, vertices, kMaxTriangles));
+  check_memory(display, scene_bytes(vertices, indices), memory_limit(options),
+               fmt::format("{} vertices, {} triangles", vertices, indices / 3));
+}
+
+glm::vec3 safe_normalize(const glm::vec3& v, const glm::vec3& fallback) {
+  float len = glm::length(v);
+  if (!(len > 1e-30f) || !std::isfinite(len)) return fallback;
+  glm::vec3 n = v / len;
+  if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z)) return fallback;
+  return n;
+}
+
+std::vector<glm::vec3> smooth_normals(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices) {
+  // Unnormalised cross products weight each face by its area.
+  std::vector<glm::vec3> sum(positions.size(), glm::vec3(0.0f));
+  for (std::size_t i = 0; i + 2 < indices.size(); i += 3) {
+    std::uint32_t a = indices[i], b = indices[i + 1], c = indices[i + 2];
+    glm::vec3 n = glm::cross(positions[b] - positions[a], positions[c] - positions[a]);
+    sum[a] += n, sum[b] += n, sum[c] += n;
+  }
+  std::vector<char> bad(positions.size(), 0);
+  bool any_bad = false;
+  for (std::size_t i = 0; i < sum.size(); ++i) {
+    sum[i] = safe_normalize(sum[i], glm::vec3(0.0f));
+    bad[i] = sum[i] == glm::vec3(0.0f);
+    any_bad |= bad[i] != 0;
+  }
+  if (!any_bad) return sum;
+  // Cancelling or degenerate neighbourhoods (two-sided sheets, zero-area faces): largest adjacent face,
+  // else +Y.
+  std::vector<float> best(positions.size(), 0.0f);
+  for (std::size_t i = 0; i + 2 < indices.size(); i += 3) {
+    std::uint32_t v[3] = {indices[i], indices[i + 1], indices[i + 2]};
+    glm::vec3 n = glm::cross(positions[v[1]] - positions[v[0]], positions[v[2]] - positions[v[0]]);
+    float area = glm::length(n);
+    if (!(area > 0.0f) || !std::isfinite(area)) continue;
+    for (std::uint32_t k : v)
+      if (bad[k] && area > best[k]) best[k] = area, sum[k] = n / area;
+  }
+  for (std::size_t i = 0; i < sum.size(); ++i)
+    if (bad[i] && best[i] == 0.0f) sum[i] = {0.0f, 1.0f, 0.0f};
+  return sum;
+}
+
+void finalize(Scene& scene, const std::string& display) {
+  if (scene.indices.empty())
+    fail(
+        fmt::format("{}: error: the scene has no triangles (an empty mesh cannot be rendered; add geometry)", display));
+  if (scene.indices.size() % 3 != 0 || scene.normals.size() != scene.positions.size())
+    fail(fmt::format("{}: error: internal: inconsistent geometry arrays (report a bug)", display));
+  const std::size_t n = scene.positions.size();
+  for (std::size_t i = 0; i < scene.indices.size(); ++i)
+    if (scene.indices[i] >= n)
+      fail(fmt::format("{}: error: triangle {} uses vertex {} of {} (fix the file's indices)", display, i / 3,
+                       scene.indices[i], n));
+  scene.bounds = Bounds{};
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::vec3& p = scene.positions[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      fail(fmt::format("{}: error: vertex {} has a non-finite position (fix the file)", display, i));
+    scene.bounds.extend(p);
+    scene.normals[i] = safe_normalize(scene.normals[i], {0.0f, 1.0f, 0.0f});
+  }
+  auto bytes = [](const auto& v) {
+    return std::string_view(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0]));
+  };
+  util::Hasher h;
+  h.add("aovar-scene-1").add(bytes(scene.positions)).add(bytes(scene.normals)).add(bytes(scene.indices));
+  scene.content_hash = h.hex();
+}
+
+}  // namespace detail
+
+using namespace detail;
+
+CameraPose camera_at(const View& view, int frame) {
+  int frames = std::max(1, view.path_frames);
+  int f = std::clamp(frame, 0, frames - 1);
+  float t = frames > 1 ? static_cast<float>(f) / static_cast<float>(frames - 1) : 0.0f;
+  return {view.eye + t * view.path_offset, view.target + t * view.path_offset, view.up};
+}
+
+const View& Scene::view(std::string_view wanted) const {
+  for (const View& v : views)
+    if (v.name == wanted) return v;
+  std::string names;
+  for (const View& v : views) names += (names.empty() ? "" : ", ") + v.name;
+  fail(fmt::format("{}: error: no view '{}' (available: {})", name, wanted, names.empty() ? "none" : names));
+}
+
+std::vector<std::string> builtin_scene_names() {
+  std::vector<std::string> out;
+  for (const std::string& n : builtin_names()) out.push_back("builtin:" + n);
+  return out;
+}
+
+namespace {
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// "<scene>.views.toml" or "<scene>.views.json" next to the scene file, when exactly one exists.
+fs::path side_file_for(const fs::path& scene_path) {
+  fs::path toml = scene_path, json = scene_path;
+  toml += ".views.toml";
+  json += ".views.json";
+  std::error_code ec;
+  bool has_toml = fs::is_regular_file(toml, ec), has_json = fs::is_regular_file(json, ec);
+  if (has_toml && has_json)
+    fail(fmt::format("{}: error: both {} and {} exist (keep one views file)", util::display_path(scene_path),
+                     util::display_path(toml), util::display_path(json)));
+  return has_toml ? toml : has_json ? json : fs::path();
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& spec, const LoadOptions& options) {
+  constexpr std::string_view kPrefix = "builtin:";
+  Scene scene;
+  fs::path views_file = options.views_file;
+  if (spec.starts_with(kPrefix)) {
+    scene = make_builtin(std::string_view(spec).substr(kPrefix.size()));
+    scene.name = spec;
+    scene.source = "builtin";
+    finalize(scene, spec);
+  } else {
+    const fs::path path(spec);
+    const std::string display = util::display_path(path);
+    const std::string ext = lower(path.extension().string());
+    if (ext != ".obj" && ext != ".gltf" && ext != ".glb") {
+      std::string names;
+      for (const std::string& n : builtin_scene_names()) names += (names.empty() ? "" : ", ") + n;
+      fail(fmt::format("{}: error: unsupported scene format '{}' (supported: .obj, .gltf, .glb, or one of {})", display,
+                       ext.empty() ? path.filename().string() : ext, names));
+    }
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) fail(fmt::format("{}: error: cannot open (check the path)", display));
+    scene = ext == ".obj" ? load_obj(path, display, options) : load_gltf(path, display, options, ext == ".glb");
+    scene.name = spec;
+    scene.source = display;
+    finalize(scene, display);
+    // Files carry no AO scale: 1.5% of the bounding-box diagonal is about a hand's width in a room-sized
+    // scene and a few scale-lengths on a statue, the radius range SSAO papers show.
+    scene.ao_radius = 0.015f * scene.bounds.diagonal();
+    scene.views = derive_views(scene);
+    if (views_file.empty()) views_file = side_file_for(path);
+  }
+  if (!views_file.empty()) apply_views_file(scene, views_file);
+  return scene;
+}
+
+}  // namespace aovar::scene

@@ -1,0 +1,86 @@
+#include "render_support.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "test_support.h"
+
+namespace aovar::test {
+
+compile::CompiledSpace compile_variants(const std::vector<std::string>& keys) {
+  compile::CompileOptions o;
+  o.targets = {variants::Target::vulkan, variants::Target::gl45};
+  o.globs = keys;
+  auto c = compile::compile_space(source_dir() / "shader_src" / "aovar.toml", o);
+  if (!c.ok()) throw std::runtime_error("compile failed: " + (c.diagnostics.empty() ? "" : c.diagnostics[0]));
+  return c;
+}
+
+int variant_index(const compile::CompiledSpace& c, const std::string& key) {
+  for (std::size_t i = 0; i < c.space.variants.size(); ++i)
+    if (c.space.variants[i].key == key) return static_cast<int>(i);
+  throw std::runtime_error("no variant " + key);
+}
+
+variants::Target target_of(const std::string& backend) {
+  return backend == "lavapipe" ? variants::Target::vulkan : variants::Target::gl45;
+}
+
+scene::Scene quad_scene(const std::vector<Quad>& quads, const scene::View& view, float radius) {
+  scene::Scene s;
+  s.name = "test:quads";
+  s.source = "test";
+  for (const auto& q : quads) {
+    auto base = static_cast<std::uint32_t>(s.positions.size());
+    glm::vec3 n = glm::normalize(glm::cross(q.u, q.v));
+    for (glm::vec3 p : {q.corner, q.corner + q.u, q.corner + q.u + q.v, q.corner + q.v}) {
+      s.positions.push_back(p);
+      s.normals.push_back(n);
+      s.bounds.extend(p);
+    }
+    for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) s.indices.push_back(base + i);
+    ++s.mesh_count;
+  }
+  s.content_hash = "test";
+  s.ao_radius = radius;
+  s.views = {view};
+  return s;
+}
+
+image::FloatImage render_plan(render::Backend& backend, const render::PipelinePlan& plan, const scene::View& view,
+                              render::Extent size, float radius, int frames, int first_frame) {
+  auto p = backend.prepare(plan, size);
+  for (int f = 0; f < frames; ++f) {
+    render::FrameSetup s;
+    s.view = &view;
+    s.frame = first_frame + f;
+    s.static_camera = true;
+    s.radius = radius;
+    backend.render(*p, s);
+  }
+  return backend.read_result(*p);
+}
+
+glm::ivec2 project(const scene::View& view, render::Extent size, glm::vec3 world) {
+  render::FrameSetup s;
+  s.view = &view;
+  auto b = render::make_frame_block(s, size, size, render::ClipDepth::zero_to_one);
+  glm::vec4 clip = b.proj * b.view * glm::vec4(world, 1.0f);
+  glm::vec2 ndc = glm::vec2(clip) / clip.w;
+  return {static_cast<int>(std::floor((ndc.x * 0.5f + 0.5f) * size.width)),
+          static_cast<int>(std::floor((ndc.y * 0.5f + 0.5f) * size.height))};
+}
+
+ImageDiff compare(const image::FloatImage& a, const image::FloatImage& b) {
+  if (a.width != b.width || a.height != b.height) throw std::runtime_error("image sizes differ");
+  ImageDiff d;
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) {
+    double e = std::abs(double(a.pixels[i]) - double(b.pixels[i]));
+    d.mean_abs += e;
+    d.max_abs = std::max(d.max_abs, e);
+  }
+  d.mean_abs /= static_cast<double>(a.pixels.size());
+  return d;
+}
+
+}  // namespace aovar::test

@@ -1,0 +1,37 @@
+#pragma once
+// Shared helpers of the rendering tests: compiled variants, hand-built scenes, one-call rendering.
+#include <string>
+#include <vector>
+
+#include "compile/generate.h"
+#include "image/image.h"
+#include "render/backend.h"
+#include "scene/scene.h"
+
+namespace aovar::test {
+
+// The default manifest compiled for vulkan and gl45, restricted to `keys` (exact keys or globs).
+compile::CompiledSpace compile_variants(const std::vector<std::string>& keys);
+int variant_index(const compile::CompiledSpace& c, const std::string& key);  // throws when absent
+
+variants::Target target_of(const std::string& backend);
+
+// Axis-aligned quads merged into a scene with one view; each quad is (corner, edge u, edge v), normal u x v.
+struct Quad {
+  glm::vec3 corner, u, v;
+};
+scene::Scene quad_scene(const std::vector<Quad>& quads, const scene::View& view, float radius);
+
+// Renders `frames` frames of a plan (static camera) and reads the result back.
+image::FloatImage render_plan(render::Backend& backend, const render::PipelinePlan& plan, const scene::View& view,
+                              render::Extent size, float radius, int frames, int first_frame = 0);
+
+// Pixel (x, y; row 0 = bottom) where a world point lands in `view` at `size`.
+glm::ivec2 project(const scene::View& view, render::Extent size, glm::vec3 world);
+
+struct ImageDiff {
+  double mean_abs = 0, max_abs = 0;
+};
+ImageDiff compare(const image::FloatImage& a, const image::FloatImage& b);
+
+}  // namespace aovar::test

@@ -1,0 +1,254 @@
+// Rendering through both backends: every built-in scene, backend agreement, AO on known geometry,
+// progressive halves, and the cost ordering of sample counts.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+#include "measure/measure.h"
+#include "util/fs.h"
+#include "render_support.h"
+#include "test_support.h"
+
+namespace aovar::test {
+namespace {
+
+const std::vector<std::string> kBackends = {"lavapipe", "osmesa"};
+
+// A handful of variants covering every buffer format, blur, resolution and precision choice.
+const std::vector<std::string> kVariety = {
+    "alchemy-s08-p0-nrg8-zdep-rst-d32-bsep-x1-hp",
+    "alchemy-s04-p1-noct-zpos-rip-d16-bbil-x2-hp",
+    "alchemy-s16-p0-ndep-zdep-rst-d16-bsep-x4-mp",
+    "alchemy-s12-p0-nrgb8-zdep-rip-d32-bno-x1-hp",
+};
+
+const compile::CompiledSpace& variety() {
+  static const compile::CompiledSpace c = compile_variants(kVariety);
+  return c;
+}
+
+struct SceneCase {
+  std::string backend, scene;
+};
+
+class EveryScene : public ::testing::TestWithParam<SceneCase> {};
+
+TEST_P(EveryScene, RendersFiniteOcclusionInRangeWithEveryVariant) {
+  const auto& [backend_name, scene_name] = GetParam();
+  auto sc = scene::load_scene(scene_name);
+  auto backend = render::make_backend(backend_name, {});
+  backend->set_scene(sc);
+  const auto& c = variety();
+  for (const auto& key : kVariety) {
+    auto plan = render::plan_pipeline(c, variant_index(c, key), target_of(backend_name));
+    auto img = render_plan(*backend, plan, sc.views.front(), {160, 90}, sc.ao_radius, 3);
+    auto h = measure::image_health(img);
+    EXPECT_EQ(h.nan, 0) << key;
+    EXPECT_EQ(h.inf, 0) << key;
+    EXPECT_EQ(h.out_of_range, 0) << key;
+    float lo = 1, hi = 0;
+    for (float v : img.pixels) lo = std::min(lo, v), hi = std::max(hi, v);
+    EXPECT_LT(lo, 0.8f) << key << ": the overview shows contacts, something must be occluded";
+    EXPECT_GT(hi, 0.95f) << key << ": open surfaces or background must stay bright";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Builtin, EveryScene,
+                         ::testing::Values(SceneCase{"lavapipe", "builtin:atrium"}, SceneCase{"osmesa", "builtin:atrium"},
+                                           SceneCase{"lavapipe", "builtin:spheres"}, SceneCase{"osmesa", "builtin:spheres"},
+                                           SceneCase{"lavapipe", "builtin:stairs"}, SceneCase{"osmesa", "builtin:stairs"},
+                                           SceneCase{"lavapipe", "builtin:cornell"}, SceneCase{"osmesa", "builtin:cornell"}),
+                         [](const auto& info) {
+                           return info.param.backend + "_" + info.param.scene.substr(info.param.scene.find(':') + 1);
+                         });
+
+TEST(Render, LavapipeAndOsmesaAgree) {
+  auto sc = scene::load_scene("builtin:atrium");
+  const auto& c = variety();
+  std::map<std::string, image::FloatImage> images[2];
+  for (int b = 0; b < 2; ++b) {
+    auto backend = render::make_backend(kBackends[b], {});
+    backend->set_scene(sc);
+    for (const auto& key : kVariety) {
+      auto plan = render::plan_pipeline(c, variant_index(c, key), target_of(kBackends[b]));
+      images[b][key] = render_plan(*backend, plan, sc.views.front(), {320, 180}, sc.ao_radius, 3);
+    }
+  }
+  for (const auto& key : kVariety) {
+    auto d = compare(images[0][key], images[1][key]);
+    EXPECT_LE(d.mean_abs, 1.0 / 255.0) << key;
+    EXPECT_LE(d.max_abs, 0.1) << key;
+  }
+}
+
+// A 40 x 40 floor seen from above at an angle, and a floor with a wall standing on it.
+scene::View floor_view() {
+  scene::View v;
+  v.name = "floor";
+  v.eye = {0.0f, 3.0f, 4.0f};
+  v.target = {0.0f, 0.0f, -1.0f};
+  v.near_plane = 0.1f;
+  v.far_plane = 60.0f;
+  return v;
+}
+const Quad kFloor{{-20.0f, 0.0f, 20.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -40.0f}};
+const Quad kWall{{-20.0f, 0.0f, -2.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 20.0f, 0.0f}};
+
+TEST(Render, OpenPlaneIsOpenOnBothBackends) {
+  auto view = floor_view();
+  auto sc = quad_scene({kFloor}, view, 0.5f);
+  const auto& c = variety();
+  for (const auto& b : kBackends) {
+    auto backend = render::make_backend(b, {});
+    backend->set_scene(sc);
+    for (const auto& key : kVariety) {
+      auto plan = render::plan_pipeline(c, variant_index(c, key), target_of(b));
+      auto img = render_plan(*backend, plan, view, {160, 90}, sc.ao_radius, 3);
+      float lo = 1;
+      for (float v : img.pixels) lo = std::min(lo, v);
+      EXPECT_GE(lo, 0.95f) << b << " " << key;
+    }
+  }
+}
+
+TEST(Render, InnerCornerIsDarkerThanTheOpenFloorNextToIt) {
+  auto view = floor_view();
+  const float radius = 0.5f;
+  auto sc = quad_scene({kFloor, kWall}, view, radius);
+  glm::vec3 corner{0.0f, 0.0f, -2.0f + 0.1f * radius}, open{0.0f, 0.0f, -2.0f + 4.0f * radius};
+  render::Extent size{320, 180};
+  glm::ivec2 pc = project(view, size, corner), po = project(view, size, open);
+  ASSERT_TRUE(pc.x >= 0 && pc.x < size.width && pc.y >= 0 && pc.y < size.height);
+  ASSERT_TRUE(po.x >= 0 && po.x < size.width && po.y >= 0 && po.y < size.height);
+  const auto& c = variety();
+  for (const auto& b : kBackends) {
+    auto backend = render::make_backend(b, {});
+    backend->set_scene(sc);
+    for (const auto& key : kVariety) {
+      auto plan = render::plan_pipeline(c, variant_index(c, key), target_of(b));
+      auto img = render_plan(*backend, plan, view, size, radius, 3);
+      EXPECT_GE(img.at(po.x, po.y), 0.95f) << b << " " << key;
+      EXPECT_LT(img.at(pc.x, pc.y), img.at(po.x, po.y) - 0.1f) << b << " " << key;
+    }
+  }
+}
+
+TEST(Render, ProgressiveHalvesAlternateAndAverageToTheFullKernel) {
+  const std::string half = "alchemy-s16-p1-nrg8-zdep-rst-d32-bsep-x1-hp";
+  const std::string full = "alchemy-s16-p0-nrg8-zdep-rst-d32-bsep-x1-hp";
+  auto c = compile_variants({half, full});
+  auto sc = scene::load_scene("builtin:stairs");
+  const auto& view = sc.views.front();
+  for (const auto& b : kBackends) {
+    auto backend = render::make_backend(b, {});
+    backend->set_scene(sc);
+    // The raw AO pass of each frame (before averaging and blur): parity 0 and 1 use different samples.
+    auto half_plan = render::plan_prefix(render::plan_pipeline(c, variant_index(c, half), target_of(b)), "ao");
+    auto full_plan = render::plan_prefix(render::plan_pipeline(c, variant_index(c, full), target_of(b)), "ao");
+    auto even = render_plan(*backend, half_plan, view, {320, 180}, sc.ao_radius, 1, 0);
+    auto odd = render_plan(*backend, half_plan, view, {320, 180}, sc.ao_radius, 1, 1);
+    auto all = render_plan(*backend, full_plan, view, {320, 180}, sc.ao_radius, 1, 0);
+    EXPECT_GT(compare(even, odd).mean_abs, 0.005) << b << ": the two halves must see different samples";
+    image::FloatImage avg = even;
+    for (std::size_t i = 0; i < avg.pixels.size(); ++i) avg.pixels[i] = 0.5f * (even.pixels[i] + odd.pixels[i]);
+    // Alchemy is linear in the tap sum until its max(0, .) clamps, so the average of the halves is the
+    // full kernel except where a pixel is almost fully occluded.
+    EXPECT_LT(compare(avg, all).mean_abs, 0.01) << b;
+
+    // The whole progressive pipeline (average of this half and the previous frame's other half, then the
+    // blur) on a static camera matches the full-kernel pipeline.
+    auto prog = render_plan(*backend, render::plan_pipeline(c, variant_index(c, half), target_of(b)), view,
+                            {320, 180}, sc.ao_radius, 4);
+    auto ref = render_plan(*backend, render::plan_pipeline(c, variant_index(c, full), target_of(b)), view,
+                           {320, 180}, sc.ao_radius, 2);
+    EXPECT_LT(compare(prog, ref).mean_abs, 0.01) << b;
+  }
+}
+
+TEST(Measure, MoreSamplesNeverCostLess) {
+  measure::MeasureOptions o;
+  o.manifest = source_dir() / "shader_src" / "aovar.toml";
+  o.globs = {"alchemy-s*-p0-nrg8-zdep-rst-d16-bno-x1-hp"};
+  o.reference = "alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp";
+  o.backends = kBackends;
+  o.size = {320, 180};
+  o.reps = 7;
+  o.images = false;
+  auto r = measure::run_measure(o);
+  for (const auto& b : kBackends) {
+    std::vector<std::pair<int, double>> by_samples;
+    for (const auto& row : r.rows)
+      if (row.backend == b)
+        for (const auto& [axis, value] : row.axes)
+          if (axis == "samples") by_samples.emplace_back(std::stoi(value), row.time.min);
+    std::sort(by_samples.begin(), by_samples.end());
+    ASSERT_EQ(by_samples.size(), 7u) << b;
+    for (std::size_t i = 1; i < by_samples.size(); ++i)
+      EXPECT_GE(by_samples[i].second, 0.9 * by_samples[i - 1].second)
+          << b << ": " << by_samples[i].first << " samples cost less than " << by_samples[i - 1].first;
+    EXPECT_GT(by_samples.back().second, 1.5 * by_samples.front().second) << b << ": 32 vs 4 samples";
+  }
+}
+
+TEST(Measure, WritesJsonAndImagesAndReusesUnchangedRows) {
+  TempDir dir;
+  measure::MeasureOptions o;
+  o.manifest = source_dir() / "shader_src" / "aovar.toml";
+  o.scene = "builtin:spheres";
+  o.globs = {"alchemy-s0[48]-p0-nrg8-zdep-rst-d16-bsep-x1-hp"};
+  o.size = {160, 90};
+  o.reps = 3;
+  o.out = dir.path();
+  auto first = measure::run_measure(o);
+  ASSERT_EQ(first.rows.size(), 2u);
+  EXPECT_EQ(first.reused, 0);
+  auto json = nlohmann::json::parse(util::read_file(dir / "measure.json").value());
+  ASSERT_EQ(json.at("rows").size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const auto& row = json["rows"][i];
+    EXPECT_EQ(row.at("backend"), "lavapipe");
+    EXPECT_EQ(row.at("size"), "160x90");
+    EXPECT_EQ(row.at("time_ms").at("n"), 3);
+    EXPECT_GT(row.at("time_ms").at("min").get<double>(), 0.0);
+    EXPECT_TRUE(row.at("passes").contains("ao"));
+    EXPECT_TRUE(row.at("passes").contains("blur"));
+    auto img = image::read_pfm(dir / row.at("image").get<std::string>());
+    EXPECT_EQ(img.pixels, first.rows[i].result.pixels) << "the PFM holds the read-back floats bit for bit";
+    EXPECT_TRUE(std::filesystem::exists(dir / row.at("preview").get<std::string>()));
+  }
+  const auto& ref_row = first.rows[1].variant == measure::kDefaultReference ? first.rows[1] : first.rows[0];
+  EXPECT_EQ(ref_row.rel_time, 1.0);
+
+  auto second = measure::run_measure(o);
+  EXPECT_EQ(second.reused, 2) << "identical inputs: nothing is measured again";
+  EXPECT_TRUE(second.runs.empty());
+  o.size = {160, 96};  // a changed input measures again
+  auto third = measure::run_measure(o);
+  EXPECT_EQ(third.reused, 0);
+}
+
+TEST(MeasureCli, BadInputGetsOneLineErrors) {
+  auto r = run_aovar("measure --size 640by360");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("--size"), std::string::npos) << r.output;
+  r = run_aovar("measure --scene /nonexistent/scene.obj --variants 'alchemy-s04-*'");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("/nonexistent/scene.obj"), std::string::npos) << r.output;
+  r = run_aovar("measure --variants 'nothing-like-this-*'");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("no variant matches"), std::string::npos) << r.output;
+  r = run_aovar("measure --backend metal --variants 'alchemy-s04-*'");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("unknown backend 'metal'"), std::string::npos) << r.output;
+  r = run_aovar("measure --param ao.nonsense=2 --variants 'alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp'");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("ao.nonsense"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace aovar::test
