@@ -170,6 +170,28 @@ TEST(Render, ProgressiveHalvesAlternateAndAverageToTheFullKernel) {
   }
 }
 
+TEST(Render, CameraPathMovesTheViewAndLoops) {
+  const std::string key = "alchemy-s08-p0-nrg8-zdep-rst-d32-bsep-x1-hp";
+  const auto& c = variety();
+  auto sc = scene::load_scene("builtin:spheres");
+  const scene::View& view = sc.views.front();
+  ASSERT_GT(glm::length(view.path_offset), 0.0f);
+  auto backend = render::make_backend("lavapipe", {});
+  backend->set_scene(sc);
+  auto p = backend->prepare(render::plan_pipeline(c, variant_index(c, key), variants::Target::vulkan), {160, 90});
+  auto frame = [&](int f) {
+    render::FrameSetup s;
+    s.view = &view;
+    s.frame = f;
+    s.radius = sc.ao_radius;
+    backend->render(*p, s);
+    return backend->read_result(*p);
+  };
+  auto first = frame(0), last = frame(view.path_frames - 1), looped = frame(view.path_frames);
+  EXPECT_GT(compare(first, last).mean_abs, 1e-3) << "the camera moved along the path";
+  EXPECT_EQ(compare(first, looped).max_abs, 0.0) << "frame path_frames is the path's first pose again";
+}
+
 TEST(Measure, MoreSamplesNeverCostLess) {
   measure::MeasureOptions o;
   o.manifest = source_dir() / "shader_src" / "aovar.toml";

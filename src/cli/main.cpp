@@ -244,6 +244,8 @@ int main(int argc, char** argv) {
   meas->add_option("--radius", mo.radius, "AO radius in world units (default: the scene's)");
   meas->add_option("--param", measure_params, "override a parameter: PASS.NAME=VALUE (repeatable)");
   meas->add_option("--out,-o", measure_out, "output folder: measure.json and images/");
+  meas->add_flag("--camera-path", mo.camera_path,
+                 "frames walk each view's camera path (default: its first pose; the image is the last frame)");
   meas->add_flag("!--no-images", mo.images, "write no PFM/PNG images");
   meas->add_flag("!--no-reuse", mo.reuse, "measure everything again even when OUT/measure.json has the row");
 

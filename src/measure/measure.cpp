@@ -246,6 +246,7 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
                                         sc.content_hash, view_text(*view), backend_name, backend->info().device,
                                         backend->info().driver, size_text(o.size), o.threads, o.reps, o.warmup,
                                         res.radius);
+      if (o.camera_path) context += "|path";
       context += "|" + c.space.variants[reference].key;
       auto make = [&](int v) {
         Candidate cand{v, render::plan_pipeline(c, v, target, o.params), {}};
@@ -308,7 +309,7 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
         }
         run.prepare_s = seconds_since(prep_start);
 
-        TimingOptions to{o.warmup, o.reps, res.radius};
+        TimingOptions to{o.warmup, o.reps, res.radius, o.camera_path};
         auto timed = time_round_robin(*backend, pointers, *view, to, [&](const std::string& s) {
           say(fmt::format("{}: batch {}/{}: {} ({} pipelines)", where, b + 1, batches, s, pointers.size()));
         });
@@ -397,6 +398,7 @@ json to_json(const MeasureResult& res, const MeasureOptions& o) {
           {"warmup", o.warmup},
           {"threads", o.threads},
           {"radius", res.radius},
+          {"camera_path", o.camera_path},
           {"devices", devices},
           {"runs", runs},
           {"wall_s", res.wall_s},

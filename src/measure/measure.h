@@ -36,6 +36,7 @@ struct MeasureOptions {
   render::ParamOverrides params;           // "<pass>.<name>" -> value
   std::filesystem::path out;               // empty: no files (tests)
   bool images = true;
+  bool camera_path = false;                // frames walk each view's camera path (progressive in motion)
   bool reuse = true;                       // keep rows of an earlier measure.json whose inputs match
   std::filesystem::path cache_dir;         // compile cache (empty = none)
   int jobs = 0;

@@ -12,12 +12,12 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-render::FrameSetup setup(const scene::View& view, int frame, float radius) {
+render::FrameSetup setup(const scene::View& view, int frame, const TimingOptions& o) {
   render::FrameSetup s;
   s.view = &view;
   s.frame = frame;
-  s.static_camera = true;  // timing and images use the view's own camera; parity still alternates
-  s.radius = radius;
+  s.static_camera = !o.camera_path;  // progressive parity alternates either way
+  s.radius = o.radius;
   return s;
 }
 
@@ -30,9 +30,9 @@ RoundRobinResult time_round_robin(render::Backend& backend, const std::vector<re
   auto start = std::chrono::steady_clock::now();
   for (std::size_t i = 0; i < pipelines.size(); ++i) {
     PipelineTiming& t = r.pipelines[i];
-    auto ms = backend.render(*pipelines[i], setup(view, t.frames++, o.radius));
+    auto ms = backend.render(*pipelines[i], setup(view, t.frames++, o));
     t.first_frame_ms = std::accumulate(ms.begin(), ms.end(), 0.0);
-    for (int w = 0; w < o.warmup; ++w) backend.render(*pipelines[i], setup(view, t.frames++, o.radius));
+    for (int w = 0; w < o.warmup; ++w) backend.render(*pipelines[i], setup(view, t.frames++, o));
   }
   r.wall_warmup_s = seconds_since(start);
 
@@ -42,7 +42,7 @@ RoundRobinResult time_round_robin(render::Backend& backend, const std::vector<re
     for (std::size_t k = 0; k < n; ++k) {
       std::size_t i = (k + static_cast<std::size_t>(round)) % n;  // rotate the order every round
       PipelineTiming& t = r.pipelines[i];
-      auto ms = backend.render(*pipelines[i], setup(view, t.frames++, o.radius));
+      auto ms = backend.render(*pipelines[i], setup(view, t.frames++, o));
       double total = std::accumulate(ms.begin(), ms.end(), 0.0);
       t.total_ms.push_back(total);
       t.draw_ms.push_back(std::move(ms));

@@ -16,6 +16,7 @@ struct TimingOptions {
   int warmup = 2;   // frames after the first (JIT) frame that are discarded
   int reps = 10;    // timed rounds
   float radius = 1.0f;
+  bool camera_path = false;  // frames walk the view's camera path (else its first pose, static)
 };
 
 struct PipelineTiming {

@@ -14,7 +14,8 @@ Extent ao_extent(Extent full, double resolution) {
 
 FrameBlock make_frame_block(const FrameSetup& setup, Extent full, Extent ao, ClipDepth clip_depth) {
   const scene::View& v = *setup.view;
-  scene::CameraPose pose = scene::camera_at(v, setup.static_camera ? 0 : setup.frame);
+  // A moving camera loops over the view's path, so any number of frames stays on it.
+  scene::CameraPose pose = scene::camera_at(v, setup.static_camera ? 0 : setup.frame % std::max(1, v.path_frames));
   FrameBlock b{};
   b.view = glm::lookAtRH(pose.eye, pose.target, pose.up);
   float aspect = static_cast<float>(full.width) / static_cast<float>(full.height);

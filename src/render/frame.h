@@ -34,8 +34,8 @@ static_assert(sizeof(FrameBlock) == 288, "AOFrame is 288 bytes in std140");
 
 struct FrameSetup {
   const scene::View* view = nullptr;
-  int frame = 0;         // frame number: camera path position and progressive parity (frame & 1)
-  bool static_camera = false;  // true: stay on path frame 0 whatever `frame` is (parity still alternates)
+  int frame = 0;         // frame number: progressive parity (frame & 1) and camera path position
+  bool static_camera = false;  // true: stay on path frame 0; false: path frame (frame mod path_frames)
   float radius = 1.0f;   // world-space AO radius
 };
 
