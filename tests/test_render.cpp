@@ -255,21 +255,19 @@ TEST(Measure, WritesJsonAndImagesAndReusesUnchangedRows) {
 }
 
 TEST(MeasureCli, BadInputGetsOneLineErrors) {
-  auto r = run_aovar("measure --size 640by360");
-  EXPECT_NE(r.status, 0);
-  EXPECT_NE(r.output.find("--size"), std::string::npos) << r.output;
-  r = run_aovar("measure --scene /nonexistent/scene.obj --variants 'alchemy-s04-*'");
-  EXPECT_NE(r.status, 0);
-  EXPECT_NE(r.output.find("/nonexistent/scene.obj"), std::string::npos) << r.output;
-  r = run_aovar("measure --variants 'nothing-like-this-*'");
-  EXPECT_NE(r.status, 0);
-  EXPECT_NE(r.output.find("no variant matches"), std::string::npos) << r.output;
-  r = run_aovar("measure --backend metal --variants 'alchemy-s04-*'");
-  EXPECT_NE(r.status, 0);
-  EXPECT_NE(r.output.find("unknown backend 'metal'"), std::string::npos) << r.output;
-  r = run_aovar("measure --param ao.nonsense=2 --variants 'alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp'");
-  EXPECT_NE(r.status, 0);
-  EXPECT_NE(r.output.find("ao.nonsense"), std::string::npos) << r.output;
+  const std::pair<const char*, const char*> cases[] = {  // arguments, what the message must name
+      {"--size 640by360", "--size"},
+      {"--scene /nonexistent/scene.obj --variants 'alchemy-s04-*'", "/nonexistent/scene.obj"},
+      {"--variants 'nothing-like-this-*'", "no variant matches"},
+      {"--backend metal --variants 'alchemy-s04-*'", "unknown backend 'metal'"},
+      {"--param ao.nonsense=2 --variants 'alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp'", "ao.nonsense"},
+  };
+  for (const auto& [args, expected] : cases) {
+    auto r = run_aovar(std::string("measure ") + args);
+    EXPECT_NE(r.status, 0) << args;
+    EXPECT_NE(r.output.find(expected), std::string::npos) << args << ": " << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": one line: " << r.output;
+  }
 }
 
 }  // namespace

@@ -234,6 +234,27 @@ class ViewsFile {
     error(p, fmt::format("unknown key '{}' in view {} (expected one of: {})", key, view_index + 1, kKeys));
   }
 
+  // One key of a view in either syntax; the getters read the node as the key's type or report an error.
+  template <class Str, class Num, class Vec, class Int>
+  void set_key(View& v, std::string_view k, Pos p, std::size_t view_index, bool& has_eye, bool& has_target,
+               Str string, Num number, Vec vec3, Int whole) const {
+    if (k == "name") v.name = string();
+    else if (k == "eye") v.eye = vec3(), has_eye = true;
+    else if (k == "target") v.target = vec3(), has_target = true;
+    else if (k == "up") v.up = vec3();
+    else if (k == "path_offset") v.path_offset = vec3();
+    else if (k == "fov") v.fov_y_deg = number();
+    else if (k == "near") v.near_plane = number();
+    else if (k == "far") v.far_plane = number();
+    else if (k == "path_frames") {
+      std::optional<std::int64_t> n = whole();
+      if (!n || *n < 1 || *n > 100000) error(p, "'path_frames' must be a whole number >= 1");
+      v.path_frames = static_cast<int>(*n);
+    } else {
+      unknown_key(p, k, view_index);
+    }
+  }
+
   View start() const {
     View v;
     v.near_plane = v.far_plane = std::numeric_limits<float>::quiet_NaN();
@@ -322,31 +343,13 @@ std::vector<View> parse_toml(const std::string& text, const std::string& display
         }
         return out;
       };
-      if (k == "name") {
+      auto string = [&]() -> std::string {
         std::optional<std::string> s = node.value<std::string>();
         if (!s) vf.error(p, "'name' must be a string");
-        v.name = *s;
-      } else if (k == "eye")
-        v.eye = vec3(), has_eye = true;
-      else if (k == "target")
-        v.target = vec3(), has_target = true;
-      else if (k == "up")
-        v.up = vec3();
-      else if (k == "path_offset")
-        v.path_offset = vec3();
-      else if (k == "fov")
-        v.fov_y_deg = number();
-      else if (k == "near")
-        v.near_plane = number();
-      else if (k == "far")
-        v.far_plane = number();
-      else if (k == "path_frames") {
-        std::optional<std::int64_t> n = node.value<std::int64_t>();
-        if (!n || *n < 1 || *n > 100000) vf.error(p, "'path_frames' must be a whole number >= 1");
-        v.path_frames = static_cast<int>(*n);
-      } else {
-        vf.unknown_key(p, k, vf.views.size());
-      }
+        return *s;
+      };
+      auto whole = [&]() { return node.value<std::int64_t>(); };
+      vf.set_key(v, k, p, vf.views.size(), has_eye, has_target, string, number, vec3, whole);
     }
     vf.finish(v, has_eye, has_target, pos_of(t.source()), key_pos);
   }
@@ -445,30 +448,15 @@ std::vector<View> parse_json(const std::string& text, const std::string& display
           vf.error(p, fmt::format("'{}' must be a list of 3 numbers, e.g. [0, 1, 0]", k));
         return {node[0].template get<float>(), node[1].template get<float>(), node[2].template get<float>()};
       };
-      if (k == "name") {
+      auto string = [&, &node = node]() -> std::string {
         if (!node.is_string()) vf.error(p, "'name' must be a string");
-        v.name = node.get<std::string>();
-      } else if (k == "eye")
-        v.eye = vec3(), has_eye = true;
-      else if (k == "target")
-        v.target = vec3(), has_target = true;
-      else if (k == "up")
-        v.up = vec3();
-      else if (k == "path_offset")
-        v.path_offset = vec3();
-      else if (k == "fov")
-        v.fov_y_deg = number();
-      else if (k == "near")
-        v.near_plane = number();
-      else if (k == "far")
-        v.far_plane = number();
-      else if (k == "path_frames") {
-        if (!node.is_number_integer() || node.get<std::int64_t>() < 1 || node.get<std::int64_t>() > 100000)
-          vf.error(p, "'path_frames' must be a whole number >= 1");
-        v.path_frames = node.get<int>();
-      } else {
-        vf.unknown_key(p, k, vi);
-      }
+        return node.get<std::string>();
+      };
+      auto whole = [&, &node = node]() -> std::optional<std::int64_t> {
+        if (!node.is_number_integer()) return std::nullopt;
+        return node.get<std::int64_t>();
+      };
+      vf.set_key(v, k, p, vi, has_eye, has_target, string, number, vec3, whole);
     }
     vf.finish(v, has_eye, has_target, at, key_pos);
   }
