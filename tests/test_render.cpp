@@ -192,31 +192,6 @@ TEST(Render, CameraPathMovesTheViewAndLoops) {
   EXPECT_EQ(compare(first, looped).max_abs, 0.0) << "frame path_frames is the path's first pose again";
 }
 
-TEST(Measure, MoreSamplesNeverCostLess) {
-  measure::MeasureOptions o;
-  o.manifest = source_dir() / "shader_src" / "aovar.toml";
-  o.globs = {"alchemy-s*-p0-nrg8-zdep-rst-d16-bno-x1-hp"};
-  o.reference = "alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp";
-  o.backends = kBackends;
-  o.size = {320, 180};
-  o.reps = 7;
-  o.images = false;
-  auto r = measure::run_measure(o);
-  for (const auto& b : kBackends) {
-    std::vector<std::pair<int, double>> by_samples;
-    for (const auto& row : r.rows)
-      if (row.backend == b)
-        for (const auto& [axis, value] : row.axes)
-          if (axis == "samples") by_samples.emplace_back(std::stoi(value), row.time.min);
-    std::sort(by_samples.begin(), by_samples.end());
-    ASSERT_EQ(by_samples.size(), 7u) << b;
-    for (std::size_t i = 1; i < by_samples.size(); ++i)
-      EXPECT_GE(by_samples[i].second, 0.9 * by_samples[i - 1].second)
-          << b << ": " << by_samples[i].first << " samples cost less than " << by_samples[i - 1].first;
-    EXPECT_GT(by_samples.back().second, 1.5 * by_samples.front().second) << b << ": 32 vs 4 samples";
-  }
-}
-
 TEST(Measure, WritesJsonAndImagesAndReusesUnchangedRows) {
   TempDir dir;
   measure::MeasureOptions o;

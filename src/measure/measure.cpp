@@ -230,6 +230,21 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
   bool reference_selected = std::find(selected.begin(), selected.end(), reference) != selected.end();
   res.counts = compile::counts_line(c);
 
+  // Progress: rows done out of rows wanted, and an ETA from the time per measured (not reused) row.
+  const std::size_t rows_wanted = selected.size() * views.size() * o.backends.size();
+  std::size_t rows_measured = 0;
+  auto measuring_start = Clock::now();
+  auto status = [&](const std::string& what) {
+    std::string eta;
+    std::size_t done = res.rows.size();
+    if (rows_measured > 0 && done < rows_wanted) {
+      double per_row = seconds_since(measuring_start) / static_cast<double>(rows_measured);
+      auto left = static_cast<long>(per_row * static_cast<double>(rows_wanted - done));
+      eta = fmt::format(", ETA {}m{:02}s", left / 60, left % 60);
+    }
+    say(fmt::format("[{}/{} rows{}] {}", done, rows_wanted, eta, what));
+  };
+
   auto previous = o.reuse && !o.out.empty() ? previous_rows(o.out, progress) : std::map<std::string, MeasureRow>{};
 
   for (const auto& backend_name : o.backends) {
@@ -303,7 +318,7 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
         std::vector<std::unique_ptr<render::PreparedPipeline>> prepared;
         std::vector<render::PreparedPipeline*> pointers{ref_pipeline.get()};
         for (std::size_t i = lo; i < hi; ++i) {
-          say(fmt::format("{}: batch {}/{}: preparing {}", where, b + 1, batches, todo[i].plan.variant));
+          status(fmt::format("{}: batch {}/{}: preparing {}", where, b + 1, batches, todo[i].plan.variant));
           prepared.push_back(backend->prepare(todo[i].plan, o.size));
           pointers.push_back(prepared.back().get());
         }
@@ -311,7 +326,7 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
 
         TimingOptions to{o.warmup, o.reps, res.radius, o.camera_path};
         auto timed = time_round_robin(*backend, pointers, *view, to, [&](const std::string& s) {
-          say(fmt::format("{}: batch {}/{}: {} ({} pipelines)", where, b + 1, batches, s, pointers.size()));
+          status(fmt::format("{}: batch {}/{}: {} ({} pipelines)", where, b + 1, batches, s, pointers.size()));
         });
         run.warmup_s = timed.wall_warmup_s;
         run.timed_wall_s = timed.wall_timed_s;
@@ -352,6 +367,7 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
           row.rel_time = ref_min > 0 ? row.time.min / ref_min : 0;
           row.rel_time_median = median_ratio(timing, batch_ref);
           res.rows.push_back(std::move(row));
+          ++rows_measured;
         }
         if (b == batches - 1) {  // the reference's own row, from every round of every batch
           MeasureRow row = new_row(ref);
@@ -360,6 +376,7 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
           finish(row, ref, *ref_pipeline, ref_timing);
           row.rel_time = row.rel_time_median = 1.0;
           res.rows.push_back(std::move(row));
+          ++rows_measured;
         }
         run.readback_s = seconds_since(read_start);
         res.runs.push_back(run);
