@@ -219,7 +219,9 @@ TEST(Measure, WritesJsonAndImagesAndReusesUnchangedRows) {
     EXPECT_TRUE(std::filesystem::exists(dir / row.at("preview").get<std::string>()));
   }
   const auto& ref_row = first.rows[1].variant == measure::kDefaultReference ? first.rows[1] : first.rows[0];
-  EXPECT_EQ(ref_row.rel_time, 1.0);
+  const auto& other = &ref_row == &first.rows[0] ? first.rows[1] : first.rows[0];
+  ASSERT_EQ(ref_row.variant, measure::kDefaultReference);
+  EXPECT_DOUBLE_EQ(other.rel_time, other.time.min / ref_row.time.min) << "both were timed in the same rounds";
 
   auto second = measure::run_measure(o);
   EXPECT_EQ(second.reused, 2) << "identical inputs: nothing is measured again";
@@ -227,6 +229,15 @@ TEST(Measure, WritesJsonAndImagesAndReusesUnchangedRows) {
   o.size = {160, 96};  // a changed input measures again
   auto third = measure::run_measure(o);
   EXPECT_EQ(third.reused, 0);
+
+  // A reference outside the selection gets its own row, and it is reused with the rest.
+  o.globs = {"alchemy-s04-p0-nrg8-zdep-rst-d16-bsep-x1-hp"};
+  auto fourth = measure::run_measure(o);
+  ASSERT_EQ(fourth.rows.size(), 2u);
+  EXPECT_EQ(std::count_if(fourth.rows.begin(), fourth.rows.end(), [](const auto& r) { return r.is_reference; }), 1);
+  auto fifth = measure::run_measure(o);
+  EXPECT_EQ(fifth.reused, 2);
+  EXPECT_EQ(fifth.rows.size(), 2u);
 }
 
 TEST(MeasureCli, BadInputGetsOneLineErrors) {

@@ -27,11 +27,11 @@ TEST(Measure, MoreSamplesNeverCostLess) {
     for (const auto& row : r.rows)
       if (row.backend == b)
         for (const auto& [axis, value] : row.axes)
-          if (axis == "samples")  // the AO pass: the G-buffer and blur are the same program for all of them
-            by_samples.emplace_back(std::stoi(value),
-                                    std::find_if(row.passes.begin(), row.passes.end(), [](const auto& p) {
-                                      return p.first == "ao";
-                                    })->second.min);
+          if (axis == "samples") {  // the AO pass: the G-buffer and blur are the same program for all of them
+            auto ao = std::find_if(row.passes.begin(), row.passes.end(), [](const auto& p) { return p.first == "ao"; });
+            ASSERT_NE(ao, row.passes.end()) << row.variant;
+            by_samples.emplace_back(std::stoi(value), ao->second.min);
+          }
     std::sort(by_samples.begin(), by_samples.end());
     ASSERT_EQ(by_samples.size(), 7u) << b;
     // Neighbours (4 vs 6, 24 vs 32) differ by a few percent, within these machines' noise: allow 10 %.

@@ -176,6 +176,8 @@ int run_measure(const CommonOptions& common, measure::MeasureOptions o, const st
   o.globs = common.globs;
   o.jobs = common.jobs;
   o.size = parse_size(size);
+  if (o.radius < 0) throw std::runtime_error("--radius must be positive (world units; omit it for the scene's default)");
+  if (o.warmup < 0) throw std::runtime_error("--warmup must be 0 or more");
   o.params = parse_params(params);
   o.out = out;
   if (!common.no_cache)
@@ -185,7 +187,13 @@ int run_measure(const CommonOptions& common, measure::MeasureOptions o, const st
     if (line.rfind("note: ", 0) == 0) std::cerr << (tty ? "\r\033[K" : "") << line << "\n";
     else if (tty) std::cerr << "\r\033[K" << line << std::flush;
   };
-  auto r = measure::run_measure(o, progress);
+  measure::MeasureResult r;
+  try {
+    r = measure::run_measure(o, progress);
+  } catch (...) {
+    if (tty) std::cerr << "\r\033[K";  // the error goes on a line of its own, not after the status
+    throw;
+  }
   if (tty) std::cerr << "\r\033[K";
   print_measure_table(r);
   for (const auto& d : r.devices)
@@ -242,7 +250,7 @@ int main(int argc, char** argv) {
   meas->add_option("--batch", mo.batch, "pipelines prepared and interleaved at once")->capture_default_str();
   meas->add_option("--reference", mo.reference, "variant timed in every round (rel_time = 1)")->capture_default_str();
   meas->add_option("--radius", mo.radius, "AO radius in world units (default: the scene's)");
-  meas->add_option("--param", measure_params, "override a parameter: PASS.NAME=VALUE (repeatable)");
+  meas->add_option("--param", measure_params, "override a parameter of the variants that take it: PASS.NAME=VALUE (repeatable)");
   meas->add_option("--out,-o", measure_out, "output folder: measure.json and images/");
   meas->add_flag("--camera-path", mo.camera_path,
                  "frames walk each view's camera path (default: its first pose; the image is the last frame)");

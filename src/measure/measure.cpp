@@ -85,7 +85,7 @@ MeasureRow row_from(const json& j) {
 }
 
 // Rows of an earlier measure.json by inputs hash; a missing or unreadable file reuses nothing.
-std::map<std::string, MeasureRow> previous_rows(const fs::path& out, const Progress& say) {
+std::map<std::string, MeasureRow> previous_rows(const fs::path& out, bool need_images, const Progress& say) {
   std::map<std::string, MeasureRow> rows;
   auto text = util::read_file(out / "measure.json");
   if (!text) return rows;
@@ -93,7 +93,8 @@ std::map<std::string, MeasureRow> previous_rows(const fs::path& out, const Progr
     json doc = json::parse(*text);  // named: a temporary in the range-for would die before the loop
     for (const auto& j : doc.at("rows")) {
       MeasureRow r = row_from(j);
-      if (!r.image.empty() && !fs::exists(out / r.image)) continue;  // its image went missing: measure again
+      // Measured without images, or its image went missing: measure again.
+      if (r.image.empty() ? need_images : !fs::exists(out / r.image)) continue;
       rows.emplace(r.inputs_hash, std::move(r));
     }
   } catch (const std::exception& e) {
@@ -128,8 +129,9 @@ VariantInputs variant_inputs(const compile::CompiledSpace& c, int v, int t, cons
 }
 
 std::string view_text(const scene::View& v) {
-  return fmt::format("{} {} {} {} {} {} {} {} {} {} {} {} {}", v.name, v.eye.x, v.eye.y, v.eye.z, v.target.x,
-                     v.target.y, v.target.z, v.up.x, v.up.y, v.up.z, v.fov_y_deg, v.near_plane, v.far_plane);
+  return fmt::format("{} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {}", v.name, v.eye.x, v.eye.y, v.eye.z,
+                     v.target.x, v.target.y, v.target.z, v.up.x, v.up.y, v.up.z, v.fov_y_deg, v.near_plane,
+                     v.far_plane, v.path_offset.x, v.path_offset.y, v.path_offset.z, v.path_frames);
 }
 
 void write_json(const MeasureResult& res, const MeasureOptions& o) {
@@ -208,17 +210,20 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
                                          c.diagnostics.empty() ? "compile failed" : c.diagnostics.front(),
                                          c.diagnostics.empty() ? 0 : c.diagnostics.size() - 1));
 
-  // Selection: globs, then variant dedup (duplicates are listed on their canonical row, not re-measured).
+  // Selection: globs, then variant dedup. The first selected variant of each group of identical variants
+  // is measured; the other selected ones are listed as its duplicates.
   std::vector<int> selected;
-  std::map<int, std::vector<std::string>> duplicates;
+  std::map<int, int> representative;  // canonical variant -> the selected variant measured for its group
+  std::map<int, std::vector<std::string>> duplicates;  // by representative
+  auto canonical = [&](int v) { return c.variant_same_as[v] >= 0 ? c.variant_same_as[v] : v; };
   int reference = -1;
-  for (std::size_t v = 0; v < c.space.variants.size(); ++v) {
+  for (int v = 0; v < static_cast<int>(c.space.variants.size()); ++v) {
     const std::string& key = c.space.variants[v].key;
-    int canon = c.variant_same_as[v] >= 0 ? c.variant_same_as[v] : static_cast<int>(v);
-    if (key == o.reference) reference = canon;
+    if (key == o.reference) reference = v;
     if (!util::glob_any(o.globs, key)) continue;
-    if (canon != static_cast<int>(v)) duplicates[canon].push_back(key);
-    else selected.push_back(static_cast<int>(v));
+    auto [it, fresh] = representative.emplace(canonical(v), v);
+    if (fresh) selected.push_back(v);
+    else duplicates[it->second].push_back(key);
   }
   if (selected.empty())
     throw std::runtime_error(fmt::format("{}: no variant matches --variants {} (aovar list shows the keys)",
@@ -226,12 +231,26 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
   if (reference < 0) {
     reference = selected.front();
     say(fmt::format("note: reference {} is not in the manifest; using {}", o.reference, c.space.variants[reference].key));
+  } else if (auto it = representative.find(canonical(reference)); it != representative.end()) {
+    reference = it->second;  // identical to a selected variant: that one's row is the reference row
   }
   bool reference_selected = std::find(selected.begin(), selected.end(), reference) != selected.end();
+  // --param: each override must be a parameter of at least one selected variant (variants without it,
+  // e.g. blur.radius_px on an unblurred one, simply do not take it).
+  std::set<std::string> parameters;
+  for (int v : selected)
+    for (auto& key : render::parameter_keys(c, v)) parameters.insert(std::move(key));
+  for (const auto& [key, value] : o.params)
+    if (!parameters.count(key))
+      throw std::runtime_error(fmt::format("--param {}: no selected variant has this parameter (they have: {})", key,
+                                           fmt::join(parameters, ", ")));
+  util::Hasher selection;
+  for (int v : selected) selection.add(c.space.variants[v].key);
+  const std::string selection_hash = selection.hex();
   res.counts = compile::counts_line(c);
 
   // Progress: rows done out of rows wanted, and an ETA from the time per measured (not reused) row.
-  const std::size_t rows_wanted = selected.size() * views.size() * o.backends.size();
+  const std::size_t rows_wanted = (selected.size() + (reference_selected ? 0 : 1)) * views.size() * o.backends.size();
   std::size_t rows_measured = 0;
   auto measuring_start = Clock::now();
   auto status = [&](const std::string& what) {
@@ -245,7 +264,7 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
     say(fmt::format("[{}/{} rows{}] {}", done, rows_wanted, eta, what));
   };
 
-  auto previous = o.reuse && !o.out.empty() ? previous_rows(o.out, progress) : std::map<std::string, MeasureRow>{};
+  auto previous = o.reuse && !o.out.empty() ? previous_rows(o.out, o.images, progress) : std::map<std::string, MeasureRow>{};
 
   for (const auto& backend_name : o.backends) {
     variants::Target target = backend_target(backend_name);
@@ -262,9 +281,11 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
                                         backend->info().driver, size_text(o.size), o.threads, o.reps, o.warmup,
                                         res.radius);
       if (o.camera_path) context += "|path";
-      context += "|" + c.space.variants[reference].key;
+      // The variants sharing the rounds change the times too (cache pressure on lavapipe), so rows are reused
+      // only within the same selection and batch size: an interrupted or repeated run, not a different one.
+      context += fmt::format("|{}|{}|{}", c.space.variants[reference].key, o.batch, selection_hash);
       auto make = [&](int v) {
-        Candidate cand{v, render::plan_pipeline(c, v, target, o.params), {}};
+        Candidate cand{v, render::plan_pipeline(c, v, target, o.params, false), {}};
         cand.inputs = variant_inputs(c, v, t, cand.plan, context);
         return cand;
       };
@@ -295,14 +316,12 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
       }
       // The reference is re-measured whenever anything else is (rel_time needs it in the same rounds).
       Candidate ref = make(reference);
-      if (todo.empty()) {
-        if (!reference_selected) continue;
+      if (todo.empty())
         if (auto it = previous.find(ref.inputs.inputs_hash); it != previous.end()) {
           res.rows.push_back(it->second);
           ++res.reused;
           continue;
         }
-      }
 
       std::string where = fmt::format("{} {}", backend_name, view->name);
       auto prep_start = Clock::now();

@@ -237,14 +237,22 @@ class OsmesaBackend final : public Backend {
   ClipDepth clip_depth() const override { return ClipDepth::minus_one_to_one; }  // no glClipControl
 
   void set_scene(const scene::Scene& scene) override {
+    // Check before touching the current scene, so a rejected one leaves the previous scene in place.
+    if (scene.normals.size() != scene.positions.size())
+      throw BackendError(fmt::format("osmesa: scene {} has {} normals for {} positions", scene.name,
+                                     scene.normals.size(), scene.positions.size()));
+    if (scene.indices.size() % 3 != 0)
+      throw BackendError(fmt::format("osmesa: scene {} has {} indices, not whole triangles", scene.name,
+                                     scene.indices.size()));
+    for (std::uint32_t i : scene.indices)
+      if (i >= scene.positions.size())
+        throw BackendError(fmt::format("osmesa: scene {} indexes vertex {} of {}", scene.name, i,
+                                       scene.positions.size()));
     c_->make_current();
     GlFunctions& gl = c_->gl;
     gl.DeleteBuffers(GLsizei(scene_buffers_.size()), scene_buffers_.data());
     scene_buffers_ = {};
     index_count_ = 0;
-    if (scene.normals.size() != scene.positions.size())
-      throw BackendError(fmt::format("osmesa: scene {} has {} normals for {} positions", scene.name,
-                                     scene.normals.size(), scene.positions.size()));
     gl.CreateBuffers(3, scene_buffers_.data());
     // Zero-sized storage is an error in GL; one spare byte keeps empty scenes legal (nothing is drawn).
     auto store = [&](GLuint buffer, std::size_t bytes, const void* data) {

@@ -42,8 +42,9 @@ namespace {
 
 class PlanBuilder {
  public:
-  PlanBuilder(const compile::CompiledSpace& c, int variant, variants::Target target, const ParamOverrides& o)
-      : c_(c), entry_(c.space.variants.at(variant)), target_(target), overrides_(o) {
+  PlanBuilder(const compile::CompiledSpace& c, int variant, variants::Target target, const ParamOverrides& o,
+              bool strict)
+      : c_(c), entry_(c.space.variants.at(variant)), target_(target), overrides_(o), strict_(strict) {
     t_ = c.target_index(target);
     if (t_ < 0) throw std::runtime_error(fmt::format("target {} was not compiled", variants::target_name(target)));
     plan_.variant = entry_.key;
@@ -190,7 +191,7 @@ class PlanBuilder {
     plan_.textures[current].format = Format::r32f;  // the result: NaN and Inf survive the read-back
     plan_.result = current;
     for (const auto& [key, value] : overrides_)
-      if (!used_.count(key))
+      if (strict_ && !used_.count(key))
         throw std::runtime_error(fmt::format("parameter '{}' is not a parameter of variant {} (use <pass>.<name>, "
                                              "e.g. ao.intensity)", key, plan_.variant));
     return std::move(plan_);
@@ -201,6 +202,7 @@ class PlanBuilder {
   const variants::VariantEntry& entry_;
   variants::Target target_;
   const ParamOverrides& overrides_;
+  bool strict_ = true;
   int t_ = -1;
   PipelinePlan plan_;
   std::map<int, int> shader_of_;
@@ -210,8 +212,19 @@ class PlanBuilder {
 }  // namespace
 
 PipelinePlan plan_pipeline(const compile::CompiledSpace& compiled, int variant, variants::Target target,
-                           const ParamOverrides& overrides) {
-  return PlanBuilder(compiled, variant, target, overrides).build();
+                           const ParamOverrides& overrides, bool strict) {
+  return PlanBuilder(compiled, variant, target, overrides, strict).build();
+}
+
+std::vector<std::string> parameter_keys(const compile::CompiledSpace& compiled, int variant) {
+  std::vector<std::string> keys;
+  const auto& entry = compiled.space.variants.at(variant);
+  for (std::size_t i = 0; i < compiled.manifest.passes.size(); ++i)
+    for (int program : entry.passes[i])
+      if (program >= 0)
+        for (const auto& param : compiled.space.programs[program].params)
+          keys.push_back(compiled.manifest.passes[i].name + "." + param.name);
+  return keys;
 }
 
 PipelinePlan plan_prefix(const PipelinePlan& plan, const std::string& last_draw) {

@@ -76,9 +76,13 @@ using ParamOverrides = std::map<std::string, double>;
 
 // Builds the plan of variant `variant` (index into compiled.space.variants) for `target` (vulkan: SPIR-V,
 // gl45: GLSL source). `compiled` must hold successful builds for that target. Throws std::runtime_error
-// for an override naming no parameter, or a renderer-set block member the renderer does not know.
+// for a renderer-set block member the renderer does not know, and (when `strict`) for an override naming
+// no parameter of this variant; callers planning many variants check overrides with parameter_keys().
 PipelinePlan plan_pipeline(const compile::CompiledSpace& compiled, int variant, variants::Target target,
-                           const ParamOverrides& overrides = {});
+                           const ParamOverrides& overrides = {}, bool strict = true);
+
+// "<pass>.<name>" of every manifest parameter the variant's passes take.
+std::vector<std::string> parameter_keys(const compile::CompiledSpace& compiled, int variant);
 
 // The plan cut after draw `last_draw` (e.g. "ao"), whose output becomes the result (single-buffered,
 // R32F): for reading intermediate passes, e.g. one progressive half, in tests and stress checks.
