@@ -26,6 +26,8 @@ const std::vector<std::string> kKeys = {
     "alchemy-s08-p0-noct-zdep-rst-d16-bbil-x4-mp",
     "alchemy-s08-p0-ndep-zpos-rip-d16-bsep-x1-hp",
     "alchemy-s08-p1-nrg8-zdep-rst-d32-bsep-x1-hp",
+    "sao-s08-p1-ndep-zdep-rst-d32-bsep-x2-hp",       // z MIP pyramid (per-level views), packed key in rgba8
+    "unsharp-s08-p0-ndep-zdep-_r-d16-bbil-x1-hp",     // depth Gaussian prefilter at binding 7
 };
 
 const compile::CompiledSpace& compiled() {

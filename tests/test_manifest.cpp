@@ -94,6 +94,25 @@ TEST(Manifest, RuleThatMatchesNothingIsAnError) {
                15, 8, "matches no variant");
 }
 
+TEST(Manifest, NotExcludesListedValuesAndMatchesTheRest) {
+  Manifest m = parse_manifest(with("skip = { resolution = 0.5, blur = \"none\" }",
+                                   "skip = { resolution = { not = 1.0 }, blur = \"none\" }"), "m.toml");
+  auto s = build_space(m);
+  for (const auto& v : s.variants) EXPECT_FALSE(v.key.find("-x2-") != std::string::npos && v.key.find("-bno-") != std::string::npos) << v.key;
+  // A pass run for every normals value but depth: its `when` matches rg8 only.
+  Manifest p = parse_manifest(with("when = { blur = \"separable\" }", "when = { blur = \"separable\", normals = { not = \"depth\" } }"), "m.toml");
+  ASSERT_EQ(p.passes.size(), 3u);
+  Point rg8{}, depth{};
+  depth[index(Axis::normals)] = 1;
+  depth[index(Axis::blur)] = rg8[index(Axis::blur)] = 1;
+  EXPECT_TRUE(p.passes[2].when.matches(rg8));
+  EXPECT_FALSE(p.passes[2].when.matches(depth));
+  expect_error(with("skip = { resolution = 0.5,", "skip = { resolution = { not = [1.0, 0.5] },"), 15, 23,
+               "excludes every value of resolution");
+  expect_error(with("skip = { resolution = 0.5,", "skip = { resolution = { nor = 1.0 },"), 15, 23,
+               "takes a value, a list of values or { not = ... }");
+}
+
 TEST(Manifest, RuleValueMustBeListedInAxes) {
   expect_error(with("skip = { resolution = 0.5,", "skip = { resolution = 0.25,"), 15, 23,
                "value 0.25 is not listed in [axes].resolution");

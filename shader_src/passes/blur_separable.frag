@@ -2,11 +2,13 @@
 // params.axis = 0 (horizontal) then 1 (vertical). Each pass is a 1-D bilateral filter, gaussian in
 // distance times a relative-depth weight, normalised by this pixel's own weight sum. (The seed's combined
 // formula divides both passes by one 1/W_p^2; each pass has its own per-pixel sum, and only that keeps
-// flat regions at their value.) Reads: precision.
+// flat regions at their value.) Reads: precision. Under AO_BLUR_KEYED (passes/blur_keyed_separable.frag, for
+// methods that pack a depth key next to AO, i.e. SAO) depth comes from the input's key, not the depth buffer.
 #include "common/target.glsl"
 #include "common/frame.glsl"
 #include "common/depth.glsl"
 #include "common/bilateral.glsl"
+#include "common/key.glsl"
 
 AO_UBO(1) uniform AOParams {
     float radius_px;   // taps on each side of the centre (integer part, 1 ... AO_BLUR_MAX_RADIUS)
@@ -26,9 +28,17 @@ const int AO_BLUR_MAX_RADIUS = 8;
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     ivec2 size = ivec2(frame.ao_size.xy);
+#if defined(AO_BLUR_KEYED)
+    // The input packs (A, depth key) (common/key.glsl): one fetch per tap gives both.
+    vec4 centre = texelFetch(ao_input_tex, p, 0);
+    float z = ao_unpack_key(centre.gb);
+    vec2 key_out = centre.gb;
+#else
     float z = ao_depth(v_uv);
+    vec2 key_out = vec2(1.0);
+#endif
     if (ao_is_background(z)) {
-        o_color = vec4(1.0);
+        o_color = vec4(1.0, key_out, 1.0);
         return;
     }
 
@@ -41,10 +51,17 @@ void main() {
         if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) {
             continue;
         }
+#if defined(AO_BLUR_KEYED)
+        vec4 tap = texelFetch(ao_input_tex, q, 0);
+        float z_q = ao_unpack_key(tap.gb);
+        AOP float value = tap.r;
+#else
         float z_q = ao_depth((vec2(q) + 0.5) * frame.ao_size.zw);
+        AOP float value = texelFetch(ao_input_tex, q, 0).r;
+#endif
         AOP float w = ao_spatial_weight(float(i * i), float(r)) * ao_depth_weight(z_q, z, params.depth_sigma);
-        sum += w * texelFetch(ao_input_tex, q, 0).r;
+        sum += w * value;
         weight_sum += w;
     }
-    o_color = vec4(sum / weight_sum, 1.0, 1.0, 1.0);
+    o_color = vec4(sum / weight_sum, key_out, 1.0);
 }

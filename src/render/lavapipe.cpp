@@ -165,6 +165,7 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
       }
       const Texture& t = textures[out.texture];
       const Image& img = image(TextureRef{out.texture, false}, p);
+      const uint32_t level = static_cast<uint32_t>(std::max(out.level, 0));
       // Cleared targets and fullscreen outputs (every texel rewritten) need no old contents.
       bool load = !t.cleared && d.geometry;
       barriers.push_back(image_barrier(
@@ -174,8 +175,8 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
           VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
               VK_PIPELINE_STAGE_2_COPY_BIT,
           VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-          VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT));
-      a.imageView = img.view;
+          VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT, level, 1));
+      a.imageView = img.level_view(static_cast<int>(level));
       a.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
       a.loadOp = t.cleared ? VK_ATTACHMENT_LOAD_OP_CLEAR : load ? VK_ATTACHMENT_LOAD_OP_LOAD
                                                                 : VK_ATTACHMENT_LOAD_OP_DONT_CARE;
@@ -231,7 +232,8 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
                                        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                                        VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
                                        VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
-                                       VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT));
+                                       VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT,
+                                       static_cast<uint32_t>(std::max(out.level, 0)), 1));
     }
     pipeline_barrier(cmd, barriers.data(), static_cast<uint32_t>(barriers.size()));
   }
@@ -258,14 +260,20 @@ void validate_plan(const PipelinePlan& plan) {
       if (o.texture >= nt) bad(fmt::format("draw {} writes texture {}", d.name, o.texture));
       if (o.texture >= 0 && plan.textures[o.texture].full_resolution != d.full_resolution)
         bad(fmt::format("draw {} writes {} at another resolution", d.name, plan.textures[o.texture].name));
+      if (o.texture >= 0 && (std::max(o.level, 0) != d.level || d.level >= plan.textures[o.texture].levels))
+        bad(fmt::format("draw {} writes level {} of {} ({} levels) at viewport level {}", d.name, o.level,
+                        plan.textures[o.texture].name, plan.textures[o.texture].levels, d.level));
+      // Reading another MIP level of the texture being written is fine: the views do not overlap.
       for (const auto& [binding, in] : d.inputs)
-        if (o.texture >= 0 && in.texture == o.texture && !in.previous)
+        if (o.texture >= 0 && in.texture == o.texture && !in.previous && (in.level < 0 || in.level == d.level))
           bad(fmt::format("draw {} reads the texture it writes", d.name));
     }
     for (const auto& [binding, in] : d.inputs) {
       if (binding < static_cast<int>(kFirstSampler) || binding >= static_cast<int>(kBindingCount))
-        bad(fmt::format("draw {} binds a texture at binding {} (2..6 only)", d.name, binding));
+        bad(fmt::format("draw {} binds a texture at binding {} (2..7 only)", d.name, binding));
       if (in.texture < 0 || in.texture >= nt) bad(fmt::format("draw {} reads texture {}", d.name, in.texture));
+      if (in.level >= plan.textures[in.texture].levels)
+        bad(fmt::format("draw {} reads level {} of {}", d.name, in.level, plan.textures[in.texture].name));
     }
   }
 }
@@ -464,7 +472,7 @@ void LavapipeBackend::init_textures(LavapipePipeline& pp) {
                                        VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_CLEAR_BIT,
                                        VK_ACCESS_2_TRANSFER_WRITE_BIT));
   pipeline_barrier(cmd, barriers.data(), static_cast<uint32_t>(barriers.size()));
-  VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, VK_REMAINING_MIP_LEVELS, 0, 1};
   for (std::size_t i = 0; i < pp.images.size(); ++i) {
     float v = pp.textures[i].double_buffered ? 1.0f : 0.0f;
     VkClearColorValue value{{v, v, v, v}};
@@ -522,7 +530,8 @@ std::unique_ptr<PreparedPipeline> LavapipeBackend::prepare(const PipelinePlan& p
                                      dev_->info.device, format_name(t.format), t.name));
     pp->images[i].count = t.double_buffered ? 2 : 1;
     for (int c = 0; c < pp->images[i].count; ++c)
-      pp->images[i].copies[c] = dev_->create_image(extent_of(t.full_resolution), f, usage, VK_IMAGE_ASPECT_COLOR_BIT);
+      pp->images[i].copies[c] = dev_->create_image(extent_of(t.full_resolution), f, usage, VK_IMAGE_ASPECT_COLOR_BIT,
+                                                   static_cast<uint32_t>(std::max(t.levels, 1)));
   }
   if (pp->has_geometry)
     pp->depth = dev_->create_image(extent_of(true), kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
@@ -536,6 +545,8 @@ std::unique_ptr<PreparedPipeline> LavapipeBackend::prepare(const PipelinePlan& p
   for (std::size_t i = 0; i < plan.draws.size(); ++i) {
     DrawState& s = pp->states[i];
     s.extent = extent_of(plan.draws[i].full_resolution);
+    s.extent.width = std::max(1u, s.extent.width >> plan.draws[i].level);
+    s.extent.height = std::max(1u, s.extent.height >> plan.draws[i].level);
     s.params_offset = params_size;
     // std140 float members sit at 4 * i; a draw without a block still gets a small range for binding 1.
     s.params_range = align_up(std::max<VkDeviceSize>(plan.draws[i].params.size() * sizeof(float), 16), 16);
@@ -570,7 +581,9 @@ std::unique_ptr<PreparedPipeline> LavapipeBackend::prepare(const PipelinePlan& p
                                            {pp->params_ubo.buffer, s.params_offset, s.params_range}};
       VkDescriptorImageInfo samplers[kBindingCount - kFirstSampler];
       for (auto& si : samplers) si = {dev_->sampler, dev_->dummy.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-      for (const auto& [binding, ref] : dr.inputs) samplers[binding - kFirstSampler].imageView = pp->image(ref, p).view;
+      for (const auto& [binding, ref] : dr.inputs)
+        samplers[binding - kFirstSampler].imageView =
+            ref.level < 0 ? pp->image(ref, p).view : pp->image(ref, p).level_view(ref.level);
       VkWriteDescriptorSet w[kBindingCount];
       for (uint32_t b = 0; b < kBindingCount; ++b) {
         w[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};

@@ -392,16 +392,18 @@ Buffer Device::create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool r
   return b;
 }
 
-Image Device::create_image(VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect) {
+Image Device::create_image(VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect,
+                           uint32_t levels) {
   Image img;
   img.format = format;
   img.extent = extent;
+  img.levels = levels;
   try {
     VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     ici.imageType = VK_IMAGE_TYPE_2D;
     ici.format = format;
     ici.extent = {extent.width, extent.height, 1};
-    ici.mipLevels = 1;
+    ici.mipLevels = levels;
     ici.arrayLayers = 1;
     ici.samples = VK_SAMPLE_COUNT_1_BIT;
     ici.tiling = VK_IMAGE_TILING_OPTIMAL;
@@ -420,8 +422,13 @@ Image Device::create_image(VkExtent2D extent, VkFormat format, VkImageUsageFlags
     vci.image = img.image;
     vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
     vci.format = format;
-    vci.subresourceRange = {aspect, 0, 1, 0, 1};
+    vci.subresourceRange = {aspect, 0, levels, 0, 1};
     check(vkCreateImageView(device, &vci, nullptr, &img.view), "vkCreateImageView");
+    for (uint32_t l = 0; levels > 1 && l < levels; ++l) {
+      vci.subresourceRange = {aspect, l, 1, 0, 1};
+      img.level_views.push_back(VK_NULL_HANDLE);
+      check(vkCreateImageView(device, &vci, nullptr, &img.level_views.back()), "vkCreateImageView (level)");
+    }
   } catch (...) {
     destroy(img);
     throw;
@@ -437,6 +444,8 @@ void Device::destroy(Buffer& b) {
 }
 
 void Device::destroy(Image& i) {
+  for (VkImageView v : i.level_views)
+    if (v) vkDestroyImageView(device, v, nullptr);
   if (i.view) vkDestroyImageView(device, i.view, nullptr);
   if (i.image) vkDestroyImage(device, i.image, nullptr);
   if (i.memory) vkFreeMemory(device, i.memory, nullptr);
@@ -471,7 +480,8 @@ void Device::check_validation(const std::string& during) {
 
 VkImageMemoryBarrier2 image_barrier(VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
                                     VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
-                                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
+                                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access, uint32_t level,
+                                    uint32_t count) {
   VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
   b.srcStageMask = src_stage;
   b.srcAccessMask = src_access;
@@ -481,7 +491,7 @@ VkImageMemoryBarrier2 image_barrier(VkImage image, VkImageAspectFlags aspect, Vk
   b.newLayout = to;
   b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   b.image = image;
-  b.subresourceRange = {aspect, 0, 1, 0, 1};
+  b.subresourceRange = {aspect, level, count, 0, 1};
   return b;
 }
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include <vulkan/vulkan.h>
 
@@ -28,14 +29,18 @@ struct Buffer {
 struct Image {
   VkImage image = VK_NULL_HANDLE;
   VkDeviceMemory memory = VK_NULL_HANDLE;
-  VkImageView view = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;             // every MIP level
+  std::vector<VkImageView> level_views;          // one per level, only when there are several
   VkFormat format = VK_FORMAT_UNDEFINED;
-  VkExtent2D extent{};
+  VkExtent2D extent{};                           // of level 0
+  uint32_t levels = 1;
+
+  VkImageView level_view(int level) const { return level_views.empty() ? view : level_views.at(level); }
 };
 
 // Every binding of the one descriptor set layout (docs/template-contract.md): 0 AOFrame, 1 AOParams,
-// 2..6 samplers.
-inline constexpr uint32_t kFrameBinding = 0, kParamsBinding = 1, kFirstSampler = 2, kBindingCount = 7;
+// 2..7 samplers.
+inline constexpr uint32_t kFrameBinding = 0, kParamsBinding = 1, kFirstSampler = 2, kBindingCount = 8;
 
 class Device {
  public:
@@ -64,7 +69,8 @@ class Device {
 
   // Memory helpers. Buffers are host-visible and mapped (lavapipe memory is all host memory anyway).
   Buffer create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool readback = false);
-  Image create_image(VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect);
+  Image create_image(VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect,
+                     uint32_t levels = 1);
   void destroy(Buffer& b);
   void destroy(Image& i);
 
@@ -90,10 +96,11 @@ class Device {
   std::string first_error_;
 };
 
-// Layout transition of a whole single-mip colour or depth image.
+// Layout transition of MIP levels [level, level + count) of a colour or depth image (default: all).
 VkImageMemoryBarrier2 image_barrier(VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
                                     VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
-                                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access);
+                                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access,
+                                    uint32_t level = 0, uint32_t count = VK_REMAINING_MIP_LEVELS);
 void pipeline_barrier(VkCommandBuffer cmd, const VkImageMemoryBarrier2* images, uint32_t count,
                       const VkBufferMemoryBarrier2* buffers = nullptr, uint32_t buffer_count = 0);
 

@@ -39,8 +39,8 @@ std::size_t GlNames::size() const {
 
 namespace {
 
-constexpr int kFirstTextureUnit = 2;  // AO_BINDING 2..6 (docs/template-contract.md)
-constexpr int kTextureUnits = 5;
+constexpr int kFirstTextureUnit = 2;  // AO_BINDING 2..7 (docs/template-contract.md)
+constexpr int kTextureUnits = 6;
 constexpr GLuint kFrameBinding = 0, kParamsBinding = 1;
 
 // llvmpipe reads LP_NUM_THREADS once per process, when OSMesa creates its only screen, and that happens
@@ -148,7 +148,7 @@ struct GlDraw {
   GLuint program = 0;
   GLuint params = 0;                                  // AOParams UBO, 0 = the draw has no block
   std::array<GLuint, 2> fbo{};                        // by frame parity (the same FBO twice if it has none)
-  std::array<std::array<GLuint, kTextureUnits>, 2> units{};  // texture per unit 2..6, by frame parity
+  std::array<std::array<GLuint, kTextureUnits>, 2> units{};  // texture per unit 2..7, by frame parity
   struct Clear {
     GLint location = 0;
     std::array<float, 4> raw{}, value{};  // raw may hold kClearFar / kClearNegFar; value is this frame's
@@ -186,6 +186,20 @@ class OsmesaPipeline final : public PreparedPipeline {
   std::vector<GLuint> live_shaders_;        // shader objects not yet deleted (prepare failed midway)
   std::vector<std::array<GLuint, 2>> tex_;  // per plan texture: copy by parity (equal when single)
   std::vector<Extent> tex_size_;
+  std::map<std::pair<GLuint, int>, GLuint> level_views_;  // (texture, level) -> view of that level alone
+
+  // A texture view of one MIP level (created once), so a draw can read level l while writing level l + 1.
+  GLuint level_view(GLuint texture, int level, GLenum format) {
+    auto [it, fresh] = level_views_.emplace(std::make_pair(texture, level), 0u);
+    if (!fresh) return it->second;
+    GlFunctions& gl = c_->gl;
+    gl.GenTextures(1, &it->second);  // a view needs a name that was never bound
+    names_.textures.push_back(it->second);
+    gl.TextureView(it->second, GL_TEXTURE_2D, texture, format, GLuint(level), 1, 0, 1);
+    gl.TextureParameteri(it->second, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl.TextureParameteri(it->second, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    return it->second;
+  }
   GLuint frame_ubo_ = 0;
   std::vector<GlDraw> draws_;
   int result_ = -1;
@@ -354,8 +368,9 @@ std::unique_ptr<PreparedPipeline> OsmesaBackend::prepare(const PipelinePlan& pla
     gl.CreateTextures(GL_TEXTURE_2D, n, copies.data());
     for (int i = 0; i < n; ++i) {
       p->names_.textures.push_back(copies[i]);
-      gl.TextureStorage2D(copies[i], 1, internal_format(t.format), e.width, e.height);
-      gl.TextureParameteri(copies[i], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      gl.TextureStorage2D(copies[i], std::max(t.levels, 1), internal_format(t.format), e.width, e.height);
+      // Every read is a texelFetch; a mipmapped filter keeps levels > 0 inside the texture's level range.
+      gl.TextureParameteri(copies[i], GL_TEXTURE_MIN_FILTER, t.levels > 1 ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST);
       gl.TextureParameteri(copies[i], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
       gl.TextureParameteri(copies[i], GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
       gl.TextureParameteri(copies[i], GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
@@ -431,6 +446,8 @@ std::unique_ptr<PreparedPipeline> OsmesaBackend::prepare(const PipelinePlan& pla
     g.name = d.name;
     g.geometry = d.geometry;
     g.viewport = d.full_resolution ? size : p->ao_;
+    g.viewport.width = std::max(1, g.viewport.width >> d.level);
+    g.viewport.height = std::max(1, g.viewport.height >> d.level);
     g.program = program(d);
 
     if (!d.params.empty()) {
@@ -449,7 +466,10 @@ std::unique_ptr<PreparedPipeline> OsmesaBackend::prepare(const PipelinePlan& pla
         throw BackendError(fmt::format("osmesa: {}: draw {} binds a texture at {} (textures use 2..6)",
                                        plan.variant, d.name, binding));
       int t = texture_index(ref, d.name);
-      for (int q = 0; q < 2; ++q) g.units[q][unit] = p->tex_[t][ref.previous ? 1 - q : q];
+      for (int q = 0; q < 2; ++q) {
+        GLuint tex = p->tex_[t][ref.previous ? 1 - q : q];
+        g.units[q][unit] = ref.level < 0 ? tex : p->level_view(tex, ref.level, internal_format(plan.textures[t].format));
+      }
     }
 
     // Framebuffers: location i -> GL_COLOR_ATTACHMENTi (GL_NONE where the plan leaves a location unused).
@@ -467,7 +487,7 @@ std::unique_ptr<PreparedPipeline> OsmesaBackend::prepare(const PipelinePlan& pla
       for (std::size_t loc = 0; loc < d.outputs.size(); ++loc) {
         const TextureRef& r = d.outputs[loc];
         if (r.texture < 0) continue;
-        gl.NamedFramebufferTexture(fbo, GLenum(GL_COLOR_ATTACHMENT0 + loc), p->tex_[r.texture][q], 0);
+        gl.NamedFramebufferTexture(fbo, GLenum(GL_COLOR_ATTACHMENT0 + loc), p->tex_[r.texture][q], std::max(r.level, 0));
         buffers[loc] = GLenum(GL_COLOR_ATTACHMENT0 + loc);
       }
       if (d.geometry) gl.NamedFramebufferRenderbuffer(fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb);

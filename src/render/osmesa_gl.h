@@ -33,6 +33,8 @@ namespace aovar::render::osmesa {
   X(PFNGLCREATETEXTURESPROC, CreateTextures)                           \
   X(PFNGLTEXTURESTORAGE2DPROC, TextureStorage2D)                       \
   X(PFNGLTEXTUREPARAMETERIPROC, TextureParameteri)                     \
+  X(PFNGLGENTEXTURESPROC, GenTextures)                                 \
+  X(PFNGLTEXTUREVIEWPROC, TextureView)                                 \
   X(PFNGLCLEARTEXIMAGEPROC, ClearTexImage)                             \
   X(PFNGLGETTEXTUREIMAGEPROC, GetTextureImage)                         \
   X(PFNGLDELETETEXTURESPROC, DeleteTextures)                           \

@@ -112,22 +112,57 @@ class PlanBuilder {
     return static_cast<int>(plan_.textures.size()) - 1;
   }
 
-  // A fullscreen draw at AO or full resolution writing a fresh R16F texture.
-  int fullscreen(const std::string& name, const std::string& pass_name, const std::array<int, 2>& programs,
-                 std::vector<std::pair<int, TextureRef>> inputs, bool full_res,
-                 const std::map<std::string, float>& renderer_set = {}, bool double_buffered = false) {
-    int out = texture({name, Format::r16f, full_res, double_buffered, false, {}});
+  // A fullscreen draw at AO or full resolution writing level `level` of texture `out`.
+  void draw_into(const std::string& name, const std::string& pass_name, const std::string& param_pass,
+                 const std::array<int, 2>& programs, std::vector<std::pair<int, TextureRef>> inputs, int out,
+                 bool full_res, const std::map<std::string, float>& renderer_set = {}, int level = 0) {
     Draw d;
     d.name = name;
     d.pass = pass_name;
     d.vertex = shader(programs[0]);
     d.fragment = shader(programs[1]);
-    d.params = params(pass_name, programs[1], renderer_set);
+    d.params = params(param_pass, programs[1], renderer_set);
     d.inputs = std::move(inputs);
-    d.outputs = {TextureRef{out}};
+    d.outputs = {TextureRef{out, false, level}};
     d.full_resolution = full_res;
+    d.level = level;
     plan_.draws.push_back(std::move(d));
+  }
+
+  // A fullscreen draw writing a fresh texture (R16F unless told), returned.
+  int fullscreen(const std::string& name, const std::string& pass_name, const std::array<int, 2>& programs,
+                 std::vector<std::pair<int, TextureRef>> inputs, bool full_res,
+                 const std::map<std::string, float>& renderer_set = {}, bool double_buffered = false,
+                 Format format = Format::r16f, const std::string& param_pass = {}) {
+    int out = texture({name, format, full_res, double_buffered, false, {}});
+    draw_into(name, pass_name, param_pass.empty() ? pass_name : param_pass, programs, std::move(inputs), out,
+              full_res, renderer_set);
     return out;
+  }
+
+  // Method-specific inputs of the AO pass (plan.h): the texture bound at kPrefilterBinding, or -1.
+  int prefilter(int depth, bool full_ao) {
+    if (const auto* blur = pass("unsharp_blur")) {
+      // The depth Gaussian in two 1-D draws; r32f because the AO pass subtracts it from depth.
+      int h = fullscreen("depth_blur.h", "prefilter", *blur, {{2, TextureRef{depth}}}, full_ao, {{"axis", 0.0f}},
+                         false, Format::r32f, "unsharp_blur");
+      return fullscreen("depth_blur", "prefilter", *blur, {{2, TextureRef{depth}}, {kPrefilterBinding, TextureRef{h}}},
+                        full_ao, {{"axis", 1.0f}}, false, Format::r32f, "unsharp_blur");
+    }
+    if (const auto* zmip = pass("zmip")) {
+      // Level 0 converts depth to camera-space z; level l + 1 subsamples level l (seed 003 §2.2, table 1).
+      Texture t{"zmip", Format::r32f, full_ao, false, false, {}};
+      t.levels = kZmipLevels;
+      int z = texture(t);
+      for (int level = 0; level < kZmipLevels; ++level) {
+        std::vector<std::pair<int, TextureRef>> inputs = {{2, TextureRef{depth}}};
+        if (level > 0) inputs.push_back({kPrefilterBinding, TextureRef{z, false, level - 1}});
+        draw_into(fmt::format("zmip.{}", level), "prefilter", "zmip", *zmip, inputs, z, full_ao,
+                  {{"level", float(level)}}, level);
+      }
+      return z;
+    }
+    return -1;
   }
 
   PipelinePlan build() {
@@ -162,23 +197,30 @@ class PlanBuilder {
     std::vector<std::pair<int, TextureRef>> gbuffer_inputs = {{2, TextureRef{depth}}};
     if (normal >= 0) gbuffer_inputs.push_back({3, TextureRef{normal}});
     if (position >= 0) gbuffer_inputs.push_back({4, TextureRef{position}});
-    int current = fullscreen("ao", "ao", *ao, gbuffer_inputs, full_ao, {}, plan_.progressive);
+    int pre = prefilter(depth, full_ao);
+    if (pre >= 0) gbuffer_inputs.push_back({kPrefilterBinding, TextureRef{pre}});
+    // Methods that pack a depth key next to AO (SAO) blur with blur_keyed and carry the key in rgba8.
+    const auto* keyed = pass("blur_keyed");
+    Format ao_format = keyed ? Format::rgba8 : Format::r16f;
+    int current = fullscreen("ao", "ao", *ao, gbuffer_inputs, full_ao, {}, plan_.progressive, ao_format);
 
     if (plan_.progressive) {
       const auto* prog = pass("progressive");
       if (!prog) throw std::runtime_error(plan_.variant + ": progressive variant but no progressive pass");
       current = fullscreen("progressive", "progressive", *prog,
-                           {{5, TextureRef{current}}, {6, TextureRef{current, true}}}, full_ao);
+                           {{5, TextureRef{current}}, {6, TextureRef{current, true}}}, full_ao, {}, false, ao_format);
     }
 
-    if (const auto* blur = pass("blur")) {
+    const char* blur_pass = keyed ? "blur_keyed" : "blur";
+    if (const auto* blur = keyed ? keyed : pass("blur")) {
       if (axis(Axis::blur) == "separable") {
         current = fullscreen("blur.h", "blur", *blur, {{2, TextureRef{depth}}, {5, TextureRef{current}}}, full_ao,
-                             {{"axis", 0.0f}});
+                             {{"axis", 0.0f}}, false, ao_format, blur_pass);
         current = fullscreen("blur.v", "blur", *blur, {{2, TextureRef{depth}}, {5, TextureRef{current}}}, full_ao,
-                             {{"axis", 1.0f}});
+                             {{"axis", 1.0f}}, false, ao_format, blur_pass);
       } else {
-        current = fullscreen("blur", "blur", *blur, {{2, TextureRef{depth}}, {5, TextureRef{current}}}, full_ao);
+        current = fullscreen("blur", "blur", *blur, {{2, TextureRef{depth}}, {5, TextureRef{current}}}, full_ao, {},
+                             false, ao_format, blur_pass);
       }
     }
 

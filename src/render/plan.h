@@ -4,9 +4,13 @@
 // All the knowledge of what a variant's axes mean for rendering lives here, not in the backends.
 //
 //   gbuffer (scene geometry, depth test) -> depth [+ normal] [+ position]        full resolution
+//   prefilter   method-specific inputs of the AO pass, read at binding 7:       AO resolution
+//                 unsharp: depth Gaussian, 2 draws (axis 0, 1) -> depth_blur (r32f)
+//                 sao: camera-space z pyramid, one draw per MIP level -> zmip (r32f, kZmipLevels levels)
 //   ao          fullscreen -> ao_half[parity]                                    AO resolution
 //   progressive fullscreen: ao_half[parity] + ao_half[1 - parity] -> ao_avg       AO resolution
 //   blur        separable: 2 draws (axis 0, 1) via blur_tmp; bilateral: 1 draw   AO resolution
+//               (pass blur_keyed for methods whose AO output packs the depth key: rgba8 AO chain)
 //   upsample    fullscreen -> ao_full (depth-aware)                               full resolution
 //
 // The last draw's output is the result; it is R32F so NaN and Inf survive to the read-back.
@@ -31,6 +35,7 @@ struct Texture {
   bool double_buffered = false;     // ao_half: frame parity p writes copy p; inputs may read the other
   bool cleared = false;             // cleared to `clear` at the start of each frame (G-buffer targets)
   std::array<float, 4> clear{0, 0, 0, 0};  // may use kClearFar (replaced by the view's far plane)
+  int levels = 1;                   // MIP levels; level l is max(1, extent >> l)
 };
 inline constexpr float kClearFar = -12345.0f;   // placeholder: +far
 inline constexpr float kClearNegFar = -54321.0f;  // placeholder: -far
@@ -38,6 +43,7 @@ inline constexpr float kClearNegFar = -54321.0f;  // placeholder: -far
 struct TextureRef {
   int texture = -1;
   bool previous = false;  // double-buffered texture: the copy written in the previous frame
+  int level = -1;         // input: -1 = every level, l = level l alone (read as level 0); output: -1 = level 0
 };
 
 struct Shader {
@@ -56,7 +62,11 @@ struct Draw {
   std::vector<std::pair<int, TextureRef>> inputs;  // (binding, texture) for bindings 2..6
   std::vector<TextureRef> outputs;  // colour attachment per location (texture -1 = location unused)
   bool full_resolution = true;      // viewport: full output or AO extent
+  int level = 0;                    // MIP level every output is written at (viewport shrinks with it)
 };
+
+inline constexpr int kZmipLevels = 6;  // SAO's z pyramid: levels 0..5 (seed 003 §3: MAX_MIP_LEVEL 5)
+inline constexpr int kPrefilterBinding = 7;  // the AO pass's method-specific input (depth_blur, zmip)
 
 struct PipelinePlan {
   std::string variant;  // key

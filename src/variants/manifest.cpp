@@ -160,11 +160,24 @@ class Parser {
                               k.str()));
         p.allowed[index(a)] |= std::uint64_t{1} << (it - list.begin());
       };
-      if (const toml::array* arr = v.as_array()) {
-        if (arr->empty()) fail(v, "an empty list matches nothing");
-        for (const toml::node& e : *arr) add(e);
+      auto add_all = [&](const toml::node& node) {
+        if (const toml::array* arr = node.as_array()) {
+          if (arr->empty()) fail(node, "an empty list matches nothing");
+          for (const toml::node& e : *arr) add(e);
+        } else {
+          add(node);
+        }
+      };
+      if (const toml::table* neg = v.as_table()) {
+        // { not = value or [values] }: every value of the axis but those; new axis values match by default.
+        if (neg->size() != 1 || !neg->get("not"))
+          fail(v, fmt::format("'{}' takes a value, a list of values or {{ not = ... }}", k.str()));
+        add_all(*neg->get("not"));
+        std::uint64_t every = list.size() >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << list.size()) - 1;
+        p.allowed[index(a)] = every & ~p.allowed[index(a)];
+        if (!p.allowed[index(a)]) fail(v, fmt::format("{{ not = ... }} excludes every value of {}", k.str()));
       } else {
-        add(v);
+        add_all(v);
       }
     }
     return p;

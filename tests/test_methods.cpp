@@ -1,0 +1,167 @@
+// Every AO method of the default manifest, through both backends: finite visibility in [0, 1] on every
+// built-in scene, an open plane stays open, an inner corner is darker than the open floor next to it, and
+// lavapipe and OSMesa agree. The list of methods is read from the manifest, so a new method is tested as
+// soon as it is added there.
+#include <gtest/gtest.h>
+
+#include <fnmatch.h>
+
+#include <algorithm>
+#include <map>
+
+#include "measure/measure.h"
+#include "render_support.h"
+#include "test_support.h"
+#include "variants/manifest.h"
+
+namespace aovar::test {
+namespace {
+
+const std::vector<std::string> kBackends = {"lavapipe", "osmesa"};
+
+std::vector<std::string> manifest_algorithms() {
+  auto m = variants::load_manifest(source_dir() / "shader_src" / "aovar.toml");
+  std::vector<std::string> out;
+  for (const auto& v : m.axis_values(variants::Axis::algorithm)) out.push_back(v.text);
+  return out;
+}
+
+// Per method: a plain full-resolution variant without blur (the estimator alone), a blurred 16-sample
+// one, and a progressive half-resolution mediump one on r16f depth. Each kind lists globs in order of
+// preference: methods that read no normals keep only `normals = depth` (a manifest rule), axes a method
+// does not read show as `_x` in keys, and a method without a progressive form keeps p0.
+struct MethodVariants {
+  compile::CompiledSpace compiled;
+  std::vector<std::string> keys;
+};
+
+const MethodVariants& method_variants(const std::string& algorithm) {
+  static std::map<std::string, MethodVariants> cache;
+  auto it = cache.find(algorithm);
+  if (it != cache.end()) return it->second;
+  const std::string a = algorithm + "-";
+  const std::vector<std::vector<std::string>> kinds = {
+      {a + "s08-p0-nrgb8-zdep-rst-d32-bno-x1-hp", a + "s08-p0-*-zdep-*-d32-bno-x1-*"},
+      {a + "s16-p0-nrgb8-zdep-rip-d32-bsep-x1-hp", a + "s16-p0-*-zdep-*-d32-bsep-x1-hp"},
+      {a + "s16-p1-noct-zdep-rst-d16-bsep-x2-mp", a + "s16-p1-*-zdep-*-d16-bsep-x2-mp",
+       a + "s16-p0-*-zdep-*-d16-bsep-x2-mp"},
+  };
+  std::vector<std::string> globs;
+  for (const auto& kind : kinds) globs.insert(globs.end(), kind.begin(), kind.end());
+  MethodVariants mv;
+  mv.compiled = compile_variants(globs);
+  for (const auto& kind : kinds) {
+    for (const auto& glob : kind) {
+      auto v = std::find_if(mv.compiled.space.variants.begin(), mv.compiled.space.variants.end(),
+                            [&](const auto& e) { return fnmatch(glob.c_str(), e.key.c_str(), 0) == 0; });
+      if (v != mv.compiled.space.variants.end()) {
+        mv.keys.push_back(v->key);
+        break;
+      }
+    }
+  }
+  return cache.emplace(algorithm, std::move(mv)).first->second;
+}
+
+render::PipelinePlan plan_for(const MethodVariants& mv, const std::string& key, const std::string& backend) {
+  return render::plan_pipeline(mv.compiled, variant_index(mv.compiled, key), target_of(backend));
+}
+
+class Method : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(Method, HasVariantsOfEveryKind) {
+  EXPECT_EQ(method_variants(GetParam()).keys.size(), 3u) << "the manifest rules removed a tested variant kind";
+}
+
+TEST_P(Method, RendersFiniteVisibilityInRangeOnEveryBuiltinScene) {
+  const auto& mv = method_variants(GetParam());
+  for (const std::string scene_name : {"builtin:atrium", "builtin:spheres", "builtin:stairs", "builtin:cornell"}) {
+    auto sc = scene::load_scene(scene_name);
+    for (const auto& b : kBackends) {
+      auto backend = render::make_backend(b, {});
+      backend->set_scene(sc);
+      for (const auto& key : mv.keys) {
+        for (const auto& view : sc.views) {
+          auto img = render_plan(*backend, plan_for(mv, key, b), view, {160, 90}, sc.ao_radius, 2);
+          auto h = measure::image_health(img);
+          EXPECT_EQ(h.nan + h.inf + h.out_of_range, 0)
+              << b << " " << key << " " << scene_name << "/" << view.name << ": " << h.nan << " NaN, " << h.inf
+              << " Inf, " << h.out_of_range << " outside [0, 1]";
+        }
+      }
+    }
+  }
+}
+
+// A 40 x 40 floor seen from above at an angle, and a floor with a wall standing on it (as in test_render).
+scene::View floor_view() {
+  scene::View v;
+  v.name = "floor";
+  v.eye = {0.0f, 3.0f, 4.0f};
+  v.target = {0.0f, 0.0f, -1.0f};
+  v.near_plane = 0.1f;
+  v.far_plane = 60.0f;
+  return v;
+}
+const Quad kFloor{{-20.0f, 0.0f, 20.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -40.0f}};
+const Quad kWall{{-20.0f, 0.0f, -2.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 20.0f, 0.0f}};
+
+TEST_P(Method, OpenPlaneIsOpen) {
+  const auto& mv = method_variants(GetParam());
+  auto view = floor_view();
+  auto sc = quad_scene({kFloor}, view, 0.5f);
+  for (const auto& b : kBackends) {
+    auto backend = render::make_backend(b, {});
+    backend->set_scene(sc);
+    for (const auto& key : mv.keys) {
+      auto img = render_plan(*backend, plan_for(mv, key, b), view, {160, 90}, sc.ao_radius, 2);
+      double sum = 0;
+      float lo = 1;
+      for (float v : img.pixels) lo = std::min(lo, v), sum += v;
+      EXPECT_GE(lo, 0.9f) << b << " " << key << " (mean " << sum / img.pixels.size() << ")";
+    }
+  }
+}
+
+TEST_P(Method, InnerCornerIsDarkerThanTheOpenFloor) {
+  const auto& mv = method_variants(GetParam());
+  auto view = floor_view();
+  const float radius = 0.5f;
+  auto sc = quad_scene({kFloor, kWall}, view, radius);
+  glm::vec3 corner{0.0f, 0.0f, -2.0f + 0.1f * radius}, open{0.0f, 0.0f, -2.0f + 4.0f * radius};
+  render::Extent size{320, 180};
+  glm::ivec2 pc = project(view, size, corner), po = project(view, size, open);
+  for (const auto& b : kBackends) {
+    auto backend = render::make_backend(b, {});
+    backend->set_scene(sc);
+    for (const auto& key : mv.keys) {
+      auto img = render_plan(*backend, plan_for(mv, key, b), view, size, radius, 2);
+      EXPECT_GE(img.at(po.x, po.y), 0.9f) << b << " " << key;
+      EXPECT_LT(img.at(pc.x, pc.y), img.at(po.x, po.y) - 0.1f) << b << " " << key;
+    }
+  }
+}
+
+TEST_P(Method, LavapipeAndOsmesaAgree) {
+  const auto& mv = method_variants(GetParam());
+  auto sc = scene::load_scene("builtin:atrium");
+  std::map<std::string, image::FloatImage> images[2];
+  for (int b = 0; b < 2; ++b) {
+    auto backend = render::make_backend(kBackends[b], {});
+    backend->set_scene(sc);
+    for (const auto& key : mv.keys)
+      images[b][key] = render_plan(*backend, plan_for(mv, key, kBackends[b]), sc.views.front(), {320, 180},
+                                   sc.ao_radius, 3);
+  }
+  for (const auto& key : mv.keys) {
+    auto d = compare(images[0][key], images[1][key]);
+    EXPECT_LE(d.mean_abs, 1.0 / 255.0) << key;
+    EXPECT_LE(d.max_abs, 0.1) << key;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Manifest, Method, ::testing::ValuesIn(manifest_algorithms()),
+                         [](const auto& info) { return info.param; });
+
+}  // namespace
+}  // namespace aovar::test
