@@ -223,9 +223,14 @@ TEST(Measure, WritesJsonAndImagesAndReusesUnchangedRows) {
   ASSERT_EQ(ref_row.variant, measure::kDefaultReference);
   EXPECT_DOUBLE_EQ(other.rel_time, other.time.min / ref_row.time.min) << "both were timed in the same rounds";
 
+  // One contact sheet for the backend and view: both 160 x 90 images side by side under their labels.
+  ASSERT_EQ(json.at("contact_sheets"), nlohmann::json::array({"contact_sheet-lavapipe-overview.png"}));
+  EXPECT_TRUE(std::filesystem::exists(dir / "contact_sheet-lavapipe-overview.png"));
+
   auto second = measure::run_measure(o);
   EXPECT_EQ(second.reused, 2) << "identical inputs: nothing is measured again";
   EXPECT_TRUE(second.runs.empty());
+  EXPECT_EQ(second.contact_sheets.size(), 1u) << "reused rows still make the sheet, from their files";
   o.size = {160, 96};  // a changed input measures again
   auto third = measure::run_measure(o);
   EXPECT_EQ(third.reused, 0);

@@ -202,6 +202,8 @@ int run_measure(const CommonOptions& common, measure::MeasureOptions o, const st
                            "{} rows ({} reused) in {:.1f} s{}\n",
                            r.scene, r.triangles, r.radius, o.reference, size, o.reps, o.warmup, r.counts, r.rows.size(),
                            r.reused, r.wall_s, out.empty() ? "" : " -> " + util::display_path(std::filesystem::path(out) / "measure.json"));
+  for (const auto& sheet : r.contact_sheets)
+    std::cout << "# contact sheet: " << util::display_path(std::filesystem::path(out) / sheet) << "\n";
   return 0;
 }
 

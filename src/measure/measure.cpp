@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "compile/generate.h"
+#include "image/contact_sheet.h"
 #include "shadergen/expand.h"
 #include "util/fs.h"
 #include "util/glob.h"
@@ -169,6 +170,32 @@ MeasureRow::Health image_health(const image::FloatImage& img) {
     else if (v < 0.0f || v > 1.0f) ++h.out_of_range;
   }
   return h;
+}
+
+// One labelled contact sheet per backend and view (rows sorted by variant, so methods sit together), from
+// the PFM files on disk: reused rows have no image in memory.
+static std::vector<std::string> write_contact_sheets(const MeasureResult& res, const fs::path& out) {
+  std::vector<std::string> written;
+  for (std::size_t lo = 0; lo < res.rows.size();) {
+    std::size_t hi = lo;
+    std::vector<image::SheetTile> tiles;
+    while (hi < res.rows.size() && res.rows[hi].backend == res.rows[lo].backend &&
+           res.rows[hi].view == res.rows[lo].view) {
+      const MeasureRow& r = res.rows[hi++];
+      if (r.image.empty() || !fs::exists(out / r.image)) continue;
+      tiles.push_back({fmt::format("{}\nmean {:.3f}  {:.2f} ms{}", r.variant, r.mean_visibility, r.time.min,
+                                   r.is_reference ? "  (reference)" : ""),
+                       image::read_pfm(out / r.image)});
+    }
+    if (tiles.size() >= 2) {
+      int columns = std::max(1, static_cast<int>(std::lround(std::sqrt(2.0 * tiles.size()))));
+      std::string rel = fmt::format("contact_sheet-{}-{}.png", res.rows[lo].backend, res.rows[lo].view);
+      image::write_png(out / rel, image::contact_sheet(tiles, columns, 320));
+      written.push_back(rel);
+    }
+    lo = hi;
+  }
+  return written;
 }
 
 MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
@@ -408,6 +435,7 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
   std::stable_sort(res.rows.begin(), res.rows.end(), [](const MeasureRow& a, const MeasureRow& b) {
     return std::tie(a.backend, a.view, a.variant) < std::tie(b.backend, b.view, b.variant);
   });
+  if (!o.out.empty() && o.images) res.contact_sheets = write_contact_sheets(res, o.out);
   res.wall_s = seconds_since(start);
   write_json(res, o);
   return res;
@@ -429,6 +457,7 @@ json to_json(const MeasureResult& res, const MeasureOptions& o) {
           {"scene", {{"name", res.scene}, {"hash", res.scene_hash}, {"triangles", res.triangles}}},
           {"manifest", util::display_path(o.manifest)},
           {"counts", res.counts},
+          {"contact_sheets", res.contact_sheets},
           {"size", size_text(o.size)},
           {"reps", o.reps},
           {"warmup", o.warmup},

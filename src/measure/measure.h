@@ -76,6 +76,7 @@ struct MeasureResult {
   std::vector<MeasureRow> rows;
   std::vector<RunRecord> runs;
   std::string counts;  // "space N / rules R / selected S / dedup D"
+  std::vector<std::string> contact_sheets;  // per backend and view with 2+ images, relative to the output folder
   double wall_s = 0, compile_s = 0;
   int reused = 0;
 };
