@@ -50,7 +50,10 @@ TEST(Space, RulesDropWhatTheySayAndNothingElse) {
 
 TEST(Space, AxesAnAlgorithmDoesNotReadCollapse) {
   Manifest m = default_manifest();
-  // Pretend Alchemy read no normals and no precision: those axes collapse to "_n" and "_f".
+  // Alchemy alone (the first algorithm), pretending it read no normals and no precision: those axes
+  // collapse to "_n" and "_f".
+  m.values[index(Axis::algorithm)].resize(1);
+  ASSERT_EQ(m.algorithms.at(0).name, "alchemy");
   auto& reads = m.algorithms.at(0).reads;
   reads.erase(std::remove(reads.begin(), reads.end(), Axis::normals), reads.end());
   reads.erase(std::remove(reads.begin(), reads.end(), Axis::precision), reads.end());

@@ -49,7 +49,8 @@ AO_LOC(0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;
 
 void main() {
-    float current = textureLod(ao_input_tex, v_uv, 0.0).r;
+    vec4 current = textureLod(ao_input_tex, v_uv, 0.0);
     float previous = textureLod(ao_history_tex, v_uv, 0.0).r;
-    o_color = vec4(0.5 * (current + previous), 1.0, 1.0, 1.0);
+    // .gba pass through: methods that pack a depth key there (SAO) keep it for their blur.
+    o_color = vec4(0.5 * (current.r + previous), current.gba);
 }

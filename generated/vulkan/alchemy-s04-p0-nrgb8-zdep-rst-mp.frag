@@ -117,16 +117,14 @@ bool ao_is_background(float z) {
 #line 5 4
 #line 1 6
 // View-space position of a G-buffer texel (seed 000 §5.4, §5.5). Reads the `position` and `reconstruct`
-// axes: only templates whose manifest entry lists both may include this file.
-#line 4 6
+// axes: only templates whose manifest entry lists both may include this file. Methods that read depth
+// only (no position buffer) include common/unproject.glsl instead.
 #line 5 6
-
-#if defined(AO_POSITION_POSITION)
-// Cleared to (0, 0, -far) so that background reads as far away, like the depth buffer.
-AO_BINDING(4) uniform sampler2D ao_position_tex;
-#elif !defined(AO_POSITION_DEPTH)
-#error "aovar: common/reconstruct.glsl needs the position axis in `reads`"
-#endif
+#line 6 6
+#line 1 7
+// View position from screen uv and linear depth (seed 000 §5.4, §5.5). Reads the `reconstruct` axis only:
+// depth-only methods (no position buffer) include this file directly; common/reconstruct.glsl builds on it.
+#line 4 7
 
 // View position at screen uv with linear depth z (> 0; view.z = -z).
 vec3 ao_view_position_from_depth(vec2 uv, float z) {
@@ -140,9 +138,17 @@ vec3 ao_view_position_from_depth(vec2 uv, float z) {
     vec4 p = frame.inv_proj * vec4(ndc, ndc_z, 1.0);
     return p.xyz / p.w;
 #else
-#error "aovar: common/reconstruct.glsl needs the reconstruct axis in `reads`"
+#error "aovar: common/unproject.glsl needs the reconstruct axis in `reads`"
 #endif
 }
+#line 7 6
+
+#if defined(AO_POSITION_POSITION)
+// Cleared to (0, 0, -far) so that background reads as far away, like the depth buffer.
+AO_BINDING(4) uniform sampler2D ao_position_tex;
+#elif !defined(AO_POSITION_DEPTH)
+#error "aovar: common/reconstruct.glsl needs the position axis in `reads`"
+#endif
 
 // View position of the G-buffer texel nearest to uv.
 vec3 ao_position(vec2 uv) {
@@ -155,7 +161,7 @@ vec3 ao_position(vec2 uv) {
 #endif
 }
 #line 6 4
-#line 1 7
+#line 1 8
 // View-space normal codecs for the `normals` axis (seed 000 §5.6). Reads the `normals` axis: only
 // templates whose manifest entry lists it may include this file. View-space normals of visible surfaces
 // face the camera, i.e. mostly +z.
@@ -244,7 +250,7 @@ vec3 ao_normal(vec2 uv, vec3 view_pos) {
 #endif
 }
 #line 22 1
-#line 1 8
+#line 1 9
 // Sample kernels for a compile-time sample count n (seed 000 §4.3.1, §4.3.2).
 //
 // Disc: a golden-angle (Vogel) spiral. Sample i sits at radius sqrt((i + 0.5) / n), i.e. at the centre of
@@ -271,8 +277,28 @@ vec3 ao_hemisphere_sample(int i, int n) {
     vec2 d = ao_disc_sample(i, n);
     return vec3(d, sqrt(max(0.0, 1.0 - dot(d, d))));
 }
+
+// Stratified value in [0, 1) for sample i of any kernel: the golden-ratio sequence fract((i + 0.5) / phi).
+// Used for sample lengths it does not correlate with the direction, which the direction generators derive
+// from i in order; the first n values are spread evenly over [0, 1) for any n.
+float ao_kernel_t(int i) {
+    return fract((float(i) + 0.5) * 0.618033989);
+}
+
+// Pair j of p antipodal pairs in the unit ball: the point returned and its negation. Directions are spread
+// evenly over the upper hemisphere (z uniform in [0, 1] is uniform in area; golden-angle azimuth), so pairs
+// cover the whole sphere; lengths t^(1/3) make the points uniform in volume (as the original Crytek kernel,
+// seed 002 §2.A), so that the fraction of points inside geometry estimates the occupied volume. On any plane
+// through the centre exactly one point of each pair lies on either side (points on the plane aside), which
+// makes a flat surface read exactly half occluded without relying on the sample count.
+vec3 ao_ball_pair_sample(int j, int p) {
+    float z = 1.0 - (float(j) + 0.5) / float(p);
+    float a = float(j) * AO_GOLDEN_ANGLE;
+    float r = sqrt(max(0.0, 1.0 - z * z));
+    return pow(ao_kernel_t(j), 1.0 / 3.0) * vec3(r * cos(a), r * sin(a), z);
+}
 #line 23 1
-#line 1 9
+#line 1 10
 // Per-pixel kernel rotation (seed 000 §4.3.3), computed procedurally instead of read from a 4x4 random
 // texture. Each pixel of a 4x4 tile gets one of 16 angles, 2 pi / 16 apart, in an interleaved order:
 //

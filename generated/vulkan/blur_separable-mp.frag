@@ -8,7 +8,8 @@
 // params.axis = 0 (horizontal) then 1 (vertical). Each pass is a 1-D bilateral filter, gaussian in
 // distance times a relative-depth weight, normalised by this pixel's own weight sum. (The seed's combined
 // formula divides both passes by one 1/W_p^2; each pass has its own per-pixel sum, and only that keeps
-// flat regions at their value.) Reads: precision.
+// flat regions at their value.) Reads: precision. Under AO_BLUR_KEYED (passes/blur_keyed_separable.frag, for
+// methods that pack a depth key next to AO, i.e. SAO) depth comes from the input's key, not the depth buffer.
 #line 1 2
 // Target abstraction (docs/template-contract.md, "Includes"). Every template includes this file first;
 // the generator has already emitted #version, AO_TARGET_*, AO_STAGE_* and the axis defines above it.
@@ -44,7 +45,7 @@
 precision highp float;
 precision highp int;
 precision highp sampler2D;
-#line 7 1
+#line 8 1
 #line 1 3
 // Per-frame camera and sizes, shared by every pass (docs/template-contract.md, "Interface").
 AO_UBO(0) uniform AOFrame {
@@ -58,7 +59,7 @@ AO_UBO(0) uniform AOFrame {
     vec4 clip;        // near, far, radius (world units), pixels per world unit at z = 1 at AO resolution
     ivec4 frame_index;// x = frame number, y = parity (0/1) for progressive halves, zw unused
 } frame;
-#line 8 1
+#line 9 1
 #line 1 4
 // Linear depth (positive view-space distance, cleared to far) and the G-buffer texel lookup shared by
 // every G-buffer read. Needs no axis.
@@ -90,7 +91,7 @@ float ao_depth(vec2 uv) {
 bool ao_is_background(float z) {
     return z >= frame.clip.y * 0.999;
 }
-#line 9 1
+#line 10 1
 #line 1 5
 // Weights shared by the depth-aware blurs and the upsample (seed 000 §3.3.1, eq. 3.3). Computed in AOP:
 // the depth difference itself is taken in highp before it is scaled.
@@ -108,7 +109,25 @@ AOP float ao_depth_weight(float z_tap, float z, float depth_sigma) {
 AOP float ao_spatial_weight(AOP float d2, AOP float r) {
     return exp(-d2 / (2.0 * r * r));
 }
-#line 10 1
+#line 11 1
+#line 1 6
+// SAO's depth key (seed 003 §2.3): the AO pass packs linear depth next to AO into an rgba8 target,
+// (A, key_hi, key_lo), so its bilateral passes read one texel for both instead of the depth buffer too.
+// key = z / far in [0, 1], split into two 8-bit unorm channels: hi holds floor(key * 255.999) / 255
+// (exactly representable), lo the fraction left over; 16 bits in all, far / 65536 (e.g. 1 mm at 60 m).
+// The seed divides by a chosen "farthest sharp plane" z_min (-200 m); aovar's far plane plays that role.
+#line 7 6
+
+vec2 ao_pack_key(float z) {
+    float t = clamp(z / frame.clip.y, 0.0, 1.0) * 255.999;
+    float hi = floor(t);
+    return vec2(hi / 255.0, t - hi);
+}
+
+float ao_unpack_key(vec2 key) {
+    return (floor(key.x * 255.0 + 0.5) + key.y) / 255.999 * frame.clip.y;
+}
+#line 12 1
 
 AO_UBO(1) uniform AOParams {
     float radius_px;   // taps on each side of the centre (integer part, 1 ... AO_BLUR_MAX_RADIUS)
@@ -128,9 +147,17 @@ const int AO_BLUR_MAX_RADIUS = 8;
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     ivec2 size = ivec2(frame.ao_size.xy);
+#if defined(AO_BLUR_KEYED)
+    // The input packs (A, depth key) (common/key.glsl): one fetch per tap gives both.
+    vec4 centre = texelFetch(ao_input_tex, p, 0);
+    float z = ao_unpack_key(centre.gb);
+    vec2 key_out = centre.gb;
+#else
     float z = ao_depth(v_uv);
+    vec2 key_out = vec2(1.0);
+#endif
     if (ao_is_background(z)) {
-        o_color = vec4(1.0);
+        o_color = vec4(1.0, key_out, 1.0);
         return;
     }
 
@@ -143,10 +170,17 @@ void main() {
         if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) {
             continue;
         }
+#if defined(AO_BLUR_KEYED)
+        vec4 tap = texelFetch(ao_input_tex, q, 0);
+        float z_q = ao_unpack_key(tap.gb);
+        AOP float value = tap.r;
+#else
         float z_q = ao_depth((vec2(q) + 0.5) * frame.ao_size.zw);
+        AOP float value = texelFetch(ao_input_tex, q, 0).r;
+#endif
         AOP float w = ao_spatial_weight(float(i * i), float(r)) * ao_depth_weight(z_q, z, params.depth_sigma);
-        sum += w * texelFetch(ao_input_tex, q, 0).r;
+        sum += w * value;
         weight_sum += w;
     }
-    o_color = vec4(sum / weight_sum, 1.0, 1.0, 1.0);
+    o_color = vec4(sum / weight_sum, key_out, 1.0);
 }

@@ -24,3 +24,23 @@ vec3 ao_hemisphere_sample(int i, int n) {
     vec2 d = ao_disc_sample(i, n);
     return vec3(d, sqrt(max(0.0, 1.0 - dot(d, d))));
 }
+
+// Stratified value in [0, 1) for sample i of any kernel: the golden-ratio sequence fract((i + 0.5) / phi).
+// Used for sample lengths it does not correlate with the direction, which the direction generators derive
+// from i in order; the first n values are spread evenly over [0, 1) for any n.
+float ao_kernel_t(int i) {
+    return fract((float(i) + 0.5) * 0.618033989);
+}
+
+// Pair j of p antipodal pairs in the unit ball: the point returned and its negation. Directions are spread
+// evenly over the upper hemisphere (z uniform in [0, 1] is uniform in area; golden-angle azimuth), so pairs
+// cover the whole sphere; lengths t^(1/3) make the points uniform in volume (as the original Crytek kernel,
+// seed 002 §2.A), so that the fraction of points inside geometry estimates the occupied volume. On any plane
+// through the centre exactly one point of each pair lies on either side (points on the plane aside), which
+// makes a flat surface read exactly half occluded without relying on the sample count.
+vec3 ao_ball_pair_sample(int j, int p) {
+    float z = 1.0 - (float(j) + 0.5) / float(p);
+    float a = float(j) * AO_GOLDEN_ANGLE;
+    float r = sqrt(max(0.0, 1.0 - z * z));
+    return pow(ao_kernel_t(j), 1.0 / 3.0) * vec3(r * cos(a), r * sin(a), z);
+}
