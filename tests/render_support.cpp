@@ -47,6 +47,16 @@ scene::Scene quad_scene(const std::vector<Quad>& quads, const scene::View& view,
   return s;
 }
 
+scene::View floor_view() {
+  scene::View v;
+  v.name = "floor";
+  v.eye = {0.0f, 3.0f, 4.0f};
+  v.target = {0.0f, 0.0f, -1.0f};
+  v.near_plane = 0.1f;
+  v.far_plane = 60.0f;
+  return v;
+}
+
 image::FloatImage render_plan(render::Backend& backend, const render::PipelinePlan& plan, const scene::View& view,
                               render::Extent size, float radius, int frames, int first_frame) {
   auto p = backend.prepare(plan, size);

@@ -22,6 +22,11 @@ struct Quad {
 };
 scene::Scene quad_scene(const std::vector<Quad>& quads, const scene::View& view, float radius);
 
+// A 40 x 40 floor seen from above at an angle, and a wall standing on it across the view (z = -2).
+scene::View floor_view();
+inline const Quad kFloor{{-20.0f, 0.0f, 20.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -40.0f}};
+inline const Quad kWall{{-20.0f, 0.0f, -2.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 20.0f, 0.0f}};
+
 // Renders `frames` frames of a plan (static camera) and reads the result back.
 image::FloatImage render_plan(render::Backend& backend, const render::PipelinePlan& plan, const scene::View& view,
                               render::Extent size, float radius, int frames, int first_frame = 0);

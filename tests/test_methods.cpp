@@ -93,19 +93,6 @@ TEST_P(Method, RendersFiniteVisibilityInRangeOnEveryBuiltinScene) {
   }
 }
 
-// A 40 x 40 floor seen from above at an angle, and a floor with a wall standing on it (as in test_render).
-scene::View floor_view() {
-  scene::View v;
-  v.name = "floor";
-  v.eye = {0.0f, 3.0f, 4.0f};
-  v.target = {0.0f, 0.0f, -1.0f};
-  v.near_plane = 0.1f;
-  v.far_plane = 60.0f;
-  return v;
-}
-const Quad kFloor{{-20.0f, 0.0f, 20.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -40.0f}};
-const Quad kWall{{-20.0f, 0.0f, -2.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 20.0f, 0.0f}};
-
 TEST_P(Method, OpenPlaneIsOpen) {
   const auto& mv = method_variants(GetParam());
   auto view = floor_view();

@@ -86,19 +86,6 @@ TEST(Render, LavapipeAndOsmesaAgree) {
   }
 }
 
-// A 40 x 40 floor seen from above at an angle, and a floor with a wall standing on it.
-scene::View floor_view() {
-  scene::View v;
-  v.name = "floor";
-  v.eye = {0.0f, 3.0f, 4.0f};
-  v.target = {0.0f, 0.0f, -1.0f};
-  v.near_plane = 0.1f;
-  v.far_plane = 60.0f;
-  return v;
-}
-const Quad kFloor{{-20.0f, 0.0f, 20.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -40.0f}};
-const Quad kWall{{-20.0f, 0.0f, -2.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 20.0f, 0.0f}};
-
 TEST(Render, OpenPlaneIsOpenOnBothBackends) {
   auto view = floor_view();
   auto sc = quad_scene({kFloor}, view, 0.5f);

@@ -114,6 +114,13 @@ float ao_depth(vec2 uv) {
 bool ao_is_background(float z) {
     return z >= frame.clip.y * 0.999;
 }
+
+// The world AO radius (frame.clip.z) projected at linear depth z, in AO pixels, capped at a quarter of the
+// AO screen so that near geometry cannot send every tap off screen (or out of the cache). Every method's
+// kernel footprint comes from here.
+float ao_radius_px(float z) {
+    return min(frame.clip.z * frame.clip.w / z, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+}
 #line 5 4
 #line 1 6
 // View-space position of a G-buffer texel (seed 000 §5.4, §5.5). Reads the `position` and `reconstruct`
@@ -349,9 +356,8 @@ void main() {
         return;
     }
 
-    // Disc radius in AO pixels, capped at a quarter of the screen so near geometry cannot make every tap
-    // miss the cache (or the screen).
-    float radius_px = min(frame.clip.z * frame.clip.w / z_c, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+    // Disc radius in AO pixels (common/depth.glsl: capped at a quarter of the screen).
+    float radius_px = ao_radius_px(z_c);
     vec2 radius_uv = radius_px * frame.ao_size.zw;
     vec2 rot = ao_rotation(ivec2(gl_FragCoord.xy));
     mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x);

@@ -128,6 +128,13 @@ float ao_depth(vec2 uv) {
 bool ao_is_background(float z) {
     return z >= frame.clip.y * 0.999;
 }
+
+// The world AO radius (frame.clip.z) projected at linear depth z, in AO pixels, capped at a quarter of the
+// AO screen so that near geometry cannot send every tap off screen (or out of the cache). Every method's
+// kernel footprint comes from here.
+float ao_radius_px(float z) {
+    return min(frame.clip.z * frame.clip.w / z, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+}
 #line 43 1
 #line 1 5
 // Range check for depth-only methods (ao/crytek.glsl, ao/vo.glsl), from the depth buffer alone. Needs no
@@ -264,7 +271,7 @@ void main() {
     }
 
     // Ball radius in AO pixels, capped at a quarter of the screen; the world radius shrinks with the cap.
-    float radius_px = min(frame.clip.z * frame.clip.w / z_c, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+    float radius_px = ao_radius_px(z_c);
     float radius = max(radius_px * z_c / frame.clip.w, 1e-6);
     // In depth texels: the AO pass may run at a lower resolution than the G-buffer.
     float radius_tx = radius_px * float(size.x) * frame.ao_size.z;

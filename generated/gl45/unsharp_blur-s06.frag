@@ -98,6 +98,13 @@ float ao_depth(vec2 uv) {
 bool ao_is_background(float z) {
     return z >= frame.clip.y * 0.999;
 }
+
+// The world AO radius (frame.clip.z) projected at linear depth z, in AO pixels, capped at a quarter of the
+// AO screen so that near geometry cannot send every tap off screen (or out of the cache). Every method's
+// kernel footprint comes from here.
+float ao_radius_px(float z) {
+    return min(frame.clip.z * frame.clip.w / z, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+}
 #line 16 1
 
 AO_UBO(1) uniform AOParams {
@@ -122,7 +129,7 @@ void main() {
     }
     bool vertical = params.axis > 0.5;
     ivec2 dir = vertical ? ivec2(0, 1) : ivec2(1, 0);
-    float radius_px = min(frame.clip.z * frame.clip.w / z, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+    float radius_px = ao_radius_px(z);
     float sigma = max(0.5 * radius_px, 0.5);
     float nearest = params.range > 0.0 ? z - params.range * frame.clip.z : -1.0e30;
     float step_px = max(1.0, radius_px / float(AO_HALF_TAPS));

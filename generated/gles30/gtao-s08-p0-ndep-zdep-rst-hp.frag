@@ -140,6 +140,13 @@ float ao_depth(vec2 uv) {
 bool ao_is_background(float z) {
     return z >= frame.clip.y * 0.999;
 }
+
+// The world AO radius (frame.clip.z) projected at linear depth z, in AO pixels, capped at a quarter of the
+// AO screen so that near geometry cannot send every tap off screen (or out of the cache). Every method's
+// kernel footprint comes from here.
+float ao_radius_px(float z) {
+    return min(frame.clip.z * frame.clip.w / z, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+}
 #line 5 4
 #line 1 6
 // View-space position of a G-buffer texel (seed 000 §5.4, §5.5). Reads the `position` and `reconstruct`
@@ -400,7 +407,7 @@ void main() {
         o_color = vec4(1.0);
         return;
     }
-    float radius_px = min(frame.clip.z * frame.clip.w / z_c, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+    float radius_px = ao_radius_px(z_c);
     if (radius_px < 1.0) {
         o_color = vec4(1.0);
         return;

@@ -127,6 +127,13 @@ float ao_depth(vec2 uv) {
 bool ao_is_background(float z) {
     return z >= frame.clip.y * 0.999;
 }
+
+// The world AO radius (frame.clip.z) projected at linear depth z, in AO pixels, capped at a quarter of the
+// AO screen so that near geometry cannot send every tap off screen (or out of the cache). Every method's
+// kernel footprint comes from here.
+float ao_radius_px(float z) {
+    return min(frame.clip.z * frame.clip.w / z, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+}
 #line 5 4
 #line 1 6
 // View-space position of a G-buffer texel (seed 000 §5.4, §5.5). Reads the `position` and `reconstruct`
@@ -366,7 +373,7 @@ void main() {
     // Buffered normals only (see above): no derivatives, so this may follow the early-out.
     AOP vec3 n_p = ao_normal(v_uv, c);
 
-    float radius_px = min(frame.clip.z * frame.clip.w / z_p, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+    float radius_px = ao_radius_px(z_p);
     vec2 radius_uv = radius_px * frame.ao_size.zw;
     // L in world units, from the radius after the cap.
     float falloff = max(params.falloff * radius_px * z_p / frame.clip.w, 1e-6);

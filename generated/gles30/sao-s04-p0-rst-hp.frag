@@ -110,6 +110,13 @@ float ao_depth(vec2 uv) {
 bool ao_is_background(float z) {
     return z >= frame.clip.y * 0.999;
 }
+
+// The world AO radius (frame.clip.z) projected at linear depth z, in AO pixels, capped at a quarter of the
+// AO screen so that near geometry cannot send every tap off screen (or out of the cache). Every method's
+// kernel footprint comes from here.
+float ao_radius_px(float z) {
+    return min(frame.clip.z * frame.clip.w / z, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+}
 #line 24 1
 #line 1 5
 // View position from screen uv and linear depth (seed 000 §5.4, §5.5). Reads the `reconstruct` axis only:
@@ -206,7 +213,7 @@ void main() {
     }
 
     // Eq. 5 in AO pixels, capped at a quarter of the screen like every method.
-    float radius_px = min(frame.clip.z * frame.clip.w / z_c, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+    float radius_px = ao_radius_px(z_c);
     // Eq. 8; the product is taken in int like the seed's, wrapping is harmless for an angle.
     float phi = float((30 * ss_c.x) ^ ss_c.y) + 10.0 * float(ss_c.x) * float(ss_c.y);
     ivec2 size = ivec2(frame.ao_size.xy);

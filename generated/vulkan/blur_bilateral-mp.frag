@@ -89,6 +89,13 @@ float ao_depth(vec2 uv) {
 bool ao_is_background(float z) {
     return z >= frame.clip.y * 0.999;
 }
+
+// The world AO radius (frame.clip.z) projected at linear depth z, in AO pixels, capped at a quarter of the
+// AO screen so that near geometry cannot send every tap off screen (or out of the cache). Every method's
+// kernel footprint comes from here.
+float ao_radius_px(float z) {
+    return min(frame.clip.z * frame.clip.w / z, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+}
 #line 8 1
 #line 1 5
 // Weights shared by the depth-aware blurs and the upsample (seed 000 §3.3.1, eq. 3.3). Computed in AOP:

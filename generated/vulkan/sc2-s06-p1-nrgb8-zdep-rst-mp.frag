@@ -125,6 +125,13 @@ float ao_depth(vec2 uv) {
 bool ao_is_background(float z) {
     return z >= frame.clip.y * 0.999;
 }
+
+// The world AO radius (frame.clip.z) projected at linear depth z, in AO pixels, capped at a quarter of the
+// AO screen so that near geometry cannot send every tap off screen (or out of the cache). Every method's
+// kernel footprint comes from here.
+float ao_radius_px(float z) {
+    return min(frame.clip.z * frame.clip.w / z, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+}
 #line 5 4
 #line 1 6
 // View-space position of a G-buffer texel (seed 000 §5.4, §5.5). Reads the `position` and `reconstruct`
@@ -366,7 +373,7 @@ void main() {
     }
 
     // Radius capped at a quarter of the screen in AO pixels, as the disc methods; world radius follows.
-    float radius_px = min(frame.clip.z * frame.clip.w / z_c, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+    float radius_px = ao_radius_px(z_c);
     float radius = max(radius_px * z_c / frame.clip.w, 1e-6);
 
     // Tangent frame from the rotation vector; r || n (possible on surfaces seen edge-on) takes r rotated by

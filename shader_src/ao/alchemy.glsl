@@ -48,9 +48,8 @@ void main() {
         return;
     }
 
-    // Disc radius in AO pixels, capped at a quarter of the screen so near geometry cannot make every tap
-    // miss the cache (or the screen).
-    float radius_px = min(frame.clip.z * frame.clip.w / z_c, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+    // Disc radius in AO pixels (common/depth.glsl: capped at a quarter of the screen).
+    float radius_px = ao_radius_px(z_c);
     vec2 radius_uv = radius_px * frame.ao_size.zw;
     vec2 rot = ao_rotation(ivec2(gl_FragCoord.xy));
     mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x);

@@ -70,7 +70,7 @@ void main() {
     }
 
     // Ball radius in AO pixels, capped at a quarter of the screen; the world radius shrinks with the cap.
-    float radius_px = min(frame.clip.z * frame.clip.w / z_c, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+    float radius_px = ao_radius_px(z_c);
     float radius = max(radius_px * z_c / frame.clip.w, 1e-6);
     // In depth texels: the AO pass may run at a lower resolution than the G-buffer.
     float radius_tx = radius_px * float(size.x) * frame.ao_size.z;

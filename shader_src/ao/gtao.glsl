@@ -123,7 +123,7 @@ void main() {
         o_color = vec4(1.0);
         return;
     }
-    float radius_px = min(frame.clip.z * frame.clip.w / z_c, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+    float radius_px = ao_radius_px(z_c);
     if (radius_px < 1.0) {
         o_color = vec4(1.0);
         return;

@@ -65,7 +65,7 @@ void main() {
     // Buffered normals only (see above): no derivatives, so this may follow the early-out.
     AOP vec3 n_p = ao_normal(v_uv, c);
 
-    float radius_px = min(frame.clip.z * frame.clip.w / z_p, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+    float radius_px = ao_radius_px(z_p);
     vec2 radius_uv = radius_px * frame.ao_size.zw;
     // L in world units, from the radius after the cap.
     float falloff = max(params.falloff * radius_px * z_p / frame.clip.w, 1e-6);

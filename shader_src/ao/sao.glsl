@@ -79,7 +79,7 @@ void main() {
     }
 
     // Eq. 5 in AO pixels, capped at a quarter of the screen like every method.
-    float radius_px = min(frame.clip.z * frame.clip.w / z_c, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+    float radius_px = ao_radius_px(z_c);
     // Eq. 8; the product is taken in int like the seed's, wrapping is harmless for an angle.
     float phi = float((30 * ss_c.x) ^ ss_c.y) + 10.0 * float(ss_c.x) * float(ss_c.y);
     ivec2 size = ivec2(frame.ao_size.xy);

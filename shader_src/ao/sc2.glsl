@@ -65,7 +65,7 @@ void main() {
     }
 
     // Radius capped at a quarter of the screen in AO pixels, as the disc methods; world radius follows.
-    float radius_px = min(frame.clip.z * frame.clip.w / z_c, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+    float radius_px = ao_radius_px(z_c);
     float radius = max(radius_px * z_c / frame.clip.w, 1e-6);
 
     // Tangent frame from the rotation vector; r || n (possible on surfaces seen edge-on) takes r rotated by

@@ -36,7 +36,7 @@ void main() {
     }
     bool vertical = params.axis > 0.5;
     ivec2 dir = vertical ? ivec2(0, 1) : ivec2(1, 0);
-    float radius_px = min(frame.clip.z * frame.clip.w / z, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+    float radius_px = ao_radius_px(z);
     float sigma = max(0.5 * radius_px, 0.5);
     float nearest = params.range > 0.0 ? z - params.range * frame.clip.z : -1.0e30;
     float step_px = max(1.0, radius_px / float(AO_HALF_TAPS));
