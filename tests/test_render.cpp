@@ -205,9 +205,9 @@ TEST(Measure, WritesJsonAndImagesAndReusesUnchangedRows) {
     EXPECT_EQ(img.pixels, first.rows[i].result.pixels) << "the PFM holds the read-back floats bit for bit";
     EXPECT_TRUE(std::filesystem::exists(dir / row.at("preview").get<std::string>()));
   }
-  const auto& ref_row = first.rows[1].variant == measure::kDefaultReference ? first.rows[1] : first.rows[0];
+  const auto& ref_row = first.rows[1].variant == measure::kDefaultBaseline ? first.rows[1] : first.rows[0];
   const auto& other = &ref_row == &first.rows[0] ? first.rows[1] : first.rows[0];
-  ASSERT_EQ(ref_row.variant, measure::kDefaultReference);
+  ASSERT_EQ(ref_row.variant, measure::kDefaultBaseline);
   EXPECT_DOUBLE_EQ(other.rel_time, other.time.min / ref_row.time.min) << "both were timed in the same rounds";
 
   // One contact sheet for the backend and view: both 160 x 90 images side by side under their labels.
@@ -226,7 +226,7 @@ TEST(Measure, WritesJsonAndImagesAndReusesUnchangedRows) {
   o.globs = {"alchemy-s04-p0-nrg8-zdep-rst-d16-bsep-x1-hp"};
   auto fourth = measure::run_measure(o);
   ASSERT_EQ(fourth.rows.size(), 2u);
-  EXPECT_EQ(std::count_if(fourth.rows.begin(), fourth.rows.end(), [](const auto& r) { return r.is_reference; }), 1);
+  EXPECT_EQ(std::count_if(fourth.rows.begin(), fourth.rows.end(), [](const auto& r) { return r.is_baseline; }), 1);
   auto fifth = measure::run_measure(o);
   EXPECT_EQ(fifth.reused, 2);
   EXPECT_EQ(fifth.rows.size(), 2u);

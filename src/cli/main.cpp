@@ -2,14 +2,17 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <unistd.h>
 
+#include "calibrate/calibrate.h"
 #include "compile/cache.h"
 #include "compile/generate.h"
 #include "measure/measure.h"
+#include "reference/reference.h"
 #include "shadergen/expand.h"
 #include "util/fs.h"
 
@@ -159,20 +162,35 @@ render::ParamOverrides parse_params(const std::vector<std::string>& items) {
 
 // The measured rows as a table: one line per variant, view and backend.
 void print_measure_table(const measure::MeasureResult& r) {
-  std::cout << fmt::format("{:<46} {:<9} {:<10} {:>8} {:>8} {:>8} {:>6}  {}\n", "variant", "backend", "view",
-                           "min ms", "median", "p90", "rel", "passes (min ms)");
+  bool truth = std::any_of(r.rows.begin(), r.rows.end(), [](const auto& row) { return row.error.has_value(); });
+  std::cout << fmt::format("{:<46} {:<9} {:<10} {:>8} {:>8} {:>8} {:>6} {}  {}\n", "variant", "backend", "view",
+                           "min ms", "median", "p90", "rel", truth ? "  rmse    ssim" : "", "passes (min ms)");
   for (const auto& row : r.rows) {
     std::string passes;
     for (const auto& [name, s] : row.passes) passes += fmt::format("{} {:.2f}  ", name, s.min);
-    std::cout << fmt::format("{:<46} {:<9} {:<10} {:>8.2f} {:>8.2f} {:>8.2f} {:>6.2f}  {}{}\n", row.variant,
-                             row.backend, row.view, row.time.min, row.time.median, row.time.p90, row.rel_time, passes,
-                             row.is_reference ? "(reference)" : row.reused ? "(reused)" : "");
+    std::string error = !truth ? "" : row.error ? fmt::format("{:>6.4f} {:>7.4f}", row.error->rmse, row.error->ssim)
+                                                : fmt::format("{:>14}", "-");
+    std::cout << fmt::format("{:<46} {:<9} {:<10} {:>8.2f} {:>8.2f} {:>8.2f} {:>6.2f} {}  {}{}\n", row.variant,
+                             row.backend, row.view, row.time.min, row.time.median, row.time.p90, row.rel_time, error,
+                             passes, row.is_baseline ? "(baseline)" : row.reused ? "(reused)" : "");
   }
 }
 
 int run_measure(const CommonOptions& common, measure::MeasureOptions o, const std::string& size,
-                const std::vector<std::string>& params, const std::string& out) {
+                const std::vector<std::string>& params, const std::string& out, const std::string& reference_mode,
+                const std::string& calibration, bool no_calibration) {
   o.manifest = common.manifest;
+  o.reference_mode = reference::parse_mode(reference_mode);
+  if (o.reference_rays < 1) throw std::runtime_error("--rays must be at least 1");
+  if (!common.no_cache) o.reference_cache = common.cache_dir.empty() ? compile::CompileCache::default_dir()
+                                                                     : std::filesystem::path(common.cache_dir);
+  // The manifest's calibration (calibration.json next to it) applies unless another file or none is asked for.
+  std::filesystem::path cal_file = calibration;
+  if (cal_file.empty() && !no_calibration) {
+    auto next_to = std::filesystem::path(common.manifest).parent_path() / "calibration.json";
+    if (std::filesystem::exists(next_to)) cal_file = next_to;
+  }
+  if (!cal_file.empty() && !no_calibration) o.calibration = calibrate::load_calibration(cal_file);
   o.globs = common.globs;
   o.jobs = common.jobs;
   o.size = parse_size(size);
@@ -200,10 +218,80 @@ int run_measure(const CommonOptions& common, measure::MeasureOptions o, const st
     std::cout << fmt::format("# {}: {}, {}, {} threads\n", d.backend, d.device, d.api_version, d.threads);
   std::cout << fmt::format("# scene {} ({} triangles), radius {:.3g}, {} at {}, {} reps after {} warm-up; {}; "
                            "{} rows ({} reused) in {:.1f} s{}\n",
-                           r.scene, r.triangles, r.radius, o.reference, size, o.reps, o.warmup, r.counts, r.rows.size(),
+                           r.scene, r.triangles, r.radius, o.baseline, size, o.reps, o.warmup, r.counts, r.rows.size(),
                            r.reused, r.wall_s, out.empty() ? "" : " -> " + util::display_path(std::filesystem::path(out) / "measure.json"));
+  if (!o.calibration.empty())
+    std::cout << "# calibrated parameters: " << util::display_path(cal_file) << " (--no-calibration: the manifest's defaults)\n";
   for (const auto& sheet : r.contact_sheets)
     std::cout << "# contact sheet: " << util::display_path(std::filesystem::path(out) / sheet) << "\n";
+  return 0;
+}
+
+int run_calibrate(const CommonOptions& common, calibrate::CalibrateOptions o, const std::string& out) {
+  auto cache = common.cache_dir.empty() ? compile::CompileCache::default_dir() : std::filesystem::path(common.cache_dir);
+  o.compile_cache = o.reference_cache = cache;
+  bool tty = isatty(fileno(stderr));
+  auto progress = [tty](const std::string& line) {
+    if (tty) std::cerr << "\r\033[K" << line << std::flush;
+  };
+  calibrate::Calibration c;
+  try {
+    c = calibrate::calibrate(o, progress);
+  } catch (...) {
+    if (tty) std::cerr << "\r\033[K";
+    throw;
+  }
+  if (tty) std::cerr << "\r\033[K";
+  calibrate::write_calibration(out, c);
+  std::cout << fmt::format("{:<10} {:>6} {:>17} {:>19}  {}\n", "algorithm", "evals", "train rmse", "validation rmse",
+                           "fitted (default)");
+  for (const auto& f : c.fits) {
+    std::string values;
+    for (const auto& [key, value] : f.fitted) values += fmt::format("{} {:.4g} ({:.4g})  ", key, value, f.defaults.at(key));
+    std::cout << fmt::format("{:<10} {:>6} {:>7.4f} -> {:>6.4f} {:>8.4f} -> {:>6.4f}  {}\n", f.algorithm, f.evaluations,
+                             f.train_rmse_before, f.train_rmse_after, f.validation_rmse_before,
+                             f.validation_rmse_after, values);
+  }
+  std::cout << fmt::format("# {} at {}x{}, references {} rays ({}); -> {}\n", c.backend, c.size.width, c.size.height,
+                           c.rays, reference::mode_name(c.mode), util::display_path(out));
+  return 0;
+}
+
+int run_reference(const CommonOptions& common, reference::RunOptions o, const std::string& size, const std::string& mode) {
+  o.reference.size = parse_size(size);
+  try {
+    o.reference.mode = reference::parse_mode(mode);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(std::string("--mode: ") + e.what());
+  }
+  if (o.reference.rays < 1) throw std::runtime_error(fmt::format("--rays {}: need at least 1 ray per pixel", o.reference.rays));
+  if (o.reference.threads < 0) throw std::runtime_error("--threads must be 0 (all cores) or more");
+  if (o.reference.frame < 0) throw std::runtime_error("--frame must be 0 or more");
+  if (!common.no_cache)
+    o.reference.cache_dir = common.cache_dir.empty() ? compile::CompileCache::default_dir() : std::filesystem::path(common.cache_dir);
+  bool tty = isatty(fileno(stderr));
+  auto status = [tty](const std::string& line, bool final) {
+    if (final) std::cerr << (tty ? "\r\033[K" : "") << line << "\n";
+    else if (tty) std::cerr << "\r\033[K" << line << std::flush;
+  };
+  reference::RunResult r;
+  try {
+    r = reference::run_reference(o, status);
+  } catch (...) {
+    if (tty) std::cerr << "\r\033[K";  // the error goes on a line of its own, not after the status
+    throw;
+  }
+  std::cout << fmt::format("{:<12} {:>9} {:>6} {:<10} {:>8} {:>9} {:>9} {:>7} {:>9} {:>8}\n", "view", "size", "rays",
+                           "mode", "radius", "mean vis", "mean err", "bg %", "trace s", "Mrays/s");
+  for (const auto& v : r.views)
+    std::cout << fmt::format("{:<12} {:>9} {:>6} {:<10} {:>8.4g} {:>9.4f} {:>9.4f} {:>7.1f} {:>9.2f} {:>8.2f}{}\n", v.view,
+                             fmt::format("{}x{}", v.options.size.width, v.options.size.height), v.options.rays,
+                             reference::mode_name(v.options.mode), v.options.radius, v.stats.mean_visibility,
+                             v.stats.mean_std_error, 100.0 * v.stats.background_share, v.trace_s,
+                             v.trace_s > 0 ? static_cast<double>(v.rays_traced) / v.trace_s / 1e6 : 0.0,
+                             v.from_cache ? "  (cached)" : "");
+  std::cout << fmt::format("# scene {} ({} triangles) in {:.1f} s -> {}\n", r.scene, r.triangles, r.wall_s,
+                           util::display_path(o.out / "reference.json"));
   return 0;
 }
 
@@ -250,7 +338,7 @@ int main(int argc, char** argv) {
   meas->add_option("--warmup", mo.warmup, "discarded frames after the first (JIT) frame")->capture_default_str();
   meas->add_option("--threads", mo.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
   meas->add_option("--batch", mo.batch, "pipelines prepared and interleaved at once")->capture_default_str();
-  meas->add_option("--reference", mo.reference, "variant timed in every round (rel_time = 1)")->capture_default_str();
+  meas->add_option("--baseline", mo.baseline, "variant timed in every round (rel_time = 1)")->capture_default_str();
   meas->add_option("--radius", mo.radius, "AO radius in world units (default: the scene's)");
   meas->add_option("--param", measure_params, "override a parameter of the variants that take it: PASS.NAME=VALUE (repeatable)");
   meas->add_option("--out,-o", measure_out, "output folder: measure.json and images/");
@@ -258,14 +346,75 @@ int main(int argc, char** argv) {
                  "frames walk each view's camera path (default: its first pose; the image is the last frame)");
   meas->add_flag("!--no-images", mo.images, "write no PFM/PNG images");
   meas->add_flag("!--no-reuse", mo.reuse, "measure everything again even when OUT/measure.json has the row");
+  std::string measure_ref_mode = "occlusion", measure_calibration;
+  bool no_calibration = false;
+  meas->add_flag("--reference", mo.ground_truth,
+                 "score every row against a ray-traced reference of its view (error: rmse, mae, psnr, ssim, bias, max)");
+  meas->add_option("--rays", mo.reference_rays, "reference rays per pixel (with --reference)")->capture_default_str();
+  meas->add_option("--reference-mode", measure_ref_mode, "occlusion or obscurance (with --reference)")
+      ->capture_default_str();
+  meas->add_option("--calibration", measure_calibration,
+                   "calibrated parameters per algorithm (default: calibration.json next to the manifest, when present)");
+  meas->add_flag("--no-calibration", no_calibration, "use the manifest's default parameters");
+
+  CommonOptions cal_common;
+  calibrate::CalibrateOptions cal;
+  std::string cal_size = "320x180", cal_mode = "occlusion", cal_out;
+  auto* calc = app.add_subcommand("calibrate",
+                                  "fit each method's artistic parameters to ray-traced references (training views), "
+                                  "report the error on other views, write a calibration file");
+  calc->add_option("--manifest,-m", cal_common.manifest, "manifest file")->capture_default_str();
+  calc->add_option("--algorithms", cal.algorithms, "algorithms to fit (comma-separated; default: all)")->delimiter(',');
+  calc->add_option("--backend,-b", cal.backend, "lavapipe or osmesa")->capture_default_str();
+  calc->add_option("--size", cal_size, "render and reference size WxH")->capture_default_str();
+  calc->add_option("--rays", cal.rays, "reference rays per pixel")->capture_default_str();
+  calc->add_option("--mode", cal_mode, "reference mode: occlusion or obscurance")->capture_default_str();
+  calc->add_option("--evaluations", cal.max_evaluations, "objective evaluations per algorithm")->capture_default_str();
+  calc->add_option("--threads", cal.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
+  calc->add_option("--out,-o", cal_out, "calibration file to write (e.g. shader_src/calibration.json)")->required();
+  calc->add_option("--cache-dir", cal_common.cache_dir, "compile and reference cache (default: $AOVAR_CACHE_DIR or ~/.cache/aovar)");
+
+  CommonOptions ref_common;
+  reference::RunOptions ro;
+  std::string ref_size = "640x360", ref_mode = "occlusion", ref_scene = "builtin:atrium", ref_views_file, ref_out;
+  auto* ref = app.add_subcommand("reference", "ray-trace the ground-truth AO of scene views (Embree)");
+  ref->add_option("--scene,-s", ref_scene, "builtin:atrium|spheres|stairs|cornell or an .obj/.gltf/.glb file")
+      ->capture_default_str();
+  ref->add_option("--views-file", ref_views_file, "views side file (TOML or JSON) for the scene");
+  ref->add_option("--view", ro.views, "view name (repeatable; default: the scene's first view)");
+  ref->add_option("--radius", ro.radius,
+                  "AO radius: world units (0.5) or a percentage of the bounding-box diagonal (1.5%); default: the scene's");
+  ref->add_option("--rays", ro.reference.rays, "hemisphere rays per pixel")->capture_default_str();
+  ref->add_option("--mode", ref_mode, "occlusion (hit or not) or obscurance (a hit at t occludes 1 - t/radius)")
+      ->capture_default_str();
+  ref->add_option("--size", ref_size, "output size WxH")->capture_default_str();
+  ref->add_option("--threads", ro.reference.threads, "tracing threads (0 = all cores)")->capture_default_str();
+  ref->add_option("--frame", ro.reference.frame, "camera-path frame of the view (0 = its first pose)")->capture_default_str();
+  ref->add_option("--out,-o", ref_out, "output folder: <view>.pfm, <view>.stderr.pfm, <view>.png, reference.json")
+      ->required();
+  ref->add_option("--cache-dir", ref_common.cache_dir, "reference cache root (default: $AOVAR_CACHE_DIR or ~/.cache/aovar)");
+  ref->add_flag("--no-cache", ref_common.no_cache, "trace everything, read and write no cache");
 
   CLI11_PARSE(app, argc, argv);
   try {
     if (list->parsed()) return run_list(list_opts, show_pruned);
+    if (ref->parsed()) {
+      ro.scene = ref_scene;
+      ro.views_file = ref_views_file;
+      ro.out = ref_out;
+      return run_reference(ref_common, ro, ref_size, ref_mode);
+    }
     if (meas->parsed()) {
       mo.scene = measure_scene;
       mo.views_file = views_file;
-      return run_measure(measure_common, mo, measure_size, measure_params, measure_out);
+      return run_measure(measure_common, mo, measure_size, measure_params, measure_out, measure_ref_mode,
+                         measure_calibration, no_calibration);
+    }
+    if (calc->parsed()) {
+      cal.manifest = cal_common.manifest;
+      cal.size = parse_size(cal_size);
+      cal.mode = reference::parse_mode(cal_mode);
+      return run_calibrate(cal_common, cal, cal_out);
     }
     out.out = out_dir;
     out.emit = 0;

@@ -70,4 +70,18 @@ void write_png(const std::filesystem::path& path, const FloatImage& image) {
   util::write_atomic(path, out);
 }
 
+void write_rgb_png(const std::filesystem::path& path, int width, int height, const std::vector<unsigned char>& rgb) {
+  if (width <= 0 || height <= 0 || rgb.size() != static_cast<std::size_t>(width) * height * 3)
+    throw std::invalid_argument(fmt::format("{}: error: {} RGB bytes for a {}x{} PNG (want {})",
+                                            util::display_path(path), rgb.size(), width, height,
+                                            static_cast<std::size_t>(std::max(width, 0)) * std::max(height, 0) * 3));
+  std::string out;
+  auto append = [](void* ctx, void* data, int size) {
+    static_cast<std::string*>(ctx)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
+  };
+  if (!stbi_write_png_to_func(append, &out, width, height, 3, rgb.data(), width * 3))
+    throw std::runtime_error(fmt::format("{}: error: PNG encoding failed", util::display_path(path)));
+  util::write_atomic(path, out);
+}
+
 }  // namespace aovar::image

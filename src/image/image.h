@@ -23,4 +23,8 @@ FloatImage read_pfm(const std::filesystem::path& path);
 // then) so they stand out. Written atomically.
 void write_png(const std::filesystem::path& path, const FloatImage& image);
 
+// 8-bit RGB PNG from `rgb` (width * height * 3 bytes, top row first), written atomically. Throws
+// std::invalid_argument when the byte count does not match the size, std::runtime_error naming the path.
+void write_rgb_png(const std::filesystem::path& path, int width, int height, const std::vector<unsigned char>& rgb);
+
 }  // namespace aovar::image

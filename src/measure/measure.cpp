@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -42,6 +43,25 @@ TimeStats stats_from(const json& j) {
   return {j.at("min").get<double>(), j.at("median").get<double>(), j.at("p90").get<double>(), j.at("n").get<int>()};
 }
 
+// DESIGN.md §6 `error`; PSNR of identical images is +inf, which JSON cannot hold: written as null.
+json error_json(const metrics::ErrorStats& e) {
+  return {{"rmse", e.rmse}, {"mae", e.mae}, {"psnr", std::isfinite(e.psnr) ? json(e.psnr) : json(nullptr)},
+          {"ssim", e.ssim}, {"bias", e.bias}, {"max", e.max}, {"share_over_0_1", e.share_over_0_1},
+          {"pixels", e.health.pixels}};
+}
+metrics::ErrorStats error_from(const json& j) {
+  metrics::ErrorStats e;
+  e.rmse = j.at("rmse");
+  e.mae = j.at("mae");
+  e.psnr = j.at("psnr").is_null() ? std::numeric_limits<double>::infinity() : j.at("psnr").get<double>();
+  e.ssim = j.at("ssim");
+  e.bias = j.at("bias");
+  e.max = j.at("max");
+  e.share_over_0_1 = j.at("share_over_0_1");
+  e.health.pixels = j.at("pixels");
+  return e;
+}
+
 json row_json(const MeasureRow& r, const MeasureResult& res, const MeasureOptions& o) {
   json axes = json::object();
   for (const auto& [k, v] : r.axes) axes[k] = v;
@@ -51,11 +71,12 @@ json row_json(const MeasureRow& r, const MeasureResult& res, const MeasureOption
           {"view", r.view}, {"backend", r.backend}, {"size", size_text(o.size)}, {"threads", o.threads},
           {"radius", res.radius}, {"spirv_hash", r.spirv_hash}, {"inputs_hash", r.inputs_hash},
           {"time_ms", stats_json(r.time)}, {"passes", passes}, {"rel_time", r.rel_time},
-          {"rel_time_median", r.rel_time_median}, {"reference", r.reference}, {"is_reference", r.is_reference},
+          {"rel_time_median", r.rel_time_median}, {"baseline", r.baseline}, {"is_baseline", r.is_baseline},
           {"create_ms", r.create_ms}, {"first_frame_ms", r.first_frame_ms}, {"jit_ms", r.jit_ms},
           {"health", {{"nan", r.health.nan}, {"inf", r.health.inf}, {"out_of_range", r.health.out_of_range},
                       {"pixels", r.health.pixels}}},
-          {"mean_visibility", r.mean_visibility}, {"image", r.image}, {"preview", r.preview}};
+          {"mean_visibility", r.mean_visibility}, {"error", r.error ? error_json(*r.error) : json(nullptr)},
+          {"image", r.image}, {"preview", r.preview}, {"error_map", r.error_map}};
 }
 
 MeasureRow row_from(const json& j) {
@@ -71,16 +92,18 @@ MeasureRow row_from(const json& j) {
   for (auto& [k, v] : j.at("passes").items()) r.passes.emplace_back(k, stats_from(v));
   r.rel_time = j.at("rel_time");
   r.rel_time_median = j.at("rel_time_median");
-  r.reference = j.at("reference");
-  r.is_reference = j.at("is_reference");
+  r.baseline = j.at("baseline");
+  r.is_baseline = j.at("is_baseline");
   r.create_ms = j.at("create_ms");
   r.first_frame_ms = j.at("first_frame_ms");
   r.jit_ms = j.at("jit_ms");
   const json& h = j.at("health");
   r.health = {h.at("nan"), h.at("inf"), h.at("out_of_range"), h.at("pixels")};
   r.mean_visibility = j.at("mean_visibility");
+  if (!j.at("error").is_null()) r.error = error_from(j.at("error"));
   r.image = j.at("image");
   r.preview = j.at("preview");
+  r.error_map = j.at("error_map");
   r.reused = true;
   return r;
 }
@@ -184,7 +207,7 @@ static std::vector<std::string> write_contact_sheets(const MeasureResult& res, c
       const MeasureRow& r = res.rows[hi++];
       if (r.image.empty() || !fs::exists(out / r.image)) continue;
       tiles.push_back({fmt::format("{}\nmean {:.3f}  {:.2f} ms{}", r.variant, r.mean_visibility, r.time.min,
-                                   r.is_reference ? "  (reference)" : ""),
+                                   r.is_baseline ? "  (baseline)" : ""),
                        image::read_pfm(out / r.image)});
     }
     if (tiles.size() >= 2) {
@@ -217,7 +240,7 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
   res.triangles = sc.triangle_count();
   res.radius = o.radius > 0 ? o.radius : sc.ao_radius;
 
-  // Compile what the backends need (the reference variant too, when globs would leave it out).
+  // Compile what the backends need (the baseline variant too, when globs would leave it out).
   std::vector<variants::Target> targets;
   for (const auto& b : o.backends) {
     auto t = backend_target(b);
@@ -226,7 +249,7 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
   compile::CompileOptions co;
   co.targets = targets;
   co.globs = o.globs;
-  if (!co.globs.empty()) co.globs.push_back(o.reference);
+  if (!co.globs.empty()) co.globs.push_back(o.baseline);
   co.cache_dir = o.cache_dir;
   co.jobs = o.jobs;
   auto compile_start = Clock::now();
@@ -243,10 +266,10 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
   std::map<int, int> representative;  // canonical variant -> the selected variant measured for its group
   std::map<int, std::vector<std::string>> duplicates;  // by representative
   auto canonical = [&](int v) { return c.variant_same_as[v] >= 0 ? c.variant_same_as[v] : v; };
-  int reference = -1;
+  int baseline = -1;
   for (int v = 0; v < static_cast<int>(c.space.variants.size()); ++v) {
     const std::string& key = c.space.variants[v].key;
-    if (key == o.reference) reference = v;
+    if (key == o.baseline) baseline = v;
     if (!util::glob_any(o.globs, key)) continue;
     auto [it, fresh] = representative.emplace(canonical(v), v);
     if (fresh) selected.push_back(v);
@@ -255,13 +278,13 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
   if (selected.empty())
     throw std::runtime_error(fmt::format("{}: no variant matches --variants {} (aovar list shows the keys)",
                                          c.manifest.error_prefix(), fmt::join(o.globs, " ")));
-  if (reference < 0) {
-    reference = selected.front();
-    say(fmt::format("note: reference {} is not in the manifest; using {}", o.reference, c.space.variants[reference].key));
-  } else if (auto it = representative.find(canonical(reference)); it != representative.end()) {
-    reference = it->second;  // identical to a selected variant: that one's row is the reference row
+  if (baseline < 0) {
+    baseline = selected.front();
+    say(fmt::format("note: baseline {} is not in the manifest; using {}", o.baseline, c.space.variants[baseline].key));
+  } else if (auto it = representative.find(canonical(baseline)); it != representative.end()) {
+    baseline = it->second;  // identical to a selected variant: that one's row is the baseline row
   }
-  bool reference_selected = std::find(selected.begin(), selected.end(), reference) != selected.end();
+  bool baseline_selected = std::find(selected.begin(), selected.end(), baseline) != selected.end();
   // --param: each override must be a parameter of at least one selected variant (variants without it,
   // e.g. blur.radius_px on an unblurred one, simply do not take it).
   std::set<std::string> parameters;
@@ -277,7 +300,7 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
   res.counts = compile::counts_line(c);
 
   // Progress: rows done out of rows wanted, and an ETA from the time per measured (not reused) row.
-  const std::size_t rows_wanted = (selected.size() + (reference_selected ? 0 : 1)) * views.size() * o.backends.size();
+  const std::size_t rows_wanted = (selected.size() + (baseline_selected ? 0 : 1)) * views.size() * o.backends.size();
   std::size_t rows_measured = 0;
   auto measuring_start = Clock::now();
   auto status = [&](const std::string& what) {
@@ -292,6 +315,27 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
   };
 
   auto previous = o.reuse && !o.out.empty() ? previous_rows(o.out, o.images, progress) : std::map<std::string, MeasureRow>{};
+
+  // Ground truth: one ray-traced reference per view, at the measured size, radius and camera pose (the last
+  // frame of the path with --camera-path, as the images are), shared by every backend and variant.
+  std::map<std::string, reference::ReferenceImage> truth;
+  if (o.ground_truth) {
+    for (const scene::View* view : views) {
+      reference::ReferenceOptions ro;
+      ro.size = o.size;
+      ro.radius = res.radius;
+      ro.rays = o.reference_rays;
+      ro.mode = o.reference_mode;
+      ro.frame = o.camera_path ? o.warmup + o.reps : 0;
+      ro.cache_dir = o.reference_cache;
+      auto ref = reference::trace_reference(sc, *view, ro, [&](double f, double elapsed) {
+        say(fmt::format("reference {}: {:.0f} %{}", view->name, 100 * f,
+                        f > 0.01 ? fmt::format(", ETA {:.0f} s", elapsed * (1 - f) / f) : std::string()));
+      });
+      if (!o.out.empty() && o.images) reference::write_reference(o.out / "images" / "reference" / view->name, ref);
+      truth.emplace(view->name, std::move(ref));
+    }
+  }
 
   for (const auto& backend_name : o.backends) {
     variants::Target target = backend_target(backend_name);
@@ -308,11 +352,17 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
                                         backend->info().driver, size_text(o.size), o.threads, o.reps, o.warmup,
                                         res.radius);
       if (o.camera_path) context += "|path";
+      if (o.ground_truth) context += fmt::format("|truth:{}", truth.at(view->name).key);
       // The variants sharing the rounds change the times too (cache pressure on lavapipe), so rows are reused
       // only within the same selection and batch size: an interrupted or repeated run, not a different one.
-      context += fmt::format("|{}|{}|{}", c.space.variants[reference].key, o.batch, selection_hash);
+      context += fmt::format("|{}|{}|{}", c.space.variants[baseline].key, o.batch, selection_hash);
       auto make = [&](int v) {
-        Candidate cand{v, render::plan_pipeline(c, v, target, o.params, false), {}};
+        // Calibrated values of the variant's algorithm, then --param on top.
+        render::ParamOverrides overrides = o.params;
+        auto cal = o.calibration.find(c.manifest.value(variants::Axis::algorithm,
+                                                       c.space.variants[v].point[variants::index(variants::Axis::algorithm)]).text);
+        if (cal != o.calibration.end()) overrides.insert(cal->second.begin(), cal->second.end());
+        Candidate cand{v, render::plan_pipeline(c, v, target, overrides, false), {}};
         cand.inputs = variant_inputs(c, v, t, cand.plan, context);
         return cand;
       };
@@ -325,14 +375,14 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
         row.view = view->name;
         row.spirv_hash = cand.inputs.spirv_hash;
         row.inputs_hash = cand.inputs.inputs_hash;
-        row.reference = c.space.variants[reference].key;
+        row.baseline = c.space.variants[baseline].key;
         return row;
       };
 
-      // Reuse rows whose inputs are unchanged; everything else is measured in batches with the reference.
+      // Reuse rows whose inputs are unchanged; everything else is measured in batches with the baseline.
       std::vector<Candidate> todo;
       for (int v : selected) {
-        if (v == reference) continue;
+        if (v == baseline) continue;
         Candidate cand = make(v);
         if (auto it = previous.find(cand.inputs.inputs_hash); it != previous.end()) {
           res.rows.push_back(it->second);
@@ -341,8 +391,8 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
         }
         todo.push_back(std::move(cand));
       }
-      // The reference is re-measured whenever anything else is (rel_time needs it in the same rounds).
-      Candidate ref = make(reference);
+      // The baseline is re-measured whenever anything else is (rel_time needs it in the same rounds).
+      Candidate ref = make(baseline);
       if (todo.empty())
         if (auto it = previous.find(ref.inputs.inputs_hash); it != previous.end()) {
           res.rows.push_back(it->second);
@@ -398,12 +448,21 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
           double sum = 0;
           for (float v : row.result.pixels) sum += std::isfinite(v) ? v : 0.0f;
           row.mean_visibility = row.result.pixels.empty() ? 0 : sum / row.result.pixels.size();
+          fs::path rel = fs::path("images") / backend_name / view->name / row.variant;
           if (!o.out.empty() && o.images) {
-            fs::path rel = fs::path("images") / backend_name / view->name / row.variant;
             image::write_pfm(o.out / (rel.string() + ".pfm"), row.result);
             image::write_png(o.out / (rel.string() + ".png"), row.result);
             row.image = rel.string() + ".pfm";
             row.preview = rel.string() + ".png";
+          }
+          if (o.ground_truth) {
+            const auto& ref = truth.at(view->name);
+            row.error = metrics::compare(row.result, ref.visibility, ref.background);
+            if (!o.out.empty() && o.images) {
+              metrics::write_error_heatmap(o.out / (rel.string() + ".error.png"), row.result, ref.visibility,
+                                           ref.background);
+              row.error_map = rel.string() + ".error.png";
+            }
           }
         };
         for (std::size_t i = lo; i < hi; ++i) {
@@ -415,9 +474,9 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
           res.rows.push_back(std::move(row));
           ++rows_measured;
         }
-        if (b == batches - 1) {  // the reference's own row, from every round of every batch
+        if (b == batches - 1) {  // the baseline's own row, from every round of every batch
           MeasureRow row = new_row(ref);
-          row.is_reference = !reference_selected;
+          row.is_baseline = !baseline_selected;
           ref_timing.first_frame_ms = ref_first_ms;
           finish(row, ref, *ref_pipeline, ref_timing);
           row.rel_time = row.rel_time_median = 1.0;

@@ -1,10 +1,12 @@
 #pragma once
 // `aovar measure`: compile the selected variants, render each one's full AO pipeline on a scene's views
-// through the chosen backends, time them round-robin against a reference variant, and write
+// through the chosen backends, time them round-robin against a baseline variant, and write
 // measure.json plus a float image (PFM) and an 8-bit preview (PNG) per variant, view and backend.
 // Rows are keyed by a hash of everything that determines them, so an interrupted or repeated run reuses
 // what it already measured (measure.json is rewritten atomically after every batch).
 #include <filesystem>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,12 +14,14 @@
 
 #include "measure/stats.h"
 #include "measure/timing.h"
+#include "metrics/metrics.h"
+#include "reference/reference.h"
 #include "render/backend.h"
 
 namespace aovar::measure {
 
-// The default reference variant: Alchemy, 8 samples, the mobile-typical buffers (seed 000's configuration).
-inline constexpr const char* kDefaultReference = "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
+// The default baseline variant (timed in every round): Alchemy, 8 samples, the mobile-typical buffers (seed 000's configuration).
+inline constexpr const char* kDefaultBaseline = "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
 
 struct MeasureOptions {
   std::filesystem::path manifest = "shader_src/aovar.toml";
@@ -26,7 +30,7 @@ struct MeasureOptions {
   std::vector<std::string> views;          // empty: the scene's first view (overview)
   std::vector<std::string> backends = {"lavapipe"};
   std::vector<std::string> globs;          // --variants
-  std::string reference = kDefaultReference;  // falls back to the first selected variant when absent
+  std::string baseline = kDefaultBaseline;  // timed in every round (rel_time = 1); falls back to the first selected variant when absent
   render::Extent size{640, 360};
   int reps = 10;
   int warmup = 2;
@@ -40,6 +44,14 @@ struct MeasureOptions {
   bool reuse = true;                       // keep rows of an earlier measure.json whose inputs match
   std::filesystem::path cache_dir;         // compile cache (empty = none)
   int jobs = 0;
+  // Ground truth (--reference): every row gets `error` against a ray-traced reference of its view at the
+  // measured size and radius (traced once per view, cached under reference_cache when set).
+  bool ground_truth = false;
+  int reference_rays = 256;
+  reference::Mode reference_mode = reference::Mode::occlusion;
+  std::filesystem::path reference_cache;
+  // Calibrated parameter values by algorithm (aovar calibrate); --param values win over them.
+  std::map<std::string, render::ParamOverrides> calibration;
 };
 
 struct MeasureRow {
@@ -52,12 +64,13 @@ struct MeasureRow {
   TimeStats time;                       // total per frame
   std::vector<std::pair<std::string, TimeStats>> passes;
   double rel_time = 0, rel_time_median = 0;
-  std::string reference;
-  bool is_reference = false;            // the reference, measured although no --variants glob selected it
+  std::string baseline;                 // the variant timed in every round with this one
+  bool is_baseline = false;            // the baseline, measured although no --variants glob selected it
   double create_ms = 0, first_frame_ms = 0, jit_ms = 0;
   struct Health { long nan = 0, inf = 0, out_of_range = 0, pixels = 0; } health;
   double mean_visibility = 0;
-  std::string image, preview;           // paths relative to the output folder
+  std::optional<metrics::ErrorStats> error;  // against the ground truth (--reference)
+  std::string image, preview, error_map;     // paths relative to the output folder
   image::FloatImage result;             // kept in memory for callers (tests); not serialised
   bool reused = false;
 };

@@ -61,6 +61,11 @@ class Backend {
 
   // The result texture of the last rendered frame, as floats, row 0 = bottom of the view.
   virtual image::FloatImage read_result(PreparedPipeline& pipeline) = 0;
+
+  // Replaces draw `draw`'s AOParams block (same number of floats as the plan gave it) without preparing
+  // again: calibration renders one pipeline with many parameter values, and re-preparing would JIT every
+  // time. Takes effect from the next render(). Throws BackendError for a bad draw index or size.
+  virtual void set_params(PreparedPipeline& pipeline, std::size_t draw, const std::vector<float>& params) = 0;
 };
 
 std::vector<std::string> backend_names();  // {"lavapipe", "osmesa"}

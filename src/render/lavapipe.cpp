@@ -293,6 +293,7 @@ class LavapipeBackend final : public Backend {
   std::unique_ptr<PreparedPipeline> prepare(const PipelinePlan& plan, Extent size) override;
   std::vector<double> render(PreparedPipeline& pipeline, const FrameSetup& frame) override;
   image::FloatImage read_result(PreparedPipeline& pipeline) override;
+  void set_params(PreparedPipeline& pipeline, std::size_t draw, const std::vector<float>& params) override;
 
  private:
   LavapipePipeline& ours(PreparedPipeline& p) {
@@ -706,6 +707,19 @@ image::FloatImage LavapipeBackend::read_result(PreparedPipeline& pipeline) {
 }
 
 }  // namespace
+
+void LavapipeBackend::set_params(PreparedPipeline& pipeline, std::size_t draw, const std::vector<float>& params) {
+  LavapipePipeline& pp = ours(pipeline);
+  if (draw >= pp.draws.size() || params.size() != pp.draws[draw].params.size())
+    throw BackendError(fmt::format("lavapipe: set_params: draw {} of {} takes {} floats, got {}", draw,
+                                   pp.draws.size(), draw < pp.draws.size() ? pp.draws[draw].params.size() : 0,
+                                   params.size()));
+  // The recorded frames read the block from host-visible memory: no frame may be in flight while it changes.
+  check(vkQueueWaitIdle(dev_->queue), "vkQueueWaitIdle");
+  std::memcpy(static_cast<char*>(pp.params_ubo.mapped) + pp.states[draw].params_offset, params.data(),
+              params.size() * sizeof(float));
+  pp.draws[draw].params = params;
+}
 
 std::unique_ptr<Backend> make_lavapipe_backend(const BackendOptions& options) {
   return std::make_unique<LavapipeBackend>(options);

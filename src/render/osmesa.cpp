@@ -147,6 +147,7 @@ struct GlDraw {
   Extent viewport;
   GLuint program = 0;
   GLuint params = 0;                                  // AOParams UBO, 0 = the draw has no block
+  std::size_t param_count = 0;                        // floats in the block (set_params must match)
   std::array<GLuint, 2> fbo{};                        // by frame parity (the same FBO twice if it has none)
   std::array<std::array<GLuint, kTextureUnits>, 2> units{};  // texture per unit 2..7, by frame parity
   struct Clear {
@@ -291,6 +292,7 @@ class OsmesaBackend final : public Backend {
   std::unique_ptr<PreparedPipeline> prepare(const PipelinePlan& plan, Extent size) override;
   std::vector<double> render(PreparedPipeline& pipeline, const FrameSetup& frame) override;
   image::FloatImage read_result(PreparedPipeline& pipeline) override;
+  void set_params(PreparedPipeline& pipeline, std::size_t draw, const std::vector<float>& params) override;
 
   std::size_t count_live(const GlNames& n) {
     c_->make_current();
@@ -456,7 +458,8 @@ std::unique_ptr<PreparedPipeline> OsmesaBackend::prepare(const PipelinePlan& pla
       std::copy(d.params.begin(), d.params.end(), block.begin());
       gl.CreateBuffers(1, &g.params);
       p->names_.buffers.push_back(g.params);
-      gl.NamedBufferStorage(g.params, GLsizeiptr(block.size() * sizeof(float)), block.data(), 0);
+      gl.NamedBufferStorage(g.params, GLsizeiptr(block.size() * sizeof(float)), block.data(), GL_DYNAMIC_STORAGE_BIT);
+      g.param_count = d.params.size();
     }
 
     // Inputs by parity: at parity q the current copy of a double-buffered texture is q, the previous 1 - q.
@@ -570,6 +573,19 @@ std::vector<double> OsmesaBackend::render(PreparedPipeline& pipeline, const Fram
   }
   p.last_parity_ = parity;
   return times;
+}
+
+void OsmesaBackend::set_params(PreparedPipeline& pipeline, std::size_t draw, const std::vector<float>& params) {
+  OsmesaPipeline& p = own(pipeline);
+  if (draw >= p.draws_.size() || params.size() != p.draws_[draw].param_count)
+    throw BackendError(fmt::format("osmesa: set_params: draw {} of {} takes {} floats, got {}", draw,
+                                   p.draws_.size(), draw < p.draws_.size() ? p.draws_[draw].param_count : 0,
+                                   params.size()));
+  if (params.empty()) return;
+  c_->make_current();
+  // GL orders the update after the draws already issued that read the old block.
+  c_->gl.NamedBufferSubData(p.draws_[draw].params, 0, GLsizeiptr(params.size() * sizeof(float)), params.data());
+  c_->check("set_params of {}", p.variant_);
 }
 
 image::FloatImage OsmesaBackend::read_result(PreparedPipeline& pipeline) {

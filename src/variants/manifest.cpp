@@ -252,13 +252,17 @@ class Parser {
       p.pos = pos_of(k.source());
       if (!is_identifier(p.name)) fail(p.pos, fmt::format("parameter '{}' must be a GLSL identifier", p.name));
       const toml::table& t = table_of(v, "a parameter ({ default = ..., min = ..., max = ..., source = ... })");
-      check_keys(t, {"default", "min", "max", "source"}, "a parameter");
+      check_keys(t, {"default", "min", "max", "source", "fit"}, "a parameter");
       for (auto key : {"default", "min", "max"})
         if (!t.get(key)) fail(v, fmt::format("parameter '{}' needs '{}'", p.name, key));
       p.value = number_of(*t.get("default"), "default");
       p.min = number_of(*t.get("min"), "min");
       p.max = number_of(*t.get("max"), "max");
       if (const toml::node* s = t.get("source")) p.source = string_of(*s, "source");
+      if (const toml::node* f = t.get("fit")) {
+        if (!f->is_boolean()) fail(*f, fmt::format("'fit' of '{}' must be true or false", p.name));
+        p.fit = *f->value<bool>();
+      }
       if (!(p.min <= p.value && p.value <= p.max))
         fail(*t.get("default"), fmt::format("default {} of '{}' lies outside [{}, {}]", p.value, p.name, p.min, p.max));
       out.push_back(std::move(p));

@@ -50,6 +50,7 @@ struct Param {
   std::string name;
   double value = 0, min = 0, max = 0;
   std::string source;  // where the default comes from (seed section)
+  bool fit = false;    // artistic: calibration fits it against the ray-traced reference (`fit = true`)
   SourcePos pos;
 };
 
