@@ -202,6 +202,14 @@ static std::vector<std::string> write_contact_sheets(const MeasureResult& res, c
   for (std::size_t lo = 0; lo < res.rows.size();) {
     std::size_t hi = lo;
     std::vector<image::SheetTile> tiles;
+    // With --reference, the ray-traced reference of the view leads the sheet.
+    if (fs::path truth = out / "images" / "reference" / (res.rows[lo].view + ".pfm"); fs::exists(truth)) {
+      auto img = image::read_pfm(truth);
+      double sum = 0;
+      for (float v : img.pixels) sum += v;
+      tiles.push_back({fmt::format("ray-traced reference\nmean {:.3f}", img.pixels.empty() ? 0.0 : sum / img.pixels.size()),
+                       std::move(img)});
+    }
     while (hi < res.rows.size() && res.rows[hi].backend == res.rows[lo].backend &&
            res.rows[hi].view == res.rows[lo].view) {
       const MeasureRow& r = res.rows[hi++];
@@ -210,7 +218,7 @@ static std::vector<std::string> write_contact_sheets(const MeasureResult& res, c
                                    r.is_baseline ? "  (baseline)" : ""),
                        image::read_pfm(out / r.image)});
     }
-    if (tiles.size() >= 2) {
+    if (tiles.size() >= 2) {  // (a reference and one variant make a sheet too)
       int columns = std::max(1, static_cast<int>(std::lround(std::sqrt(2.0 * tiles.size()))));
       std::string rel = fmt::format("contact_sheet-{}-{}.png", res.rows[lo].backend, res.rows[lo].view);
       image::write_png(out / rel, image::contact_sheet(tiles, columns, 320));
