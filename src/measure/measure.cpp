@@ -76,6 +76,8 @@ json row_json(const MeasureRow& r, const MeasureResult& res, const MeasureOption
           {"health", {{"nan", r.health.nan}, {"inf", r.health.inf}, {"out_of_range", r.health.out_of_range},
                       {"pixels", r.health.pixels}}},
           {"mean_visibility", r.mean_visibility}, {"error", r.error ? error_json(*r.error) : json(nullptr)},
+          {"error_one_frame", r.error_one_frame ? error_json(*r.error_one_frame) : json(nullptr)},
+          {"flicker", r.flicker ? json(*r.flicker) : json(nullptr)},
           {"image", r.image}, {"preview", r.preview}, {"error_map", r.error_map}};
 }
 
@@ -101,6 +103,8 @@ MeasureRow row_from(const json& j) {
   r.health = {h.at("nan"), h.at("inf"), h.at("out_of_range"), h.at("pixels")};
   r.mean_visibility = j.at("mean_visibility");
   if (!j.at("error").is_null()) r.error = error_from(j.at("error"));
+  if (!j.at("error_one_frame").is_null()) r.error_one_frame = error_from(j.at("error_one_frame"));
+  if (!j.at("flicker").is_null()) r.flicker = j.at("flicker").get<double>();
   r.image = j.at("image");
   r.preview = j.at("preview");
   r.error_map = j.at("error_map");
@@ -444,6 +448,30 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
         }
 
         auto read_start = Clock::now();
+        // Flicker along the view's camera path (every variant), and for progressive ones the error of a
+        // single frame (a plan whose average reads this frame's half twice, prepared for the purpose).
+        auto temporal_errors = [&](MeasureRow& row, const render::PipelinePlan& plan, render::PreparedPipeline& p,
+                                   const scene::View& v, const reference::ReferenceImage& ref) {
+          render::FrameSetup fs_path;
+          fs_path.view = &v;
+          fs_path.radius = res.radius;
+          std::vector<image::FloatImage> frames;
+          for (int f = 0; f < std::max(2, v.path_frames); ++f) {
+            fs_path.frame = f;
+            backend->render(p, fs_path);
+            frames.push_back(backend->read_result(p));
+          }
+          row.flicker = metrics::flicker(frames);
+          if (plan.progressive) {
+            auto single = backend->prepare(render::plan_single_frame(plan), o.size);
+            render::FrameSetup fs_static;
+            fs_static.view = &v;
+            fs_static.static_camera = true;
+            fs_static.radius = res.radius;
+            backend->render(*single, fs_static);
+            row.error_one_frame = metrics::compare(backend->read_result(*single), ref.visibility, ref.background);
+          }
+        };
         auto finish = [&](MeasureRow& row, const Candidate& cand, render::PreparedPipeline& p,
                           const PipelineTiming& timing) {
           row.time = summarize(timing.total_ms);
@@ -466,6 +494,7 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
           if (o.ground_truth) {
             const auto& ref = truth.at(view->name);
             row.error = metrics::compare(row.result, ref.visibility, ref.background);
+            temporal_errors(row, cand.plan, p, *view, ref);
             if (!o.out.empty() && o.images) {
               metrics::write_error_heatmap(o.out / (rel.string() + ".error.png"), row.result, ref.visibility,
                                            ref.background);

@@ -70,6 +70,10 @@ struct MeasureRow {
   struct Health { long nan = 0, inf = 0, out_of_range = 0, pixels = 0; } health;
   double mean_visibility = 0;
   std::optional<metrics::ErrorStats> error;  // against the ground truth (--reference)
+  // Progressive variants with --reference: the error of one frame alone (its half of the samples, no
+  // history); `error` is then the converged error (both halves averaged on a static camera).
+  std::optional<metrics::ErrorStats> error_one_frame;
+  std::optional<double> flicker;             // --reference: mean |AO_t - AO_t-1| along the view's camera path
   std::string image, preview, error_map;     // paths relative to the output folder
   image::FloatImage result;             // kept in memory for callers (tests); not serialised
   bool reused = false;

@@ -281,4 +281,17 @@ PipelinePlan plan_prefix(const PipelinePlan& plan, const std::string& last_draw)
   return cut;
 }
 
+PipelinePlan plan_single_frame(const PipelinePlan& plan) {
+  PipelinePlan one = plan;
+  for (Draw& d : one.draws) {
+    if (d.name != "progressive") continue;
+    TextureRef current{};
+    for (const auto& [binding, ref] : d.inputs)
+      if (binding == 5) current = ref;
+    for (auto& [binding, ref] : d.inputs)
+      if (binding == 6) ref = current;
+  }
+  return one;
+}
+
 }  // namespace aovar::render

@@ -99,4 +99,8 @@ std::vector<std::string> parameter_keys(const compile::CompiledSpace& compiled, 
 // Throws std::runtime_error when the plan has no such draw.
 PipelinePlan plan_prefix(const PipelinePlan& plan, const std::string& last_draw);
 
+// A progressive plan whose average reads this frame's half twice instead of the previous frame's other half:
+// what one frame alone shows (after a camera cut, or without history). Other plans come back unchanged.
+PipelinePlan plan_single_frame(const PipelinePlan& plan);
+
 }  // namespace aovar::render
