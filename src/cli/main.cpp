@@ -4,16 +4,22 @@
 
 #include <algorithm>
 #include <chrono>
+#include <tuple>
 #include <cstdio>
 #include <iostream>
 #include <unistd.h>
 
+#include "analyze/analyze.h"
 #include "calibrate/calibrate.h"
 #include "compile/cache.h"
 #include "compile/generate.h"
 #include "measure/measure.h"
+#include "sweep/sweep.h"
 #include "reference/reference.h"
 #include "shadergen/expand.h"
+#include "table/compare.h"
+#include "table/select.h"
+#include "table/table.h"
 #include "util/fs.h"
 
 namespace {
@@ -227,6 +233,52 @@ int run_measure(const CommonOptions& common, measure::MeasureOptions o, const st
   return 0;
 }
 
+// "k/n" (1 <= k <= n) -> 0-based shard index and count.
+std::pair<int, int> parse_shard(const std::string& text) {
+  int k = 0, n = 0;
+  char slash = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d", &k, &slash, &n) != 3 || slash != '/' || n < 1 || k < 1 || k > n)
+    throw std::runtime_error("--shard: expected k/n with 1 <= k <= n (e.g. 2/4), got '" + text + "'");
+  return {k - 1, n};
+}
+
+int run_sweep(const CommonOptions& common, sweep::SweepOptions o, const std::string& size, const std::string& shard,
+              const std::string& calibration, bool no_calibration) {
+  measure::MeasureOptions& m = o.measure;
+  m.manifest = common.manifest;
+  m.globs = common.globs;
+  m.jobs = common.jobs;
+  m.size = parse_size(size);
+  if (!shard.empty()) std::tie(m.shard_index, m.shard_count) = parse_shard(shard);
+  if (m.reference_rays < 1) throw std::runtime_error("--rays must be at least 1");
+  auto cache = common.cache_dir.empty() ? compile::CompileCache::default_dir() : std::filesystem::path(common.cache_dir);
+  if (!common.no_cache) m.cache_dir = m.reference_cache = cache;
+  std::filesystem::path cal_file = calibration;
+  if (cal_file.empty() && !no_calibration) {
+    auto next_to = std::filesystem::path(common.manifest).parent_path() / "calibration.json";
+    if (std::filesystem::exists(next_to)) cal_file = next_to;
+  }
+  if (!cal_file.empty() && !no_calibration) m.calibration = calibrate::load_calibration(cal_file);
+  bool tty = isatty(fileno(stderr));
+  auto progress = [tty](const std::string& line) {
+    if (line.rfind("note: ", 0) == 0) std::cerr << (tty ? "\r\033[K" : "") << line << "\n";
+    else if (tty) std::cerr << "\r\033[K" << line << std::flush;
+  };
+  sweep::SweepResult r;
+  try {
+    r = sweep::run_sweep(o, progress);
+  } catch (...) {
+    if (tty) std::cerr << "\r\033[K";
+    throw;
+  }
+  if (tty) std::cerr << "\r\033[K";
+  std::cout << table::to_markdown(r.table);
+  std::cout << fmt::format("# {} rows ({} measured, {} reused) in {:.1f} s{} -> {}\n", r.table.rows.size(), r.rows_measured,
+                           r.rows_reused, r.wall_s, cal_file.empty() || no_calibration ? "" : ", calibrated by " + util::display_path(cal_file),
+                           util::display_path(o.out / "cost_table.json"));
+  return 0;
+}
+
 int run_calibrate(const CommonOptions& common, calibrate::CalibrateOptions o, const std::string& out) {
   auto cache = common.cache_dir.empty() ? compile::CompileCache::default_dir() : std::filesystem::path(common.cache_dir);
   o.compile_cache = o.reference_cache = cache;
@@ -254,6 +306,16 @@ int run_calibrate(const CommonOptions& common, calibrate::CalibrateOptions o, co
   }
   std::cout << fmt::format("# {} at {}x{}, references {} rays ({}); -> {}\n", c.backend, c.size.width, c.size.height,
                            c.rays, reference::mode_name(c.mode), util::display_path(out));
+  return 0;
+}
+
+int run_analyze(const std::string& dir) {
+  auto a = analyze::analyze_folder(dir);
+  std::cout << analyze::program_table(a);
+  auto out = std::filesystem::path(dir) / "analysis.json";
+  util::write_if_changed(out, analyze::analysis_json(a));
+  std::cout << fmt::format("# {} programs, {} variants (counts per pixel, upper bounds) -> {}\n", a.programs.size(),
+                           a.variants.size(), util::display_path(out));
   return 0;
 }
 
@@ -292,6 +354,27 @@ int run_reference(const CommonOptions& common, reference::RunOptions o, const st
                              v.from_cache ? "  (cached)" : "");
   std::cout << fmt::format("# scene {} ({} triangles) in {:.1f} s -> {}\n", r.scene, r.triangles, r.wall_s,
                            util::display_path(o.out / "reference.json"));
+  return 0;
+}
+
+// aovar select: the choice, the reason, the margin and the runners-up; exit 1 when nothing satisfies.
+int run_select(const std::string& table_path, const table::SelectQuery& q) {
+  auto sel = table::select(table::read_table(table_path), q);
+  (sel.ok ? std::cout : std::cerr) << sel.text;
+  return sel.ok ? 0 : 1;
+}
+
+int run_diff(const std::string& a, const std::string& b) {
+  auto d = table::diff_tables(table::read_table(a), table::read_table(b));
+  std::cout << table::format_diff(d, a, b);
+  return 0;
+}
+
+int run_merge(const std::string& out, const std::vector<std::string>& inputs) {
+  std::vector<std::filesystem::path> in(inputs.begin(), inputs.end());
+  auto t = table::merge_tables(in);
+  table::write_json(t, out);
+  std::cout << fmt::format("{} rows from {} tables -> {}\n", t.rows.size(), in.size(), util::display_path(out));
   return 0;
 }
 
@@ -395,9 +478,61 @@ int main(int argc, char** argv) {
   ref->add_option("--cache-dir", ref_common.cache_dir, "reference cache root (default: $AOVAR_CACHE_DIR or ~/.cache/aovar)");
   ref->add_flag("--no-cache", ref_common.no_cache, "trace everything, read and write no cache");
 
+  std::string analyze_in;
+  auto* ana = app.add_subcommand("analyze", "static cost per program and variant of a generated folder (SPIR-V)");
+  ana->add_option("--in", analyze_in, "folder written by `aovar generate --emit index,spirv`")->required();
+
+  std::string select_table;
+  table::SelectQuery select_query;
+  auto* sel = app.add_subcommand("select", "the variant to ship under a time budget or an error target, with the "
+                                           "reason, the runners-up and the margin");
+  sel->add_option("--table,-t", select_table, "cost_table.json")->required();
+  auto* budget = sel->add_option("--budget-ms", select_query.budget_ms, "lowest error with time_ms.min <= this");
+  sel->add_option("--max-error", select_query.max_error, "cheapest variant with error.rmse <= this")->excludes(budget);
+  sel->add_option("--scene,-s", select_query.scene, "only this scene (default: all; worst over them)");
+  sel->add_option("--view", select_query.view, "only this view (default: each variant's worst view)");
+  sel->add_option("--backend,-b", select_query.backend, "only this backend (default: each separately)");
+
+  std::string diff_a, diff_b;
+  auto* dif = app.add_subcommand("diff", "per-variant deltas between two cost tables (helped / hurt)");
+  dif->add_option("A", diff_a, "the old cost_table.json")->required();
+  dif->add_option("B", diff_b, "the new cost_table.json")->required();
+
+  std::string merge_out;
+  std::vector<std::string> merge_in;
+  auto* mrg = app.add_subcommand("merge", "join shard cost tables into one (refuses conflicting duplicate rows)");
+  mrg->add_option("OUT", merge_out, "cost_table.json to write")->required();
+  mrg->add_option("IN", merge_in, "shard cost_table.json files")->required();
+
+  CommonOptions sweep_common;
+  sweep::SweepOptions so;
+  std::string sweep_size = "640x360", sweep_out, sweep_shard, sweep_calibration;
+  bool sweep_no_calibration = false;
+  auto* swp = app.add_subcommand("sweep", "measure variants on scenes against the ray-traced reference: cost_table.{json,csv,md}");
+  add_common(swp, sweep_common);
+  swp->add_option("--scene,-s", so.scenes, "scenes (repeatable): builtin:atrium|spheres|stairs|cornell or a mesh file")
+      ->capture_default_str();
+  swp->add_option("--view", so.measure.views, "view name (repeatable; default: every view of each scene)");
+  swp->add_option("--backend,-b", so.measure.backends, "lavapipe, osmesa (repeatable or comma-separated)")
+      ->delimiter(',')->capture_default_str();
+  swp->add_option("--size", sweep_size, "output size WxH")->capture_default_str();
+  swp->add_option("--reps", so.measure.reps, "timed rounds (min-of-N)")->capture_default_str();
+  swp->add_option("--threads", so.measure.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
+  swp->add_option("--rays", so.measure.reference_rays, "reference rays per pixel")->capture_default_str();
+  swp->add_option("--batch", so.measure.batch, "pipelines prepared and interleaved at once (rows are saved per batch)")
+      ->capture_default_str();
+  swp->add_option("--shard", sweep_shard, "k/n: measure only the k-th of n shards of the variants (join with aovar merge)");
+  swp->add_option("--calibration", sweep_calibration, "calibration file (default: calibration.json next to the manifest)");
+  swp->add_flag("--no-calibration", sweep_no_calibration, "use the manifest's default parameters");
+  swp->add_option("--out,-o", sweep_out, "output folder: cost_table.{json,csv,md}, measure/<scene>/")->required();
+
   CLI11_PARSE(app, argc, argv);
   try {
+    if (sel->parsed()) return run_select(select_table, select_query);
+    if (dif->parsed()) return run_diff(diff_a, diff_b);
+    if (mrg->parsed()) return run_merge(merge_out, merge_in);
     if (list->parsed()) return run_list(list_opts, show_pruned);
+    if (ana->parsed()) return run_analyze(analyze_in);
     if (ref->parsed()) {
       ro.scene = ref_scene;
       ro.views_file = ref_views_file;
@@ -409,6 +544,10 @@ int main(int argc, char** argv) {
       mo.views_file = views_file;
       return run_measure(measure_common, mo, measure_size, measure_params, measure_out, measure_ref_mode,
                          measure_calibration, no_calibration);
+    }
+    if (swp->parsed()) {
+      so.out = sweep_out;
+      return run_sweep(sweep_common, so, sweep_size, sweep_shard, sweep_calibration, sweep_no_calibration);
     }
     if (calc->parsed()) {
       cal.manifest = cal_common.manifest;

@@ -233,12 +233,21 @@ static std::vector<std::string> write_contact_sheets(const MeasureResult& res, c
   return written;
 }
 
+int shard_of(const std::string& key, int shard_count) {
+  if (shard_count <= 1) return 0;
+  util::Hasher h;
+  h.add(key);
+  return static_cast<int>(std::stoull(h.hex().substr(0, 12), nullptr, 16) % static_cast<unsigned long long>(shard_count));
+}
+
 MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
   keep_heap_mapped();
   auto start = Clock::now();
   auto say = [&](const std::string& s) { if (progress) progress(s); };
   if (o.reps < 1) throw std::runtime_error("--reps must be at least 1");
   if (o.size.width < 1 || o.size.height < 1) throw std::runtime_error("--size must be WxH with W, H >= 1");
+  if (o.shard_count < 1 || o.shard_index < 0 || o.shard_index >= o.shard_count)
+    throw std::runtime_error(fmt::format("--shard {}/{}: use k/n with 1 <= k <= n", o.shard_index + 1, o.shard_count));
   MeasureResult res;
 
   scene::LoadOptions load;
@@ -246,7 +255,9 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
   scene::Scene sc = scene::load_scene(o.scene, load);
   std::vector<const scene::View*> views;
   if (o.views.empty()) views.push_back(&sc.views.front());
-  for (const auto& name : o.views) views.push_back(&sc.view(name));
+  for (const auto& name : o.views)  // each view once, in the order given
+    if (std::none_of(views.begin(), views.end(), [&](const scene::View* v) { return v->name == name; }))
+      views.push_back(&sc.view(name));
   res.scene = sc.name;
   res.scene_hash = sc.content_hash;
   res.triangles = sc.triangle_count();
@@ -283,9 +294,14 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
     const std::string& key = c.space.variants[v].key;
     if (key == o.baseline) baseline = v;
     if (!util::glob_any(o.globs, key)) continue;
+    if (o.shard_count > 1 && shard_of(key, o.shard_count) != o.shard_index) continue;
     auto [it, fresh] = representative.emplace(canonical(v), v);
     if (fresh) selected.push_back(v);
     else duplicates[it->second].push_back(key);
+  }
+  if (selected.empty() && o.shard_count > 1) {
+    say(fmt::format("note: shard {}/{} holds none of the selected variants", o.shard_index + 1, o.shard_count));
+    return res;
   }
   if (selected.empty())
     throw std::runtime_error(fmt::format("{}: no variant matches --variants {} (aovar list shows the keys)",

@@ -52,7 +52,13 @@ struct MeasureOptions {
   std::filesystem::path reference_cache;
   // Calibrated parameter values by algorithm (aovar calibrate); --param values win over them.
   std::map<std::string, render::ParamOverrides> calibration;
+  // Shard k of n (0-based k): only selected variants whose key hashes to k (stable across machines), so
+  // n machines split one selection without overlap (the baseline is timed in every shard regardless).
+  int shard_index = 0, shard_count = 1;
 };
+
+// The shard (0 .. n-1) a variant key belongs to: a stable hash of the key modulo n.
+int shard_of(const std::string& key, int shard_count);
 
 struct MeasureRow {
   std::string variant;

@@ -1,0 +1,37 @@
+#pragma once
+// `aovar sweep` (DESIGN.md §6): manifest x scenes x views -> measure with the ray-traced reference (and the
+// calibration) -> one cost table (cost_table.json, .csv, .md) with the Pareto front of time against error.
+// Resumable: each scene's measurements live in OUT/measure/<scene>/measure.json, rewritten atomically
+// after every batch and reused row by row, so an interrupted sweep loses at most one batch and a re-run
+// measures only what is missing. --shard k/n splits the variants over machines; `aovar merge` joins.
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "measure/measure.h"
+#include "table/table.h"
+
+namespace aovar::sweep {
+
+struct SweepOptions {
+  measure::MeasureOptions measure;   // manifest, globs, views (empty: every view of each scene), backends,
+                                     // size, reps, rays, calibration, shard...; `scene` and `out` are set per scene
+  std::vector<std::string> scenes = {"builtin:atrium"};
+  std::filesystem::path out;
+};
+
+struct SweepResult {
+  table::CostTable table;
+  int rows_measured = 0, rows_reused = 0;
+  double wall_s = 0;
+};
+
+// Throws std::runtime_error (and the scene/manifest/backend errors) with one-line messages.
+SweepResult run_sweep(const SweepOptions& options, const std::function<void(const std::string&)>& progress = {});
+
+// OUT/measure/<this> for a scene name: builtin:atrium -> builtin_atrium, a file -> its stem plus a short
+// hash of the path (two sponza.obj in different folders stay apart).
+std::string scene_folder(const std::string& scene);
+
+}  // namespace aovar::sweep

@@ -1,0 +1,43 @@
+#pragma once
+// `aovar diff` (per-variant deltas between two cost tables, shader-db style) and `aovar merge` (join
+// shard tables).
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "table/table.h"
+
+namespace aovar::table {
+
+struct Delta {
+  std::string key;   // CostRow::key()
+  double a = 0, b = 0;
+  double pct = 0;    // 100 (b - a) / a; 0 when both are 0, +-inf when only a is 0
+};
+
+struct MetricDiff {
+  std::string metric;          // "time_ms.min", "error.rmse", "error.ssim"
+  bool higher_is_better = false;
+  int helped = 0, hurt = 0, unchanged = 0;
+  double total_a = 0, total_b = 0;  // sums over the rows in both tables
+  double mean_pct = 0;              // mean of the per-row percentages (finite ones)
+  std::vector<Delta> top_helped, top_hurt;  // up to 10 each, largest relative change first
+};
+
+struct TableDiff {
+  std::vector<MetricDiff> metrics;
+  std::vector<std::string> only_a, only_b;  // row keys
+  int common = 0;
+};
+
+// Rows match by CostRow::key(). Thresholds: time |Δ| > 2 %, rmse and ssim |Δ| > 1e-4 absolute. Time
+// skips predicted rows; error metrics skip rows without an error on either side.
+TableDiff diff_tables(const CostTable& a, const CostTable& b);
+std::string format_diff(const TableDiff& d, const std::string& name_a, const std::string& name_b);
+
+// Joins shard tables read from `inputs`: their meta must match except "shard"; rows with the same key
+// must be identical (else std::runtime_error "conflicting rows for KEY in A and B"). The result's
+// meta is the first's without "shard", plus "merged_from" (the file names); Pareto flags are recomputed.
+CostTable merge_tables(const std::vector<std::filesystem::path>& inputs);
+
+}  // namespace aovar::table

@@ -1,0 +1,42 @@
+#pragma once
+// `aovar select`: the variant to ship under a time budget or an error target, with the reason, the
+// runners-up and the margin to the next one.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "table/table.h"
+
+namespace aovar::table {
+
+struct SelectQuery {
+  std::optional<double> budget_ms;   // lowest error with time_ms.min <= budget
+  std::optional<double> max_error;   // cheapest with error.rmse <= max_error
+  std::string scene, view, backend;  // empty: all
+};
+
+// One variant on one backend, aggregated over the rows the query keeps: the worst view (max rmse,
+// max time_ms.min) unless a view was asked for.
+struct Candidate {
+  std::string variant, backend;
+  double time_ms = 0, rmse = 0, ssim = 0;
+  std::vector<std::string> views;  // the rows it aggregates
+  std::string worst_error_view, worst_time_view;
+};
+
+struct Selection {
+  bool ok = false;
+  std::optional<Candidate> choice;
+  std::vector<Candidate> runners_up;  // the next 3 in the order that made the choice
+  std::optional<Candidate> nearest;   // when nothing satisfies: fastest (budget) / lowest error (max-error)
+  std::string text;                   // what `aovar select` prints
+};
+
+// Candidates of the query (measured rows with an error only), sorted by variant then backend.
+std::vector<Candidate> candidates(const CostTable& table, const SelectQuery& q);
+
+// Throws std::runtime_error when the query is malformed (neither or both criteria) or no row matches the
+// scene/view/backend filter.
+Selection select(const CostTable& table, const SelectQuery& q);
+
+}  // namespace aovar::table

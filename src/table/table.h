@@ -1,0 +1,98 @@
+#pragma once
+// The cost table (DESIGN.md §6): one row per variant, scene, view and backend with its time, its error
+// against the ray-traced reference and its static cost. Read and written as cost_table.json (the
+// contract), cost_table.csv (flattened, RFC 4180) and cost_table.md (a Markdown table for people).
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace aovar::table {
+
+struct TimeMs {
+  double min = 0, median = 0, p90 = 0;
+  int n = 0;  // 0 for predicted rows
+  bool operator==(const TimeMs&) const = default;
+};
+
+struct ErrorStat {
+  double rmse = 0, mae = 0;
+  double psnr = std::numeric_limits<double>::infinity();  // identical images: +inf (JSON null)
+  double ssim = 1, bias = 0, max = 0;
+  bool operator==(const ErrorStat&) const = default;
+};
+
+struct Health {
+  long nan = 0, inf = 0, out_of_range = 0;
+  bool operator==(const Health&) const = default;
+};
+
+struct CostRow {
+  std::string variant;                       // key
+  std::map<std::string, std::string> axes;   // axis name -> canonical value text
+  std::string spirv_hash, scene, view, backend;
+  std::string size;                          // "WxH"
+  int threads = 0;
+  nlohmann::json static_cost = nlohmann::json::object();  // "static": the static analyser's object (opaque here)
+  TimeMs time_ms;
+  double rel_time = 0;
+  std::optional<ErrorStat> error;            // null when measured without --reference
+  Health health;
+  bool pareto = false;
+  bool predicted = false;                    // time_ms from the cost model, not measured
+  std::optional<double> flicker;
+  std::vector<std::string> images;           // paths relative to the table's folder
+
+  // Identity of a row: variant, scene, view, backend, size, threads ("|"-joined).
+  std::string key() const;
+  bool operator==(const CostRow&) const = default;
+};
+
+struct CostTable {
+  std::vector<CostRow> rows;
+  nlohmann::json meta = nlohmann::json::object();
+};
+
+// JSON (the §6 contract). Parsing throws std::runtime_error naming the field that is wrong.
+nlohmann::json to_json(const CostRow& row);
+CostRow row_from_json(const nlohmann::json& j);
+nlohmann::json to_json(const CostTable& table);  // {"meta": ..., "rows": [...]}
+CostTable table_from_json(const nlohmann::json& j);
+
+// Files. read_table throws with a one-line message naming the file; writes are atomic.
+CostTable read_table(const std::filesystem::path& path);
+void write_json(const CostTable& table, const std::filesystem::path& path);
+
+// CSV: a header line, then one row per line; columns flattened (axes.<name>, time_ms.min, error.rmse, ...,
+// images joined with ';', static as JSON text); fields quoted per RFC 4180 when they hold , " CR or LF.
+std::string to_csv(const CostTable& table);
+CostTable from_csv(const std::string& text);  // meta is not kept in CSV
+std::vector<std::vector<std::string>> parse_csv(const std::string& text);
+std::string csv_field(const std::string& field);
+
+// Markdown: one table sorted by scene, view, then time_ms.min (then variant, backend).
+std::string to_markdown(const CostTable& table);
+
+// cost_table.json, .csv and .md in `dir` (atomic each).
+void write_table_files(const CostTable& table, const std::filesystem::path& dir);
+
+// A measure.json (aovar measure --reference) as cost rows: meta keeps the measure header (without
+// rows and runs); rows measured without a reference get a null error.
+CostTable from_measure(const nlohmann::json& measure_json);
+
+// Pareto front of (time_ms.min, error.rmse), both minimised, per (scene, view, backend): sets `pareto`
+// on every row (false for rows without an error). A row is on the front when no other row is at least as
+// good in both and better in one; identical points are all on the front (deterministic).
+void mark_pareto(std::vector<CostRow>& rows);
+inline void mark_pareto(CostTable& t) { mark_pareto(t.rows); }
+
+// The worst view of each scene: per (scene, variant, backend, size, threads) one row with view
+// "worst(<views>)", error = the row with max rmse's error, time_ms = the max of each statistic over the
+// views; then Pareto-marked per (scene, backend). Rows without an error are left out.
+std::vector<CostRow> worst_view(const std::vector<CostRow>& rows);
+
+}  // namespace aovar::table

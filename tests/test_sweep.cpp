@@ -1,0 +1,91 @@
+// aovar sweep: a killed sweep resumes to the same table as an uninterrupted one, shards split the variants
+// without overlap and `aovar merge` joins them back.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <chrono>
+#include <set>
+#include <thread>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "table/table.h"
+#include "test_support.h"
+
+namespace aovar::test {
+namespace {
+
+const std::string kVariants =
+    " --size 96x54 --reps 2 --rays 32 --batch 2 --variants 'alchemy-s*-p0-nrgb8-zdep-rst-d32-bsep-x1-hp'"
+    " --variants 'gtao-s0[48]-p0-nrgb8-zdep-rst-d32-bsep-x1-hp'";
+const std::string kArgs = "sweep --scene builtin:stairs --view overview --view closeup" + kVariants;
+
+// Rows by key with what does not depend on timing noise: the error and the health.
+std::map<std::string, std::pair<double, long>> deterministic(const table::CostTable& t) {
+  std::map<std::string, std::pair<double, long>> out;
+  for (const auto& r : t.rows) out[r.key()] = {r.error ? r.error->rmse : -1.0, r.health.nan + r.health.inf};
+  return out;
+}
+
+TEST(Sweep, KilledSweepResumesToTheUninterruptedTable) {
+  TempDir dir;
+  auto full = run_aovar(kArgs + " --out " + (dir / "full").string());
+  ASSERT_EQ(full.status, 0) << full.output;
+  auto reference = table::read_table(dir / "full" / "cost_table.json");
+  ASSERT_EQ(reference.rows.size(), 2u * 9u) << "9 variants x 2 views";
+
+  // Start the same sweep elsewhere and kill it hard once its first batch is on disk.
+  const auto out = dir / "killed";
+  std::string cmd = std::string(AOVAR_EXE) + " " + kArgs + " --out " + out.string() + " >/dev/null 2>&1";
+  pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    setpgid(0, 0);
+    execl("/bin/sh", "sh", "-c", ("exec " + cmd).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  auto measure_json = out / "measure" / "builtin_stairs" / "measure.json";
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!std::filesystem::exists(measure_json) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  kill(-pid, SIGKILL);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(std::filesystem::exists(measure_json)) << "the first batch never reached the disk";
+  EXPECT_FALSE(std::filesystem::exists(out / "cost_table.json")) << "killed before the end: no table yet";
+
+  auto resumed = run_aovar(kArgs + " --out " + out.string());
+  ASSERT_EQ(resumed.status, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("reused"), std::string::npos);
+  EXPECT_EQ(resumed.output.find(" 0 reused"), std::string::npos) << "the killed run's rows must be reused:\n" << resumed.output;
+  auto table = table::read_table(out / "cost_table.json");
+  EXPECT_EQ(deterministic(table), deterministic(reference));
+
+  // A second run measures nothing.
+  auto again = run_aovar(kArgs + " --out " + out.string());
+  ASSERT_EQ(again.status, 0) << again.output;
+  EXPECT_NE(again.output.find("(0 measured"), std::string::npos) << again.output;
+}
+
+TEST(Sweep, ShardsSplitTheVariantsWithoutOverlap) {
+  TempDir dir;
+  std::set<std::string> seen;
+  std::size_t rows = 0;
+  for (int k = 1; k <= 3; ++k) {
+    auto r = run_aovar("sweep --scene builtin:stairs --view overview" + kVariants + " --shard " + std::to_string(k) + "/3 --out " +
+                       (dir / ("s" + std::to_string(k))).string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    if (!std::filesystem::exists(dir / ("s" + std::to_string(k)) / "cost_table.json")) continue;
+    auto t = table::read_table(dir / ("s" + std::to_string(k)) / "cost_table.json");
+    for (const auto& row : t.rows) EXPECT_TRUE(seen.insert(row.key()).second) << row.key() << " in two shards";
+    rows += t.rows.size();
+  }
+  EXPECT_EQ(rows, 9u) << "every variant in exactly one shard (overview only)";
+  auto bad = run_aovar(kArgs + " --shard 4/3 --out " + (dir / "bad").string());
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.output.find("--shard"), std::string::npos) << bad.output;
+}
+
+}  // namespace
+}  // namespace aovar::test
