@@ -34,6 +34,15 @@ TEST(Sweep, KilledSweepResumesToTheUninterruptedTable) {
   ASSERT_EQ(full.status, 0) << full.output;
   auto reference = table::read_table(dir / "full" / "cost_table.json");
   ASSERT_EQ(reference.rows.size(), 2u * 9u) << "9 variants x 2 views";
+  // Every row carries its static cost: Alchemy's AO pass reads N + 1 depth texels and 1 normal.
+  for (const auto& row : reference.rows) {
+    ASSERT_TRUE(row.static_cost.contains("ao")) << row.variant;
+    if (row.variant.rfind("alchemy-", 0) != 0) continue;
+    int samples = std::stoi(row.axes.at("samples"));
+    EXPECT_EQ(row.static_cost["ao"]["fetches"]["depth"].get<double>(), samples + 1) << row.variant;
+    EXPECT_EQ(row.static_cost["ao"]["fetches"]["normal"].get<double>(), 1) << row.variant;
+  }
+  EXPECT_EQ(reference.meta.at("cost_models").size(), 2u) << "one per view (9 rows each, enough for 5 folds)";
 
   // Start the same sweep elsewhere and kill it hard once its first batch is on disk.
   const auto out = dir / "killed";

@@ -1,12 +1,18 @@
 #include "sweep/sweep.h"
 
 #include <chrono>
+#include <map>
+#include <set>
+#include <tuple>
 #include <stdexcept>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "analyze/analyze.h"
+#include "compile/generate.h"
 #include "scene/scene.h"
+#include "table/cost_model.h"
 #include "util/fs.h"
 #include "util/hash.h"
 
@@ -25,6 +31,85 @@ std::string scene_folder(const std::string& scene) {
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
   return out;
 }
+
+namespace {
+
+// The `static` object of a row (DESIGN.md §6): the AO pass program's counts and all fragment passes'
+// totals from the SPIR-V (src/analyze), with the bytes per pixel the variant's formats imply.
+json static_json(const analyze::ProgramCost& ao, const analyze::ProgramCost& total, double ao_bytes) {
+  auto counts = [](const analyze::ProgramCost& c) {
+    json fetches = json::object();
+    const std::pair<int, const char*> names[] = {{analyze::kDepth, "depth"},   {analyze::kNormal, "normal"},
+                                                 {analyze::kPosition, "position"}, {analyze::kInput, "input"},
+                                                 {analyze::kHistory, "history"}, {analyze::kPrefilter, "prefilter"}};
+    for (const auto& [b, n] : names) fetches[n] = c.fetch(b);
+    int constant = 0, dynamic = 0;
+    for (const auto& l : c.loops) (l.constant ? constant : dynamic) += 1;
+    return json{{"fetches", fetches}, {"alu", c.alu}, {"fma", c.fma}, {"div", c.div},
+                {"transcendental", c.transcendental}, {"cmp_select", c.cmp_select}, {"branches", c.branches},
+                {"unprojections", c.unprojections}, {"loops", {{"constant", constant}, {"dynamic", dynamic},
+                                                               {"unrolled", 0}}}};
+  };
+  return {{"ao", counts(ao)}, {"passes", counts(total)}, {"ao_bytes_per_pixel", ao_bytes}};
+}
+
+// Static costs of every variant in `keys`, from the Vulkan SPIR-V of their fragment programs.
+std::map<std::string, json> static_costs(const measure::MeasureOptions& mo, const std::set<std::string>& keys) {
+  compile::CompileOptions co;
+  co.targets = {variants::Target::vulkan};
+  co.globs.assign(keys.begin(), keys.end());
+  co.cache_dir = mo.cache_dir;
+  auto c = compile::compile_space(mo.manifest, co);
+  std::map<std::string, json> out;
+  if (!c.ok()) return out;
+  const int t = c.target_index(variants::Target::vulkan);
+  std::map<int, analyze::ProgramCost> by_program;
+  auto cost = [&](int program) -> const analyze::ProgramCost& {
+    auto it = by_program.find(program);
+    if (it == by_program.end()) it = by_program.emplace(program, analyze::analyze_spirv(c.builds[t][program].output.spirv)).first;
+    return it->second;
+  };
+  for (const auto& entry : c.space.variants) {
+    if (!keys.count(entry.key)) continue;
+    analyze::ProgramCost ao, total;
+    for (std::size_t p = 0; p < c.manifest.passes.size(); ++p) {
+      int fragment = entry.passes[p][1];
+      if (fragment < 0) continue;
+      total += cost(fragment);
+      if (c.manifest.passes[p].name == "ao") ao = cost(fragment);
+    }
+    std::string depth_format, normals;
+    for (int a = 0; a < variants::kAxisCount; ++a) {
+      int i = entry.point[a] >= 0 ? entry.point[a] : 0;
+      auto axis = variants::axis_at(a);
+      if (axis == variants::Axis::depth_format) depth_format = c.manifest.value(axis, i).text;
+      if (axis == variants::Axis::normals) normals = c.manifest.value(axis, i).text;
+    }
+    out[entry.key] = static_json(ao, total, analyze::bytes_per_pixel(ao.fetches, analyze::binding_bytes(depth_format, normals)));
+  }
+  return out;
+}
+
+// Static features for the cost model: the AO pass's fetches, ALU and transcendentals, the passes' ALU.
+table::FeatureSpec static_features() {
+  table::FeatureSpec f;
+  f.names = {"ao.fetches", "ao.alu", "ao.transcendental", "passes.alu", "passes.fetches"};
+  f.extract = [](const table::CostRow& r) {
+    const json& s = r.static_cost;
+    auto sum = [](const json& fetches) {
+      double n = 0;
+      for (const auto& [k, v] : fetches.items()) n += v.get<double>();
+      return n;
+    };
+    if (!s.contains("ao")) return std::vector<double>(5, 0.0);
+    return std::vector<double>{sum(s["ao"]["fetches"]), s["ao"]["alu"].get<double>(),
+                               s["ao"]["transcendental"].get<double>(), s["passes"]["alu"].get<double>(),
+                               sum(s["passes"]["fetches"])};
+  };
+  return f;
+}
+
+}  // namespace
 
 SweepResult run_sweep(const SweepOptions& o, const std::function<void(const std::string&)>& progress) {
   auto start = std::chrono::steady_clock::now();
@@ -65,6 +150,25 @@ SweepResult run_sweep(const SweepOptions& o, const std::function<void(const std:
     scenes.push_back({{"scene", o.scenes[i]}, {"measure", (fs::path("measure") / scene_folder(o.scenes[i]) / "measure.json").generic_string()},
                       {"hash", r.scene_hash}, {"radius", r.radius}});
   }
+  // Static cost of every row's variant, then a cost model per (scene, view, backend): how well static
+  // features (and the axes) predict the measured time, cross-validated.
+  std::set<std::string> keys;
+  for (const auto& row : res.table.rows) keys.insert(row.variant);
+  if (progress) progress("analysing the SPIR-V of " + std::to_string(keys.size()) + " variants");
+  auto statics = static_costs(o.measure, keys);
+  for (auto& row : res.table.rows)
+    if (auto it = statics.find(row.variant); it != statics.end()) row.static_cost = it->second;
+  json models = json::array();
+  std::map<std::tuple<std::string, std::string, std::string>, std::vector<table::CostRow>> groups;
+  for (const auto& row : res.table.rows) groups[{row.scene, row.view, row.backend}].push_back(row);
+  for (const auto& [g, rows] : groups) {
+    if (rows.size() < 8) continue;  // 5 folds need more than one row each, mostly
+    auto features = table::axis_features(rows).then(static_features());
+    auto model = table::fit_cost_model(rows, features);
+    models.push_back({{"scene", std::get<0>(g)}, {"view", std::get<1>(g)}, {"backend", std::get<2>(g)},
+                      {"rows", model.n}, {"cv_r2", model.cv.r2}, {"cv_spearman", model.cv.spearman},
+                      {"folds", model.cv.k}});
+  }
   table::mark_pareto(res.table);
   res.table.meta = {{"tool", "aovar sweep"},
                     {"manifest", util::display_path(o.measure.manifest)},
@@ -74,7 +178,8 @@ SweepResult run_sweep(const SweepOptions& o, const std::function<void(const std:
                     {"reps", o.measure.reps},
                     {"rays", o.measure.reference_rays},
                     {"calibrated", !o.measure.calibration.empty()},
-                    {"shard", fmt::format("{}/{}", o.measure.shard_index + 1, o.measure.shard_count)}};
+                    {"shard", fmt::format("{}/{}", o.measure.shard_index + 1, o.measure.shard_count)},
+                    {"cost_models", models}};
   table::write_table_files(res.table, o.out);
   res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return res;
