@@ -274,13 +274,14 @@ int run_sweep(const CommonOptions& common, sweep::SweepOptions o, const std::str
   if (tty) std::cerr << "\r\033[K";
   std::cout << table::to_markdown(r.table);
   for (const auto& m : r.table.meta.value("cost_models", nlohmann::json::array()))
-    std::cout << fmt::format("# cost model {} {} {}: {} rows, cross-validated R2 {:.3f}, Spearman {:.3f} (static + axis features)\n",
+    std::cout << fmt::format("# cost model {} {} {}: {} rows, cross-validated R2 {:.3f}, Spearman {:.3f} ({} features)\n",
                              m.at("scene").get<std::string>(), m.at("view").get<std::string>(),
                              m.at("backend").get<std::string>(), m.at("rows").get<int>(), m.at("cv_r2").get<double>(),
-                             m.at("cv_spearman").get<double>());
+                             m.at("cv_spearman").get<double>(), m.value("features", "static + axes"));
   std::cout << fmt::format("# {} rows ({} measured, {} reused) in {:.1f} s{} -> {}\n", r.table.rows.size(), r.rows_measured,
                            r.rows_reused, r.wall_s, cal_file.empty() || no_calibration ? "" : ", calibrated by " + util::display_path(cal_file),
                            util::display_path(o.out / "cost_table.json"));
+  std::cout << "# report: " << util::display_path(o.out / "report.html") << " (and report.md)\n";
   return 0;
 }
 

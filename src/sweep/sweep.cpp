@@ -11,6 +11,7 @@
 
 #include "analyze/analyze.h"
 #include "compile/generate.h"
+#include "report/report.h"
 #include "scene/scene.h"
 #include "table/cost_model.h"
 #include "util/fs.h"
@@ -109,6 +110,24 @@ table::FeatureSpec static_features() {
   return f;
 }
 
+// For small tables: six features that carry the cost structure of a pipeline — the AO pass's static work
+// scaled by the pixels it runs on (resolution²), those pixels, and which blur and progressive passes run.
+table::FeatureSpec compact_features() {
+  table::FeatureSpec f;
+  f.names = {"ao.fetches*res2", "ao.alu*res2", "res2", "blur.separable", "blur.bilateral", "progressive"};
+  f.extract = [](const table::CostRow& r) {
+    auto axis = [&](const char* k) {
+      auto it = r.axes.find(k);
+      return it == r.axes.end() ? std::string() : it->second;
+    };
+    double res = axis("resolution").empty() ? 1.0 : std::stod(axis("resolution"));
+    auto s = static_features().extract(r);
+    return std::vector<double>{s[0] * res * res, s[1] * res * res, res * res, axis("blur") == "separable" ? 1.0 : 0.0,
+                               axis("blur") == "bilateral" ? 1.0 : 0.0, axis("progressive") == "true" ? 1.0 : 0.0};
+  };
+  return f;
+}
+
 }  // namespace
 
 SweepResult run_sweep(const SweepOptions& o, const std::function<void(const std::string&)>& progress) {
@@ -163,11 +182,13 @@ SweepResult run_sweep(const SweepOptions& o, const std::function<void(const std:
   for (const auto& row : res.table.rows) groups[{row.scene, row.view, row.backend}].push_back(row);
   for (const auto& [g, rows] : groups) {
     if (rows.size() < 8) continue;  // 5 folds need more than one row each, mostly
-    auto features = table::axis_features(rows).then(static_features());
-    auto model = table::fit_cost_model(rows, features);
+    // The axis one-hots need many rows (4 per parameter here); a small table uses the compact features.
+    auto full = table::axis_features(rows).then(static_features());
+    bool small = rows.size() < 4 * full.names.size();
+    auto model = table::fit_cost_model(rows, small ? compact_features() : full);
     models.push_back({{"scene", std::get<0>(g)}, {"view", std::get<1>(g)}, {"backend", std::get<2>(g)},
                       {"rows", model.n}, {"cv_r2", model.cv.r2}, {"cv_spearman", model.cv.spearman},
-                      {"folds", model.cv.k}});
+                      {"folds", model.cv.k}, {"features", small ? "compact static" : "static + axes"}});
   }
   table::mark_pareto(res.table);
   res.table.meta = {{"tool", "aovar sweep"},
@@ -181,6 +202,7 @@ SweepResult run_sweep(const SweepOptions& o, const std::function<void(const std:
                     {"shard", fmt::format("{}/{}", o.measure.shard_index + 1, o.measure.shard_count)},
                     {"cost_models", models}};
   table::write_table_files(res.table, o.out);
+  report::write_reports(res.table, o.out);
   res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return res;
 }

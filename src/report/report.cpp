@@ -1,0 +1,289 @@
+#include "report/report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <sstream>
+#include <tuple>
+
+#include <fmt/format.h>
+
+#include "util/fs.h"
+
+namespace aovar::report {
+namespace fs = std::filesystem;
+using table::CostRow;
+using table::CostTable;
+
+namespace {
+
+using GroupKey = std::tuple<std::string, std::string, std::string>;  // scene, view, backend
+
+std::map<GroupKey, std::vector<const CostRow*>> groups_of(const CostTable& t) {
+  std::map<GroupKey, std::vector<const CostRow*>> g;
+  for (const auto& r : t.rows) g[{r.scene, r.view, r.backend}].push_back(&r);
+  for (auto& [k, rows] : g)
+    std::sort(rows.begin(), rows.end(), [](const CostRow* a, const CostRow* b) {
+      return std::tie(a->time_ms.min, a->variant) < std::tie(b->time_ms.min, b->variant);
+    });
+  return g;
+}
+
+std::string algorithm_of(const CostRow& r) {
+  auto it = r.axes.find("algorithm");
+  return it != r.axes.end() ? it->second : r.variant.substr(0, r.variant.find('-'));
+}
+
+// A fixed colour per method, so charts of different tables read the same.
+std::string colour(const std::string& algorithm) {
+  static const std::map<std::string, std::string> c = {
+      {"alchemy", "#1f77b4"}, {"crytek", "#ff7f0e"}, {"sc2", "#2ca02c"},  {"hbao", "#d62728"}, {"homebrew", "#9467bd"},
+      {"unsharp", "#8c564b"}, {"vo", "#e377c2"},     {"sao", "#17becf"},  {"gtao", "#bcbd22"}};
+  auto it = c.find(algorithm);
+  return it != c.end() ? it->second : "#7f7f7f";
+}
+
+std::string escape(const std::string& s) {
+  std::string out;
+  for (char ch : s) {
+    if (ch == '<') out += "&lt;";
+    else if (ch == '>') out += "&gt;";
+    else if (ch == '&') out += "&amp;";
+    else if (ch == '"') out += "&quot;";
+    else out += ch;
+  }
+  return out;
+}
+
+std::string base64(const std::string& bytes) {
+  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  std::size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8 | (unsigned char)bytes[i + 2];
+    out += {k[v >> 18], k[(v >> 12) & 63], k[(v >> 6) & 63], k[v & 63]};
+  }
+  if (i + 1 == bytes.size()) {
+    unsigned v = (unsigned char)bytes[i] << 16;
+    out += {k[v >> 18], k[(v >> 12) & 63], '=', '='};
+  } else if (i + 2 == bytes.size()) {
+    unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8;
+    out += {k[v >> 18], k[(v >> 12) & 63], k[(v >> 6) & 63], '='};
+  }
+  return out;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+// x-y scatter with axes, coloured points (tooltips: <title>), and an optional polyline through `line`.
+struct Point {
+  double x, y;
+  std::string colour, label;
+};
+std::string scatter_svg(const std::string& title, const std::string& x_label, const std::string& y_label,
+                        const std::vector<Point>& points, const std::vector<std::pair<double, double>>& line = {}) {
+  const double w = 560, h = 340, left = 60, right = 20, top = 30, bottom = 45;
+  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+  for (const auto& p : points) x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+  if (points.empty()) x0 = y0 = 0, x1 = y1 = 1;
+  if (x1 - x0 < 1e-12) x0 -= 0.5, x1 += 0.5;
+  if (y1 - y0 < 1e-12) y0 -= 0.5 * std::max(std::abs(y0), 1e-3), y1 += 0.5 * std::max(std::abs(y1), 1e-3);
+  double pad_x = 0.05 * (x1 - x0), pad_y = 0.08 * (y1 - y0);
+  x0 -= pad_x, x1 += pad_x, y0 -= pad_y, y1 += pad_y;
+  auto sx = [&](double x) { return left + (x - x0) / (x1 - x0) * (w - left - right); };
+  auto sy = [&](double y) { return h - bottom - (y - y0) / (y1 - y0) * (h - top - bottom); };
+  std::string s = fmt::format("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" "
+                              "font-size=\"11\"><rect width=\"100%\" height=\"100%\" fill=\"white\"/>", w, h);
+  s += fmt::format("<text x=\"{}\" y=\"18\" font-size=\"13\">{}</text>", left, escape(title));
+  s += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{2}\" y2=\"{1}\" stroke=\"black\"/><line x1=\"{0}\" y1=\"{3}\" x2=\"{0}\" "
+                   "y2=\"{1}\" stroke=\"black\"/>", left, h - bottom, w - right, top);
+  for (int i = 0; i <= 4; ++i) {
+    double xv = x0 + (x1 - x0) * i / 4, yv = y0 + (y1 - y0) * i / 4;
+    s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{:.3g}</text>", sx(xv), h - bottom + 14, xv);
+    s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{:.3g}</text>", left - 4, sy(yv) + 4, yv);
+    s += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{2}\" y2=\"{1}\" stroke=\"#eee\"/>", left + 1, sy(yv), w - right);
+  }
+  s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>", (left + w - right) / 2, h - 8, escape(x_label));
+  s += fmt::format("<text x=\"14\" y=\"{0}\" text-anchor=\"middle\" transform=\"rotate(-90 14 {0})\">{1}</text>",
+                   (top + h - bottom) / 2, escape(y_label));
+  if (line.size() > 1) {
+    std::string pts;
+    for (const auto& [x, y] : line) pts += fmt::format("{:.1f},{:.1f} ", sx(x), sy(y));
+    s += "<polyline fill=\"none\" stroke=\"black\" stroke-width=\"1\" stroke-dasharray=\"4 2\" points=\"" + pts + "\"/>";
+  }
+  for (const auto& p : points)
+    s += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"3.5\" fill=\"{}\" fill-opacity=\"0.8\"><title>{}</title></circle>",
+                     sx(p.x), sy(p.y), p.colour, escape(p.label));
+  return s + "</svg>";
+}
+
+std::string legend_html(const std::set<std::string>& algorithms) {
+  std::string s = "<p>";
+  for (const auto& a : algorithms)
+    s += fmt::format("<span style=\"color:{}\">&#9679;</span> {} &nbsp; ", colour(a), escape(a));
+  return s + "</p>";
+}
+
+std::string time_bars_svg(const std::string& title, const std::vector<const CostRow*>& rows) {
+  const std::size_t n = std::min<std::size_t>(rows.size(), 60);
+  const double w = 560, bar = 12, left = 290, top = 26;
+  double h = top + n * (bar + 2) + 10, max_t = 0;
+  for (std::size_t i = 0; i < n; ++i) max_t = std::max(max_t, rows[i]->time_ms.min);
+  std::string s = fmt::format("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" "
+                              "font-size=\"10\"><rect width=\"100%\" height=\"100%\" fill=\"white\"/>"
+                              "<text x=\"4\" y=\"16\" font-size=\"13\">{}</text>", w, h, escape(title));
+  for (std::size_t i = 0; i < n; ++i) {
+    const CostRow& r = *rows[i];
+    double y = top + i * (bar + 2), len = max_t > 0 ? r.time_ms.min / max_t * (w - left - 50) : 0;
+    s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{}</text>", left - 4, y + bar - 2, escape(r.variant));
+    s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{:.1f}\" height=\"{}\" fill=\"{}\"><title>{} {:.2f} ms</title></rect>",
+                     left, y, len, bar, colour(algorithm_of(r)), escape(r.variant), r.time_ms.min);
+    s += fmt::format("<text x=\"{:.1f}\" y=\"{}\">{:.2f}</text>", left + len + 3, y + bar - 2, r.time_ms.min);
+  }
+  return s + "</svg>";
+}
+
+double static_cost(const CostRow& r) {  // the AO pass's texture reads: the dominant static term
+  if (!r.static_cost.contains("ao")) return -1;
+  double n = 0;
+  for (const auto& [k, v] : r.static_cost["ao"]["fetches"].items()) n += v.get<double>();
+  return n;
+}
+
+std::string image_tag(const fs::path& file, const std::string& caption) {
+  auto bytes = util::read_file(file);
+  if (!bytes) return "<figure><figcaption>" + escape(caption) + " (missing)</figcaption></figure>";
+  return fmt::format("<figure><img src=\"data:image/png;base64,{}\" width=\"240\"><figcaption>{}</figcaption></figure>",
+                     base64(*bytes), escape(caption));
+}
+
+}  // namespace
+
+std::vector<PairFinding> seed_pairs(const CostTable& t) {
+  struct Spec {
+    const char *title, *axis, *a, *b, *seed;
+  };
+  const Spec specs[] = {
+      {"RG vs RGB normals", "normals", "rgb8", "rg8",
+       "seed 000 §5.6: savings negligible (G-buffer 6.4 -> 6.2 ms, AO 17.5 -> 17.6 ms); RGB kept as faster overall"},
+      {"position buffer vs depth", "position", "depth", "position",
+       "seed 000 §5.5: a depth buffer is slightly faster for most shaders; for StarCraft II the position buffer is faster"},
+      {"inverse projection vs similar triangles", "reconstruct", "similar_triangles", "inverse_projection",
+       "seed 000 §5.4: quality difference negligible; similar triangles slightly faster (AO 17.9 vs 19.83 ms)"},
+      {"r32f vs r16f depth", "depth_format", "r16f", "r32f",
+       "seed 000 §5.3: quality difference negligible; 32-bit costs a little more in G-buffer, AO and blur"},
+      {"progressive vs full", "progressive", "false", "true",
+       "seed 000 §5.9: progressive significantly faster for every method, despite a ~1.1 ms averaging pass"},
+      {"bilateral vs separable blur", "blur", "separable", "bilateral",
+       "seed 000 §5.7: quality difference negligible; the separable blur is faster"},
+  };
+  std::vector<PairFinding> out;
+  for (const auto& sp : specs) {
+    // Rows keyed by everything but the pair's axis.
+    std::map<std::string, std::map<std::string, const CostRow*>> by_rest;
+    for (const auto& r : t.rows) {
+      auto it = r.axes.find(sp.axis);
+      if (it == r.axes.end() || (it->second != sp.a && it->second != sp.b)) continue;
+      std::string rest = r.scene + "|" + r.view + "|" + r.backend;
+      for (const auto& [k, v] : r.axes)
+        if (k != sp.axis) rest += "|" + k + "=" + v;
+      by_rest[rest][it->second] = &r;
+    }
+    PairFinding f{sp.title, sp.axis, sp.a, sp.b, sp.seed, 0, 0, 0};
+    std::vector<double> dt, de;
+    for (const auto& [rest, m] : by_rest) {
+      if (!m.count(sp.a) || !m.count(sp.b)) continue;
+      const CostRow &ra = *m.at(sp.a), &rb = *m.at(sp.b);
+      if (ra.predicted || rb.predicted || ra.time_ms.min <= 0) continue;
+      dt.push_back(100.0 * (rb.time_ms.min - ra.time_ms.min) / ra.time_ms.min);
+      if (ra.error && rb.error) de.push_back(rb.error->rmse - ra.error->rmse);
+      ++f.pairs;
+    }
+    f.time_delta_pct = median(dt);
+    f.rmse_delta = median(de);
+    out.push_back(f);
+  }
+  return out;
+}
+
+std::string markdown_report(const CostTable& t) {
+  std::ostringstream md;
+  md << "# aovar sweep report\n\n";
+  for (const auto& [g, rows] : groups_of(t)) {
+    md << fmt::format("## {} / {} / {}\n\nPareto front (time against RMSE, fastest first):\n\n", std::get<0>(g), std::get<1>(g),
+                      std::get<2>(g));
+    md << "| variant | min ms | rmse | ssim |\n|---|---:|---:|---:|\n";
+    for (const CostRow* r : rows)
+      if (r->pareto)
+        md << fmt::format("| {} | {:.2f} | {:.4f} | {:.3f} |\n", r->variant, r->time_ms.min, r->error->rmse, r->error->ssim);
+    md << "\n";
+  }
+  md << "## Seed 000 pairs on these scenes\n\n| pair | matched | time Δ (median) | RMSE Δ (median) | seed's finding |\n"
+        "|---|---:|---:|---:|---|\n";
+  for (const auto& f : seed_pairs(t))
+    md << fmt::format("| {} ({} → {}) | {} | {} | {} | {} |\n", f.title, f.a, f.b, f.pairs,
+                      f.pairs ? fmt::format("{:+.1f} %", f.time_delta_pct) : "–",
+                      f.pairs ? fmt::format("{:+.4f}", f.rmse_delta) : "–", f.seed);
+  md << "\nThe full table: cost_table.md / cost_table.csv / cost_table.json.\n";
+  return md.str();
+}
+
+std::string html_report(const CostTable& t, const fs::path& dir) {
+  std::ostringstream h;
+  h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>aovar sweep report</title><style>"
+       "body{font-family:sans-serif;margin:24px;max-width:1200px}table{border-collapse:collapse}td,th{border:1px solid "
+       "#ccc;padding:2px 6px;font-size:12px}figure{display:inline-block;margin:4px}figcaption{font-size:10px;max-width:240px;"
+       "word-break:break-all}svg{margin:6px}</style></head><body><h1>aovar sweep report</h1>";
+  h << "<p>" << escape(t.meta.dump()) .substr(0, 600) << "</p>";
+  std::set<std::string> algorithms;
+  for (const auto& r : t.rows) algorithms.insert(algorithm_of(r));
+  h << legend_html(algorithms);
+  for (const auto& [g, rows] : groups_of(t)) {
+    std::string name = fmt::format("{} / {} / {}", std::get<0>(g), std::get<1>(g), std::get<2>(g));
+    h << "<h2>" << escape(name) << "</h2>";
+    std::vector<Point> pts, statics;
+    std::vector<std::pair<double, double>> front;
+    for (const CostRow* r : rows) {
+      std::string a = algorithm_of(*r);
+      if (r->error) {
+        pts.push_back({r->time_ms.min, r->error->rmse, colour(a), r->variant});
+        if (r->pareto) front.emplace_back(r->time_ms.min, r->error->rmse);
+      }
+      if (double s = static_cost(*r); s >= 0) statics.push_back({s, r->time_ms.min, colour(a), r->variant});
+    }
+    h << scatter_svg("Pareto: time against error (dashed: the front)", "frame time, min (ms)", "RMSE vs reference", pts, front);
+    h << scatter_svg("static cost against measured time", "AO pass texture reads per pixel (static)", "frame time, min (ms)",
+                     statics);
+    h << time_bars_svg("time per variant (fastest 60)", rows);
+    h << "<h3>The front: variant, reference, error</h3>";
+    for (const CostRow* r : rows) {
+      if (!r->pareto || r->images.size() < 3) continue;
+      fs::path preview = dir / r->images[1], heat = dir / r->images[2];
+      // images/<backend>/<view>/<key>.png under measure/<scene>/: the reference is images/reference/<view>.png.
+      fs::path scene_dir = preview.parent_path().parent_path().parent_path().parent_path();
+      h << "<div>" << image_tag(preview, r->variant + fmt::format(" ({:.2f} ms, RMSE {:.4f})", r->time_ms.min, r->error->rmse))
+        << image_tag(scene_dir / "images" / "reference" / (r->view + ".png"), "ray-traced reference")
+        << image_tag(heat, "error (red: too dark, blue: too light)") << "</div>";
+    }
+  }
+  h << "<h2>Seed 000 pairs on these scenes</h2><table><tr><th>pair</th><th>matched</th><th>time Δ</th><th>RMSE Δ</th>"
+       "<th>seed's finding</th></tr>";
+  for (const auto& f : seed_pairs(t))
+    h << fmt::format("<tr><td>{} ({} → {})</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>", escape(f.title),
+                     escape(f.a), escape(f.b), f.pairs, f.pairs ? fmt::format("{:+.1f} %", f.time_delta_pct) : "–",
+                     f.pairs ? fmt::format("{:+.4f}", f.rmse_delta) : "–", escape(f.seed));
+  h << "</table></body></html>\n";
+  return h.str();
+}
+
+void write_reports(const CostTable& t, const fs::path& dir) {
+  util::write_atomic(dir / "report.md", markdown_report(t));
+  util::write_atomic(dir / "report.html", html_report(t, dir));
+}
+
+}  // namespace aovar::report
