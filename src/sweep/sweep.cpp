@@ -37,7 +37,7 @@ namespace {
 
 // The `static` object of a row (DESIGN.md §6): the AO pass program's counts and all fragment passes'
 // totals from the SPIR-V (src/analyze), with the bytes per pixel the variant's formats imply.
-json static_json(const analyze::ProgramCost& ao, const analyze::ProgramCost& total, double ao_bytes) {
+json static_json(const analyze::ProgramCost& ao, const analyze::ProgramCost& total, double ao_bytes, double work) {
   auto counts = [](const analyze::ProgramCost& c) {
     json fetches = json::object();
     const std::pair<int, const char*> names[] = {{analyze::kDepth, "depth"},   {analyze::kNormal, "normal"},
@@ -51,7 +51,7 @@ json static_json(const analyze::ProgramCost& ao, const analyze::ProgramCost& tot
                 {"unprojections", c.unprojections}, {"loops", {{"constant", constant}, {"dynamic", dynamic},
                                                                {"unrolled", 0}}}};
   };
-  return {{"ao", counts(ao)}, {"passes", counts(total)}, {"ao_bytes_per_pixel", ao_bytes}};
+  return {{"ao", counts(ao)}, {"passes", counts(total)}, {"ao_bytes_per_pixel", ao_bytes}, {"work_per_pixel", work}};
 }
 
 // Static costs of every variant in `keys`, from the Vulkan SPIR-V of their fragment programs.
@@ -72,21 +72,37 @@ std::map<std::string, json> static_costs(const measure::MeasureOptions& mo, cons
   };
   for (const auto& entry : c.space.variants) {
     if (!keys.count(entry.key)) continue;
-    analyze::ProgramCost ao, total;
-    for (std::size_t p = 0; p < c.manifest.passes.size(); ++p) {
-      int fragment = entry.passes[p][1];
-      if (fragment < 0) continue;
-      total += cost(fragment);
-      if (c.manifest.passes[p].name == "ao") ao = cost(fragment);
-    }
-    std::string depth_format, normals;
+    std::string depth_format, normals, blur;
+    double resolution = 1.0;
     for (int a = 0; a < variants::kAxisCount; ++a) {
       int i = entry.point[a] >= 0 ? entry.point[a] : 0;
       auto axis = variants::axis_at(a);
-      if (axis == variants::Axis::depth_format) depth_format = c.manifest.value(axis, i).text;
-      if (axis == variants::Axis::normals) normals = c.manifest.value(axis, i).text;
+      const std::string& v = c.manifest.value(axis, i).text;
+      if (axis == variants::Axis::depth_format) depth_format = v;
+      if (axis == variants::Axis::normals) normals = v;
+      if (axis == variants::Axis::blur) blur = v;
+      if (axis == variants::Axis::resolution) resolution = std::stod(v);
     }
-    out[entry.key] = static_json(ao, total, analyze::bytes_per_pixel(ao.fetches, analyze::binding_bytes(depth_format, normals)));
+    // Work per output pixel of the fullscreen passes (src/render/plan.h): each program's ALU + texture reads,
+    // times its draws (separable passes 2, the z pyramid 1 + 1/4 + ... < 4/3) and the share of output
+    // pixels it covers (AO-resolution passes resolution², the upsample 1). The G-buffer is left out: it
+    // depends on the geometry, not the variant.
+    analyze::ProgramCost ao, total;
+    double work = 0;
+    for (std::size_t p = 0; p < c.manifest.passes.size(); ++p) {
+      int fragment = entry.passes[p][1];
+      if (fragment < 0) continue;
+      const std::string& pass = c.manifest.passes[p].name;
+      const auto& pc = cost(fragment);
+      total += pc;
+      if (pass == "ao") ao = pc;
+      if (pass == "gbuffer") continue;
+      double draws = pass == "zmip" ? 4.0 / 3.0 : (pass == "unsharp_blur" || (pass.rfind("blur", 0) == 0 && blur == "separable")) ? 2.0 : 1.0;
+      double pixels = pass == "upsample" ? 1.0 : resolution * resolution;
+      work += draws * pixels * (pc.alu + pc.total_fetches());
+    }
+    out[entry.key] = static_json(ao, total, analyze::bytes_per_pixel(ao.fetches, analyze::binding_bytes(depth_format, normals)),
+                                 work);
   }
   return out;
 }
@@ -94,7 +110,7 @@ std::map<std::string, json> static_costs(const measure::MeasureOptions& mo, cons
 // Static features for the cost model: the AO pass's fetches, ALU and transcendentals, the passes' ALU.
 table::FeatureSpec static_features() {
   table::FeatureSpec f;
-  f.names = {"ao.fetches", "ao.alu", "ao.transcendental", "passes.alu", "passes.fetches"};
+  f.names = {"ao.fetches", "ao.alu", "ao.transcendental", "passes.alu", "passes.fetches", "work_per_pixel"};
   f.extract = [](const table::CostRow& r) {
     const json& s = r.static_cost;
     auto sum = [](const json& fetches) {
@@ -102,19 +118,20 @@ table::FeatureSpec static_features() {
       for (const auto& [k, v] : fetches.items()) n += v.get<double>();
       return n;
     };
-    if (!s.contains("ao")) return std::vector<double>(5, 0.0);
+    if (!s.contains("ao")) return std::vector<double>(6, 0.0);
     return std::vector<double>{sum(s["ao"]["fetches"]), s["ao"]["alu"].get<double>(),
                                s["ao"]["transcendental"].get<double>(), s["passes"]["alu"].get<double>(),
-                               sum(s["passes"]["fetches"])};
+                               sum(s["passes"]["fetches"]), s.value("work_per_pixel", 0.0)};
   };
   return f;
 }
 
-// For small tables: six features that carry the cost structure of a pipeline — the AO pass's static work
-// scaled by the pixels it runs on (resolution²), those pixels, and which blur and progressive passes run.
+// For small tables: six features that carry the cost structure of a pipeline — the static work per output
+// pixel of all fullscreen passes, the AO pass's reads scaled by the pixels it runs on, those pixels, and
+// which blur and progressive passes run.
 table::FeatureSpec compact_features() {
   table::FeatureSpec f;
-  f.names = {"ao.fetches*res2", "ao.alu*res2", "res2", "blur.separable", "blur.bilateral", "progressive"};
+  f.names = {"work_per_pixel", "ao.fetches*res2", "res2", "blur.separable", "blur.bilateral", "progressive"};
   f.extract = [](const table::CostRow& r) {
     auto axis = [&](const char* k) {
       auto it = r.axes.find(k);
@@ -122,7 +139,8 @@ table::FeatureSpec compact_features() {
     };
     double res = axis("resolution").empty() ? 1.0 : std::stod(axis("resolution"));
     auto s = static_features().extract(r);
-    return std::vector<double>{s[0] * res * res, s[1] * res * res, res * res, axis("blur") == "separable" ? 1.0 : 0.0,
+    double work = r.static_cost.value("work_per_pixel", 0.0);
+    return std::vector<double>{work, s[0] * res * res, res * res, axis("blur") == "separable" ? 1.0 : 0.0,
                                axis("blur") == "bilateral" ? 1.0 : 0.0, axis("progressive") == "true" ? 1.0 : 0.0};
   };
   return f;
@@ -182,13 +200,17 @@ SweepResult run_sweep(const SweepOptions& o, const std::function<void(const std:
   for (const auto& row : res.table.rows) groups[{row.scene, row.view, row.backend}].push_back(row);
   for (const auto& [g, rows] : groups) {
     if (rows.size() < 8) continue;  // 5 folds need more than one row each, mostly
-    // The axis one-hots need many rows (4 per parameter here); a small table uses the compact features.
+    // Two models: six compact features (static work per pixel and the pass structure), and, with 4 rows
+    // per parameter or more, every static count plus the axis one-hots. Both are reported.
     auto full = table::axis_features(rows).then(static_features());
-    bool small = rows.size() < 4 * full.names.size();
-    auto model = table::fit_cost_model(rows, small ? compact_features() : full);
-    models.push_back({{"scene", std::get<0>(g)}, {"view", std::get<1>(g)}, {"backend", std::get<2>(g)},
-                      {"rows", model.n}, {"cv_r2", model.cv.r2}, {"cv_spearman", model.cv.spearman},
-                      {"folds", model.cv.k}, {"features", small ? "compact static" : "static + axes"}});
+    std::vector<std::pair<std::string, table::FeatureSpec>> specs = {{"compact static", compact_features()}};
+    if (rows.size() >= 4 * full.names.size()) specs.emplace_back("static + axes", full);
+    for (const auto& [name, spec] : specs) {
+      auto model = table::fit_cost_model(rows, spec);
+      models.push_back({{"scene", std::get<0>(g)}, {"view", std::get<1>(g)}, {"backend", std::get<2>(g)},
+                        {"rows", model.n}, {"cv_r2", model.cv.r2}, {"cv_spearman", model.cv.spearman},
+                        {"folds", model.cv.k}, {"features", name}});
+    }
   }
   table::mark_pareto(res.table);
   res.table.meta = {{"tool", "aovar sweep"},
