@@ -1,6 +1,12 @@
 // Reports: the seed pairs are matched on rows that differ in one axis only, the Markdown lists the front,
-// the HTML is self-contained (inline SVG, data URIs, no network).
+// the HTML is self-contained (inline SVG, data URIs, no network) and renders in a headless Chromium.
 #include <gtest/gtest.h>
+
+#include <cstdlib>
+
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#include <stb/stb_image.h>
 
 #include "report/report.h"
 #include "test_support.h"
@@ -55,6 +61,41 @@ TEST(Report, SeedPairsMatchRowsDifferingInOneAxis) {
   for (std::size_t at; (at = rest.find("http://www.w3.org/2000/svg")) != std::string::npos;) rest.erase(at, 26);
   EXPECT_EQ(rest.find("http"), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(dir / "report.md"));
+}
+
+// A headless Chromium screenshot of report.html shows the charts: marks in the algorithm colours (Alchemy
+// #1f77b4, GTAO #bcbd22: scatter points, legend, time bars) and dark text, axes and the front line. An HTML
+// whose SVG failed to parse would show none of the colours.
+TEST(Report, HtmlRendersInHeadlessChromium) {
+  table::CostTable t;
+  for (int i = 0; i < 12; ++i) {
+    std::string alg = i % 2 ? "gtao" : "alchemy";
+    t.rows.push_back(row(alg + "-" + std::to_string(i), {{"algorithm", alg}, {"samples", std::to_string(4 + i)}},
+                         10 + 2 * i, 0.1 - 0.005 * i + 0.01 * (i % 3)));
+  }
+  table::mark_pareto(t);
+  TempDir dir;
+  report::write_reports(t, dir.path());
+  std::string cmd = "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --user-data-dir=" +
+                    (dir / "profile").string() + " --window-size=1000,900 --screenshot=" + (dir / "shot.png").string() +
+                    " file://" + (dir / "report.html").string() + " >" + (dir / "chromium.log").string() + " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << "chromium failed (installed by scripts/deps): " << cmd;
+  int w = 0, h = 0, n = 0;
+  unsigned char* px = stbi_load((dir / "shot.png").c_str(), &w, &h, &n, 3);
+  ASSERT_NE(px, nullptr) << "no screenshot";
+  EXPECT_EQ(w, 1000);
+  long alchemy = 0, gtao = 0, dark = 0;
+  for (long i = 0; i < long(w) * h; ++i) {
+    int r = px[3 * i], g = px[3 * i + 1], b = px[3 * i + 2];
+    auto near = [&](int R, int G, int B) { return std::abs(r - R) + std::abs(g - G) + std::abs(b - B) < 60; };
+    alchemy += near(0x1f, 0x77, 0xb4);
+    gtao += near(0xbc, 0xbd, 0x22);
+    dark += r < 60 && g < 60 && b < 60;
+  }
+  stbi_image_free(px);
+  EXPECT_GT(alchemy, 50) << "Alchemy's points are drawn";
+  EXPECT_GT(gtao, 50) << "GTAO's points are drawn";
+  EXPECT_GT(dark, 500) << "text, axes and the front line are drawn";
 }
 
 }  // namespace

@@ -148,11 +148,8 @@ std::string time_bars_svg(const std::string& title, const std::vector<const Cost
   return s + "</svg>";
 }
 
-double static_cost(const CostRow& r) {  // the AO pass's texture reads: the dominant static term
-  if (!r.static_cost.contains("ao")) return -1;
-  double n = 0;
-  for (const auto& [k, v] : r.static_cost["ao"]["fetches"].items()) n += v.get<double>();
-  return n;
+double static_cost(const CostRow& r) {  // static work per output pixel of the fullscreen passes (sweep.cpp)
+  return r.static_cost.contains("work_per_pixel") ? r.static_cost["work_per_pixel"].get<double>() : -1;
 }
 
 std::string image_tag(const fs::path& file, const std::string& caption) {
@@ -239,7 +236,19 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
        "body{font-family:sans-serif;margin:24px;max-width:1200px}table{border-collapse:collapse}td,th{border:1px solid "
        "#ccc;padding:2px 6px;font-size:12px}figure{display:inline-block;margin:4px}figcaption{font-size:10px;max-width:240px;"
        "word-break:break-all}svg{margin:6px}</style></head><body><h1>aovar sweep report</h1>";
-  h << "<p>" << escape(t.meta.dump()) .substr(0, 600) << "</p>";
+  // What was measured, in words (the full header is in cost_table.json's meta).
+  const auto& m = t.meta;
+  std::string scenes;
+  for (const auto& sc : m.value("scenes", nlohmann::json::array())) scenes += (scenes.empty() ? "" : ", ") + sc.value("scene", std::string());
+  h << "<p>" << t.rows.size() << " rows; scenes: " << escape(scenes) << "; " << escape(m.value("size", std::string())) << ", "
+    << m.value("reps", 0) << " reps, references " << m.value("rays", 0) << " rays; "
+    << (m.value("calibrated", false) ? "calibrated parameters" : "manifest defaults") << "; shard "
+    << escape(m.value("shard", std::string("1/1"))) << ".</p><ul>";
+  for (const auto& cm : m.value("cost_models", nlohmann::json::array()))
+    h << fmt::format("<li>cost model {} / {}: {} rows, cross-validated R² {:.3f}, Spearman ρ {:.3f} ({} features)</li>",
+                     escape(cm.value("scene", std::string())), escape(cm.value("view", std::string())), cm.value("rows", 0),
+                     cm.value("cv_r2", 0.0), cm.value("cv_spearman", 0.0), escape(cm.value("features", std::string())));
+  h << "</ul>";
   std::set<std::string> algorithms;
   for (const auto& r : t.rows) algorithms.insert(algorithm_of(r));
   h << legend_html(algorithms);
@@ -257,7 +266,8 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
       if (double s = static_cost(*r); s >= 0) statics.push_back({s, r->time_ms.min, colour(a), r->variant});
     }
     h << scatter_svg("Pareto: time against error (dashed: the front)", "frame time, min (ms)", "RMSE vs reference", pts, front);
-    h << scatter_svg("static cost against measured time", "AO pass texture reads per pixel (static)", "frame time, min (ms)",
+    h << scatter_svg("static cost against measured time", "static work per output pixel (ALU + reads, all passes)",
+                     "frame time, min (ms)",
                      statics);
     h << time_bars_svg("time per variant (fastest 60)", rows);
     h << "<h3>The front: variant, reference, error</h3>";
