@@ -62,7 +62,8 @@ std::map<std::string, json> static_costs(const measure::MeasureOptions& mo, cons
   co.cache_dir = mo.cache_dir;
   auto c = compile::compile_space(mo.manifest, co);
   std::map<std::string, json> out;
-  if (!c.ok()) return out;
+  // measure compiled the same programs already (from the cache): a failure here is not a template error.
+  if (!c.ok()) throw std::runtime_error("sweep: static analysis: " + (c.diagnostics.empty() ? std::string("compile failed") : c.diagnostics.front()));
   const int t = c.target_index(variants::Target::vulkan);
   std::map<int, analyze::ProgramCost> by_program;
   auto cost = [&](int program) -> const analyze::ProgramCost& {
