@@ -44,8 +44,9 @@ TEST(Report, SeedPairsMatchRowsDifferingInOneAxis) {
   EXPECT_DOUBLE_EQ(blur->time_delta_pct, 35.0);  // median of +20 % and +50 %
   EXPECT_NEAR(blur->rmse_delta, 0.003, 1e-12);   // median of +0.002 and +0.004
   EXPECT_NE(blur->seed.find("§5.7"), std::string::npos);
-  for (const auto& p : pairs)
+  for (const auto& p : pairs) {
     if (p.axis != "blur") EXPECT_EQ(p.pairs, 0) << p.title;
+  }
 
   auto md = report::markdown_report(t);
   EXPECT_NE(md.find("| a-bsep | 10.00 | 0.0500"), std::string::npos) << md;  // on the front
@@ -61,6 +62,42 @@ TEST(Report, SeedPairsMatchRowsDifferingInOneAxis) {
   for (std::size_t at; (at = rest.find("http://www.w3.org/2000/svg")) != std::string::npos;) rest.erase(at, 26);
   EXPECT_EQ(rest.find("http"), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(dir / "report.md"));
+}
+
+// `aovar report --table`: the reports of a table written elsewhere (a merged or edited one), the worst-view
+// front across two views, predicted rows marked; a missing table is a one-line error naming it.
+TEST(Report, CliWritesReportsFromATable) {
+  table::CostTable t;
+  auto add = [&](const std::string& v, const std::string& view, double ms, double rmse) {
+    auto r = row(v, {{"algorithm", v.substr(0, v.find('-'))}}, ms, rmse);
+    r.view = view;
+    t.rows.push_back(r);
+  };
+  add("alchemy-fast", "a", 10, 0.10), add("alchemy-fast", "b", 11, 0.12);
+  add("gtao-good", "a", 20, 0.05), add("gtao-good", "b", 22, 0.06);
+  add("sao-bad", "a", 30, 0.20), add("sao-bad", "b", 31, 0.21);  // dominated on both views
+  auto predicted = row("hbao-guess", {{"algorithm", "hbao"}}, 15, 0);
+  predicted.error.reset();
+  predicted.predicted = true;
+  predicted.time_ms.n = 0;
+  t.rows.push_back(predicted);
+  table::mark_pareto(t);
+  TempDir dir;
+  table::write_json(t, dir / "in" / "cost_table.json");
+  auto r = run_aovar("report --table " + (dir / "in" / "cost_table.json").string() + " --out " + (dir / "out").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("7 rows"), std::string::npos) << r.output;
+  auto md = util::read_file(dir / "out" / "report.md").value();
+  EXPECT_NE(md.find("What to ship: s / lavapipe, worst view"), std::string::npos) << md;
+  EXPECT_NE(md.find("| gtao-good | 22.00 | 0.0600"), std::string::npos) << "worst of the two views:\n" << md;
+  EXPECT_EQ(md.find("| sao-bad |"), std::string::npos) << md;
+  auto html = util::read_file(dir / "out" / "report.html").value();
+  EXPECT_NE(html.find("hbao-guess 15.00 ms (predicted)"), std::string::npos) << "predicted bars are labelled";
+  EXPECT_FALSE(std::filesystem::exists(dir / "in" / "report.md")) << "--out decides where reports go";
+
+  auto missing = run_aovar("report --table " + (dir / "nope.json").string());
+  EXPECT_NE(missing.status, 0);
+  EXPECT_NE(missing.output.find("nope.json"), std::string::npos) << missing.output;
 }
 
 // A headless Chromium screenshot of report.html shows the charts: marks in the algorithm colours (Alchemy

@@ -2,6 +2,7 @@
 // without overlap and `aovar merge` joins them back.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <csignal>
 #include <chrono>
 #include <set>
@@ -42,7 +43,8 @@ TEST(Sweep, KilledSweepResumesToTheUninterruptedTable) {
     EXPECT_EQ(row.static_cost["ao"]["fetches"]["depth"].get<double>(), samples + 1) << row.variant;
     EXPECT_EQ(row.static_cost["ao"]["fetches"]["normal"].get<double>(), 1) << row.variant;
   }
-  EXPECT_EQ(reference.meta.at("cost_models").size(), 2u) << "one compact model per view (9 rows each, too few for the full one)";
+  EXPECT_EQ(reference.meta.at("cost_models").size(), 4u)
+      << "compact and weighted-class models per view (9 rows each, too few for the full one)";
 
   // Start the same sweep elsewhere and kill it hard once its first batch is on disk.
   const auto out = dir / "killed";
@@ -71,10 +73,31 @@ TEST(Sweep, KilledSweepResumesToTheUninterruptedTable) {
   auto table = table::read_table(out / "cost_table.json");
   EXPECT_EQ(deterministic(table), deterministic(reference));
 
-  // A second run measures nothing.
-  auto again = run_aovar(kArgs + " --out " + out.string());
+  // A second run measures nothing; asked to predict the progressive forms too, it adds one predicted row
+  // per view for each Alchemy sample count (the measured non-progressive ones the glob also matches are
+  // not repeated).
+  std::set<std::string> alchemy;
+  for (const auto& row : reference.rows)
+    if (row.variant.rfind("alchemy-", 0) == 0) alchemy.insert(row.variant);
+  auto again = run_aovar(kArgs + " --predict 'alchemy-s*-p[01]-nrgb8-zdep-rst-d32-bsep-x1-hp' --out " + out.string());
   ASSERT_EQ(again.status, 0) << again.output;
   EXPECT_NE(again.output.find("(0 measured"), std::string::npos) << again.output;
+  EXPECT_NE(again.output.find(" " + std::to_string(2 * alchemy.size()) + " predicted"), std::string::npos) << again.output;
+  auto with_predictions = table::read_table(out / "cost_table.json");
+  ASSERT_EQ(with_predictions.rows.size(), reference.rows.size() + 2 * alchemy.size());
+  std::set<std::string> predicted_variants;
+  for (const auto& row : with_predictions.rows) {
+    if (!row.predicted) continue;
+    predicted_variants.insert(row.variant);
+    EXPECT_EQ(row.axes.at("progressive"), "true") << row.variant;
+    EXPECT_FALSE(row.error) << "a predicted row has no measured error";
+    EXPECT_FALSE(row.pareto);
+    EXPECT_EQ(row.time_ms.n, 0);
+    EXPECT_TRUE(std::isfinite(row.time_ms.min)) << row.variant;
+    EXPECT_TRUE(row.static_cost.contains("weighted")) << row.variant;
+  }
+  EXPECT_EQ(predicted_variants.size(), alchemy.size());
+  EXPECT_NE(table::to_markdown(with_predictions).find("(predicted)"), std::string::npos);
 }
 
 TEST(Sweep, ShardsSplitTheVariantsWithoutOverlap) {

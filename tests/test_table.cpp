@@ -210,6 +210,33 @@ TEST(Select, MaxErrorPicksCheapestMeetingIt) {
   EXPECT_NE(s.text.find("costs +1.000 ms (+50.0%)"), std::string::npos) << s.text;
 }
 
+TEST(Select, NamesANearTieThatIsMuchCheaperOrMuchBetter) {
+  CostTable t = select_table();
+  t.rows.push_back(row("cheap_tie", 2.0, 0.0505));   // 33 % faster than "good" for +1 % error
+  t.rows.push_back(row("almost", 2.9, 0.0501));      // only 3 % faster: not worth a line
+  SelectQuery q;
+  q.budget_ms = 3.0;
+  auto s = select(t, q);
+  ASSERT_TRUE(s.ok);
+  EXPECT_EQ(s.choice->variant, "good");
+  ASSERT_TRUE(s.consider);
+  EXPECT_EQ(s.consider->variant, "cheap_tie");
+  EXPECT_NE(s.text.find("consider: cheap_tie [lavapipe] is -33.3% in time with +1.0% rmse"), std::string::npos) << s.text;
+  q.tolerance = 0.005;  // +1 % error is now too much
+  EXPECT_FALSE(select(t, q).consider);
+  // Max error: "mid" (2 ms, 0.10) is the cheapest; "better_tie" has 40 % less error for +1 % time.
+  CostTable m = select_table();
+  m.rows.push_back(row("better_tie", 2.02, 0.06));
+  SelectQuery e;
+  e.max_error = 0.1;
+  s = select(m, e);
+  EXPECT_EQ(s.choice->variant, "mid");
+  ASSERT_TRUE(s.consider);
+  EXPECT_EQ(s.consider->variant, "better_tie");
+  // Without a near tie nothing is suggested.
+  EXPECT_FALSE(select(select_table(), e).consider);
+}
+
 TEST(Select, NothingSatisfiesNamesTheNearest) {
   SelectQuery q;
   q.budget_ms = 0.5;

@@ -16,6 +16,7 @@
 #include "measure/measure.h"
 #include "sweep/sweep.h"
 #include "reference/reference.h"
+#include "report/report.h"
 #include "shadergen/expand.h"
 #include "table/compare.h"
 #include "table/select.h"
@@ -274,12 +275,14 @@ int run_sweep(const CommonOptions& common, sweep::SweepOptions o, const std::str
   if (tty) std::cerr << "\r\033[K";
   std::cout << table::to_markdown(r.table);
   for (const auto& m : r.table.meta.value("cost_models", nlohmann::json::array()))
-    std::cout << fmt::format("# cost model {} {} {}: {} rows, cross-validated R2 {:.3f}, Spearman {:.3f} ({} features)\n",
+    std::cout << fmt::format("# cost model {} {} {}: {} rows, cross-validated R2 {:.3f}, Spearman {:.3f} (against time_ms.min "
+                             "{:.3f}; {} features){}\n",
                              m.at("scene").get<std::string>(), m.at("view").get<std::string>(),
                              m.at("backend").get<std::string>(), m.at("rows").get<int>(), m.at("cv_r2").get<double>(),
-                             m.at("cv_spearman").get<double>(), m.value("features", "static + axes"));
-  std::cout << fmt::format("# {} rows ({} measured, {} reused) in {:.1f} s{} -> {}\n", r.table.rows.size(), r.rows_measured,
-                           r.rows_reused, r.wall_s, cal_file.empty() || no_calibration ? "" : ", calibrated by " + util::display_path(cal_file),
+                             m.at("cv_spearman").get<double>(), m.value("cv_spearman_min", 0.0), m.value("features", "static + axes"),
+                             m.value("predicts", false) ? ", predicts" : "");
+  std::cout << fmt::format("# {} rows ({} measured, {} reused, {} predicted) in {:.1f} s{} -> {}\n", r.table.rows.size(),
+                           r.rows_measured, r.rows_reused, r.rows_predicted, r.wall_s, cal_file.empty() || no_calibration ? "" : ", calibrated by " + util::display_path(cal_file),
                            util::display_path(o.out / "cost_table.json"));
   std::cout << "# report: " << util::display_path(o.out / "report.html") << " (and report.md)\n";
   return 0;
@@ -373,6 +376,22 @@ int run_select(const std::string& table_path, const table::SelectQuery& q) {
 int run_diff(const std::string& a, const std::string& b) {
   auto d = table::diff_tables(table::read_table(a), table::read_table(b));
   std::cout << table::format_diff(d, a, b);
+  return 0;
+}
+
+// aovar report: report.md and report.html from a cost table (a sweep's, a merged one, an edited one).
+int run_report(const std::string& table_path, const std::string& out) {
+  auto t = table::read_table(table_path);
+  std::filesystem::path images = std::filesystem::path(table_path).parent_path();
+  std::filesystem::path dir = out.empty() ? images : std::filesystem::path(out);
+  if (images.empty()) images = ".";
+  if (dir.empty()) dir = ".";
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw std::runtime_error(util::display_path(dir) + ": error: cannot create the output folder: " + ec.message());
+  report::write_reports(t, dir, images);
+  std::cout << fmt::format("{} rows -> {} and {}\n", t.rows.size(), util::display_path(dir / "report.md"),
+                           util::display_path(dir / "report.html"));
   return 0;
 }
 
@@ -495,6 +514,11 @@ int main(int argc, char** argv) {
   sel->add_option("--table,-t", select_table, "cost_table.json")->required();
   auto* budget = sel->add_option("--budget-ms", select_query.budget_ms, "lowest error with time_ms.min <= this");
   sel->add_option("--max-error", select_query.max_error, "cheapest variant with error.rmse <= this")->excludes(budget);
+  sel->add_option("--tolerance", select_query.tolerance,
+                  "name a variant >= 5% cheaper (budget) or with >= 5% less error (max-error) that gives up at most "
+                  "this share of the other criterion")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   sel->add_option("--scene,-s", select_query.scene, "only this scene (default: all; worst over them)");
   sel->add_option("--view", select_query.view, "only this view (default: each variant's worst view)");
   sel->add_option("--backend,-b", select_query.backend, "only this backend (default: each separately)");
@@ -509,6 +533,11 @@ int main(int argc, char** argv) {
   auto* mrg = app.add_subcommand("merge", "join shard cost tables into one (refuses conflicting duplicate rows)");
   mrg->add_option("OUT", merge_out, "cost_table.json to write")->required();
   mrg->add_option("IN", merge_in, "shard cost_table.json files")->required();
+
+  std::string report_table, report_out;
+  auto* rep = app.add_subcommand("report", "report.md and a self-contained report.html from a cost table");
+  rep->add_option("--table,-t", report_table, "cost_table.json (image paths are relative to its folder)")->required();
+  rep->add_option("--out,-o", report_out, "output folder (default: the table's folder)");
 
   CommonOptions sweep_common;
   sweep::SweepOptions so;
@@ -527,6 +556,8 @@ int main(int argc, char** argv) {
   swp->add_option("--rays", so.measure.reference_rays, "reference rays per pixel")->capture_default_str();
   swp->add_option("--batch", so.measure.batch, "pipelines prepared and interleaved at once (rows are saved per batch)")
       ->capture_default_str();
+  swp->add_option("--predict", so.predict,
+                  "variants (globs, repeatable) to predict from the cost model instead of measuring: rows marked predicted");
   swp->add_option("--shard", sweep_shard, "k/n: measure only the k-th of n shards of the variants (join with aovar merge)");
   swp->add_option("--calibration", sweep_calibration, "calibration file (default: calibration.json next to the manifest)");
   swp->add_flag("--no-calibration", sweep_no_calibration, "use the manifest's default parameters");
@@ -537,6 +568,7 @@ int main(int argc, char** argv) {
     if (sel->parsed()) return run_select(select_table, select_query);
     if (dif->parsed()) return run_diff(diff_a, diff_b);
     if (mrg->parsed()) return run_merge(merge_out, merge_in);
+    if (rep->parsed()) return run_report(report_table, report_out);
     if (list->parsed()) return run_list(list_opts, show_pruned);
     if (ana->parsed()) return run_analyze(analyze_in);
     if (ref->parsed()) {

@@ -84,6 +84,7 @@ double median(std::vector<double> v) {
 struct Point {
   double x, y;
   std::string colour, label;
+  bool hollow = false;  // predicted, not measured
 };
 std::string scatter_svg(const std::string& title, const std::string& x_label, const std::string& y_label,
                         const std::vector<Point>& points, const std::vector<std::pair<double, double>>& line = {}) {
@@ -117,8 +118,10 @@ std::string scatter_svg(const std::string& title, const std::string& x_label, co
     s += "<polyline fill=\"none\" stroke=\"black\" stroke-width=\"1\" stroke-dasharray=\"4 2\" points=\"" + pts + "\"/>";
   }
   for (const auto& p : points)
-    s += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"3.5\" fill=\"{}\" fill-opacity=\"0.8\"><title>{}</title></circle>",
-                     sx(p.x), sy(p.y), p.colour, escape(p.label));
+    s += p.hollow ? fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"3.5\" fill=\"none\" stroke=\"{}\"><title>{} "
+                                "(predicted)</title></circle>", sx(p.x), sy(p.y), p.colour, escape(p.label))
+                  : fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"3.5\" fill=\"{}\" fill-opacity=\"0.8\"><title>{}"
+                                "</title></circle>", sx(p.x), sy(p.y), p.colour, escape(p.label));
   return s + "</svg>";
 }
 
@@ -141,9 +144,12 @@ std::string time_bars_svg(const std::string& title, const std::vector<const Cost
     const CostRow& r = *rows[i];
     double y = top + i * (bar + 2), len = max_t > 0 ? r.time_ms.min / max_t * (w - left - 50) : 0;
     s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{}</text>", left - 4, y + bar - 2, escape(r.variant));
-    s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{:.1f}\" height=\"{}\" fill=\"{}\"><title>{} {:.2f} ms</title></rect>",
-                     left, y, len, bar, colour(algorithm_of(r)), escape(r.variant), r.time_ms.min);
-    s += fmt::format("<text x=\"{:.1f}\" y=\"{}\">{:.2f}</text>", left + len + 3, y + bar - 2, r.time_ms.min);
+    // Predicted rows: outlined bars and a "~" before the figure.
+    s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{:.1f}\" height=\"{}\" fill=\"{}\" stroke=\"{}\"><title>{} {:.2f} ms{}</title></rect>",
+                     left, y, len, bar, r.predicted ? "none" : colour(algorithm_of(r)), colour(algorithm_of(r)),
+                     escape(r.variant), r.time_ms.min, r.predicted ? " (predicted)" : "");
+    s += fmt::format("<text x=\"{:.1f}\" y=\"{}\">{}{:.2f}</text>", left + len + 3, y + bar - 2, r.predicted ? "~" : "",
+                     r.time_ms.min);
   }
   return s + "</svg>";
 }
@@ -208,9 +214,43 @@ std::vector<PairFinding> seed_pairs(const CostTable& t) {
   return out;
 }
 
+namespace {
+// The front over each scene's worst view (max error, max time over its views): the variants `aovar select`
+// chooses between when no view is given, fastest first. Scenes with a single view are skipped (their
+// per-view front above is the same).
+// "worst(a,b,c)" -> "a, b, c"
+std::string view_list(const std::string& worst) {
+  std::string inner = worst.rfind("worst(", 0) == 0 && worst.back() == ')' ? worst.substr(6, worst.size() - 7) : worst;
+  std::string out;
+  for (char ch : inner) out += ch == ',' ? std::string(", ") : std::string(1, ch);
+  return out;
+}
+
+std::map<std::pair<std::string, std::string>, std::vector<CostRow>> worst_view_fronts(const CostTable& t) {
+  std::map<std::pair<std::string, std::string>, std::set<std::string>> views;
+  for (const auto& r : t.rows) views[{r.scene, r.backend}].insert(r.view);
+  std::map<std::pair<std::string, std::string>, std::vector<CostRow>> out;
+  for (auto& r : table::worst_view(t.rows))
+    if (r.pareto && views[{r.scene, r.backend}].size() > 1) out[{r.scene, r.backend}].push_back(std::move(r));
+  for (auto& [k, rows] : out)
+    std::sort(rows.begin(), rows.end(), [](const CostRow& a, const CostRow& b) {
+      return std::tie(a.time_ms.min, a.variant) < std::tie(b.time_ms.min, b.variant);
+    });
+  return out;
+}
+}  // namespace
+
 std::string markdown_report(const CostTable& t) {
   std::ostringstream md;
   md << "# aovar sweep report\n\n";
+  for (const auto& [k, rows] : worst_view_fronts(t)) {
+    md << fmt::format("## What to ship: {} / {}, worst view\n\nEach variant's worst view (max RMSE and max time over "
+                      "{}); `aovar select` picks from this front:\n\n| variant | worst min ms | worst rmse | ssim |\n"
+                      "|---|---:|---:|---:|\n", k.first, k.second, view_list(rows.front().view));
+    for (const auto& r : rows)
+      md << fmt::format("| {} | {:.2f} | {:.4f} | {:.3f} |\n", r.variant, r.time_ms.min, r.error->rmse, r.error->ssim);
+    md << "\n";
+  }
   for (const auto& [g, rows] : groups_of(t)) {
     md << fmt::format("## {} / {} / {}\n\nPareto front (time against RMSE, fastest first):\n\n", std::get<0>(g), std::get<1>(g),
                       std::get<2>(g));
@@ -245,13 +285,24 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
     << (m.value("calibrated", false) ? "calibrated parameters" : "manifest defaults") << "; shard "
     << escape(m.value("shard", std::string("1/1"))) << ".</p><ul>";
   for (const auto& cm : m.value("cost_models", nlohmann::json::array()))
-    h << fmt::format("<li>cost model {} / {}: {} rows, cross-validated R² {:.3f}, Spearman ρ {:.3f} ({} features)</li>",
+    h << fmt::format("<li>cost model {} / {}: {} rows, cross-validated R² {:.3f}, Spearman ρ {:.3f} against the paired time "
+                     "({:.3f} against time_ms.min; {} features{})</li>",
                      escape(cm.value("scene", std::string())), escape(cm.value("view", std::string())), cm.value("rows", 0),
-                     cm.value("cv_r2", 0.0), cm.value("cv_spearman", 0.0), escape(cm.value("features", std::string())));
+                     cm.value("cv_r2", 0.0), cm.value("cv_spearman", 0.0), cm.value("cv_spearman_min", 0.0),
+                     escape(cm.value("features", std::string())), cm.value("predicts", false) ? "; predicts" : "");
   h << "</ul>";
   std::set<std::string> algorithms;
   for (const auto& r : t.rows) algorithms.insert(algorithm_of(r));
   h << legend_html(algorithms);
+  for (const auto& [k, rows] : worst_view_fronts(t)) {
+    h << "<h2>What to ship: " << escape(k.first) << " / " << escape(k.second) << ", worst view</h2><p>Each variant's "
+      << "worst view (max RMSE and max time over " << escape(view_list(rows.front().view)) << "); <code>aovar select</code> picks "
+      << "from this front.</p><table><tr><th>variant</th><th>worst min ms</th><th>worst RMSE</th><th>SSIM</th></tr>";
+    for (const auto& r : rows)
+      h << fmt::format("<tr><td>{}</td><td>{:.2f}</td><td>{:.4f}</td><td>{:.3f}</td></tr>", escape(r.variant), r.time_ms.min,
+                       r.error->rmse, r.error->ssim);
+    h << "</table>";
+  }
   for (const auto& [g, rows] : groups_of(t)) {
     std::string name = fmt::format("{} / {} / {}", std::get<0>(g), std::get<1>(g), std::get<2>(g));
     h << "<h2>" << escape(name) << "</h2>";
@@ -263,13 +314,31 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
         pts.push_back({r->time_ms.min, r->error->rmse, colour(a), r->variant});
         if (r->pareto) front.emplace_back(r->time_ms.min, r->error->rmse);
       }
-      if (double s = static_cost(*r); s >= 0) statics.push_back({s, r->time_ms.min, colour(a), r->variant});
+      if (double s = static_cost(*r); s >= 0) statics.push_back({s, r->time_ms.min, colour(a), r->variant, r->predicted});
     }
     h << scatter_svg("Pareto: time against error (dashed: the front)", "frame time, min (ms)", "RMSE vs reference", pts, front);
     h << scatter_svg("static cost against measured time", "static work per output pixel (ALU + reads, all passes)",
                      "frame time, min (ms)",
                      statics);
-    h << time_bars_svg("time per variant (fastest 60)", rows);
+    h << time_bars_svg("time per variant (fastest 60; outlined: predicted)", rows);
+    // The predicting cost model's held-out predictions against the measured (paired) time.
+    for (const auto& cm : m.value("cost_models", nlohmann::json::array())) {
+      if (!cm.value("predicts", false) || cm.value("scene", std::string()) != std::get<0>(g) ||
+          cm.value("view", std::string()) != std::get<1>(g) || cm.value("backend", std::string()) != std::get<2>(g))
+        continue;
+      std::vector<Point> held;
+      double lo = 1e300, hi = -1e300;
+      for (const auto& e : cm.value("held_out", nlohmann::json::array())) {
+        std::string v = e.value("variant", std::string());
+        double x = e.value("measured", 0.0), y = e.value("predicted", 0.0);
+        held.push_back({x, y, colour(v.substr(0, v.find('-'))), v});
+        lo = std::min({lo, x, y}), hi = std::max({hi, x, y});
+      }
+      if (held.empty()) continue;
+      h << scatter_svg(fmt::format("cost model ({}): held-out prediction, Spearman {:.3f} (dashed: equal)",
+                                   cm.value("features", std::string()), cm.value("cv_spearman", 0.0)),
+                       "measured paired time (ms)", "predicted by the model fitted without it (ms)", held, {{lo, lo}, {hi, hi}});
+    }
     h << "<h3>The front: variant, reference, error</h3>";
     for (const CostRow* r : rows) {
       if (!r->pareto || r->images.size() < 3) continue;
@@ -291,9 +360,11 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
   return h.str();
 }
 
-void write_reports(const CostTable& t, const fs::path& dir) {
+void write_reports(const CostTable& t, const fs::path& dir) { write_reports(t, dir, dir); }
+
+void write_reports(const CostTable& t, const fs::path& dir, const fs::path& images_dir) {
   util::write_atomic(dir / "report.md", markdown_report(t));
-  util::write_atomic(dir / "report.html", html_report(t, dir));
+  util::write_atomic(dir / "report.html", html_report(t, images_dir));
 }
 
 }  // namespace aovar::report

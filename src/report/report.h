@@ -26,7 +26,9 @@ std::string markdown_report(const table::CostTable& table);
 // `dir`: the folder the table's image paths are relative to (the sweep's output folder).
 std::string html_report(const table::CostTable& table, const std::filesystem::path& dir);
 
-// DIR/report.md and DIR/report.html, atomically.
+// DIR/report.md and DIR/report.html, atomically; the table's image paths are relative to `images_dir`
+// (default: DIR, where `aovar sweep` writes both).
 void write_reports(const table::CostTable& table, const std::filesystem::path& dir);
+void write_reports(const table::CostTable& table, const std::filesystem::path& dir, const std::filesystem::path& images_dir);
 
 }  // namespace aovar::report

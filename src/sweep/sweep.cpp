@@ -37,7 +37,8 @@ namespace {
 
 // The `static` object of a row (DESIGN.md §6): the AO pass program's counts and all fragment passes'
 // totals from the SPIR-V (src/analyze), with the bytes per pixel the variant's formats imply.
-json static_json(const analyze::ProgramCost& ao, const analyze::ProgramCost& total, double ao_bytes, double work) {
+json static_json(const analyze::ProgramCost& ao, const analyze::ProgramCost& total, double ao_bytes, double work,
+                 const json& weighted) {
   auto counts = [](const analyze::ProgramCost& c) {
     json fetches = json::object();
     const std::pair<int, const char*> names[] = {{analyze::kDepth, "depth"},   {analyze::kNormal, "normal"},
@@ -51,17 +52,28 @@ json static_json(const analyze::ProgramCost& ao, const analyze::ProgramCost& tot
                 {"unprojections", c.unprojections}, {"loops", {{"constant", constant}, {"dynamic", dynamic},
                                                                {"unrolled", 0}}}};
   };
-  return {{"ao", counts(ao)}, {"passes", counts(total)}, {"ao_bytes_per_pixel", ao_bytes}, {"work_per_pixel", work}};
+  return {{"ao", counts(ao)},           {"passes", counts(total)}, {"ao_bytes_per_pixel", ao_bytes},
+          {"work_per_pixel", work}, {"weighted", weighted}};
 }
 
-// Static costs of every variant in `keys`, from the Vulkan SPIR-V of their fragment programs.
-std::map<std::string, json> static_costs(const measure::MeasureOptions& mo, const std::set<std::string>& keys) {
+// A variant's static cost (the `static` object), its axes and the hash of its Vulkan programs (equal to
+// the lavapipe rows' spirv_hash: variants with the same programs are measured once).
+struct VariantStatic {
+  json cost;
+  std::map<std::string, std::string> axes;
+  std::string vulkan_programs;
+};
+
+// Static costs of the variants the globs select (exact keys are globs too), from the Vulkan SPIR-V of their
+// fragment programs.
+std::map<std::string, VariantStatic> static_costs(const measure::MeasureOptions& mo, const std::vector<std::string>& globs) {
   compile::CompileOptions co;
   co.targets = {variants::Target::vulkan};
-  co.globs.assign(keys.begin(), keys.end());
+  co.globs = globs;
   co.cache_dir = mo.cache_dir;
+  co.jobs = mo.jobs;
   auto c = compile::compile_space(mo.manifest, co);
-  std::map<std::string, json> out;
+  std::map<std::string, VariantStatic> out;
   // measure compiled the same programs already (from the cache): a failure here is not a template error.
   if (!c.ok()) throw std::runtime_error("sweep: static analysis: " + (c.diagnostics.empty() ? std::string("compile failed") : c.diagnostics.front()));
   const int t = c.target_index(variants::Target::vulkan);
@@ -72,23 +84,29 @@ std::map<std::string, json> static_costs(const measure::MeasureOptions& mo, cons
     return it->second;
   };
   for (const auto& entry : c.space.variants) {
-    if (!keys.count(entry.key)) continue;
+    VariantStatic vs;
     std::string depth_format, normals, blur;
     double resolution = 1.0;
     for (int a = 0; a < variants::kAxisCount; ++a) {
       int i = entry.point[a] >= 0 ? entry.point[a] : 0;
       auto axis = variants::axis_at(a);
       const std::string& v = c.manifest.value(axis, i).text;
+      vs.axes[std::string(variants::axis_info(axis).name)] = v;
       if (axis == variants::Axis::depth_format) depth_format = v;
       if (axis == variants::Axis::normals) normals = v;
       if (axis == variants::Axis::blur) blur = v;
       if (axis == variants::Axis::resolution) resolution = std::stod(v);
     }
+    util::Hasher programs;  // as measure's spirv_hash: every program of every pass, in pass order
+    for (const auto& pass : entry.passes)
+      for (int p : pass)
+        if (p >= 0) programs.add(c.builds[t][p].hash);
+    vs.vulkan_programs = programs.hex();
     // Work per output pixel of the fullscreen passes (src/render/plan.h): each program's ALU + texture reads,
     // times its draws (separable passes 2, the z pyramid 1 + 1/4 + ... < 4/3) and the share of output
     // pixels it covers (AO-resolution passes resolution², the upsample 1). The G-buffer is left out: it
     // depends on the geometry, not the variant.
-    analyze::ProgramCost ao, total;
+    analyze::ProgramCost ao, total, ao_weighted, others_weighted;
     double work = 0;
     for (std::size_t p = 0; p < c.manifest.passes.size(); ++p) {
       int fragment = entry.passes[p][1];
@@ -101,9 +119,18 @@ std::map<std::string, json> static_costs(const measure::MeasureOptions& mo, cons
       double draws = pass == "zmip" ? 4.0 / 3.0 : (pass == "unsharp_blur" || (pass.rfind("blur", 0) == 0 && blur == "separable")) ? 2.0 : 1.0;
       double pixels = pass == "upsample" ? 1.0 : resolution * resolution;
       work += draws * pixels * (pc.alu + pc.total_fetches());
+      (pass == "ao" ? ao_weighted : others_weighted) += pc.scaled(draws * pixels);
     }
-    out[entry.key] = static_json(ao, total, analyze::bytes_per_pixel(ao.fetches, analyze::binding_bytes(depth_format, normals)),
-                                 work);
+    // Per instruction class, weighted like `work`: the AO pass apart from the others, because its reads
+    // scatter over the radius while the blurs' and the upsample's read neighbours.
+    auto classes = [](const analyze::ProgramCost& k) {
+      return json{{"fetches", k.total_fetches()}, {"alu", k.alu}, {"transcendental", k.transcendental + k.normalize_length},
+                  {"div", k.div}, {"cmp_select", k.cmp_select}, {"branches", k.branches}};
+    };
+    json weighted = {{"ao", classes(ao_weighted)}, {"others", classes(others_weighted)}};
+    vs.cost = static_json(ao, total, analyze::bytes_per_pixel(ao.fetches, analyze::binding_bytes(depth_format, normals)),
+                          work, weighted);
+    out[entry.key] = std::move(vs);
   }
   return out;
 }
@@ -143,6 +170,26 @@ table::FeatureSpec compact_features() {
     double work = r.static_cost.value("work_per_pixel", 0.0);
     return std::vector<double>{work, s[0] * res * res, res * res, axis("blur") == "separable" ? 1.0 : 0.0,
                                axis("blur") == "bilateral" ? 1.0 : 0.0, axis("progressive") == "true" ? 1.0 : 0.0};
+  };
+  return f;
+}
+
+// Instruction classes weighted by the pixels each pass covers (the `weighted` object): AO pass and the
+// other passes apart, six classes each. On lavapipe every class has its own price (a texture read is a
+// JIT-compiled sampler, a transcendental a polynomial, a branch masks SIMD lanes), which one sum of
+// counts cannot capture; fitted with a stronger ridge (lambda 1) since 12 features meet 30-40 rows.
+table::FeatureSpec weighted_class_features() {
+  static const char* passes[] = {"ao", "others"};
+  static const char* classes[] = {"fetches", "alu", "transcendental", "div", "cmp_select", "branches"};
+  table::FeatureSpec f;
+  for (const char* p : passes)
+    for (const char* c : classes) f.names.push_back(std::string(p) + "." + c);
+  f.extract = [](const table::CostRow& r) {
+    std::vector<double> x;
+    const json* w = r.static_cost.contains("weighted") ? &r.static_cost["weighted"] : nullptr;
+    for (const char* p : passes)
+      for (const char* c : classes) x.push_back(w ? (*w)[p].value(c, 0.0) : 0.0);
+    return x;
   };
   return f;
 }
@@ -193,25 +240,87 @@ SweepResult run_sweep(const SweepOptions& o, const std::function<void(const std:
   std::set<std::string> keys;
   for (const auto& row : res.table.rows) keys.insert(row.variant);
   if (progress) progress("analysing the SPIR-V of " + std::to_string(keys.size()) + " variants");
-  auto statics = static_costs(o.measure, keys);
+  auto statics = static_costs(o.measure, std::vector<std::string>(keys.begin(), keys.end()));
   for (auto& row : res.table.rows)
-    if (auto it = statics.find(row.variant); it != statics.end()) row.static_cost = it->second;
+    if (auto it = statics.find(row.variant); it != statics.end()) row.static_cost = it->second.cost;
   json models = json::array();
   std::map<std::tuple<std::string, std::string, std::string>, std::vector<table::CostRow>> groups;
   for (const auto& row : res.table.rows) groups[{row.scene, row.view, row.backend}].push_back(row);
+  std::map<std::tuple<std::string, std::string, std::string>, std::pair<std::string, table::CostModel>> best;
   for (const auto& [g, rows] : groups) {
     if (rows.size() < 8) continue;  // 5 folds need more than one row each, mostly
-    // Two models: six compact features (static work per pixel and the pass structure), and, with 4 rows
-    // per parameter or more, every static count plus the axis one-hots. Both are reported.
+    // Three models, all reported: six compact features (static work per pixel and the pass structure),
+    // twelve instruction classes weighted by pixels, and, with 4 rows per parameter or more, every static
+    // count plus the axis one-hots. Predictions use the one with the best cross-validated Spearman.
+    struct Spec {
+      std::string name;
+      table::FeatureSpec features;
+      double lambda;
+    };
+    // The target is the paired time (the ratio to the baseline timed in the same rounds, times the
+    // baseline's time): rows measured in different batches drift apart by 5-10 % on this host, which
+    // min-of-N alone does not remove. Spearman against the raw time_ms.min is reported next to it.
+    double baseline_ms = table::implied_baseline_ms(rows);
+    auto target = table::paired_time(baseline_ms);
+    std::vector<double> raw;
+    for (const auto& r : rows) raw.push_back(r.time_ms.min);
     auto full = table::axis_features(rows).then(static_features());
-    std::vector<std::pair<std::string, table::FeatureSpec>> specs = {{"compact static", compact_features()}};
-    if (rows.size() >= 4 * full.names.size()) specs.emplace_back("static + axes", full);
-    for (const auto& [name, spec] : specs) {
-      auto model = table::fit_cost_model(rows, spec);
+    std::vector<Spec> specs = {{"compact static", compact_features(), 1e-2}, {"weighted classes", weighted_class_features(), 1.0}};
+    if (rows.size() >= 4 * full.names.size()) specs.push_back({"static + axes", full, 1e-2});
+    for (const auto& sp : specs) {
+      auto model = table::fit_cost_model(rows, sp.features, sp.lambda, 5, target);
       models.push_back({{"scene", std::get<0>(g)}, {"view", std::get<1>(g)}, {"backend", std::get<2>(g)},
                         {"rows", model.n}, {"cv_r2", model.cv.r2}, {"cv_spearman", model.cv.spearman},
-                        {"folds", model.cv.k}, {"features", name}});
+                        {"cv_spearman_min", table::spearman(raw, model.cv.held_out)}, {"target", "paired time"},
+                        {"baseline_ms", baseline_ms}, {"folds", model.cv.k}, {"features", sp.name},
+                        {"lambda", sp.lambda}});
+      auto it = best.find(g);
+      if (it == best.end() || model.cv.spearman > it->second.second.cv.spearman) best[g] = {sp.name, model};
     }
+  }
+  for (auto& m : models) {
+    std::tuple<std::string, std::string, std::string> g{m["scene"], m["view"], m["backend"]};
+    auto it = best.find(g);
+    m["predicts"] = it != best.end() && it->second.first == m["features"].get<std::string>();
+    if (!m["predicts"]) continue;
+    // The predicting model's held-out predictions, for the report's predicted-against-measured chart.
+    json held = json::array();
+    const auto& rows = groups.at(g);
+    auto target = table::paired_time(m["baseline_ms"].get<double>());
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      held.push_back({{"variant", rows[i].variant}, {"measured", target(rows[i])}, {"measured_min", rows[i].time_ms.min},
+                      {"predicted", it->second.second.cv.held_out[i]}});
+    m["held_out"] = held;
+  }
+  // Predicted rows: variants the --predict globs select that were not measured (nor share a measured
+  // variant's programs), timed by their group's best model; no error, never on the Pareto front.
+  if (!o.predict.empty() && !best.empty()) {
+    if (progress) progress("predicting the time of the unmeasured variants");
+    std::set<std::string> measured_programs;
+    for (const auto& [k, vs] : statics) measured_programs.insert(vs.vulkan_programs);
+    auto candidates = static_costs(o.measure, o.predict);
+    std::vector<table::CostRow> predicted;
+    for (const auto& [key, vs] : candidates) {
+      if (keys.count(key) || measured_programs.count(vs.vulkan_programs)) continue;
+      if (o.measure.shard_count > 1 && measure::shard_of(key, o.measure.shard_count) != o.measure.shard_index) continue;
+      for (const auto& [g, model] : best) {
+        const table::CostRow& like = groups.at(g).front();  // scene, view, backend, size, threads
+        table::CostRow r;
+        r.variant = key;
+        r.axes = vs.axes;
+        r.scene = like.scene;
+        r.view = like.view;
+        r.backend = like.backend;
+        r.size = like.size;
+        r.threads = like.threads;
+        r.spirv_hash = r.backend == "lavapipe" ? vs.vulkan_programs : std::string();
+        r.static_cost = vs.cost;
+        auto rows = table::predict_rows(model.second, {r});
+        predicted.push_back(std::move(rows.front()));
+      }
+    }
+    res.rows_predicted = static_cast<int>(predicted.size());
+    for (auto& r : predicted) res.table.rows.push_back(std::move(r));
   }
   table::mark_pareto(res.table);
   res.table.meta = {{"tool", "aovar sweep"},

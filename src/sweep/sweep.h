@@ -19,11 +19,14 @@ struct SweepOptions {
                                      // size, reps, rays, calibration, shard...; `scene` and `out` are set per scene
   std::vector<std::string> scenes = {"builtin:atrium"};
   std::filesystem::path out;
+  // Variants (globs) to predict rather than measure: each one not measured gets a row per scene, view and
+  // backend with the time of that group's best cost model, marked `predicted` (no error, not on the front).
+  std::vector<std::string> predict;
 };
 
 struct SweepResult {
   table::CostTable table;
-  int rows_measured = 0, rows_reused = 0;
+  int rows_measured = 0, rows_reused = 0, rows_predicted = 0;
   double wall_s = 0;
 };
 

@@ -44,6 +44,9 @@ struct CrossValidation {
 CrossValidation cross_validate(const std::vector<std::vector<double>>& x, const std::vector<double>& y,
                                double lambda, int k = 5);
 
+// What a model predicts for a row; default: time_ms.min.
+using Target = std::function<double(const CostRow&)>;
+
 struct CostModel {
   FeatureSpec features;
   LinearModel model;   // fitted on all rows
@@ -55,7 +58,14 @@ struct CostModel {
 // Fits on the measured rows (predicted == false) of `rows`; the caller picks one scene/view/backend/size.
 // Throws std::runtime_error with fewer than k measured rows.
 CostModel fit_cost_model(const std::vector<CostRow>& rows, const FeatureSpec& features, double lambda = 1e-2,
-                         int k = 5);
+                         int k = 5, const Target& target = {});
+
+// The frame time with drift between rounds and batches removed: rel_time_median (the paired ratio to the
+// baseline timed in the same rounds) times `baseline_ms`; time_ms.min for rows without the ratio.
+Target paired_time(double baseline_ms);
+// The baseline's time implied by rows (median of time_ms.min / rel_time_median over rows that have both; 0
+// when none do).
+double implied_baseline_ms(const std::vector<CostRow>& rows);
 
 // Copies of `unmeasured` with time_ms (min = median = p90) from the model, n = 0, predicted = true.
 std::vector<CostRow> predict_rows(const CostModel& model, std::vector<CostRow> unmeasured);

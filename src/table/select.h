@@ -13,6 +13,10 @@ struct SelectQuery {
   std::optional<double> budget_ms;   // lowest error with time_ms.min <= budget
   std::optional<double> max_error;   // cheapest with error.rmse <= max_error
   std::string scene, view, backend;  // empty: all
+  // An alternative is worth a line when it gives up at most this share (0.02 = 2 %) of the criterion the
+  // query did not fix: a variant much faster for nearly the same error (budget), or one with much less
+  // error for nearly the same time (max-error).
+  double tolerance = 0.02;
 };
 
 // One variant on one backend, aggregated over the rows the query keeps: the worst view (max rmse,
@@ -29,6 +33,9 @@ struct Selection {
   std::optional<Candidate> choice;
   std::vector<Candidate> runners_up;  // the next 3 in the order that made the choice
   std::optional<Candidate> nearest;   // when nothing satisfies: fastest (budget) / lowest error (max-error)
+  // Budget: the fastest candidate at least 5 % faster than the choice with rmse <= choice x (1 + tolerance).
+  // Max-error: the lowest-error candidate with at least 5 % less rmse at time <= choice x (1 + tolerance).
+  std::optional<Candidate> consider;
   std::string text;                   // what `aovar select` prints
 };
 

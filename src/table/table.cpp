@@ -68,6 +68,7 @@ json to_json(const CostRow& r) {
           {"static", r.static_cost},
           {"time_ms", {{"min", r.time_ms.min}, {"median", r.time_ms.median}, {"p90", r.time_ms.p90}, {"n", r.time_ms.n}}},
           {"rel_time", r.rel_time},
+          {"rel_time_median", r.rel_time_median},
           {"error", error},
           {"health", {{"nan", r.health.nan}, {"inf", r.health.inf}, {"out_of_range", r.health.out_of_range}}},
           {"pareto", r.pareto},
@@ -102,6 +103,8 @@ CostRow row_from_json(const json& j) {
     r.time_ms = {t.at("min").get<double>(), t.value("median", 0.0), t.value("p90", 0.0), t.value("n", 0)};
     field = "rel_time";
     r.rel_time = j.value("rel_time", 0.0);
+    field = "rel_time_median";
+    r.rel_time_median = j.value("rel_time_median", 0.0);
     field = "error";
     if (j.contains("error") && !j.at("error").is_null()) {
       ErrorStat e;
@@ -221,7 +224,7 @@ namespace {
 const std::vector<std::string> kFixedHead = {"variant"};
 const std::vector<std::string> kFixedTail = {
     "spirv_hash", "scene", "view", "backend", "size", "threads", "time_ms.min", "time_ms.median", "time_ms.p90",
-    "time_ms.n", "rel_time", "error.rmse", "error.mae", "error.psnr", "error.ssim", "error.bias", "error.max",
+    "time_ms.n", "rel_time", "rel_time_median", "error.rmse", "error.mae", "error.psnr", "error.ssim", "error.bias", "error.max",
     "health.nan", "health.inf", "health.out_of_range", "pareto", "predicted", "flicker", "images", "static"};
 }  // namespace
 
@@ -253,7 +256,7 @@ std::string to_csv(const CostTable& t) {
     };
     std::vector<std::string> tail = {r.spirv_hash, r.scene, r.view, r.backend, r.size, std::to_string(r.threads),
                                      text(r.time_ms.min), text(r.time_ms.median), text(r.time_ms.p90),
-                                     std::to_string(r.time_ms.n), text(r.rel_time), e(0), e(1), e(2), e(3), e(4), e(5),
+                                     std::to_string(r.time_ms.n), text(r.rel_time), text(r.rel_time_median), e(0), e(1), e(2), e(3), e(4), e(5),
                                      std::to_string(r.health.nan), std::to_string(r.health.inf),
                                      std::to_string(r.health.out_of_range), r.pareto ? "true" : "false",
                                      r.predicted ? "true" : "false", r.flicker ? text(*r.flicker) : "", images,
@@ -289,6 +292,7 @@ CostTable from_csv(const std::string& s) {
                  parse_double(c["time_ms.p90"], "time_ms.p90"),
                  static_cast<int>(parse_double(c["time_ms.n"], "time_ms.n"))};
     r.rel_time = parse_double(c["rel_time"], "rel_time");
+    if (c.count("rel_time_median")) r.rel_time_median = parse_double(c["rel_time_median"], "rel_time_median");
     if (!c["error.rmse"].empty()) {
       ErrorStat e;
       for (int i = 0; i < 6; ++i) {

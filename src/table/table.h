@@ -39,7 +39,10 @@ struct CostRow {
   int threads = 0;
   nlohmann::json static_cost = nlohmann::json::object();  // "static": the static analyser's object (opaque here)
   TimeMs time_ms;
-  double rel_time = 0;
+  double rel_time = 0;           // time_ms.min / the baseline's min in the same batch
+  // Median over rounds of this row's frame time / the baseline's in the same round: a paired ratio that
+  // cancels drift between rounds and batches (0 when unknown, e.g. predicted rows).
+  double rel_time_median = 0;
   std::optional<ErrorStat> error;            // null when measured without --reference
   Health health;
   bool pareto = false;
