@@ -105,6 +105,20 @@ void main() {
   EXPECT_EQ(c.fetch(analyze::kNormal), 6);
   EXPECT_EQ(c.position_calls, 7);
   EXPECT_EQ(c.unprojections, 7);  // counted inside ao_position, once each
+  EXPECT_EQ(c.projections, 0);
+}
+
+TEST(Analyze, ProjectionsAreCountedThroughLoops) {
+  auto c = cost_of(R"(
+vec2 ao_uv_from_view_position(vec3 p) { return p.xy / -p.z; }
+void main() {
+  float s = 0.0;
+  for (int k = 0; k < 5; ++k) s += texture(depth_tex, ao_uv_from_view_position(vec3(k, 1.0, -2.0))).r;
+  o_color = vec4(s, ao_uv_from_view_position(vec3(1.0, 2.0, -3.0)), 1.0);
+})");
+  EXPECT_EQ(c.projections, 6);
+  EXPECT_EQ(c.unprojections, 0);
+  EXPECT_EQ(c.fetch(analyze::kDepth), 5);
 }
 
 TEST(Analyze, DivisionsTranscendentalsFma) {
@@ -188,6 +202,9 @@ TEST(Analyze, AoMethodFetchesMatchDocumentedCounts) {
     EXPECT_EQ(cost.fetch(analyze::kNormal), want_normal) << var.key;
     EXPECT_EQ(cost.fetch(analyze::kPrefilter), want_prefilter) << var.key;
     EXPECT_EQ(cost.fetch(-1), 0) << var.key << ": a texture read whose binding was not resolved";
+    // StarCraft II projects each view-space sample back to the screen (README: N projections); no other
+    // method projects (their taps are screen offsets).
+    EXPECT_EQ(cost.projections, method == "sc2" ? n : 0) << var.key;
     EXPECT_FALSE(cost.has_dynamic_loop()) << var.key;
     ++checked;
   }

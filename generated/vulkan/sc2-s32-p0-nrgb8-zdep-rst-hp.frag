@@ -340,6 +340,18 @@ vec2 ao_rotation(ivec2 pixel) {
     return vec2(cos(angle), sin(angle));
 }
 #line 35 1
+#line 1 11
+// Screen uv of a view-space position: the inverse of common/unproject.glsl's similar-triangles
+// reconstruction, exact for either `reconstruct` value since both describe the same projection. A
+// separate file so that only the methods that project (StarCraft II) include it.
+#line 5 11
+
+// Screen uv of view position p (view.z < 0).
+vec2 ao_uv_from_view_position(vec3 p) {
+    vec2 ndc = (p.xy / -p.z - frame.proj_info.zw) / frame.proj_info.xy;
+    return (ndc - frame.uv_to_ndc.zw) / frame.uv_to_ndc.xy;
+}
+#line 36 1
 
 AO_UBO(1) uniform AOParams {
     float bias;     // beta, relative to z_C
@@ -355,12 +367,6 @@ const int AO_TAPS = AO_SAMPLES / 2;
 #else
 const int AO_TAPS = AO_SAMPLES;
 #endif
-
-// Screen uv of view position p (inverse of similar triangles: frame.proj_info, frame.uv_to_ndc).
-vec2 sc2_uv_from_view(vec3 p) {
-    vec2 ndc = (p.xy / -p.z - frame.proj_info.zw) / frame.proj_info.xy;
-    return (ndc - frame.uv_to_ndc.zw) / frame.uv_to_ndc.xy;
-}
 
 void main() {
     vec3 c = ao_position(v_uv);
@@ -407,7 +413,7 @@ void main() {
         if (-p.z <= frame.clip.x) {
             continue;
         }
-        vec2 uv = sc2_uv_from_view(p);
+        vec2 uv = ao_uv_from_view_position(p);
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
             continue;
         }

@@ -32,6 +32,7 @@
 #include "common/fetch.glsl"
 #include "common/kernels.glsl"
 #include "common/noise.glsl"
+#include "common/project.glsl"
 
 AO_UBO(1) uniform AOParams {
     float bias;     // beta, relative to z_C
@@ -47,12 +48,6 @@ const int AO_TAPS = AO_SAMPLES / 2;
 #else
 const int AO_TAPS = AO_SAMPLES;
 #endif
-
-// Screen uv of view position p (inverse of similar triangles: frame.proj_info, frame.uv_to_ndc).
-vec2 sc2_uv_from_view(vec3 p) {
-    vec2 ndc = (p.xy / -p.z - frame.proj_info.zw) / frame.proj_info.xy;
-    return (ndc - frame.uv_to_ndc.zw) / frame.uv_to_ndc.xy;
-}
 
 void main() {
     vec3 c = ao_position(v_uv);
@@ -99,7 +94,7 @@ void main() {
         if (-p.z <= frame.clip.x) {
             continue;
         }
-        vec2 uv = sc2_uv_from_view(p);
+        vec2 uv = ao_uv_from_view_position(p);
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
             continue;
         }

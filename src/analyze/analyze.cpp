@@ -387,6 +387,7 @@ struct Analyzer {
           std::string name = fname(callee);
           c.calls += k;
           if (starts_with(name, "ao_view_position_from_depth(")) c.unprojections += k;
+          if (starts_with(name, "ao_uv_from_view_position(")) c.projections += k;
           if (starts_with(name, "ao_position(")) c.position_calls += k;
           ProgramCost sub = function_cost(callee);
           sub.loops.clear();
@@ -416,7 +417,7 @@ ProgramCost& ProgramCost::operator+=(const ProgramCost& o) {
   for (const auto& [b, n] : o.fetches) fetches[b] += n;
   alu += o.alu; fma += o.fma; div += o.div; transcendental += o.transcendental;
   normalize_length += o.normalize_length; cmp_select += o.cmp_select; branches += o.branches;
-  calls += o.calls; unprojections += o.unprojections; position_calls += o.position_calls;
+  calls += o.calls; unprojections += o.unprojections; projections += o.projections; position_calls += o.position_calls;
   loops.insert(loops.end(), o.loops.begin(), o.loops.end());
   if (error.empty()) error = o.error;
   return *this;
@@ -425,7 +426,7 @@ ProgramCost ProgramCost::scaled(double k) const {
   ProgramCost c = *this;
   for (auto& [b, n] : c.fetches) n *= k;
   for (double* v : {&c.alu, &c.fma, &c.div, &c.transcendental, &c.normalize_length, &c.cmp_select, &c.branches,
-                    &c.calls, &c.unprojections, &c.position_calls})
+                    &c.calls, &c.unprojections, &c.projections, &c.position_calls})
     *v *= k;
   return c;
 }
@@ -488,6 +489,7 @@ nlohmann::ordered_json cost_json(const ProgramCost& c, const std::map<int, int>*
   j["cmp_select"] = c.cmp_select;
   j["branches"] = c.branches;
   j["unprojections"] = c.unprojections;
+  j["projections"] = c.projections;
   j["position_calls"] = c.position_calls;
   if (bytes) j["bytes_per_pixel"] = bytes_per_pixel(c.fetches, *bytes);
   nlohmann::ordered_json loops = nlohmann::ordered_json::array();
@@ -610,19 +612,19 @@ std::string analysis_json(const Analysis& a) {
 
 std::string program_table(const Analysis& a) {
   std::ostringstream out;
-  out << fmt::format("{:<44} {:>6} {:>6} {:>6} {:>6} {:>6} {:>7} {:>5} {:>5} {:>6} {:>7} {:>6} {:>6}  {}\n", "program",
+  out << fmt::format("{:<44} {:>6} {:>6} {:>6} {:>6} {:>6} {:>7} {:>5} {:>5} {:>6} {:>7} {:>6} {:>6} {:>5}  {}\n", "program",
                      "depth", "normal", "posit", "input", "prefil", "alu", "fma", "div", "transc", "cmp/sel",
-                     "branch", "unproj", "loops");
+                     "branch", "unproj", "proj", "loops");
   for (const auto& p : a.programs) {
     if (!p.cost.error.empty()) {
       out << fmt::format("{:<44} error: {}\n", p.key, p.cost.error);
       continue;
     }
     const auto& c = p.cost;
-    out << fmt::format("{:<44} {:>6g} {:>6g} {:>6g} {:>6g} {:>6g} {:>7g} {:>5g} {:>5g} {:>6g} {:>7g} {:>6g} {:>6g}  {}\n",
+    out << fmt::format("{:<44} {:>6g} {:>6g} {:>6g} {:>6g} {:>6g} {:>7g} {:>5g} {:>5g} {:>6g} {:>7g} {:>6g} {:>6g} {:>5g}  {}\n",
                        p.key, c.fetch(kDepth), c.fetch(kNormal), c.fetch(kPosition), c.fetch(kInput) + c.fetch(kHistory),
                        c.fetch(kPrefilter), c.alu, c.fma, c.div, c.transcendental, c.cmp_select, c.branches,
-                       c.unprojections, loops_text(c));
+                       c.unprojections, c.projections, loops_text(c));
   }
   return out.str();
 }

@@ -1,6 +1,6 @@
 #pragma once
 // Static cost of SPIR-V fragment programs (issue 6 point 1): texture reads per sampler binding, ALU,
-// FMA, divisions, transcendentals, comparisons/selects, branches and unprojections, all multiplied
+// FMA, divisions, transcendentals, comparisons/selects, branches, projections and unprojections, all multiplied
 // through loops with constant trip counts; plus per-variant sums and estimated bytes read per pixel.
 //
 // The walker reads the SPIR-V words itself (SPIRV-Tools' opt IR headers are not installed on Debian 12,
@@ -42,6 +42,7 @@ struct ProgramCost {
   double branches = 0;            // OpBranchConditional, OpSwitch
   double calls = 0;               // OpFunctionCall
   double unprojections = 0;       // calls to ao_view_position_from_depth (texture -> view space)
+  double projections = 0;         // calls to ao_uv_from_view_position (view space -> screen uv)
   double position_calls = 0;      // calls to ao_position (buffer read or unprojection, per the position axis)
   std::vector<LoopInfo> loops;    // every loop left in the module (reachable from the entry point or not)
   bool upper_bound = true;        // always: skipped branches are counted

@@ -512,7 +512,7 @@ int main(int argc, char** argv) {
   auto* sel = app.add_subcommand("select", "the variant to ship under a time budget or an error target, with the "
                                            "reason, the runners-up and the margin");
   sel->add_option("--table,-t", select_table, "cost_table.json")->required();
-  auto* budget = sel->add_option("--budget-ms", select_query.budget_ms, "lowest error with time_ms.min <= this");
+  auto* budget = sel->add_option("--budget-ms", select_query.budget_ms, "lowest error with time (time_ms.paired, else min) <= this");
   sel->add_option("--max-error", select_query.max_error, "cheapest variant with error.rmse <= this")->excludes(budget);
   sel->add_option("--tolerance", select_query.tolerance,
                   "name a variant >= 5% cheaper (budget) or with >= 5% less error (max-error) that gives up at most "

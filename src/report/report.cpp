@@ -25,7 +25,8 @@ std::map<GroupKey, std::vector<const CostRow*>> groups_of(const CostTable& t) {
   for (const auto& r : t.rows) g[{r.scene, r.view, r.backend}].push_back(&r);
   for (auto& [k, rows] : g)
     std::sort(rows.begin(), rows.end(), [](const CostRow* a, const CostRow* b) {
-      return std::tie(a->time_ms.min, a->variant) < std::tie(b->time_ms.min, b->variant);
+      double ta = a->time_ms.decision(), tb = b->time_ms.decision();
+      return std::tie(ta, a->variant) < std::tie(tb, b->variant);
     });
   return g;
 }
@@ -136,20 +137,20 @@ std::string time_bars_svg(const std::string& title, const std::vector<const Cost
   const std::size_t n = std::min<std::size_t>(rows.size(), 60);
   const double w = 560, bar = 12, left = 290, top = 26;
   double h = top + n * (bar + 2) + 10, max_t = 0;
-  for (std::size_t i = 0; i < n; ++i) max_t = std::max(max_t, rows[i]->time_ms.min);
+  for (std::size_t i = 0; i < n; ++i) max_t = std::max(max_t, rows[i]->time_ms.decision());
   std::string s = fmt::format("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" "
                               "font-size=\"10\"><rect width=\"100%\" height=\"100%\" fill=\"white\"/>"
                               "<text x=\"4\" y=\"16\" font-size=\"13\">{}</text>", w, h, escape(title));
   for (std::size_t i = 0; i < n; ++i) {
     const CostRow& r = *rows[i];
-    double y = top + i * (bar + 2), len = max_t > 0 ? r.time_ms.min / max_t * (w - left - 50) : 0;
+    double y = top + i * (bar + 2), len = max_t > 0 ? r.time_ms.decision() / max_t * (w - left - 50) : 0;
     s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{}</text>", left - 4, y + bar - 2, escape(r.variant));
     // Predicted rows: outlined bars and a "~" before the figure.
     s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{:.1f}\" height=\"{}\" fill=\"{}\" stroke=\"{}\"><title>{} {:.2f} ms{}</title></rect>",
                      left, y, len, bar, r.predicted ? "none" : colour(algorithm_of(r)), colour(algorithm_of(r)),
-                     escape(r.variant), r.time_ms.min, r.predicted ? " (predicted)" : "");
+                     escape(r.variant), r.time_ms.decision(), r.predicted ? " (predicted)" : "");
     s += fmt::format("<text x=\"{:.1f}\" y=\"{}\">{}{:.2f}</text>", left + len + 3, y + bar - 2, r.predicted ? "~" : "",
-                     r.time_ms.min);
+                     r.time_ms.decision());
   }
   return s + "</svg>";
 }
@@ -202,8 +203,8 @@ std::vector<PairFinding> seed_pairs(const CostTable& t) {
     for (const auto& [rest, m] : by_rest) {
       if (!m.count(sp.a) || !m.count(sp.b)) continue;
       const CostRow &ra = *m.at(sp.a), &rb = *m.at(sp.b);
-      if (ra.predicted || rb.predicted || ra.time_ms.min <= 0) continue;
-      dt.push_back(100.0 * (rb.time_ms.min - ra.time_ms.min) / ra.time_ms.min);
+      if (ra.predicted || rb.predicted || ra.time_ms.decision() <= 0) continue;
+      dt.push_back(100.0 * (rb.time_ms.decision() - ra.time_ms.decision()) / ra.time_ms.decision());
       if (ra.error && rb.error) de.push_back(rb.error->rmse - ra.error->rmse);
       ++f.pairs;
     }
@@ -215,6 +216,11 @@ std::vector<PairFinding> seed_pairs(const CostTable& t) {
 }
 
 namespace {
+const char* kTimeNote =
+    "Times are paired (time_ms.paired): each variant's median ratio to the baseline timed in the same rounds, "
+    "times the baseline's fastest frame, so that batches measured minutes apart compare; time_ms.min is in the "
+    "table next to it.";
+
 // The front over each scene's worst view (max error, max time over its views): the variants `aovar select`
 // chooses between when no view is given, fastest first. Scenes with a single view are skipped (their
 // per-view front above is the same).
@@ -234,7 +240,8 @@ std::map<std::pair<std::string, std::string>, std::vector<CostRow>> worst_view_f
     if (r.pareto && views[{r.scene, r.backend}].size() > 1) out[{r.scene, r.backend}].push_back(std::move(r));
   for (auto& [k, rows] : out)
     std::sort(rows.begin(), rows.end(), [](const CostRow& a, const CostRow& b) {
-      return std::tie(a.time_ms.min, a.variant) < std::tie(b.time_ms.min, b.variant);
+      double ta = a.time_ms.decision(), tb = b.time_ms.decision();
+      return std::tie(ta, a.variant) < std::tie(tb, b.variant);
     });
   return out;
 }
@@ -242,22 +249,22 @@ std::map<std::pair<std::string, std::string>, std::vector<CostRow>> worst_view_f
 
 std::string markdown_report(const CostTable& t) {
   std::ostringstream md;
-  md << "# aovar sweep report\n\n";
+  md << "# aovar sweep report\n\n" << kTimeNote << "\n\n";
   for (const auto& [k, rows] : worst_view_fronts(t)) {
     md << fmt::format("## What to ship: {} / {}, worst view\n\nEach variant's worst view (max RMSE and max time over "
-                      "{}); `aovar select` picks from this front:\n\n| variant | worst min ms | worst rmse | ssim |\n"
+                      "{}); `aovar select` picks from this front:\n\n| variant | worst paired ms | worst rmse | ssim |\n"
                       "|---|---:|---:|---:|\n", k.first, k.second, view_list(rows.front().view));
     for (const auto& r : rows)
-      md << fmt::format("| {} | {:.2f} | {:.4f} | {:.3f} |\n", r.variant, r.time_ms.min, r.error->rmse, r.error->ssim);
+      md << fmt::format("| {} | {:.2f} | {:.4f} | {:.3f} |\n", r.variant, r.time_ms.decision(), r.error->rmse, r.error->ssim);
     md << "\n";
   }
   for (const auto& [g, rows] : groups_of(t)) {
     md << fmt::format("## {} / {} / {}\n\nPareto front (time against RMSE, fastest first):\n\n", std::get<0>(g), std::get<1>(g),
                       std::get<2>(g));
-    md << "| variant | min ms | rmse | ssim |\n|---|---:|---:|---:|\n";
+    md << "| variant | paired ms | rmse | ssim |\n|---|---:|---:|---:|\n";
     for (const CostRow* r : rows)
       if (r->pareto)
-        md << fmt::format("| {} | {:.2f} | {:.4f} | {:.3f} |\n", r->variant, r->time_ms.min, r->error->rmse, r->error->ssim);
+        md << fmt::format("| {} | {:.2f} | {:.4f} | {:.3f} |\n", r->variant, r->time_ms.decision(), r->error->rmse, r->error->ssim);
     md << "\n";
   }
   md << "## Seed 000 pairs on these scenes\n\n| pair | matched | time Δ (median) | RMSE Δ (median) | seed's finding |\n"
@@ -283,7 +290,7 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
   h << "<p>" << t.rows.size() << " rows; scenes: " << escape(scenes) << "; " << escape(m.value("size", std::string())) << ", "
     << m.value("reps", 0) << " reps, references " << m.value("rays", 0) << " rays; "
     << (m.value("calibrated", false) ? "calibrated parameters" : "manifest defaults") << "; shard "
-    << escape(m.value("shard", std::string("1/1"))) << ".</p><ul>";
+    << escape(m.value("shard", std::string("1/1"))) << ".</p><p>" << escape(kTimeNote) << "</p><ul>";
   for (const auto& cm : m.value("cost_models", nlohmann::json::array()))
     h << fmt::format("<li>cost model {} / {}: {} rows, cross-validated R² {:.3f}, Spearman ρ {:.3f} against the paired time "
                      "({:.3f} against time_ms.min; {} features{})</li>",
@@ -297,9 +304,9 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
   for (const auto& [k, rows] : worst_view_fronts(t)) {
     h << "<h2>What to ship: " << escape(k.first) << " / " << escape(k.second) << ", worst view</h2><p>Each variant's "
       << "worst view (max RMSE and max time over " << escape(view_list(rows.front().view)) << "); <code>aovar select</code> picks "
-      << "from this front.</p><table><tr><th>variant</th><th>worst min ms</th><th>worst RMSE</th><th>SSIM</th></tr>";
+      << "from this front.</p><table><tr><th>variant</th><th>worst paired ms</th><th>worst RMSE</th><th>SSIM</th></tr>";
     for (const auto& r : rows)
-      h << fmt::format("<tr><td>{}</td><td>{:.2f}</td><td>{:.4f}</td><td>{:.3f}</td></tr>", escape(r.variant), r.time_ms.min,
+      h << fmt::format("<tr><td>{}</td><td>{:.2f}</td><td>{:.4f}</td><td>{:.3f}</td></tr>", escape(r.variant), r.time_ms.decision(),
                        r.error->rmse, r.error->ssim);
     h << "</table>";
   }
@@ -311,14 +318,14 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
     for (const CostRow* r : rows) {
       std::string a = algorithm_of(*r);
       if (r->error) {
-        pts.push_back({r->time_ms.min, r->error->rmse, colour(a), r->variant});
-        if (r->pareto) front.emplace_back(r->time_ms.min, r->error->rmse);
+        pts.push_back({r->time_ms.decision(), r->error->rmse, colour(a), r->variant});
+        if (r->pareto) front.emplace_back(r->time_ms.decision(), r->error->rmse);
       }
-      if (double s = static_cost(*r); s >= 0) statics.push_back({s, r->time_ms.min, colour(a), r->variant, r->predicted});
+      if (double s = static_cost(*r); s >= 0) statics.push_back({s, r->time_ms.decision(), colour(a), r->variant, r->predicted});
     }
-    h << scatter_svg("Pareto: time against error (dashed: the front)", "frame time, min (ms)", "RMSE vs reference", pts, front);
+    h << scatter_svg("Pareto: time against error (dashed: the front)", "frame time, paired (ms)", "RMSE vs reference", pts, front);
     h << scatter_svg("static cost against measured time", "static work per output pixel (ALU + reads, all passes)",
-                     "frame time, min (ms)",
+                     "frame time, paired (ms)",
                      statics);
     h << time_bars_svg("time per variant (fastest 60; outlined: predicted)", rows);
     // The predicting cost model's held-out predictions against the measured (paired) time.
@@ -345,7 +352,7 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
       fs::path preview = dir / r->images[1], heat = dir / r->images[2];
       // images/<backend>/<view>/<key>.png under measure/<scene>/: the reference is images/reference/<view>.png.
       fs::path scene_dir = preview.parent_path().parent_path().parent_path().parent_path();
-      h << "<div>" << image_tag(preview, r->variant + fmt::format(" ({:.2f} ms, RMSE {:.4f})", r->time_ms.min, r->error->rmse))
+      h << "<div>" << image_tag(preview, r->variant + fmt::format(" ({:.2f} ms, RMSE {:.4f})", r->time_ms.decision(), r->error->rmse))
         << image_tag(scene_dir / "images" / "reference" / (r->view + ".png"), "ray-traced reference")
         << image_tag(heat, "error (red: too dark, blue: too light)") << "</div>";
     }

@@ -49,7 +49,7 @@ json static_json(const analyze::ProgramCost& ao, const analyze::ProgramCost& tot
     for (const auto& l : c.loops) (l.constant ? constant : dynamic) += 1;
     return json{{"fetches", fetches}, {"alu", c.alu}, {"fma", c.fma}, {"div", c.div},
                 {"transcendental", c.transcendental}, {"cmp_select", c.cmp_select}, {"branches", c.branches},
-                {"unprojections", c.unprojections}, {"loops", {{"constant", constant}, {"dynamic", dynamic},
+                {"unprojections", c.unprojections}, {"projections", c.projections}, {"loops", {{"constant", constant}, {"dynamic", dynamic},
                                                                {"unrolled", 0}}}};
   };
   return {{"ao", counts(ao)},           {"passes", counts(total)}, {"ao_bytes_per_pixel", ao_bytes},
@@ -124,8 +124,9 @@ std::map<std::string, VariantStatic> static_costs(const measure::MeasureOptions&
     // Per instruction class, weighted like `work`: the AO pass apart from the others, because its reads
     // scatter over the radius while the blurs' and the upsample's read neighbours.
     auto classes = [](const analyze::ProgramCost& k) {
-      return json{{"fetches", k.total_fetches()}, {"alu", k.alu}, {"transcendental", k.transcendental + k.normalize_length},
-                  {"div", k.div}, {"cmp_select", k.cmp_select}, {"branches", k.branches}};
+      return json{{"fetches", k.total_fetches()}, {"prefilter_fetches", k.fetch(analyze::kPrefilter)}, {"alu", k.alu},
+                  {"transcendental", k.transcendental + k.normalize_length}, {"div", k.div},
+                  {"cmp_select", k.cmp_select}, {"branches", k.branches}};
     };
     json weighted = {{"ao", classes(ao_weighted)}, {"others", classes(others_weighted)}};
     vs.cost = static_json(ao, total, analyze::bytes_per_pixel(ao.fetches, analyze::binding_bytes(depth_format, normals)),
@@ -175,20 +176,27 @@ table::FeatureSpec compact_features() {
 }
 
 // Instruction classes weighted by the pixels each pass covers (the `weighted` object): AO pass and the
-// other passes apart, six classes each. On lavapipe every class has its own price (a texture read is a
-// JIT-compiled sampler, a transcendental a polynomial, a branch masks SIMD lanes), which one sum of
-// counts cannot capture; fitted with a stronger ridge (lambda 1) since 12 features meet 30-40 rows.
+// other passes apart, and the AO pass's reads of the G-buffer apart from its reads of the prefiltered
+// depth (SAO's z pyramid, unsharp's blurred depth), which stay in small, cache-resident levels. On lavapipe
+// every class has its own price (a texture read is a JIT-compiled sampler, a transcendental a polynomial,
+// a branch masks SIMD lanes), which one sum of counts cannot capture. 13 features meet 30-40 rows, hence
+// the ridge (lambda 0.3 on standardised features; chosen on the Sponza and atrium sweeps, bench/README.md).
 table::FeatureSpec weighted_class_features() {
-  static const char* passes[] = {"ao", "others"};
-  static const char* classes[] = {"fetches", "alu", "transcendental", "div", "cmp_select", "branches"};
+  static const char* classes[] = {"alu", "transcendental", "div", "cmp_select", "branches"};
   table::FeatureSpec f;
-  for (const char* p : passes)
-    for (const char* c : classes) f.names.push_back(std::string(p) + "." + c);
+  f.names = {"ao.gbuffer_fetches", "ao.prefilter_fetches"};
+  for (const char* c : classes) f.names.push_back(std::string("ao.") + c);
+  f.names.push_back("others.fetches");
+  for (const char* c : classes) f.names.push_back(std::string("others.") + c);
   f.extract = [](const table::CostRow& r) {
-    std::vector<double> x;
-    const json* w = r.static_cost.contains("weighted") ? &r.static_cost["weighted"] : nullptr;
-    for (const char* p : passes)
-      for (const char* c : classes) x.push_back(w ? (*w)[p].value(c, 0.0) : 0.0);
+    if (!r.static_cost.contains("weighted")) return std::vector<double>(13, 0.0);
+    const json& ao = r.static_cost["weighted"]["ao"];
+    const json& others = r.static_cost["weighted"]["others"];
+    double prefilter = ao.value("prefilter_fetches", 0.0);
+    std::vector<double> x = {ao.value("fetches", 0.0) - prefilter, prefilter};
+    for (const char* c : classes) x.push_back(ao.value(c, 0.0));
+    x.push_back(others.value("fetches", 0.0));
+    for (const char* c : classes) x.push_back(others.value(c, 0.0));
     return x;
   };
   return f;
@@ -222,12 +230,14 @@ SweepResult run_sweep(const SweepOptions& o, const std::function<void(const std:
     auto text = util::read_file(mo.out / "measure.json");
     if (!text) throw std::runtime_error(util::display_path(mo.out / "measure.json") + ": error: missing after measuring");
     json m = json::parse(*text);
-    // A baseline measured only for timing (not selected) is not a row of the table: another shard owns it.
-    json kept = json::array();
+    // A baseline measured only for timing (not selected) is not a row of the table (another shard owns
+    // it), but it scales every row's paired time, so it leaves only after from_measure.
+    std::set<std::tuple<std::string, std::string, std::string>> timing_only;
     for (const auto& row : m.at("rows"))
-      if (!row.value("is_baseline", false)) kept.push_back(row);
-    m["rows"] = kept;
+      if (row.value("is_baseline", false))
+        timing_only.insert({row.value("variant", ""), row.value("view", ""), row.value("backend", "")});
     auto t = table::from_measure(m);
+    std::erase_if(t.rows, [&](const table::CostRow& r) { return timing_only.count({r.variant, r.view, r.backend}) > 0; });
     for (auto& row : t.rows) {
       for (auto& image : row.images) image = (fs::path("measure") / scene_folder(o.scenes[i]) / image).generic_string();
       res.table.rows.push_back(std::move(row));
@@ -250,29 +260,27 @@ SweepResult run_sweep(const SweepOptions& o, const std::function<void(const std:
   for (const auto& [g, rows] : groups) {
     if (rows.size() < 8) continue;  // 5 folds need more than one row each, mostly
     // Three models, all reported: six compact features (static work per pixel and the pass structure),
-    // twelve instruction classes weighted by pixels, and, with 4 rows per parameter or more, every static
+    // thirteen instruction classes weighted by pixels, and, with 4 rows per parameter or more, every static
     // count plus the axis one-hots. Predictions use the one with the best cross-validated Spearman.
     struct Spec {
       std::string name;
       table::FeatureSpec features;
       double lambda;
     };
-    // The target is the paired time (the ratio to the baseline timed in the same rounds, times the
-    // baseline's time): rows measured in different batches drift apart by 5-10 % on this host, which
-    // min-of-N alone does not remove. Spearman against the raw time_ms.min is reported next to it.
-    double baseline_ms = table::implied_baseline_ms(rows);
-    auto target = table::paired_time(baseline_ms);
+    // The target is the paired time (time_ms.paired: the ratio to the baseline timed in the same rounds,
+    // times the baseline's min): rows measured in different batches drift apart by 5-10 % on this host,
+    // which min-of-N alone does not remove. Spearman against the raw time_ms.min is reported next to it.
     std::vector<double> raw;
     for (const auto& r : rows) raw.push_back(r.time_ms.min);
     auto full = table::axis_features(rows).then(static_features());
-    std::vector<Spec> specs = {{"compact static", compact_features(), 1e-2}, {"weighted classes", weighted_class_features(), 1.0}};
+    std::vector<Spec> specs = {{"compact static", compact_features(), 1e-2}, {"weighted classes", weighted_class_features(), 0.3}};
     if (rows.size() >= 4 * full.names.size()) specs.push_back({"static + axes", full, 1e-2});
     for (const auto& sp : specs) {
-      auto model = table::fit_cost_model(rows, sp.features, sp.lambda, 5, target);
+      auto model = table::fit_cost_model(rows, sp.features, sp.lambda);
       models.push_back({{"scene", std::get<0>(g)}, {"view", std::get<1>(g)}, {"backend", std::get<2>(g)},
                         {"rows", model.n}, {"cv_r2", model.cv.r2}, {"cv_spearman", model.cv.spearman},
-                        {"cv_spearman_min", table::spearman(raw, model.cv.held_out)}, {"target", "paired time"},
-                        {"baseline_ms", baseline_ms}, {"folds", model.cv.k}, {"features", sp.name},
+                        {"cv_spearman_min", table::spearman(raw, model.cv.held_out)}, {"target", "time_ms.paired"},
+                        {"folds", model.cv.k}, {"features", sp.name},
                         {"lambda", sp.lambda}});
       auto it = best.find(g);
       if (it == best.end() || model.cv.spearman > it->second.second.cv.spearman) best[g] = {sp.name, model};
@@ -286,9 +294,8 @@ SweepResult run_sweep(const SweepOptions& o, const std::function<void(const std:
     // The predicting model's held-out predictions, for the report's predicted-against-measured chart.
     json held = json::array();
     const auto& rows = groups.at(g);
-    auto target = table::paired_time(m["baseline_ms"].get<double>());
     for (std::size_t i = 0; i < rows.size(); ++i)
-      held.push_back({{"variant", rows[i].variant}, {"measured", target(rows[i])}, {"measured_min", rows[i].time_ms.min},
+      held.push_back({{"variant", rows[i].variant}, {"measured", rows[i].time_ms.decision()}, {"measured_min", rows[i].time_ms.min},
                       {"predicted", it->second.second.cv.held_out[i]}});
     m["held_out"] = held;
   }

@@ -173,21 +173,6 @@ CrossValidation cross_validate(const std::vector<std::vector<double>>& x, const 
   return cv;
 }
 
-Target paired_time(double baseline_ms) {
-  return [baseline_ms](const CostRow& r) {
-    return r.rel_time_median > 0 && baseline_ms > 0 ? r.rel_time_median * baseline_ms : r.time_ms.min;
-  };
-}
-
-double implied_baseline_ms(const std::vector<CostRow>& rows) {
-  std::vector<double> v;
-  for (const auto& r : rows)
-    if (!r.predicted && r.rel_time_median > 0 && r.time_ms.min > 0) v.push_back(r.time_ms.min / r.rel_time_median);
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
 CostModel fit_cost_model(const std::vector<CostRow>& rows, const FeatureSpec& features, double lambda, int k,
                          const Target& target) {
   std::vector<std::vector<double>> x;
@@ -195,7 +180,7 @@ CostModel fit_cost_model(const std::vector<CostRow>& rows, const FeatureSpec& fe
   for (const auto& r : rows)
     if (!r.predicted) {
       x.push_back(features.extract(r));
-      y.push_back(target ? target(r) : r.time_ms.min);
+      y.push_back(target ? target(r) : r.time_ms.decision());
     }
   if (x.size() < static_cast<std::size_t>(k))
     throw std::runtime_error("cost model: " + std::to_string(x.size()) + " measured rows; need at least " +
@@ -211,7 +196,7 @@ CostModel fit_cost_model(const std::vector<CostRow>& rows, const FeatureSpec& fe
 std::vector<CostRow> predict_rows(const CostModel& model, std::vector<CostRow> rows) {
   for (auto& r : rows) {
     double t = model.predict(r);
-    r.time_ms = {t, t, t, 0};
+    r.time_ms = {t, t, t, 0, t};
     r.predicted = true;
     r.pareto = false;
   }

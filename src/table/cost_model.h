@@ -1,5 +1,5 @@
 #pragma once
-// Cost model: predicts time_ms.min from numeric static features with ridge-regularised least squares,
+// Cost model: predicts the decision time (time_ms.paired, else min) from numeric static features with ridge-regularised least squares,
 // k-fold cross-validated (R² and Spearman ρ on held-out folds). Features are a named vector per row;
 // FeatureSpec::then appends another extractor (the static analyser's counts, later).
 #include <functional>
@@ -44,7 +44,7 @@ struct CrossValidation {
 CrossValidation cross_validate(const std::vector<std::vector<double>>& x, const std::vector<double>& y,
                                double lambda, int k = 5);
 
-// What a model predicts for a row; default: time_ms.min.
+// What a model predicts for a row; default: time_ms.decision() (paired when known, else min).
 using Target = std::function<double(const CostRow&)>;
 
 struct CostModel {
@@ -60,14 +60,7 @@ struct CostModel {
 CostModel fit_cost_model(const std::vector<CostRow>& rows, const FeatureSpec& features, double lambda = 1e-2,
                          int k = 5, const Target& target = {});
 
-// The frame time with drift between rounds and batches removed: rel_time_median (the paired ratio to the
-// baseline timed in the same rounds) times `baseline_ms`; time_ms.min for rows without the ratio.
-Target paired_time(double baseline_ms);
-// The baseline's time implied by rows (median of time_ms.min / rel_time_median over rows that have both; 0
-// when none do).
-double implied_baseline_ms(const std::vector<CostRow>& rows);
-
-// Copies of `unmeasured` with time_ms (min = median = p90) from the model, n = 0, predicted = true.
+// Copies of `unmeasured` with time_ms (min = median = p90 = paired) from the model, n = 0, predicted = true.
 std::vector<CostRow> predict_rows(const CostModel& model, std::vector<CostRow> unmeasured);
 
 }  // namespace aovar::table

@@ -19,15 +19,15 @@ std::vector<Candidate> candidates(const CostTable& table, const SelectQuery& q) 
     auto [it, fresh] = by.try_emplace({r.variant, r.backend});
     Candidate& c = it->second;
     if (fresh) {
-      c = {r.variant, r.backend, r.time_ms.min, r.error->rmse, r.error->ssim, {}, where, where};
+      c = {r.variant, r.backend, r.time_ms.decision(), r.error->rmse, r.error->ssim, {}, where, where};
     } else {
       if (r.error->rmse > c.rmse) {
         c.rmse = r.error->rmse;
         c.ssim = r.error->ssim;
         c.worst_error_view = where;
       }
-      if (r.time_ms.min > c.time_ms) {
-        c.time_ms = r.time_ms.min;
+      if (r.time_ms.decision() > c.time_ms) {
+        c.time_ms = r.time_ms.decision();
         c.worst_time_view = where;
       }
     }
@@ -93,7 +93,7 @@ Selection select(const CostTable& table, const SelectQuery& q) {
   s.text = "choice: " + describe(c) + "\n";
   s.text += budget ? fmt::format("reason: lowest rmse of the {} of {} candidates within {:.3f} ms ({})\n", ok.size(),
                                  all.size(), *q.budget_ms, scope)
-                   : fmt::format("reason: cheapest (time_ms.min) of the {} of {} candidates with rmse <= {:.5f} ({})\n",
+                   : fmt::format("reason: cheapest (paired time) of the {} of {} candidates with rmse <= {:.5f} ({})\n",
                                  ok.size(), all.size(), *q.max_error, scope);
   if (c.views.size() > 1)
     s.text += fmt::format("worst views: rmse {}, time {}\n", c.worst_error_view, c.worst_time_view);

@@ -10,7 +10,7 @@
 namespace aovar::table {
 
 struct SelectQuery {
-  std::optional<double> budget_ms;   // lowest error with time_ms.min <= budget
+  std::optional<double> budget_ms;   // lowest error with time_ms.decision() (paired, else min) <= budget
   std::optional<double> max_error;   // cheapest with error.rmse <= max_error
   std::string scene, view, backend;  // empty: all
   // An alternative is worth a line when it gives up at most this share (0.02 = 2 %) of the criterion the
@@ -20,7 +20,7 @@ struct SelectQuery {
 };
 
 // One variant on one backend, aggregated over the rows the query keeps: the worst view (max rmse,
-// max time_ms.min) unless a view was asked for.
+// max decision time: paired, else min) unless a view was asked for.
 struct Candidate {
   std::string variant, backend;
   double time_ms = 0, rmse = 0, ssim = 0;

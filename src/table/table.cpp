@@ -66,7 +66,8 @@ json to_json(const CostRow& r) {
           {"size", r.size},
           {"threads", r.threads},
           {"static", r.static_cost},
-          {"time_ms", {{"min", r.time_ms.min}, {"median", r.time_ms.median}, {"p90", r.time_ms.p90}, {"n", r.time_ms.n}}},
+          {"time_ms", {{"min", r.time_ms.min}, {"median", r.time_ms.median}, {"p90", r.time_ms.p90}, {"n", r.time_ms.n},
+                       {"paired", r.time_ms.paired}}},
           {"rel_time", r.rel_time},
           {"rel_time_median", r.rel_time_median},
           {"error", error},
@@ -100,7 +101,8 @@ CostRow row_from_json(const json& j) {
     if (j.contains("static") && !j.at("static").is_null()) r.static_cost = j.at("static");
     field = "time_ms";
     const json& t = j.at("time_ms");
-    r.time_ms = {t.at("min").get<double>(), t.value("median", 0.0), t.value("p90", 0.0), t.value("n", 0)};
+    r.time_ms = {t.at("min").get<double>(), t.value("median", 0.0), t.value("p90", 0.0), t.value("n", 0),
+                 t.value("paired", 0.0)};
     field = "rel_time";
     r.rel_time = j.value("rel_time", 0.0);
     field = "rel_time_median";
@@ -224,7 +226,7 @@ namespace {
 const std::vector<std::string> kFixedHead = {"variant"};
 const std::vector<std::string> kFixedTail = {
     "spirv_hash", "scene", "view", "backend", "size", "threads", "time_ms.min", "time_ms.median", "time_ms.p90",
-    "time_ms.n", "rel_time", "rel_time_median", "error.rmse", "error.mae", "error.psnr", "error.ssim", "error.bias", "error.max",
+    "time_ms.n", "time_ms.paired", "rel_time", "rel_time_median", "error.rmse", "error.mae", "error.psnr", "error.ssim", "error.bias", "error.max",
     "health.nan", "health.inf", "health.out_of_range", "pareto", "predicted", "flicker", "images", "static"};
 }  // namespace
 
@@ -256,7 +258,7 @@ std::string to_csv(const CostTable& t) {
     };
     std::vector<std::string> tail = {r.spirv_hash, r.scene, r.view, r.backend, r.size, std::to_string(r.threads),
                                      text(r.time_ms.min), text(r.time_ms.median), text(r.time_ms.p90),
-                                     std::to_string(r.time_ms.n), text(r.rel_time), text(r.rel_time_median), e(0), e(1), e(2), e(3), e(4), e(5),
+                                     std::to_string(r.time_ms.n), text(r.time_ms.paired), text(r.rel_time), text(r.rel_time_median), e(0), e(1), e(2), e(3), e(4), e(5),
                                      std::to_string(r.health.nan), std::to_string(r.health.inf),
                                      std::to_string(r.health.out_of_range), r.pareto ? "true" : "false",
                                      r.predicted ? "true" : "false", r.flicker ? text(*r.flicker) : "", images,
@@ -291,6 +293,7 @@ CostTable from_csv(const std::string& s) {
     r.time_ms = {parse_double(c["time_ms.min"], "time_ms.min"), parse_double(c["time_ms.median"], "time_ms.median"),
                  parse_double(c["time_ms.p90"], "time_ms.p90"),
                  static_cast<int>(parse_double(c["time_ms.n"], "time_ms.n"))};
+    if (c.count("time_ms.paired")) r.time_ms.paired = parse_double(c["time_ms.paired"], "time_ms.paired");
     r.rel_time = parse_double(c["rel_time"], "rel_time");
     if (c.count("rel_time_median")) r.rel_time_median = parse_double(c["rel_time_median"], "rel_time_median");
     if (!c["error.rmse"].empty()) {
@@ -338,12 +341,12 @@ std::string to_markdown(const CostTable& t) {
   std::vector<const CostRow*> rows;
   for (const auto& r : t.rows) rows.push_back(&r);
   std::stable_sort(rows.begin(), rows.end(), [](const CostRow* a, const CostRow* b) {
-    return std::tie(a->scene, a->view, a->time_ms.min, a->variant, a->backend) <
-           std::tie(b->scene, b->view, b->time_ms.min, b->variant, b->backend);
+    double ta = a->time_ms.decision(), tb = b->time_ms.decision();
+    return std::tie(a->scene, a->view, ta, a->variant, a->backend) < std::tie(b->scene, b->view, tb, b->variant, b->backend);
   });
   std::string out =
-      "| scene | view | backend | variant | min ms | median ms | rel | rmse | ssim | psnr | pareto |\n"
-      "|---|---|---|---|---:|---:|---:|---:|---:|---:|:---:|\n";
+      "| scene | view | backend | variant | paired ms | min ms | median ms | rel | rmse | ssim | psnr | pareto |\n"
+      "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|:---:|\n";
   for (const CostRow* r : rows) {
     std::string err = " - | - | - ";
     if (r->error)
@@ -351,8 +354,9 @@ std::string to_markdown(const CostTable& t) {
                         std::isfinite(r->error->psnr) ? fmt::format("{:.2f}", r->error->psnr) : "inf");
     std::string time = r->predicted ? fmt::format("~{:.3f} (predicted)", r->time_ms.min)
                                     : fmt::format("{:.3f}", r->time_ms.min);
-    out += fmt::format("| {} | {} | {} | {} | {} | {} | {:.2f} |{}| {} |\n", md_cell(r->scene), md_cell(r->view),
-                       md_cell(r->backend), md_cell(r->variant), time,
+    std::string paired = r->predicted ? std::string("-") : r->time_ms.paired > 0 ? fmt::format("{:.3f}", r->time_ms.paired) : "-";
+    out += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.2f} |{}| {} |\n", md_cell(r->scene), md_cell(r->view),
+                       md_cell(r->backend), md_cell(r->variant), paired, time,
                        r->predicted ? std::string("-") : fmt::format("{:.3f}", r->time_ms.median), r->rel_time, err,
                        r->pareto ? "*" : "");
   }
@@ -375,8 +379,15 @@ CostTable from_measure(const json& m) {
     if (k != "rows" && k != "runs") t.meta[k] = v;
   std::string scene_name;
   if (m.contains("scene") && m.at("scene").is_object()) scene_name = m.at("scene").value("name", "");
+  // Each (view, backend)'s baseline min, over every round of every batch: the scale of the paired times.
+  std::map<std::tuple<std::string, std::string, std::string>, double> baseline_ms;
+  for (const auto& j : m.at("rows"))
+    if (j.contains("time_ms") && j.value("variant", "") == j.value("baseline", ""))
+      baseline_ms[{j.value("view", ""), j.value("backend", ""), j.value("variant", "")}] = j["time_ms"].value("min", 0.0);
   for (const auto& j : m.at("rows")) {
     CostRow r = row_from_json(j);  // the shared fields have the same names
+    auto base = baseline_ms.find({r.view, r.backend, j.value("baseline", "")});
+    if (base != baseline_ms.end() && r.rel_time_median > 0) r.time_ms.paired = r.rel_time_median * base->second;
     if (r.scene.empty()) r.scene = scene_name;
     r.static_cost = json::object();
     r.pareto = false;
@@ -399,13 +410,14 @@ void mark_pareto(std::vector<CostRow>& rows) {
   }
   for (auto& [g, members] : groups) {
     std::sort(members.begin(), members.end(), [](const CostRow* a, const CostRow* b) {
-      return std::tie(a->time_ms.min, a->error->rmse, a->variant) < std::tie(b->time_ms.min, b->error->rmse, b->variant);
+      double ta = a->time_ms.decision(), tb = b->time_ms.decision();
+      return std::tie(ta, a->error->rmse, a->variant) < std::tie(tb, b->error->rmse, b->variant);
     });
     // Sweep in time order: a row is dominated by an earlier one (time <= its time) with lower error, or
     // with equal error and strictly lower time. min_t is the lowest time reaching min_e (the first in order).
     double min_e = std::numeric_limits<double>::infinity(), min_t = 0;
     for (CostRow* r : members) {
-      double e = r->error->rmse, t = r->time_ms.min;
+      double e = r->error->rmse, t = r->time_ms.decision();
       bool dominated = min_e < e || (min_e == e && min_t < t);
       r->pareto = !dominated;
       if (e < min_e) {
@@ -433,6 +445,7 @@ std::vector<CostRow> worst_view(const std::vector<CostRow>& rows) {
       agg.time_ms.median = std::max(agg.time_ms.median, r->time_ms.median);
       agg.time_ms.p90 = std::max(agg.time_ms.p90, r->time_ms.p90);
       agg.time_ms.n = std::min(agg.time_ms.n, r->time_ms.n);
+      agg.time_ms.paired = std::max(agg.time_ms.paired, r->time_ms.paired);
       agg.rel_time = std::max(agg.rel_time, r->rel_time);
       agg.predicted = agg.predicted || r->predicted;
       agg.health.nan += r == sorted[0] ? 0 : r->health.nan;

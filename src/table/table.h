@@ -16,6 +16,12 @@ namespace aovar::table {
 struct TimeMs {
   double min = 0, median = 0, p90 = 0;
   int n = 0;  // 0 for predicted rows
+  // The baseline's min over every round times this row's paired ratio (rel_time_median): the row's time on
+  // the baseline's best-round scale, free of the drift between batches measured at different moments
+  // (5-10 % on these hosts). 0 when unknown (tables written before it existed).
+  double paired = 0;
+  // The time that decides (Pareto, select, the cost model, sorting): paired when known, else min.
+  double decision() const { return paired > 0 ? paired : min; }
   bool operator==(const TimeMs&) const = default;
 };
 
