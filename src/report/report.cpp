@@ -89,7 +89,7 @@ struct Point {
 };
 std::string scatter_svg(const std::string& title, const std::string& x_label, const std::string& y_label,
                         const std::vector<Point>& points, const std::vector<std::pair<double, double>>& line = {}) {
-  const double w = 560, h = 340, left = 60, right = 20, top = 30, bottom = 45;
+  const double w = 560, h = 340, left = 60, right = 36, top = 30, bottom = 45;
   double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
   for (const auto& p : points) x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
   if (points.empty()) x0 = y0 = 0, x1 = y1 = 1;
