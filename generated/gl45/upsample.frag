@@ -58,8 +58,8 @@ AO_UBO(0) uniform AOFrame {
 } frame;
 #line 7 1
 #line 1 4
-// Linear depth (positive view-space distance, cleared to far) and the G-buffer texel lookup shared by
-// every G-buffer read. Needs no axis.
+// Linear depth (positive view-space distance, cleared to the background depth frame.clip.y) and the
+// G-buffer texel lookup shared by every G-buffer read. Needs no axis.
 #line 4 4
 
 AO_BINDING(2) uniform sampler2D ao_depth_tex;
@@ -85,8 +85,13 @@ float ao_depth(vec2 uv) {
     return ao_depth_texel(ao_texel(uv, textureSize(ao_depth_tex, 0)));
 }
 
+// frame.clip.y is the background depth: the far plane capped at 65504, the largest finite half float
+// (render::background_depth), so it stays finite with an infinite far plane and in r16f, and every
+// method's arithmetic on a background neighbour stays finite too (inf - inf and 0 * inf are NaN).
+// Written as !(z < ...) so that a depth that is +inf or NaN anyway (a renderer clearing to +inf, an
+// overflowed r16f texel) also counts as background instead of flowing into the AO maths.
 bool ao_is_background(float z) {
-    return z >= frame.clip.y * 0.999;
+    return !(z < frame.clip.y * 0.999);
 }
 
 // The world AO radius (frame.clip.z) projected at linear depth z, in AO pixels, capped at a quarter of the
@@ -102,8 +107,11 @@ float ao_radius_px(float z) {
 
 // Range weight: 1 at equal depth, 1/e when the tap's depth differs from the centre's by depth_sigma
 // relative to it. Relative, so one sigma works near and far (the seed's weight uses the absolute difference).
+// The denominator is kept at or above 2^-14, the smallest normal half float: with mediump on a GPU that
+// flushes fp16 subnormals, z * depth_sigma for a near plane of 1e-4 (and sigma 0.1) would be 0 and the
+// centre tap 0 / 0. (Mesa's CPU drivers run mediump in 32 bits, so `aovar stress` cannot show it there.)
 AOP float ao_depth_weight(float z_tap, float z, float depth_sigma) {
-    AOP float t = abs(z_tap - z) / (z * depth_sigma);
+    AOP float t = abs(z_tap - z) / max(z * depth_sigma, 6.103515625e-05);
     return exp(-t * t);
 }
 

@@ -84,8 +84,8 @@ AO_UBO(0) uniform AOFrame {
 // ao_position (common/reconstruct.glsl) and ao_normal (below). Reads the `normals`, `position` and
 // `reconstruct` axes: an AO method that includes this file lists all three in its `reads`.
 #line 1 5
-// Linear depth (positive view-space distance, cleared to far) and the G-buffer texel lookup shared by
-// every G-buffer read. Needs no axis.
+// Linear depth (positive view-space distance, cleared to the background depth frame.clip.y) and the
+// G-buffer texel lookup shared by every G-buffer read. Needs no axis.
 #line 4 5
 
 AO_BINDING(2) uniform sampler2D ao_depth_tex;
@@ -111,8 +111,13 @@ float ao_depth(vec2 uv) {
     return ao_depth_texel(ao_texel(uv, textureSize(ao_depth_tex, 0)));
 }
 
+// frame.clip.y is the background depth: the far plane capped at 65504, the largest finite half float
+// (render::background_depth), so it stays finite with an infinite far plane and in r16f, and every
+// method's arithmetic on a background neighbour stays finite too (inf - inf and 0 * inf are NaN).
+// Written as !(z < ...) so that a depth that is +inf or NaN anyway (a renderer clearing to +inf, an
+// overflowed r16f texel) also counts as background instead of flowing into the AO maths.
 bool ao_is_background(float z) {
-    return z >= frame.clip.y * 0.999;
+    return !(z < frame.clip.y * 0.999);
 }
 
 // The world AO radius (frame.clip.z) projected at linear depth z, in AO pixels, capped at a quarter of the
@@ -151,7 +156,7 @@ vec3 ao_view_position_from_depth(vec2 uv, float z) {
 #line 7 6
 
 #if defined(AO_POSITION_POSITION)
-// Cleared to (0, 0, -far) so that background reads as far away, like the depth buffer.
+// Cleared to (0, 0, -frame.clip.y) so that background reads as far away, like the depth buffer.
 AO_BINDING(4) uniform sampler2D ao_position_tex;
 #elif !defined(AO_POSITION_DEPTH)
 #error "aovar: common/reconstruct.glsl needs the position axis in `reads`"

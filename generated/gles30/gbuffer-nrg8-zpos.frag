@@ -44,6 +44,20 @@ precision highp int;
 precision highp sampler2D;
 #line 4 1
 #line 1 3
+// Per-frame camera and sizes, shared by every pass (docs/template-contract.md, "Interface").
+AO_UBO(0) uniform AOFrame {
+    mat4 view;        // world -> view
+    mat4 proj;        // view -> clip
+    mat4 inv_proj;    // clip -> view
+    vec4 proj_info;   // view.xy = (ndc.xy * proj_info.xy + proj_info.zw) * z, view.z = -z
+    vec4 uv_to_ndc;   // ndc.xy = uv * uv_to_ndc.xy + uv_to_ndc.zw (the y sign differs per API)
+    vec4 full_size;   // output: w, h, 1/w, 1/h
+    vec4 ao_size;     // AO pass: w, h, 1/w, 1/h
+    vec4 clip;        // near, far, radius (world units), pixels per world unit at z = 1 at AO resolution
+    ivec4 frame_index;// x = frame number, y = parity (0/1) for progressive halves, zw unused
+} frame;
+#line 5 1
+#line 1 4
 // View-space normal codecs for the `normals` axis (seed 000 §5.6). Reads the `normals` axis: only
 // templates whose manifest entry lists it may include this file. View-space normals of visible surfaces
 // face the camera, i.e. mostly +z.
@@ -116,7 +130,7 @@ vec3 ao_normal_from_position(vec3 p) {
 #else
 #error "aovar: common/normals.glsl needs the normals axis in `reads`"
 #endif
-#line 5 1
+#line 6 1
 
 AO_LOC(0) in vec3 v_view_pos;
 AO_LOC(1) in vec3 v_view_normal;
@@ -130,8 +144,10 @@ layout(location = 2) out vec4 o_position;
 #endif
 
 void main() {
-    // Linear depth: positive distance along the view axis (view space looks down -z).
-    o_depth = vec4(-v_view_pos.z, 0.0, 0.0, 1.0);
+    // Linear depth: positive distance along the view axis (view space looks down -z), at most the
+    // background depth frame.clip.y (<= 65504): deeper geometry is background, and r16f never overflows
+    // to +inf (common/depth.glsl).
+    o_depth = vec4(min(-v_view_pos.z, frame.clip.y), 0.0, 0.0, 1.0);
 #if !defined(AO_NORMALS_DEPTH)
     // Interpolation shortens the normal; a degenerate one must not become NaN in the encoding.
     o_normal = ao_encode_normal(ao_safe_normalize(v_view_normal));

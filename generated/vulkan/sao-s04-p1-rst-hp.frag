@@ -80,8 +80,8 @@ AO_UBO(0) uniform AOFrame {
 } frame;
 #line 23 1
 #line 1 4
-// Linear depth (positive view-space distance, cleared to far) and the G-buffer texel lookup shared by
-// every G-buffer read. Needs no axis.
+// Linear depth (positive view-space distance, cleared to the background depth frame.clip.y) and the
+// G-buffer texel lookup shared by every G-buffer read. Needs no axis.
 #line 4 4
 
 AO_BINDING(2) uniform sampler2D ao_depth_tex;
@@ -107,8 +107,13 @@ float ao_depth(vec2 uv) {
     return ao_depth_texel(ao_texel(uv, textureSize(ao_depth_tex, 0)));
 }
 
+// frame.clip.y is the background depth: the far plane capped at 65504, the largest finite half float
+// (render::background_depth), so it stays finite with an infinite far plane and in r16f, and every
+// method's arithmetic on a background neighbour stays finite too (inf - inf and 0 * inf are NaN).
+// Written as !(z < ...) so that a depth that is +inf or NaN anyway (a renderer clearing to +inf, an
+// overflowed r16f texel) also counts as background instead of flowing into the AO maths.
 bool ao_is_background(float z) {
-    return z >= frame.clip.y * 0.999;
+    return !(z < frame.clip.y * 0.999);
 }
 
 // The world AO radius (frame.clip.z) projected at linear depth z, in AO pixels, capped at a quarter of the
@@ -142,19 +147,29 @@ vec3 ao_view_position_from_depth(vec2 uv, float z) {
 #line 1 6
 // SAO's depth key (seed 003 §2.3): the AO pass packs linear depth next to AO into an rgba8 target,
 // (A, key_hi, key_lo), so its bilateral passes read one texel for both instead of the depth buffer too.
-// key = z / far in [0, 1], split into two 8-bit unorm channels: hi holds floor(key * 255.999) / 255
-// (exactly representable), lo the fraction left over; 16 bits in all, far / 65536 (e.g. 1 mm at 60 m).
-// The seed divides by a chosen "farthest sharp plane" z_min (-200 m); aovar's far plane plays that role.
-#line 7 6
+// 16 bits in two 8-bit unorm channels: hi holds floor(t * 255.999) / 255 (exactly representable), lo the
+// fraction left over. The seed keys z / z_min linearly (z_min a chosen "farthest sharp plane"); with the far
+// plane in that role a linear key spends its steps on the distance: far / 65536 per step, 15 units at
+// far = 1e6, so everything nearer than that shares key 0 and the blurs' relative depth weight (which divides
+// by z) breaks (`aovar stress`, case far-1e6: NaN at every such pixel). Here t = log2(z / near) / log2(far /
+// near) instead: a constant relative step of (far / near)^(1 / 65536), 0.025 % at far / near = 1e7. The
+// ratio is capped at 2^40 so that an infinite far plane keeps that resolution; t = 1 (the far plane and
+// beyond) unpacks to the far plane itself, so background tests see exactly what the G-buffer held.
+#line 12 6
+
+float ao_key_range() {
+    return clamp(log2(frame.clip.y / frame.clip.x), 1.0, 40.0);
+}
 
 vec2 ao_pack_key(float z) {
-    float t = clamp(z / frame.clip.y, 0.0, 1.0) * 255.999;
+    float t = clamp(log2(max(z, frame.clip.x) / frame.clip.x) / ao_key_range(), 0.0, 1.0) * 255.999;
     float hi = floor(t);
     return vec2(hi / 255.0, t - hi);
 }
 
 float ao_unpack_key(vec2 key) {
-    return (floor(key.x * 255.0 + 0.5) + key.y) / 255.999 * frame.clip.y;
+    float t = (floor(key.x * 255.0 + 0.5) + key.y) / 255.999;
+    return t >= 0.99999 ? frame.clip.y : frame.clip.x * exp2(t * ao_key_range());
 }
 #line 26 1
 

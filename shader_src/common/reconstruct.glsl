@@ -6,7 +6,7 @@
 #include "common/unproject.glsl"
 
 #if defined(AO_POSITION_POSITION)
-// Cleared to (0, 0, -far) so that background reads as far away, like the depth buffer.
+// Cleared to (0, 0, -frame.clip.y) so that background reads as far away, like the depth buffer.
 AO_BINDING(4) uniform sampler2D ao_position_tex;
 #elif !defined(AO_POSITION_DEPTH)
 #error "aovar: common/reconstruct.glsl needs the position axis in `reads`"

@@ -17,6 +17,7 @@
 #include "sweep/sweep.h"
 #include "reference/reference.h"
 #include "report/report.h"
+#include "stress/stress.h"
 #include "shadergen/expand.h"
 #include "table/compare.h"
 #include "table/select.h"
@@ -379,6 +380,99 @@ int run_diff(const std::string& a, const std::string& b) {
   return 0;
 }
 
+// "x,y,z" -> vec3 (inf and nan are spelled as strtof reads them).
+glm::vec3 parse_vec3(const std::string& text, const char* option) {
+  float v[3];
+  const char* p = text.c_str();
+  for (int i = 0; i < 3; ++i) {
+    char* end = nullptr;
+    v[i] = std::strtof(p, &end);
+    if (end == p || (i < 2 && *end != ',') || (i == 2 && *end != '\0'))
+      throw std::runtime_error(fmt::format("{}: expected x,y,z (e.g. 1,2.5,-3), got '{}'", option, text));
+    p = end + 1;
+  }
+  return {v[0], v[1], v[2]};
+}
+
+struct StressCli {
+  CommonOptions common;
+  stress::Options options;
+  std::string size = "96x54", out, calibration, scene, eye, target, up = "0,1,0";
+  std::vector<std::string> case_names;
+  float fov = 60, near_plane = 0.1f, far_plane = 100, radius = 0;
+  bool no_calibration = false, list_cases = false, no_reuse = false;
+};
+
+// aovar stress: per-variant pass/fail over the stress cases; exit 1 when a shipped variant fails.
+int run_stress(StressCli& a) {
+  if (a.list_cases) {
+    for (const auto& c : stress::default_cases())
+      std::cout << fmt::format("{:<20} {:<18} {}\n", c.name, c.scene, c.what);
+    return 0;
+  }
+  stress::Options& o = a.options;
+  o.manifest = a.common.manifest;
+  o.globs = a.common.globs;
+  o.jobs = a.common.jobs;
+  o.size = parse_size(a.size);
+  o.out = a.out;
+  o.reuse = !a.no_reuse;
+  auto cache = a.common.cache_dir.empty() ? compile::CompileCache::default_dir() : std::filesystem::path(a.common.cache_dir);
+  if (!a.common.no_cache) o.cache_dir = o.reference_cache = cache;
+  std::filesystem::path cal_file = a.calibration;
+  if (cal_file.empty() && !a.no_calibration) {
+    auto next_to = std::filesystem::path(a.common.manifest).parent_path() / "calibration.json";
+    if (std::filesystem::exists(next_to)) cal_file = next_to;
+  }
+  if (!cal_file.empty() && !a.no_calibration) o.calibration = calibrate::load_calibration(cal_file);
+  if (!a.scene.empty() || !a.eye.empty() || !a.target.empty()) {
+    if (a.scene.empty() || a.eye.empty() || a.target.empty())
+      throw std::runtime_error("stress: a custom case needs --scene, --eye and --target (and optionally --up, --fov, --near, --far, --radius)");
+    o.cases.push_back(stress::custom_case(a.scene, parse_vec3(a.eye, "--eye"), parse_vec3(a.target, "--target"), a.fov,
+                                          a.near_plane, a.far_plane, a.radius, parse_vec3(a.up, "--up")));
+  }
+  if (!a.case_names.empty()) {
+    auto all = stress::default_cases();
+    for (const auto& name : a.case_names) {
+      auto it = std::find_if(all.begin(), all.end(), [&](const stress::Case& c) { return c.name == name; });
+      if (it == all.end()) {
+        std::string names;
+        for (const auto& c : all) names += (names.empty() ? "" : ", ") + c.name;
+        throw std::runtime_error("stress: unknown --case '" + name + "' (cases: " + names + ")");
+      }
+      o.cases.push_back(*it);
+    }
+  }
+  bool tty = isatty(fileno(stderr));
+  auto progress = [tty](const std::string& line) {
+    if (tty) std::cerr << "\r\033[K" << line << std::flush;
+  };
+  stress::Result r;
+  try {
+    r = stress::run_stress(o, progress);
+  } catch (...) {
+    if (tty) std::cerr << "\r\033[K";
+    throw;
+  }
+  if (tty) std::cerr << "\r\033[K";
+  const auto cases = o.cases.empty() ? stress::default_cases() : o.cases;
+  for (const auto& v : r.variants) {
+    if (v.failures.empty()) continue;
+    std::cout << fmt::format("FAIL {}{}\n", v.variant, v.shipped ? " (shipped)" : "");
+    for (std::size_t i : v.failures) {
+      const auto& c = r.checks[i];
+      std::cout << fmt::format("  {} ({}): {}\n    reproduce: {}\n", c.case_name, c.backend, c.failure,
+                               stress::reproducer(o, c, cases));
+    }
+  }
+  std::cout << fmt::format("# {} variants x {} cases x {} backends: {} checks ({} reused), {} variants failed, {} of them "
+                           "shipped, in {:.1f} s{}\n",
+                           r.variants.size(), cases.size(), o.backends.size(), r.checks.size(), r.reused, r.failed,
+                           r.shipped_failed, r.wall_s,
+                           o.out.empty() ? "" : " -> " + util::display_path(o.out / "stress.md") + " and stress.json");
+  return r.shipped_failed > 0 ? 1 : 0;
+}
+
 // aovar report: report.md and report.html from a cost table (a sweep's, a merged one, an edited one).
 int run_report(const std::string& table_path, const std::string& out) {
   auto t = table::read_table(table_path);
@@ -539,6 +633,34 @@ int main(int argc, char** argv) {
   rep->add_option("--table,-t", report_table, "cost_table.json (image paths are relative to its folder)")->required();
   rep->add_option("--out,-o", report_out, "output folder (default: the table's folder)");
 
+  StressCli st;
+  auto* str = app.add_subcommand("stress", "numerical stability: every variant under extreme cameras, radii, geometry "
+                                           "and formats; exit 1 when a shipped variant has NaN, Inf or out-of-range AO");
+  add_common(str, st.common);
+  str->add_option("--backend,-b", st.options.backends, "lavapipe, osmesa (repeatable or comma-separated)")
+      ->delimiter(',')->capture_default_str();
+  str->add_option("--size", st.size, "output size WxH")->capture_default_str();
+  str->add_option("--threads", st.options.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
+  str->add_flag("--shipped", st.options.shipped_only, "only the variants the manifest's [ship] list names");
+  str->add_option("--case", st.case_names, "only this default case (repeatable; --list-cases)");
+  str->add_flag("--list-cases", st.list_cases, "print the default cases and exit");
+  str->add_option("--scene,-s", st.scene, "custom case: scene (with --eye, --target)");
+  str->add_option("--eye", st.eye, "custom case: camera position x,y,z");
+  str->add_option("--target", st.target, "custom case: point looked at x,y,z");
+  str->add_option("--up", st.up, "custom case: up vector x,y,z")->capture_default_str();
+  str->add_option("--fov", st.fov, "custom case: vertical field of view, degrees")->capture_default_str();
+  str->add_option("--near", st.near_plane, "custom case: near plane")->capture_default_str();
+  str->add_option("--far", st.far_plane, "custom case: far plane (inf allowed)")->capture_default_str();
+  str->add_option("--radius", st.radius, "custom case: AO radius in scene units (0: the scene's)")->capture_default_str();
+  str->add_option("--pair-tolerance", st.options.pair_tolerance,
+                  "mediump/highp and r16f/r32f: per-pixel difference beyond which a pixel counts as different")
+      ->capture_default_str();
+  str->add_option("--pair-share", st.options.pair_share, "share of differing pixels that fails the pair")->capture_default_str();
+  str->add_option("--calibration", st.calibration, "calibration file (default: calibration.json next to the manifest)");
+  str->add_flag("--no-calibration", st.no_calibration, "use the manifest's default parameters");
+  str->add_flag("--no-reuse", st.no_reuse, "check everything again (default: reuse checks whose inputs match OUT/stress.json)");
+  str->add_option("--out,-o", st.out, "output folder: stress.json, stress.md");
+
   CommonOptions sweep_common;
   sweep::SweepOptions so;
   std::string sweep_size = "640x360", sweep_out, sweep_shard, sweep_calibration;
@@ -569,6 +691,7 @@ int main(int argc, char** argv) {
     if (dif->parsed()) return run_diff(diff_a, diff_b);
     if (mrg->parsed()) return run_merge(merge_out, merge_in);
     if (rep->parsed()) return run_report(report_table, report_out);
+    if (str->parsed()) return run_stress(st);
     if (list->parsed()) return run_list(list_opts, show_pruned);
     if (ana->parsed()) return run_analyze(analyze_in);
     if (ref->parsed()) {

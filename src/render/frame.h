@@ -39,7 +39,22 @@ struct FrameSetup {
   float radius = 1.0f;   // world-space AO radius
 };
 
-// Camera, sizes and radius of one frame. `ao` is the AO pass extent (ao_extent of the variant).
+// Linear depth of the background: what the G-buffer clears linear depth to (kClearFar, plan.h), what it clamps
+// written depth to, and what the shaders get as frame.clip.y. It is the far plane, capped at 65504, the
+// largest finite half float, so that it is finite in every depth format and in the shaders' arithmetic:
+//  - far = inf (an infinite projection) would store +inf in r16f/r32f, and every method reading a
+//    background neighbour would then form inf - inf or 0 * inf (NaN) in its position and depth maths;
+//  - a finite far beyond 65504 (e.g. 1e6) already overflows to +inf in r16f.
+// Capping makes r16f and r32f agree on what is background (depth >= 0.999 of it), keeps SAO's depth key
+// (common/key.glsl reads clip.y) finite, and changes nothing for far planes up to 65504 (every scene's own
+// views). Measured: with +inf instead, no NaN reached the result, but the atrium's AO moved by up to 1.0
+// at pixels next to the sky (tests/test_stress_geometry.cpp, InfiniteFarRendersLikeTheFittedFar).
+inline constexpr float kMaxBackgroundDepth = 65504.0f;
+float background_depth(float far_plane);
+
+// Camera, sizes and radius of one frame. `ao` is the AO pass extent (ao_extent of the variant). A view's
+// far plane may be +inf: the projection is then the limit far -> inf of the finite one (infinite
+// perspective) in either clip convention, and clip.y is background_depth(inf), the finite cap.
 FrameBlock make_frame_block(const FrameSetup& setup, Extent full, Extent ao, ClipDepth clip_depth);
 
 // Size of the AO pass for a resolution factor (1, 0.5, 0.25): rounded up, at least 1.

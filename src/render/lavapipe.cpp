@@ -125,7 +125,7 @@ LavapipePipeline::~LavapipePipeline() {
   dev->destroy(readback);
 }
 
-// Replaces the clear placeholders (plan.h) by the view's far plane.
+// Replaces the clear placeholders (plan.h) by the view's background depth (background_depth, frame.h).
 VkClearValue clear_value(const Texture& t, float far_plane) {
   VkClearValue v{};
   for (int i = 0; i < 4; ++i) {
@@ -640,7 +640,8 @@ std::vector<double> LavapipeBackend::render(PreparedPipeline& pipeline, const Fr
   std::memcpy(pp.frame_ubo.mapped, &block, sizeof block);  // the previous frame finished: fence waited
 
   int p = pp.parities == 2 ? (frame.frame & 1) : 0;
-  float far_plane = frame.view->far_plane;
+  // Linear depth clears to the finite background depth (frame.h), never to an infinite far plane.
+  float far_plane = background_depth(frame.view->far_plane);
   const auto& rec = pp.recorded[p];
   if (!rec.valid || rec.far_plane != far_plane || rec.scene != scene_.generation) {
     pp.recorded[p].valid = false;

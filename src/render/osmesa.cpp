@@ -533,7 +533,7 @@ std::vector<double> OsmesaBackend::render(PreparedPipeline& pipeline, const Fram
   gl.BindBufferBase(GL_UNIFORM_BUFFER, kFrameBinding, p.frame_ubo_);
   for (GlDraw& d : p.draws_)
     for (GlDraw::Clear& c : d.clears)
-      for (int i = 0; i < 4; ++i) c.value[i] = resolve_clear(c.raw[i], frame.view->far_plane);
+      for (int i = 0; i < 4; ++i) c.value[i] = resolve_clear(c.raw[i], background_depth(frame.view->far_plane));
   const int parity = frame.frame & 1;
   std::vector<double> times(p.draws_.size(), 0.0);
   c_->check("before the first draw of {}", p.variant_);

@@ -34,11 +34,11 @@ struct Texture {
   bool full_resolution = true;      // else the AO pass extent
   bool double_buffered = false;     // ao_half: frame parity p writes copy p; inputs may read the other
   bool cleared = false;             // cleared to `clear` at the start of each frame (G-buffer targets)
-  std::array<float, 4> clear{0, 0, 0, 0};  // may use kClearFar (replaced by the view's far plane)
+  std::array<float, 4> clear{0, 0, 0, 0};  // may use kClearFar (replaced by background_depth(far), frame.h)
   int levels = 1;                   // MIP levels; level l is max(1, extent >> l)
 };
-inline constexpr float kClearFar = -12345.0f;   // placeholder: +far
-inline constexpr float kClearNegFar = -54321.0f;  // placeholder: -far
+inline constexpr float kClearFar = -12345.0f;   // placeholder: +background_depth(far), finite for far = inf
+inline constexpr float kClearNegFar = -54321.0f;  // placeholder: -background_depth(far)
 
 struct TextureRef {
   int texture = -1;

@@ -43,6 +43,17 @@ class Builder {
   }
   void quad(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) { tri(a, b, c), tri(a, c, d); }
 
+  // The raw path of builtin:degenerate: the normal is stored as given (transformed, not normalised, so a
+  // zero normal stays zero), and the triangle keeps the given winding (tri() orients by the normals, which
+  // a zero normal or a zero-area triangle cannot tell).
+  std::uint32_t raw_vertex(const glm::vec3& p, const glm::vec3& n) {
+    s_.positions.push_back(glm::vec3(m_ * glm::vec4(p, 1.0f)));
+    s_.normals.push_back(n_ * n);
+    return static_cast<std::uint32_t>(s_.positions.size() - 1);
+  }
+  void raw_tri(std::uint32_t a, std::uint32_t b, std::uint32_t c) { s_.indices.insert(s_.indices.end(), {a, b, c}); }
+  void mesh() { ++s_.mesh_count; }
+
   // Planar convex quad p0..p3 (in order around it) facing `outward`.
   void flat_quad(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2, const glm::vec3& p3,
                  const glm::vec3& outward) {
@@ -340,13 +351,138 @@ void cornell(Scene& s) {
   };
 }
 
+// Stress scene (issue 7): a floor and three boxes, plus geometry a real asset pipeline lets through and a
+// renderer must survive: zero-area triangles (one vertex index three times, three vertices at one point,
+// three collinear vertices), needle slivers 0.1 mm wide (standing, lying on the floor, and a fan seen
+// nearly end-on), vertices with zero-length normals (a whole panel, and one corner of an otherwise lit face), and
+// a two-sided card whose front and back faces share their vertices, so that each vertex's smooth normal,
+// the sum of its faces' normals, is zero. load_scene keeps these normals as they are (kBuiltins below), so
+// the G-buffer's ao_safe_normalize and every method see them; the reference tracer uses Embree's geometric
+// normals and never hits a zero-area triangle.
+void degenerate(Scene& s) {
+  Builder b(s);
+  b.box({-8.0f, -0.3f, -8.0f}, {8.0f, 0.0f, 8.0f});  // floor
+  b.box({-3.0f, 0.0f, -3.0f}, {-1.0f, 1.5f, -1.0f});
+  b.box({1.0f, 0.0f, -2.5f}, {2.5f, 0.8f, -1.0f});
+  b.box({-0.5f, 0.0f, -4.0f}, {0.5f, 2.0f, -3.0f});
+  const glm::vec3 up(0, 1, 0), zero(0.0f);
+
+  // Zero-area triangles, on the floor and in the air (they rasterise to nothing; a shader that divides by
+  // their area or normalises their cross product gets 0 / 0).
+  b.mesh();
+  for (glm::vec3 p : {glm::vec3(0.5f, 0.0f, 0.5f), glm::vec3(-1.5f, 0.7f, 0.8f)}) {
+    std::uint32_t v = b.raw_vertex(p, up);
+    b.raw_tri(v, v, v);                                                              // one index three times
+    b.raw_tri(b.raw_vertex(p, up), b.raw_vertex(p, zero), b.raw_vertex(p, -up));  // three vertices, one point
+  }
+  // Collinear: along x on the floor, and along a diagonal with exact binary steps (the cross product is 0).
+  b.raw_tri(b.raw_vertex({-2.0f, 0.0f, 1.0f}, up), b.raw_vertex({-1.0f, 0.0f, 1.0f}, up),
+            b.raw_vertex({0.5f, 0.0f, 1.0f}, up));
+  const glm::vec3 a(1.0f, 0.25f, 1.0f), d(0.25f, 0.5f, -0.125f);
+  b.raw_tri(b.raw_vertex(a, up), b.raw_vertex(a + d, up), b.raw_vertex(a + 2.5f * d, zero));
+
+  // Needle slivers 1e-4 m wide: three standing 2.5 m tall, two lying 1 mm over the floor, and a fan of
+  // eight radiating from one point towards and across the cameras (seen nearly end-on).
+  b.mesh();
+  auto sliver = [&](glm::vec3 p, glm::vec3 q, glm::vec3 side) {
+    glm::vec3 n = glm::cross(side, q - p);
+    b.tri(b.vertex(p, n), b.vertex(p + 1e-4f * side, n), b.vertex(q, n));
+  };
+  for (float x : {-0.6f, 0.0f, 0.6f}) sliver({x, 0.0f, 2.0f}, {x, 2.5f, 2.0f}, {1, 0, 0});
+  sliver({-3.0f, 0.001f, 3.0f}, {3.0f, 0.001f, 3.2f}, {0, 0, 1});
+  sliver({2.0f, 0.001f, 0.0f}, {2.6f, 0.001f, 4.0f}, {-1, 0, 0});
+  for (int i = 0; i < 8; ++i) {
+    float t = 2.0f * kPi * static_cast<float>(i) / 8.0f;
+    glm::vec3 dir(std::cos(t), 0.5f + 0.4f * std::sin(t), std::sin(t) + 1.2f);
+    sliver({-2.0f, 1.0f, -0.5f}, glm::vec3(-2.0f, 1.0f, -0.5f) + 1.5f * glm::normalize(dir), {0, 1, 0});
+  }
+
+  // Zero-length normals: a standing 1 x 1.5 m panel with zero normals at all four corners (the interpolated
+  // normal is exactly zero everywhere on it), and a 1 m cube whose top face has one zero-normal corner.
+  b.mesh();
+  {
+    std::uint32_t p0 = b.raw_vertex({1.0f, 0.0f, 0.5f}, zero), p1 = b.raw_vertex({2.0f, 0.0f, 0.5f}, zero),
+                  p2 = b.raw_vertex({2.0f, 1.5f, 0.5f}, zero), p3 = b.raw_vertex({1.0f, 1.5f, 0.5f}, zero);
+    b.raw_tri(p0, p1, p2), b.raw_tri(p0, p2, p3);  // counter-clockwise seen from +z
+  }
+  b.box({3.0f, 0.0f, -0.5f}, {4.0f, 1.0f, 0.5f});
+  {
+    std::uint32_t t0 = b.raw_vertex({3.0f, 1.001f, 0.5f}, zero), t1 = b.raw_vertex({4.0f, 1.001f, 0.5f}, up),
+                  t2 = b.raw_vertex({4.0f, 1.001f, -0.5f}, up), t3 = b.raw_vertex({3.0f, 1.001f, -0.5f}, up);
+    b.raw_tri(t0, t1, t2), b.raw_tri(t0, t2, t3);  // a lid 1 mm over the top, counter-clockwise from above
+  }
+
+  // Two-sided card (a leaf, a sign): front and back faces share the four vertices, so each vertex's smooth
+  // normal, front + back, is exactly zero.
+  b.mesh();
+  {
+    const glm::vec3 front(0, 0, 1), smooth = front + -front;
+    std::uint32_t c0 = b.raw_vertex({-1.0f, 0.0f, 0.0f}, smooth), c1 = b.raw_vertex({0.0f, 0.0f, 0.0f}, smooth),
+                  c2 = b.raw_vertex({0.0f, 1.2f, 0.0f}, smooth), c3 = b.raw_vertex({-1.0f, 1.2f, 0.0f}, smooth);
+    b.raw_tri(c0, c1, c2), b.raw_tri(c0, c2, c3);  // front, counter-clockwise from +z
+    b.raw_tri(c0, c2, c1), b.raw_tri(c0, c3, c2);  // back, counter-clockwise from -z
+  }
+  b.identity();
+
+  s.ao_radius = 0.3f;
+  s.views = {
+      // From front-right above: the floor, the boxes, the card, the panel and the needles.
+      view("overview", {5.0f, 4.0f, 8.0f}, {0.5f, 0.0f, -0.5f}, 0.1f, 0.02f),
+      // Down at 45 degrees onto the zero-normal panel, with the card and the standing needles, 3.7 m away.
+      view("closeup", {0.5f, 3.2f, 3.0f}, {1.5f, 0.5f, 0.6f}, 0.05f, 0.03f),
+      // Low over the floor, out past its far edge into the sky.
+      view("background", {0.0f, 1.2f, 6.5f}, {0.0f, -0.9f, -10.0f}, 0.1f),
+  };
+}
+
+// Stress scene (issue 7): a city seen from far away. A 3000 x 3600 unit ground slab carries a grid of
+// 60 x 60 blocks 40-290 high (the taller ones with a setback on top) along 40-unit streets, 450-3500 units
+// from the cameras, which stay 200-600 units up outside the grid, so that every visible surface lies
+// 200-4000 units deep (view-space depth). The 8-unit AO radius suits the city's details (a setback is
+// 1.5 radii, a street 5), not the distance: r16f linear depth steps by 0.25-2 units there (0.25 at 256-512,
+// 2 at 2048-4096), so a radius spans only 4-30 r16f steps where the atrium's 0.5 m spans 30-200. Float
+// spacing is relative, and so are the templates' depth biases, so what bands is a small radius for its
+// depth (radius / depth 0.002-0.02 here, 0.0125-0.1 in the atrium), not the distance itself: r16f bands
+// here where r32f (steps under 0.5 mm) does not (tests/test_stress_geometry.cpp measures it).
+void far_city(Scene& s) {
+  Builder b(s);
+  b.box({-1500.0f, -20.0f, -3600.0f}, {1500.0f, 0.0f, 0.0f});  // ground
+  for (int i = 0; i < 28; ++i)
+    for (int j = 0; j < 31; ++j) {
+      const float x = -1370.0f + 100.0f * static_cast<float>(i), z = -480.0f - 100.0f * static_cast<float>(j);
+      const float h = 40.0f + 25.0f * static_cast<float>((7 * i + 13 * j) % 11);
+      b.box({x - 30.0f, 0.0f, z - 30.0f}, {x + 30.0f, h, z + 30.0f});
+      if (h > 150.0f) b.box({x - 18.0f, h, z - 18.0f}, {x + 18.0f, h + 40.0f, z + 18.0f});
+    }
+
+  s.ao_radius = 8.0f;
+  s.views = {
+      // From 600 up, 300 beyond the slab's near edge, down over the city (16 degrees below level).
+      view("overview", {0.0f, 600.0f, 300.0f}, {0.0f, 0.0f, -1800.0f}, 1.0f, 0.02f),
+      // Down at 35 degrees onto the first street crossing, 390 units away (the frame's bottom edge is 214
+      // deep).
+      view("closeup", {-20.0f, 224.0f, -120.0f}, {-20.0f, 0.0f, -440.0f}, 1.0f, 0.03f),
+      // Level, 200 up, over the city into the sky.
+      view("background", {0.0f, 200.0f, 350.0f}, {0.0f, 200.0f, -1000.0f}, 1.0f),
+  };
+}
+
 struct Builtin {
   const char* name;
   void (*make)(Scene&);
+  bool raw_normals = false;  // load_scene keeps the normals as built (zero-length ones included)
 };
-constexpr Builtin kBuiltins[] = {{"atrium", atrium}, {"spheres", spheres}, {"stairs", stairs}, {"cornell", cornell}};
+constexpr Builtin kBuiltins[] = {{"atrium", atrium},   {"spheres", spheres},
+                                 {"stairs", stairs},   {"cornell", cornell},
+                                 {"degenerate", degenerate, true}, {"far", far_city}};
 
 }  // namespace
+
+bool builtin_keeps_normals(std::string_view name) {
+  for (const Builtin& b : kBuiltins)
+    if (name == b.name) return b.raw_normals;
+  return false;
+}
 
 std::vector<std::string> builtin_names() {
   std::vector<std::string> out;

@@ -32,8 +32,9 @@ glm::vec3 safe_normalize(const glm::vec3& v, const glm::vec3& fallback);
 // face normals cancel or are all degenerate takes its largest adjacent face's normal, then +Y: never NaN.
 std::vector<glm::vec3> smooth_normals(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices);
 
-// Checks indices and positions, renormalises normals (fallback +Y), computes bounds and the content hash.
-void finalize(Scene& scene, const std::string& display);
+// Checks indices and positions, renormalises normals (fallback +Y) unless `keep_normals`, computes bounds
+// and the content hash.
+void finalize(Scene& scene, const std::string& display, bool keep_normals = false);
 
 // Loaders. `display` is the path as shown in messages. They fill the geometry and mesh_count.
 Scene load_obj(const std::filesystem::path& path, const std::string& display, const LoadOptions& options);
@@ -41,6 +42,9 @@ Scene load_gltf(const std::filesystem::path& path, const std::string& display, c
 // `name` without the "builtin:" prefix. Fills geometry, views and ao_radius; throws for unknown names.
 Scene make_builtin(std::string_view name);
 std::vector<std::string> builtin_names();  // without the prefix
+// Whether load_scene keeps a built-in scene's normals as built: builtin:degenerate's zero-length normals
+// are its point (a stress scene), so they are not repaired.
+bool builtin_keeps_normals(std::string_view name);
 
 // Views.
 // Sets far to just beyond the farthest corner of `bounds` seen from the eye anywhere on its path (so all of

@@ -121,7 +121,7 @@ std::vector<glm::vec3> smooth_normals(std::span<const glm::vec3> positions, std:
   return sum;
 }
 
-void finalize(Scene& scene, const std::string& display) {
+void finalize(Scene& scene, const std::string& display, bool keep_normals) {
   if (scene.indices.empty())
     fail(
         fmt::format("{}: error: the scene has no triangles (an empty mesh cannot be rendered; add geometry)", display));
@@ -138,7 +138,7 @@ void finalize(Scene& scene, const std::string& display) {
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       fail(fmt::format("{}: error: vertex {} has a non-finite position (fix the file)", display, i));
     scene.bounds.extend(p);
-    scene.normals[i] = safe_normalize(scene.normals[i], {0.0f, 1.0f, 0.0f});
+    if (!keep_normals) scene.normals[i] = safe_normalize(scene.normals[i], {0.0f, 1.0f, 0.0f});
   }
   auto bytes = [](const auto& v) {
     return std::string_view(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0]));
@@ -200,10 +200,11 @@ Scene load_scene(const std::string& spec, const LoadOptions& options) {
   Scene scene;
   fs::path views_file = options.views_file;
   if (spec.starts_with(kPrefix)) {
-    scene = make_builtin(std::string_view(spec).substr(kPrefix.size()));
+    const std::string_view name = std::string_view(spec).substr(kPrefix.size());
+    scene = make_builtin(name);
     scene.name = spec;
     scene.source = "builtin";
-    finalize(scene, spec);
+    finalize(scene, spec, builtin_keeps_normals(name));
   } else {
     const fs::path path(spec);
     const std::string display = util::display_path(path);

@@ -53,7 +53,9 @@ struct Scene {
   std::string name;    // "builtin:atrium", or the file path as given
   std::string source;  // "builtin" or the file's display path
   std::vector<glm::vec3> positions;  // world space
-  std::vector<glm::vec3> normals;    // world space, unit length (smooth normals computed when absent)
+  // World space, unit length (smooth normals computed when absent); only the stress scene
+  // builtin:degenerate keeps zero-length normals on purpose.
+  std::vector<glm::vec3> normals;
   std::vector<std::uint32_t> indices;  // triangle list
   int mesh_count = 0;                  // meshes (OBJ shapes, glTF primitives, built-in parts) merged
   Bounds bounds;

@@ -9,18 +9,21 @@
 //   target = [x, y, z]         # required, different from eye
 //   up = [0, 1, 0]             # optional (default +Y), not parallel to target - eye
 //   fov = 60                   # optional, vertical, degrees, 0 < fov < 180 (default 60)
-//   near = 0.1                 # optional (default 0.1% of the scene's bounding-box diagonal), > 0
-//   far = 50                   # optional (default: just beyond the farthest bounding-box corner), > near
+//   near = 0.1                 # optional (default 0.1% of the scene's bounding-box diagonal), > 0, finite
+//   far = 50                   # optional (default: just beyond the farthest bounding-box corner), > near;
+//                              # far = inf gives an infinite projection (render/frame.h)
 //   path_offset = [0.2, 0, 0]  # optional: eye and target move by this over the camera path (default none)
 //   path_frames = 8            # optional, >= 1 (default 8)
 //
-// JSON: {"views": [{"name": "overview", "eye": [x, y, z], ...same keys...}, ...]}.
+// JSON: {"views": [{"name": "overview", "eye": [x, y, z], ...same keys...}, ...]}. JSON has no infinity
+// literal: "far": "inf" (a string) stands for TOML's far = inf.
 //
 // A view named overview, closeup or background replaces the derived (or built-in) one; other names are
 // added after them. Errors name the file, line and column.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <optional>
 
@@ -269,6 +272,16 @@ class ViewsFile {
     };
     const std::string label = v.name.empty() ? fmt::format("view {}", views.size() + 1) : "view '" + v.name + "'";
     if (v.name.empty()) error(at, label + " has no name (add name = \"overview\", \"closeup\", ...)");
+    // NaN near/far means "not given" (start()), so a NaN written in the file (TOML nan) is caught here, by key.
+    if (key_pos.count("near") && std::isnan(v.near_plane))
+      error(pos("near"), label + ": near nan is not a number (e.g. near = 0.1)");
+    if (key_pos.count("far") && std::isnan(v.far_plane))
+      error(pos("far"), label + ": far nan is not a number (e.g. far = 50, or far = inf)");
+    const std::pair<const char*, const glm::vec3*> points[] = {
+        {"eye", &v.eye}, {"target", &v.target}, {"up", &v.up}, {"path_offset", &v.path_offset}};
+    for (auto [key, p] : points)
+      if (!std::isfinite(p->x) || !std::isfinite(p->y) || !std::isfinite(p->z))
+        error(pos(key), fmt::format("{}: {} must be finite (no inf or nan)", label, key));
     for (const View& o : views)
       if (o.name == v.name)
         error(pos("name"), fmt::format("view '{}' is defined twice (rename or remove one)", v.name));
@@ -279,8 +292,8 @@ class ViewsFile {
     if (!(v.fov_y_deg > 0.0f && v.fov_y_deg < 180.0f))
       error(pos("fov"), fmt::format("{}: fov {} is outside (0, 180) (the vertical field of view in degrees, e.g. 60)",
                                     label, v.fov_y_deg));
-    if (!std::isnan(v.near_plane) && !(v.near_plane > 0.0f))
-      error(pos("near"), fmt::format("{}: near {} must be > 0 (e.g. 0.1)", label, v.near_plane));
+    if (!std::isnan(v.near_plane) && !(v.near_plane > 0.0f && std::isfinite(v.near_plane)))
+      error(pos("near"), fmt::format("{}: near {} must be > 0 and finite (e.g. 0.1)", label, v.near_plane));
     if (!std::isnan(v.far_plane) && !std::isnan(v.near_plane) && !(v.far_plane > v.near_plane))
       error(pos("far"), fmt::format("{}: far {} must be greater than near {}", label, v.far_plane, v.near_plane));
     if (!std::isnan(v.far_plane) && !(v.far_plane > 0.0f))
@@ -439,7 +452,10 @@ std::vector<View> parse_json(const std::string& text, const std::string& display
         if (auto it = layout.keys[vi].find(k); it != layout.keys[vi].end()) p = pos_at(text, it->second);
       key_pos[k] = p;
       auto number = [&, &node = node, &k = k]() -> float {
-        if (!node.is_number()) vf.error(p, fmt::format("'{}' must be a number", k));
+        // JSON has no infinity literal: the far plane takes the string "inf" for TOML's far = inf.
+        if (k == "far" && node.is_string() && lower(node.get<std::string>()) == "inf")
+          return std::numeric_limits<float>::infinity();
+        if (!node.is_number()) vf.error(p, fmt::format("'{}' must be a number{}", k, k == "far" ? " or \"inf\"" : ""));
         return node.get<float>();
       };
       auto vec3 = [&, &node = node, &k = k]() -> glm::vec3 {

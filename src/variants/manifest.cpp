@@ -343,7 +343,7 @@ class Parser {
     } catch (const toml::parse_error& e) {
       fail(pos_of(e.source()), std::string(e.description()));
     }
-    check_keys(doc, {"manifest", "axes", "rules", "pipeline", "passes", "algorithms"}, "the manifest");
+    check_keys(doc, {"manifest", "axes", "rules", "pipeline", "passes", "algorithms", "ship"}, "the manifest");
     if (const toml::node* n = doc.get("manifest")) {
       const toml::table& t = table_of(*n, "[manifest]");
       check_keys(t, {"name", "targets"}, "[manifest]");
@@ -373,6 +373,15 @@ class Parser {
     if (!passes) fail(SourcePos{1, 1}, "the manifest has no [passes] table");
     parse_passes(*passes);
     if (const toml::node* n = doc.get("algorithms")) parse_algorithms(*n);
+    if (const toml::node* n = doc.get("ship")) {
+      const toml::table& t = table_of(*n, "[ship]");
+      check_keys(t, {"variants"}, "[ship]");
+      if (const toml::node* v = t.get("variants")) {
+        const toml::array* arr = v->as_array();
+        if (!arr) fail(*v, "[ship] variants must be a list of variant-key globs (e.g. [\"alchemy-s08-*\"])");
+        for (const toml::node& e : *arr) m_.ship.push_back({string_of(e, "a [ship] variant glob"), pos_of(e.source())});
+      }
+    }
     for (const AxisValue& v : m_.axis_values(Axis::algorithm))
       if (!m_.algorithm(v.text))
         fail(m_.axis_pos[index(Axis::algorithm)],

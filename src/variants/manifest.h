@@ -102,6 +102,13 @@ struct Manifest {
   std::vector<Axis> pipeline_reads;
   std::vector<Pass> passes;
   std::vector<Algorithm> algorithms;
+  // [ship] variants: globs over variant keys naming what the renderer ships; `aovar stress` fails (exit 1)
+  // when one of them fails a stress case. Empty: nothing is marked shipped.
+  struct ShipGlob {
+    std::string glob;
+    SourcePos pos;
+  };
+  std::vector<ShipGlob> ship;
 
   const Algorithm* algorithm(std::string_view name) const;
   const std::vector<AxisValue>& axis_values(Axis a) const { return values[index(a)]; }

@@ -1,0 +1,155 @@
+// aovar stress: the shipped variants pass the suite on both backends (the CI subset), a guard removed
+// from a template makes the suite fail with a reproducer that reproduces, checks are reused, bad input
+// gets one-line errors.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <regex>
+
+#include <nlohmann/json.hpp>
+
+#include "reference/reference.h"
+#include "scene/scene.h"
+#include "stress/stress.h"
+#include "test_support.h"
+#include "util/fs.h"
+
+namespace aovar::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(util::read_file(p).value()); }
+
+// The reduced suite CI runs: every shipped variant of the default manifest, every default case, both backends.
+TEST(Stress, ShippedVariantsPassEveryCaseOnBothBackends) {
+  TempDir dir;
+  auto r = run_aovar("stress --shipped --backend lavapipe,osmesa --out " + dir.path().string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  auto j = read_json(dir / "stress.json");
+  const auto cases = stress::default_cases();
+  ASSERT_GE(j.at("variants").size(), 6u);
+  for (const auto& v : j.at("variants")) {
+    EXPECT_TRUE(v.at("shipped").get<bool>()) << v;
+    EXPECT_TRUE(v.at("passed").get<bool>()) << v;
+    EXPECT_EQ(v.at("checks").get<std::size_t>(), 2 * cases.size()) << v.at("variant");
+  }
+  bool sao_far = false;
+  for (const auto& c : j.at("checks")) {
+    EXPECT_EQ(c.at("nan").get<long>(), 0) << c;
+    EXPECT_EQ(c.at("inf").get<long>(), 0) << c;
+    EXPECT_EQ(c.at("out_of_range").get<long>(), 0) << c;
+    EXPECT_GT(c.at("pixels").get<long>(), 0) << c;
+    // SAO's linear z / far depth key left every pixel nearer than far / 65536 keyed 0 and the keyed blur
+    // divided by it: 1290 NaN of 5184 pixels on far-1e6 before common/key.glsl keyed log depth.
+    if (c.at("variant").get<std::string>().rfind("sao-", 0) == 0 && c.at("case") == "far-1e6") sao_far = true;
+  }
+  EXPECT_TRUE(sao_far);
+  // The mediump variant is compared with its highp form on every case.
+  bool compared = false;
+  for (const auto& c : j.at("checks"))
+    if (c.at("variant") == "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-mp")
+      compared = compared || c.at("partner") == "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
+  EXPECT_TRUE(compared);
+  EXPECT_NE(util::read_file(dir / "stress.md").value().find("| alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp | yes |"),
+            std::string::npos);
+
+  // A second run checks nothing again.
+  auto again = run_aovar("stress --shipped --backend lavapipe,osmesa --out " + dir.path().string());
+  ASSERT_EQ(again.status, 0) << again.output;
+  EXPECT_NE(again.output.find("(" + std::to_string(j.at("checks").size()) + " reused)"), std::string::npos) << again.output;
+}
+
+// Copy of the shader sources with Alchemy's tangent-plane guard removed (max(0, v . n - z beta): only taps
+// above C's tangent plane occlude): taps below it then add negative occlusion and AO rises above 1 wherever
+// the surface curves away or a tap falls off an edge. The suite must fail the shipped variant and print a
+// command that reproduces the failure on its own. (Removing the final max(0, ...) alone, or Alchemy's
+// epsilon alone, changes nothing here: the other guard catches what it lets through — llvmpipe's max()
+// returns the non-NaN operand — which is the point of guarding in depth.)
+TEST(Stress, RemovingAGuardFailsWithAReproducer) {
+  TempDir dir;
+  fs::copy(fs::path(AOVAR_SOURCE_DIR) / "shader_src", dir / "shader_src", fs::copy_options::recursive);
+  const fs::path alchemy = dir / "shader_src" / "ao" / "alchemy.glsl";
+  std::string text = util::read_file(alchemy).value();
+  const std::string guarded = "sum += max(0.0, dot(v, n) - z_bias) / (dot(v, v) + epsilon);";
+  auto at = text.find(guarded);
+  ASSERT_NE(at, std::string::npos) << "the guard this test removes moved: update the test";
+  text.replace(at, guarded.size(), "sum += (dot(v, n) - z_bias) / (dot(v, v) + epsilon);");
+  util::write_atomic(alchemy, text);
+
+  const std::string manifest = (dir / "shader_src" / "aovar.toml").string();
+  const std::string key = "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
+  auto r = run_aovar("stress --manifest " + manifest + " --variants " + key + " --case baseline --case screen-edges");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("FAIL " + key + " (shipped)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("outside [0, 1]"), std::string::npos) << r.output;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.output, m, std::regex("reproduce: aovar (stress [^\n]*)"))) << r.output;
+  auto again = run_aovar(m[1].str());
+  EXPECT_EQ(again.status, 1) << "the reproducer must fail again: " << m[1].str() << "\n" << again.output;
+  EXPECT_NE(again.output.find("FAIL " + key), std::string::npos) << again.output;
+
+  // The unmodified sources pass the same cases.
+  auto clean = run_aovar("stress --variants " + key + " --case baseline --case screen-edges");
+  EXPECT_EQ(clean.status, 0) << clean.output;
+}
+
+TEST(Stress, CustomCaseAndBadInput) {
+  // A custom case: the form a randomised search prints.
+  auto ok = run_aovar("stress --variants alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp --scene builtin:stairs --eye 4,2,6 "
+                      "--target -1,0.5,1 --near 0.01 --far 1e6 --radius 0.3");
+  EXPECT_EQ(ok.status, 0) << ok.output;
+  EXPECT_NE(ok.output.find("1 variants x 1 cases"), std::string::npos) << ok.output;
+
+  auto near = run_aovar("stress --variants alchemy-s08-* --scene builtin:stairs --eye 4,2,6 --target 0,0,0 --near 0");
+  EXPECT_NE(near.status, 0);
+  EXPECT_NE(near.output.find("--near 0 must be > 0"), std::string::npos) << near.output;
+  auto vec = run_aovar("stress --scene builtin:stairs --eye 4,2 --target 0,0,0");
+  EXPECT_NE(vec.status, 0);
+  EXPECT_NE(vec.output.find("--eye: expected x,y,z"), std::string::npos) << vec.output;
+  auto unknown = run_aovar("stress --case nope");
+  EXPECT_NE(unknown.status, 0);
+  EXPECT_NE(unknown.output.find("unknown --case 'nope' (cases: baseline,"), std::string::npos) << unknown.output;
+
+  // A [ship] glob that matches nothing names the manifest line.
+  TempDir dir;
+  fs::copy(fs::path(AOVAR_SOURCE_DIR) / "shader_src", dir / "shader_src", fs::copy_options::recursive);
+  const fs::path manifest = dir / "shader_src" / "aovar.toml";
+  std::string text = util::read_file(manifest).value();
+  auto at = text.find("variants = [\n");
+  ASSERT_NE(at, std::string::npos);
+  text.insert(at + 13, "  \"alchemy-s99-*\",\n");
+  util::write_atomic(manifest, text);
+  auto typo = run_aovar("stress --shipped --manifest " + manifest.string());
+  EXPECT_NE(typo.status, 0);
+  EXPECT_NE(typo.output.find("aovar.toml:"), std::string::npos) << typo.output;
+  EXPECT_NE(typo.output.find("[ship] glob 'alchemy-s99-*' matches no variant"), std::string::npos) << typo.output;
+}
+
+TEST(Stress, DefaultCasesSeeWhatTheyClaim) {
+  // Each case's camera must see what its description says: a camera inside geometry (every primary ray
+  // hits a back face) reads as occluded everywhere and tests nothing. Checked on the ray-traced view.
+  for (const auto& c : stress::default_cases()) {
+    auto scene = scene::load_scene(c.scene);
+    reference::ReferenceOptions ro;
+    ro.size = {48, 27};
+    ro.rays = 16;
+    ro.radius = c.radius > 0 ? c.radius : scene.ao_radius;
+    auto ref = reference::trace_reference(scene, c.view, ro);
+    auto stats = reference::reference_stats(ref);
+    if (c.name == "all-background") {
+      EXPECT_EQ(stats.background_share, 1.0) << c.name;
+      continue;
+    }
+    EXPECT_LT(stats.background_share, 0.9) << c.name << ": the camera sees (almost) nothing";
+    if (c.name != "radius-1e4")  // a 1e4 hemisphere holds the whole scene: dark by design
+      EXPECT_GT(stats.mean_visibility, 0.5) << c.name << ": occluded everywhere (camera inside geometry?)";
+  }
+  auto custom = stress::custom_case("builtin:atrium", {0, 1, 5}, {0, 1, 0}, 60, 0.1f, std::numeric_limits<float>::infinity(), 0);
+  EXPECT_EQ(stress::case_arguments(custom),
+            "--scene builtin:atrium --eye 0,1,5 --target 0,1,0 --up 0,1,0 --fov 60 --near 0.100000001 --far inf --radius 0");
+  EXPECT_THROW(stress::custom_case("builtin:atrium", {0, 1, 5}, {0, 1, 5}, 60, 0.1f, 10, 0), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace aovar::test
