@@ -1,5 +1,9 @@
 #include "render_support.h"
 
+#include <fnmatch.h>
+
+#include <algorithm>
+
 #include <cmath>
 #include <stdexcept>
 
@@ -91,6 +95,33 @@ ImageDiff compare(const image::FloatImage& a, const image::FloatImage& b) {
   }
   d.mean_abs /= static_cast<double>(a.pixels.size());
   return d;
+}
+
+PickedVariants pick_variants(const std::vector<std::vector<std::string>>& kinds) {
+  std::vector<std::string> globs;
+  for (const auto& kind : kinds) globs.insert(globs.end(), kind.begin(), kind.end());
+  PickedVariants picked;
+  picked.compiled = compile_variants(globs);
+  const auto& all = picked.compiled.space.variants;
+  for (std::size_t k = 0; k < kinds.size(); ++k)
+    for (const auto& glob : kinds[k]) {
+      auto v = std::find_if(all.begin(), all.end(), [&](const auto& e) { return fnmatch(glob.c_str(), e.key.c_str(), 0) == 0; });
+      if (v != all.end()) {
+        picked.keys[static_cast<int>(k)] = v->key;
+        break;
+      }
+    }
+  return picked;
+}
+
+std::vector<std::vector<std::string>> method_kinds(const std::string& algorithm) {
+  const std::string a = algorithm + "-";
+  return {
+      {a + "s08-p0-nrgb8-zdep-rst-d32-bno-x1-hp", a + "s08-p0-*-zdep-*-d32-bno-x1-*"},
+      {a + "s16-p0-nrgb8-zdep-rip-d32-bsep-x1-hp", a + "s16-p0-*-zdep-*-d32-bsep-x1-hp"},
+      {a + "s16-p1-noct-zdep-rst-d16-bsep-x2-mp", a + "s16-p1-*-zdep-*-d16-bsep-x2-mp",
+       a + "s16-p0-*-zdep-*-d16-bsep-x2-mp"},
+  };
 }
 
 }  // namespace aovar::test

@@ -1,5 +1,6 @@
 #pragma once
 // Shared helpers of the rendering tests: compiled variants, hand-built scenes, one-call rendering.
+#include <map>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,21 @@ compile::CompiledSpace compile_variants(const std::vector<std::string>& keys);
 int variant_index(const compile::CompiledSpace& c, const std::string& key);  // throws when absent
 
 variants::Target target_of(const std::string& backend);
+
+// Compiles the variants the kinds' globs select and picks, per kind (its index), the key of the first glob
+// (in order of preference) that matches a variant; kinds that match nothing are absent from `keys`.
+struct PickedVariants {
+  compile::CompiledSpace compiled;
+  std::map<int, std::string> keys;
+};
+PickedVariants pick_variants(const std::vector<std::vector<std::string>>& kinds);
+
+// The variant kinds a method's rendering tests use: a plain full-resolution 8-sample variant without blur
+// (the estimator alone), a blurred 16-sample one, and a progressive half-resolution mediump one on r16f
+// depth. Each kind lists globs in order of preference: methods that read no normals keep only
+// `normals = depth` (a manifest rule), axes a method does not read show as `_x` in keys, and a method
+// without a progressive form keeps p0.
+std::vector<std::vector<std::string>> method_kinds(const std::string& algorithm);
 
 // Axis-aligned quads merged into a scene with one view; each quad is (corner, edge u, edge v), normal u x v.
 struct Quad {

@@ -4,7 +4,6 @@
 // soon as it is added there.
 #include <gtest/gtest.h>
 
-#include <fnmatch.h>
 
 #include <algorithm>
 #include <map>
@@ -26,41 +25,14 @@ std::vector<std::string> manifest_algorithms() {
   return out;
 }
 
-// Per method: a plain full-resolution variant without blur (the estimator alone), a blurred 16-sample
-// one, and a progressive half-resolution mediump one on r16f depth. Each kind lists globs in order of
-// preference: methods that read no normals keep only `normals = depth` (a manifest rule), axes a method
-// does not read show as `_x` in keys, and a method without a progressive form keeps p0.
-struct MethodVariants {
-  compile::CompiledSpace compiled;
-  std::vector<std::string> keys;
-};
+// Per method: the kinds of render_support.h's method_kinds, compiled once per process.
+using MethodVariants = PickedVariants;
 
 const MethodVariants& method_variants(const std::string& algorithm) {
   static std::map<std::string, MethodVariants> cache;
   auto it = cache.find(algorithm);
-  if (it != cache.end()) return it->second;
-  const std::string a = algorithm + "-";
-  const std::vector<std::vector<std::string>> kinds = {
-      {a + "s08-p0-nrgb8-zdep-rst-d32-bno-x1-hp", a + "s08-p0-*-zdep-*-d32-bno-x1-*"},
-      {a + "s16-p0-nrgb8-zdep-rip-d32-bsep-x1-hp", a + "s16-p0-*-zdep-*-d32-bsep-x1-hp"},
-      {a + "s16-p1-noct-zdep-rst-d16-bsep-x2-mp", a + "s16-p1-*-zdep-*-d16-bsep-x2-mp",
-       a + "s16-p0-*-zdep-*-d16-bsep-x2-mp"},
-  };
-  std::vector<std::string> globs;
-  for (const auto& kind : kinds) globs.insert(globs.end(), kind.begin(), kind.end());
-  MethodVariants mv;
-  mv.compiled = compile_variants(globs);
-  for (const auto& kind : kinds) {
-    for (const auto& glob : kind) {
-      auto v = std::find_if(mv.compiled.space.variants.begin(), mv.compiled.space.variants.end(),
-                            [&](const auto& e) { return fnmatch(glob.c_str(), e.key.c_str(), 0) == 0; });
-      if (v != mv.compiled.space.variants.end()) {
-        mv.keys.push_back(v->key);
-        break;
-      }
-    }
-  }
-  return cache.emplace(algorithm, std::move(mv)).first->second;
+  if (it == cache.end()) it = cache.emplace(algorithm, pick_variants(method_kinds(algorithm))).first;
+  return it->second;
 }
 
 render::PipelinePlan plan_for(const MethodVariants& mv, const std::string& key, const std::string& backend) {
@@ -80,7 +52,7 @@ TEST_P(Method, RendersFiniteVisibilityInRangeOnEveryBuiltinScene) {
     for (const auto& b : kBackends) {
       auto backend = render::make_backend(b, {});
       backend->set_scene(sc);
-      for (const auto& key : mv.keys) {
+      for (const auto& [kind, key] : mv.keys) {
         for (const auto& view : sc.views) {
           auto img = render_plan(*backend, plan_for(mv, key, b), view, {160, 90}, sc.ao_radius, 2);
           auto h = measure::image_health(img);
@@ -100,7 +72,7 @@ TEST_P(Method, OpenPlaneIsOpen) {
   for (const auto& b : kBackends) {
     auto backend = render::make_backend(b, {});
     backend->set_scene(sc);
-    for (const auto& key : mv.keys) {
+    for (const auto& [kind, key] : mv.keys) {
       auto img = render_plan(*backend, plan_for(mv, key, b), view, {160, 90}, sc.ao_radius, 2);
       double sum = 0;
       float lo = 1;
@@ -121,7 +93,7 @@ TEST_P(Method, InnerCornerIsDarkerThanTheOpenFloor) {
   for (const auto& b : kBackends) {
     auto backend = render::make_backend(b, {});
     backend->set_scene(sc);
-    for (const auto& key : mv.keys) {
+    for (const auto& [kind, key] : mv.keys) {
       auto img = render_plan(*backend, plan_for(mv, key, b), view, size, radius, 2);
       EXPECT_GE(img.at(po.x, po.y), 0.9f) << b << " " << key;
       EXPECT_LT(img.at(pc.x, pc.y), img.at(po.x, po.y) - 0.1f) << b << " " << key;
@@ -136,11 +108,11 @@ TEST_P(Method, LavapipeAndOsmesaAgree) {
   for (int b = 0; b < 2; ++b) {
     auto backend = render::make_backend(kBackends[b], {});
     backend->set_scene(sc);
-    for (const auto& key : mv.keys)
+    for (const auto& [kind, key] : mv.keys)
       images[b][key] = render_plan(*backend, plan_for(mv, key, kBackends[b]), sc.views.front(), {320, 180},
                                    sc.ao_radius, 3);
   }
-  for (const auto& key : mv.keys) {
+  for (const auto& [kind, key] : mv.keys) {
     auto d = compare(images[0][key], images[1][key]);
     EXPECT_LE(d.mean_abs, 1.0 / 255.0) << key;
     EXPECT_LE(d.max_abs, 0.1) << key;

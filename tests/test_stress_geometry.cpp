@@ -7,7 +7,6 @@
 // builtin:far r16f must also differ measurably from r32f, more than on the atrium.
 #include <gtest/gtest.h>
 
-#include <fnmatch.h>
 
 #include <algorithm>
 #include <cmath>
@@ -272,37 +271,18 @@ std::vector<std::string> manifest_algorithms() {
 // plain 8-sample variant on r16f depth for the r16f / r32f comparison.
 enum Kind { kPlain, kBlurred, kProgressive, kPlainR16f, kKinds };
 
-struct MethodVariants {
-  compile::CompiledSpace compiled;
-  std::map<Kind, std::string> keys;
-};
+using MethodVariants = PickedVariants;
 
 const MethodVariants& method_variants(const std::string& algorithm) {
   static std::map<std::string, MethodVariants> cache;
   auto it = cache.find(algorithm);
-  if (it != cache.end()) return it->second;
-  const std::string a = algorithm + "-";
-  const std::vector<std::vector<std::string>> kinds = {
-      {a + "s08-p0-nrgb8-zdep-rst-d32-bno-x1-hp", a + "s08-p0-*-zdep-*-d32-bno-x1-*"},
-      {a + "s16-p0-nrgb8-zdep-rip-d32-bsep-x1-hp", a + "s16-p0-*-zdep-*-d32-bsep-x1-hp"},
-      {a + "s16-p1-noct-zdep-rst-d16-bsep-x2-mp", a + "s16-p1-*-zdep-*-d16-bsep-x2-mp",
-       a + "s16-p0-*-zdep-*-d16-bsep-x2-mp"},
-      {a + "s08-p0-nrgb8-zdep-rst-d16-bno-x1-hp", a + "s08-p0-*-zdep-*-d16-bno-x1-*"},
-  };
-  std::vector<std::string> globs;
-  for (const auto& kind : kinds) globs.insert(globs.end(), kind.begin(), kind.end());
-  MethodVariants mv;
-  mv.compiled = compile_variants(globs);
-  for (int k = 0; k < kKinds; ++k)
-    for (const auto& glob : kinds[k]) {
-      auto v = std::find_if(mv.compiled.space.variants.begin(), mv.compiled.space.variants.end(),
-                            [&](const auto& e) { return fnmatch(glob.c_str(), e.key.c_str(), 0) == 0; });
-      if (v != mv.compiled.space.variants.end()) {
-        mv.keys[Kind(k)] = v->key;
-        break;
-      }
-    }
-  return cache.emplace(algorithm, std::move(mv)).first->second;
+  if (it == cache.end()) {
+    auto kinds = method_kinds(algorithm);
+    const std::string a = algorithm + "-";
+    kinds.push_back({a + "s08-p0-nrgb8-zdep-rst-d16-bno-x1-hp", a + "s08-p0-*-zdep-*-d16-bno-x1-*"});  // kPlainR16f
+    it = cache.emplace(algorithm, pick_variants(kinds)).first;
+  }
+  return it->second;
 }
 
 render::PipelinePlan plan_for(const MethodVariants& mv, const std::string& key, const std::string& backend) {
