@@ -6,6 +6,7 @@
 #include <chrono>
 #include <tuple>
 #include <cstdio>
+#include <functional>
 #include <iostream>
 #include <unistd.h>
 
@@ -141,6 +142,25 @@ int run_generate(const CommonOptions& o, const compile::OutputOptions& out) {
   return 0;
 }
 
+// Runs work(progress) with a one-line status on a terminal: status lines overwrite each other, lines that
+// start with "note: " stay, and the status is cleared when the work ends or throws (so an error gets a
+// line of its own).
+template <class Work>
+auto with_status(Work&& work) {
+  const bool tty = isatty(fileno(stderr));
+  std::function<void(const std::string&)> progress = [tty](const std::string& line) {
+    if (line.rfind("note: ", 0) == 0) std::cerr << (tty ? "\r\033[K" : "") << line << "\n";
+    else if (tty) std::cerr << "\r\033[K" << line << std::flush;
+  };
+  struct Clear {
+    bool tty;
+    ~Clear() {
+      if (tty) std::cerr << "\r\033[K";
+    }
+  } clear{tty};
+  return work(progress);
+}
+
 render::Extent parse_size(const std::string& text) {
   render::Extent e;
   char x = 0, extra = 0;
@@ -208,19 +228,7 @@ int run_measure(const CommonOptions& common, measure::MeasureOptions o, const st
   o.out = out;
   if (!common.no_cache)
     o.cache_dir = common.cache_dir.empty() ? compile::CompileCache::default_dir() : std::filesystem::path(common.cache_dir);
-  bool tty = isatty(fileno(stderr));
-  auto progress = [tty](const std::string& line) {
-    if (line.rfind("note: ", 0) == 0) std::cerr << (tty ? "\r\033[K" : "") << line << "\n";
-    else if (tty) std::cerr << "\r\033[K" << line << std::flush;
-  };
-  measure::MeasureResult r;
-  try {
-    r = measure::run_measure(o, progress);
-  } catch (...) {
-    if (tty) std::cerr << "\r\033[K";  // the error goes on a line of its own, not after the status
-    throw;
-  }
-  if (tty) std::cerr << "\r\033[K";
+  auto r = with_status([&](const auto& progress) { return measure::run_measure(o, progress); });
   print_measure_table(r);
   for (const auto& d : r.devices)
     std::cout << fmt::format("# {}: {}, {}, {} threads\n", d.backend, d.device, d.api_version, d.threads);
@@ -261,19 +269,7 @@ int run_sweep(const CommonOptions& common, sweep::SweepOptions o, const std::str
     if (std::filesystem::exists(next_to)) cal_file = next_to;
   }
   if (!cal_file.empty() && !no_calibration) m.calibration = calibrate::load_calibration(cal_file);
-  bool tty = isatty(fileno(stderr));
-  auto progress = [tty](const std::string& line) {
-    if (line.rfind("note: ", 0) == 0) std::cerr << (tty ? "\r\033[K" : "") << line << "\n";
-    else if (tty) std::cerr << "\r\033[K" << line << std::flush;
-  };
-  sweep::SweepResult r;
-  try {
-    r = sweep::run_sweep(o, progress);
-  } catch (...) {
-    if (tty) std::cerr << "\r\033[K";
-    throw;
-  }
-  if (tty) std::cerr << "\r\033[K";
+  auto r = with_status([&](const auto& progress) { return sweep::run_sweep(o, progress); });
   std::cout << table::to_markdown(r.table);
   for (const auto& m : r.table.meta.value("cost_models", nlohmann::json::array()))
     std::cout << fmt::format("# cost model {} {} {}: {} rows, cross-validated R2 {:.3f}, Spearman {:.3f} (against time_ms.min "
@@ -292,18 +288,7 @@ int run_sweep(const CommonOptions& common, sweep::SweepOptions o, const std::str
 int run_calibrate(const CommonOptions& common, calibrate::CalibrateOptions o, const std::string& out) {
   auto cache = common.cache_dir.empty() ? compile::CompileCache::default_dir() : std::filesystem::path(common.cache_dir);
   o.compile_cache = o.reference_cache = cache;
-  bool tty = isatty(fileno(stderr));
-  auto progress = [tty](const std::string& line) {
-    if (tty) std::cerr << "\r\033[K" << line << std::flush;
-  };
-  calibrate::Calibration c;
-  try {
-    c = calibrate::calibrate(o, progress);
-  } catch (...) {
-    if (tty) std::cerr << "\r\033[K";
-    throw;
-  }
-  if (tty) std::cerr << "\r\033[K";
+  auto c = with_status([&](const auto& progress) { return calibrate::calibrate(o, progress); });
   calibrate::write_calibration(out, c);
   std::cout << fmt::format("{:<10} {:>6} {:>17} {:>19}  {}\n", "algorithm", "evals", "train rmse", "validation rmse",
                            "fitted (default)");
@@ -443,18 +428,7 @@ int run_stress(StressCli& a) {
       o.cases.push_back(*it);
     }
   }
-  bool tty = isatty(fileno(stderr));
-  auto progress = [tty](const std::string& line) {
-    if (tty) std::cerr << "\r\033[K" << line << std::flush;
-  };
-  stress::Result r;
-  try {
-    r = stress::run_stress(o, progress);
-  } catch (...) {
-    if (tty) std::cerr << "\r\033[K";
-    throw;
-  }
-  if (tty) std::cerr << "\r\033[K";
+  auto r = with_status([&](const auto& progress) { return stress::run_stress(o, progress); });
   const auto cases = o.cases.empty() ? stress::default_cases() : o.cases;
   for (const auto& v : r.variants) {
     if (v.failures.empty()) continue;
