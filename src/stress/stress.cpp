@@ -237,7 +237,7 @@ std::string failure_text(const Check& c, const Options& o, bool pair_failed) {
   return s.empty() ? s : s + fmt::format(" of {} pixels", c.pixels);
 }
 
-void finish(Result& r, const Options& o, const std::vector<std::string>& keys, const std::vector<std::string>& ship) {
+void finish(Result& r, const std::vector<std::string>& keys, const std::vector<std::string>& ship) {
   std::sort(r.checks.begin(), r.checks.end(), [](const Check& a, const Check& b) {
     return std::tie(a.variant, a.backend, a.case_name) < std::tie(b.variant, b.backend, b.case_name);
   });
@@ -258,7 +258,6 @@ void finish(Result& r, const Options& o, const std::vector<std::string>& keys, c
     }
     r.variants.push_back(std::move(v));
   }
-  (void)o;
 }
 
 }  // namespace
@@ -383,7 +382,7 @@ Result run_stress(const Options& o, const Progress& progress) {
   auto checkpoint = [&] {
     if (o.out.empty()) return;
     Result snapshot = res;
-    finish(snapshot, o, keys, ship);
+    finish(snapshot, keys, ship);
     util::write_atomic(o.out / "stress.json", to_json(snapshot, o).dump(1) + "\n");
   };
 
@@ -565,7 +564,7 @@ Result run_stress(const Options& o, const Progress& progress) {
       }
     }
   }
-  finish(res, o, keys, ship);
+  finish(res, keys, ship);
   res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!o.out.empty()) {
     util::write_atomic(o.out / "stress.json", to_json(res, o).dump(1) + "\n");
