@@ -97,6 +97,45 @@ TEST(Stress, RemovingAGuardFailsWithAReproducer) {
 // Inverse-projection reconstruction rebuilt NDC z = 1 - near / z and unprojected it: with near = 1e-4 the
 // depth came back ~2 % off and the r16f variant disagreed with its r32f form on 2.1 % of the pixels (6 of
 // these 32 variants failed); common/unproject.glsl now unprojects on the near plane and scales the ray.
+// The whole space runs in forked children (lavapipe never frees per-render memory): slices give the checks
+// one process gives, and a renderer crash costs the variant it hit, not the run.
+TEST(Stress, ChildProcessesMatchOneProcessAndSurviveACrash) {
+  TempDir dir;
+  const std::string variants = "--variants 'hbao-s04-p0-nrgb8-zdep-rst-d*-bbil-x1-*' --case baseline --case far-1e6 --no-reuse";
+  auto one = run_aovar("stress " + variants + " --renders-per-process 0 --out " + (dir / "one").string());
+  ASSERT_EQ(one.status, 0) << one.output;
+  auto sliced = run_aovar("stress " + variants + " --renders-per-process 2 --out " + (dir / "sliced").string());
+  ASSERT_EQ(sliced.status, 0) << sliced.output;
+  auto a = read_json(dir / "one" / "stress.json").at("checks"), b = read_json(dir / "sliced" / "stress.json").at("checks");
+  ASSERT_EQ(a.size(), 6u);
+  EXPECT_EQ(a, b);
+
+  const std::string crashing = "hbao-s04-p0-nrgb8-zdep-rst-d32-bbil-x1-hp";
+  ::setenv("AOVAR_STRESS_TEST_CRASH", crashing.c_str(), 1);
+  auto crashed = run_aovar("stress " + variants + " --renders-per-process 2 --out " + (dir / "crash").string());
+  ::unsetenv("AOVAR_STRESS_TEST_CRASH");
+  EXPECT_EQ(crashed.status, 0) << crashed.output;  // not shipped: listed, not fatal
+  auto j = read_json(dir / "crash" / "stress.json");
+  ASSERT_EQ(j.at("checks").size(), 6u) << crashed.output;
+  EXPECT_EQ(j.at("failed").get<int>(), 1);
+  for (const auto& c : j.at("checks")) {
+    if (c.at("variant") == crashing) {
+      EXPECT_NE(c.at("failure").get<std::string>().find("the renderer crashed (signal 6"), std::string::npos) << c;
+    } else {
+      EXPECT_EQ(c.at("failure"), "") << c;  // its group rendered again without it
+      EXPECT_GT(c.at("pixels").get<long>(), 0) << c;
+    }
+  }
+  // The reproducer, without the crash, passes.
+  std::smatch m;
+  const std::string out = crashed.output;
+  ASSERT_TRUE(std::regex_search(out, m, std::regex("reproduce: aovar (stress [^\\n]*" + crashing + "[^\\n]*)")))
+      << out;
+  auto again = run_aovar(m[1].str() + " --out " + (dir / "again").string());
+  EXPECT_EQ(again.status, 0) << again.output;
+  EXPECT_EQ(read_json(dir / "again" / "stress.json").at("failed").get<int>(), 0);
+}
+
 TEST(Stress, InverseProjectionKeepsDepthWithATinyNearPlane) {
   auto r = run_aovar("stress --variants 'alchemy-s0[46]-p0-*-zdep-rip-d*-bno-x[12]-hp' --case near-1e-4 "
                      "--case near-1e-4-far-1e6");

@@ -634,6 +634,10 @@ int main(int argc, char** argv) {
   str->add_flag("--no-calibration", st.no_calibration, "use the manifest's default parameters");
   str->add_flag("--no-reuse", st.no_reuse, "check everything again (default: reuse checks whose inputs match OUT/stress.json)");
   str->add_option("--out,-o", st.out, "output folder: stress.json, stress.md");
+  str->add_option("--renders-per-process", st.options.renders_per_process,
+                  "variant x case renders per child process (lavapipe keeps memory per render; 0: render in this process)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
 
   CommonOptions sweep_common;
   sweep::SweepOptions so;

@@ -1,8 +1,16 @@
 #include "stress/stress.h"
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -203,6 +211,16 @@ json check_json(const Check& c) {
           {"pair_share", c.pair_share}, {"rmse", c.rmse}, {"failure", c.failure}, {"inputs_hash", c.inputs_hash}};
 }
 
+Check check_from_json(const json& r) {
+  Check c;
+  c.variant = r.at("variant"), c.case_name = r.at("case"), c.backend = r.at("backend");
+  c.nan = r.at("nan"), c.inf = r.at("inf"), c.out_of_range = r.at("out_of_range"), c.pixels = r.at("pixels");
+  c.partner = r.at("partner"), c.pair_max = r.at("pair_max"), c.pair_share = r.at("pair_share");
+  c.failure = r.at("failure"), c.inputs_hash = r.at("inputs_hash");
+  c.rmse = r.value("rmse", -1.0);
+  return c;
+}
+
 Previous read_previous(const fs::path& file) {
   Previous p;
   auto text = util::read_file(file);
@@ -210,12 +228,7 @@ Previous read_previous(const fs::path& file) {
   try {
     json j = json::parse(*text);
     for (const auto& r : j.at("checks")) {
-      Check c;
-      c.variant = r.at("variant"), c.case_name = r.at("case"), c.backend = r.at("backend");
-      c.nan = r.at("nan"), c.inf = r.at("inf"), c.out_of_range = r.at("out_of_range"), c.pixels = r.at("pixels");
-      c.partner = r.at("partner"), c.pair_max = r.at("pair_max"), c.pair_share = r.at("pair_share");
-      c.failure = r.at("failure"), c.inputs_hash = r.at("inputs_hash");
-      c.rmse = r.value("rmse", -1.0);
+      Check c = check_from_json(r);
       p.by_key[check_key(c.variant, c.case_name, c.backend)] = c;
     }
   } catch (const std::exception&) {
@@ -306,6 +319,215 @@ std::string to_markdown(const Result& r, const Options& o) {
   return s;
 }
 
+namespace {
+
+// One variant of a partner group and the inputs hash of each of its checks (one per case).
+struct Member {
+  int v = 0;
+  std::string partner;
+  render::ParamOverrides overrides;
+  std::vector<std::string> hashes;
+};
+using Group = std::vector<Member>;  // rendered together: a partner's comparison needs the other's image
+
+// What every renderer of one run reads.
+struct Run {
+  const Options& o;
+  const compile::CompiledSpace& c;
+  const std::vector<Case>& cases;
+  const std::map<std::string, scene::Scene>& scenes;
+  const std::vector<reference::ReferenceImage>& truth;
+  const std::vector<std::string>& keys;
+};
+
+// Coverage probe: the first variant's G-buffer (linear depth) on every case, against the ray tracer's
+// background mask. Background in the G-buffer = the clear value render::background_depth(far) (or
+// anything not finite), the same test as the shaders' ao_is_background. Returns the failure per case.
+std::vector<std::string> probe_cases(const Run& run, render::Backend& backend, variants::Target target, int first_variant,
+                                     std::string& current_scene) {
+  std::vector<std::string> failure(run.cases.size());
+  auto probe_plan = render::plan_prefix(render::plan_pipeline(run.c, first_variant, target, {}, false), "gbuffer");
+  auto probe = backend.prepare(probe_plan, run.o.size);
+  for (std::size_t ci = 0; ci < run.cases.size(); ++ci) {
+    const Case& cs = run.cases[ci];
+    if (cs.scene != current_scene) {
+      backend.set_scene(run.scenes.at(cs.scene));
+      current_scene = cs.scene;
+    }
+    backend.render(*probe, {&cs.view, 0, true, 1.0f});
+    auto depth = backend.read_result(*probe);
+    const auto& bg = run.truth[ci].background;
+    long differ = 0, geometry_gbuffer = 0, geometry_traced = 0;
+    for (std::size_t i = 0; i < depth.pixels.size() && i < bg.size(); ++i) {
+      bool background = !(depth.pixels[i] < render::background_depth(cs.view.far_plane) * 0.999f);
+      geometry_gbuffer += !background;
+      geometry_traced += !bg[i];
+      differ += background != (bg[i] != 0);
+    }
+    double share = depth.pixels.empty() ? 0.0 : double(differ) / double(depth.pixels.size());
+    if (share > 0.05)
+      failure[ci] = fmt::format(
+          "the G-buffer has geometry at {:.1f}% of the pixels, the ray-traced view at {:.1f}% ({:.1f}% disagree): the "
+          "renderer cannot express this camera",
+          100.0 * geometry_gbuffer / depth.pixels.size(), 100.0 * geometry_traced / depth.pixels.size(), 100.0 * share);
+  }
+  return failure;
+}
+
+// Renders `groups` on a fresh backend: `starting(key)` before each variant, `emit` for each check (in
+// member order, cases in order).
+void render_groups(const Run& run, const std::string& backend_name, const std::vector<Group>& groups,
+                   const std::function<void(const std::string&)>& starting, const std::function<void(const Check&)>& emit,
+                   bool in_child) {
+  const Options& o = run.o;
+  const variants::Target target = target_of(backend_name);
+  render::BackendOptions bo;
+  bo.threads = o.threads;
+  auto backend = render::make_backend(backend_name, bo);
+  std::string current_scene;
+  const auto probe_failure = probe_cases(run, *backend, target, groups.front().front().v, current_scene);
+  // Test hook: a driver crash on this variant must cost that variant, not the run (tests/test_stress.cpp).
+  const char* crash_on = in_child ? std::getenv("AOVAR_STRESS_TEST_CRASH") : nullptr;
+  for (const Group& group : groups) {
+    std::map<std::string, image::FloatImage> images;  // variant|case of this group
+    for (const Member& m : group) {
+      const std::string& key = run.keys[m.v];
+      starting(key);
+      if (crash_on && key == crash_on) std::abort();
+      std::unique_ptr<render::PreparedPipeline> prepared;
+      std::string prepare_error;
+      const auto plan = render::plan_pipeline(run.c, m.v, target, m.overrides, false);
+      try {
+        prepared = backend->prepare(plan, o.size);
+      } catch (const render::BackendError& e) {
+        prepare_error = e.what();
+      }
+      for (std::size_t ci = 0; ci < run.cases.size(); ++ci) {
+        const Case& cs = run.cases[ci];
+        Check ch;
+        ch.variant = key, ch.case_name = cs.name, ch.backend = backend_name, ch.partner = m.partner;
+        ch.inputs_hash = m.hashes[ci];
+        if (!prepared) {
+          ch.failure = "the driver rejected the pipeline: " + prepare_error;
+          emit(ch);
+          continue;
+        }
+        if (cs.scene != current_scene) {
+          backend->set_scene(run.scenes.at(cs.scene));
+          current_scene = cs.scene;
+        }
+        const float radius = cs.radius > 0 ? cs.radius : run.scenes.at(cs.scene).ao_radius;
+        image::FloatImage img;
+        try {
+          // Progressive variants need their history: the second frame combines both halves.
+          for (int f = 0; f < (plan.progressive ? 2 : 1); ++f) backend->render(*prepared, {&cs.view, f, true, radius});
+          img = backend->read_result(*prepared);
+        } catch (const render::BackendError& e) {
+          ch.failure = std::string("rendering failed: ") + e.what();
+          emit(ch);
+          continue;
+        }
+        ch.pixels = static_cast<long>(img.pixels.size());
+        for (float x : img.pixels) {
+          if (std::isnan(x)) ++ch.nan;
+          else if (std::isinf(x)) ++ch.inf;
+          else if (x < 0.0f || x > 1.0f) ++ch.out_of_range;
+        }
+        bool pair_failed = false;
+        if (!m.partner.empty()) {
+          auto p = images.find(m.partner + "|" + cs.name);
+          if (p != images.end() && p->second.pixels.size() == img.pixels.size()) {
+            long beyond = 0;
+            for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+              float a = img.pixels[i], b = p->second.pixels[i];
+              if (!std::isfinite(a) || !std::isfinite(b)) continue;  // counted as NaN / Inf already
+              double d = std::abs(double(a) - double(b));
+              ch.pair_max = std::max(ch.pair_max, d);
+              beyond += d > o.pair_tolerance;
+            }
+            ch.pair_share = img.pixels.empty() ? 0.0 : double(beyond) / double(img.pixels.size());
+            pair_failed = ch.pair_share > o.pair_share;
+          }
+        }
+        if (probe_failure[ci].empty()) {
+          double rmse = metrics::compare(img, run.truth[ci].visibility, run.truth[ci].background).rmse;
+          ch.rmse = std::isfinite(rmse) ? rmse : -1.0;  // NaN when nothing is compared (all background)
+        }
+        ch.failure = failure_text(ch, o, pair_failed);
+        if (!probe_failure[ci].empty()) ch.failure += (ch.failure.empty() ? "" : "; ") + probe_failure[ci];
+        images[key + "|" + cs.name] = std::move(img);
+        emit(ch);
+      }
+    }
+  }
+}
+
+// How a child process ended: empty = normally; else its error message or the signal that killed it.
+struct ChildEnd {
+  bool crashed = false;   // killed by a signal or exited without a word
+  std::string message;    // the child's exception (crashed = false) or how it died
+};
+
+// Lavapipe keeps ~1.5 MB of process-global state (LLVM code, never freed by device teardown) per rendered
+// pipeline x case, so the whole space in one process runs out of memory. Each slice of groups renders in a
+// forked child; the parent never creates a device. The child streams its progress and checks back through
+// a pipe, one line each ('v' key, 'c' check JSON, 'e' error), so a crash loses only the check in flight.
+ChildEnd render_in_child(const Run& run, const std::string& backend_name, const std::vector<Group>& groups,
+                         const std::function<void(const std::string&)>& starting, const std::function<void(const Check&)>& emit) {
+  int fds[2];
+  if (pipe(fds) != 0) throw std::runtime_error(std::string("stress: pipe failed: ") + std::strerror(errno));
+  std::fflush(nullptr);
+  pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error(std::string("stress: fork failed: ") + std::strerror(errno));
+  if (pid == 0) {
+    close(fds[0]);
+    FILE* out = fdopen(fds[1], "w");
+    int code = 0;
+    try {
+      render_groups(
+          run, backend_name, groups, [&](const std::string& key) { std::fprintf(out, "v %s\n", key.c_str()), std::fflush(out); },
+          [&](const Check& ch) { std::fprintf(out, "c %s\n", check_json(ch).dump().c_str()), std::fflush(out); }, true);
+    } catch (const std::exception& e) {
+      std::string m = e.what();
+      std::replace(m.begin(), m.end(), '\n', ' ');
+      std::fprintf(out, "e %s\n", m.c_str());
+      code = 2;
+    }
+    std::fclose(out);
+    _exit(code);  // no destructors or atexit handlers of the parent's state
+  }
+  close(fds[1]);
+  FILE* in = fdopen(fds[0], "r");
+  ChildEnd end;
+  char* line = nullptr;
+  std::size_t capacity = 0;
+  ssize_t n;
+  std::string error;
+  while ((n = getline(&line, &capacity, in)) > 0) {
+    std::string s(line, static_cast<std::size_t>(n));
+    if (!s.empty() && s.back() == '\n') s.pop_back();
+    if (s.size() < 2) continue;
+    if (s[0] == 'v') starting(s.substr(2));
+    else if (s[0] == 'c') emit(check_from_json(json::parse(s.substr(2))));
+    else if (s[0] == 'e') error = s.substr(2);
+  }
+  std::free(line);
+  std::fclose(in);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (WIFSIGNALED(status)) {
+    end.crashed = true;
+    end.message = fmt::format("the renderer crashed (signal {}, {})", WTERMSIG(status), strsignal(WTERMSIG(status)));
+  } else if (WIFEXITED(status) && WEXITSTATUS(status) != 0) {
+    end.crashed = error.empty();
+    end.message = error.empty() ? fmt::format("the renderer exited with status {}", WEXITSTATUS(status)) : error;
+  }
+  return end;
+}
+
+}  // namespace
+
 Result run_stress(const Options& o, const Progress& progress) {
   auto start = std::chrono::steady_clock::now();
   auto say = [&](const std::string& s) {
@@ -379,12 +601,6 @@ Result run_stress(const Options& o, const Progress& progress) {
   Previous previous;
   if (o.reuse && !o.out.empty()) previous = read_previous(o.out / "stress.json");
   Result res;
-  auto checkpoint = [&] {
-    if (o.out.empty()) return;
-    Result snapshot = res;
-    finish(snapshot, keys, ship);
-    util::write_atomic(o.out / "stress.json", to_json(snapshot, o).dump(1) + "\n");
-  };
 
   // The ray-traced view of every case: the reference error of each check and the coverage probe's truth.
   std::vector<reference::ReferenceImage> truth;
@@ -399,61 +615,19 @@ Result run_stress(const Options& o, const Progress& progress) {
     truth.push_back(reference::trace_reference(scenes.at(cs.scene), cs.view, ro));
   }
 
+  const Run run{o, c, cases, scenes, truth, keys};
   const std::size_t total = order.size() * o.backends.size();
   std::size_t done = 0, rendered = 0;
+  auto last_checkpoint = std::chrono::steady_clock::now();
+  double checkpoint_s = 0;  // how long the last one took: checkpoints stay a small share of the run
   for (const auto& backend_name : o.backends) {
-    const variants::Target target = target_of(backend_name);
-    const int t = c.target_index(target);
-    render::BackendOptions bo;
-    bo.threads = o.threads;
-    auto backend = render::make_backend(backend_name, bo);
-    std::string current_scene;
-    // Coverage probe: the first variant's G-buffer (linear depth) on every case, against the ray tracer's
-    // background mask. Background in the G-buffer = the clear value render::background_depth(far) (or
-    // anything not finite), the same test as the shaders' ao_is_background.
-    std::vector<std::string> probe_failure(cases.size());
-    {
-      auto probe_plan = render::plan_prefix(render::plan_pipeline(c, order.front(), target, {}, false), "gbuffer");
-      auto probe = backend->prepare(probe_plan, o.size);
-      for (std::size_t ci = 0; ci < cases.size(); ++ci) {
-        const Case& cs = cases[ci];
-        if (cs.scene != current_scene) {
-          backend->set_scene(scenes.at(cs.scene));
-          current_scene = cs.scene;
-        }
-        backend->render(*probe, {&cs.view, 0, true, 1.0f});
-        auto depth = backend->read_result(*probe);
-        const auto& bg = truth[ci].background;
-        long differ = 0, geometry_gbuffer = 0, geometry_traced = 0;
-        for (std::size_t i = 0; i < depth.pixels.size() && i < bg.size(); ++i) {
-          float z = depth.pixels[i];
-          bool background = !(z < render::background_depth(cs.view.far_plane) * 0.999f);
-          geometry_gbuffer += !background;
-          geometry_traced += !bg[i];
-          differ += background != (bg[i] != 0);
-        }
-        double share = depth.pixels.empty() ? 0.0 : double(differ) / double(depth.pixels.size());
-        if (share > 0.05)
-          probe_failure[ci] = fmt::format(
-              "the G-buffer has geometry at {:.1f}% of the pixels, the ray-traced view at {:.1f}% ({:.1f}% disagree): the "
-              "renderer cannot express this camera",
-              100.0 * geometry_gbuffer / depth.pixels.size(), 100.0 * geometry_traced / depth.pixels.size(), 100.0 * share);
-      }
-    }
-    std::map<std::string, image::FloatImage> images;  // variant|case of the current group
-    auto last_checkpoint = std::chrono::steady_clock::now();
-    for (std::size_t g = 0; g < groups.size(); ++g) {
-      images.clear();
-      // Inputs of each member's checks: its programs on this target, the parameters, the case, the size.
-      struct Member {
-        int v;
-        std::string partner;
-        render::ParamOverrides overrides;
-        std::vector<std::string> hashes;  // per case
-      };
-      std::vector<Member> members;
+    const int t = c.target_index(target_of(backend_name));
+    // Inputs of each member's checks: its programs on this target, the parameters, the case, the size.
+    std::vector<Group> pending;
+    for (const auto& indices : groups) {
+      Group group;
       bool all_reused = !previous.by_key.empty();
-      for (int v : groups[g]) {
+      for (int v : indices) {
         Member m{v, partner_of(keys[v]), {}, {}};
         if (!selected.count(m.partner)) m.partner.clear();
         auto algorithm = c.manifest.value(variants::Axis::algorithm,
@@ -474,95 +648,89 @@ Result run_stress(const Options& o, const Progress& progress) {
           auto it = previous.by_key.find(check_key(keys[v], cs.name, backend_name));
           if (it == previous.by_key.end() || it->second.inputs_hash != m.hashes.back()) all_reused = false;
         }
-        members.push_back(std::move(m));
+        group.push_back(std::move(m));
       }
       // A group is reused whole or rendered whole: a partner's comparison needs the other's image.
-      if (all_reused) {
-        for (const auto& m : members)
-          for (const auto& cs : cases) res.checks.push_back(previous.by_key.at(check_key(keys[m.v], cs.name, backend_name)));
-        res.reused += static_cast<int>(members.size() * cases.size());
-        done += members.size();
+      if (!all_reused) {
+        pending.push_back(std::move(group));
         continue;
       }
-      for (const auto& m : members) {
-      const int v = m.v;
-      const std::string& key = keys[v];
-      const std::string& partner = m.partner;
-      const auto& overrides = m.overrides;
+      for (const auto& m : group)
+        for (const auto& cs : cases) res.checks.push_back(previous.by_key.at(check_key(keys[m.v], cs.name, backend_name)));
+      res.reused += static_cast<int>(group.size() * cases.size());
+      done += group.size();
+    }
+
+    std::vector<Check> slice_checks;  // the current slice's checks so far
+    auto checkpoint = [&] {
+      if (o.out.empty()) return;
+      auto begin = std::chrono::steady_clock::now();
+      Result snapshot = res;
+      snapshot.checks.insert(snapshot.checks.end(), slice_checks.begin(), slice_checks.end());
+      finish(snapshot, keys, ship);
+      util::write_atomic(o.out / "stress.json", to_json(snapshot, o).dump(1) + "\n");
+      last_checkpoint = std::chrono::steady_clock::now();
+      checkpoint_s = std::chrono::duration<double>(last_checkpoint - begin).count();
+    };
+    std::string current;  // the variant being rendered
+    auto starting = [&](const std::string& key) {
+      current = key;
       auto elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::string eta = rendered > 0 ? fmt::format(", ETA {:.0f} s", elapsed / rendered * (total - done)) : "";
       say(fmt::format("[{}/{} variants{}] {}: {}", done + 1, total, eta, backend_name, key));
-      std::unique_ptr<render::PreparedPipeline> prepared;
-      std::string prepare_error;
-      const auto plan = render::plan_pipeline(c, v, target, overrides, false);
-      try {
-        prepared = backend->prepare(plan, o.size);
-      } catch (const render::BackendError& e) {
-        prepare_error = e.what();
+      ++done, ++rendered;
+    };
+    auto emit = [&](const Check& ch) {
+      slice_checks.push_back(ch);
+      // An interruption loses at most ten seconds of checks (or 20 checkpoints' time, for huge runs).
+      if (std::chrono::steady_clock::now() - last_checkpoint > std::chrono::duration<double>(std::max(10.0, 20 * checkpoint_s)))
+        checkpoint();
+    };
+    for (std::size_t next = 0; next < pending.size();) {
+      std::size_t end = next;
+      for (long renders = 0; end < pending.size(); ++end) {
+        renders += static_cast<long>(pending[end].size() * cases.size());
+        if (end > next && o.renders_per_process > 0 && renders > o.renders_per_process) break;
       }
-      for (std::size_t ci = 0; ci < cases.size(); ++ci) {
-        const Case& cs = cases[ci];
+      const std::vector<Group> slice(pending.begin() + static_cast<long>(next), pending.begin() + static_cast<long>(end));
+      slice_checks.clear();
+      ChildEnd how;
+      if (o.renders_per_process > 0) how = render_in_child(run, backend_name, slice, starting, emit);
+      else render_groups(run, backend_name, slice, starting, emit, false);
+      if (!how.crashed && !how.message.empty()) throw std::runtime_error("stress: " + backend_name + ": " + how.message);
+      if (!how.crashed) {
+        res.checks.insert(res.checks.end(), slice_checks.begin(), slice_checks.end());
+        next = end;
+        continue;
+      }
+      // The child died rendering `current`: keep the groups before its group, fail it on the case in
+      // flight (and say which cases it never reached), and render its group again without it.
+      std::size_t g = 0;
+      while (g < slice.size() && std::none_of(slice[g].begin(), slice[g].end(), [&](const Member& m) { return keys[m.v] == current; })) ++g;
+      if (g == slice.size()) throw std::runtime_error("stress: " + backend_name + ": " + how.message + " before its first variant");
+      std::set<std::string> redo;
+      for (const Member& m : slice[g]) redo.insert(keys[m.v]);
+      std::size_t reached = 0;
+      for (const Check& ch : slice_checks) {
+        if (ch.variant == current) ++reached;
+        if (!redo.count(ch.variant) || ch.variant == current) res.checks.push_back(ch);
+      }
+      Group& group = pending[next + g];
+      auto crashed = std::find_if(group.begin(), group.end(), [&](const Member& m) { return keys[m.v] == current; });
+      for (std::size_t ci = reached; ci < cases.size(); ++ci) {
         Check ch;
-        ch.variant = key, ch.case_name = cs.name, ch.backend = backend_name, ch.partner = partner;
-        ch.inputs_hash = m.hashes[ci];
-        if (!prepared) {
-          ch.failure = "the driver rejected the pipeline: " + prepare_error;
-          res.checks.push_back(ch);
-          continue;
-        }
-        if (cs.scene != current_scene) {
-          backend->set_scene(scenes.at(cs.scene));
-          current_scene = cs.scene;
-        }
-        const float radius = cs.radius > 0 ? cs.radius : scenes.at(cs.scene).ao_radius;
-        image::FloatImage img;
-        try {
-          // Progressive variants need their history: the second frame combines both halves.
-          for (int f = 0; f < (plan.progressive ? 2 : 1); ++f) backend->render(*prepared, {&cs.view, f, true, radius});
-          img = backend->read_result(*prepared);
-        } catch (const render::BackendError& e) {
-          ch.failure = std::string("rendering failed: ") + e.what();
-          res.checks.push_back(ch);
-          continue;
-        }
-        ch.pixels = static_cast<long>(img.pixels.size());
-        for (float x : img.pixels) {
-          if (std::isnan(x)) ++ch.nan;
-          else if (std::isinf(x)) ++ch.inf;
-          else if (x < 0.0f || x > 1.0f) ++ch.out_of_range;
-        }
-        bool pair_failed = false;
-        if (!partner.empty()) {
-          auto p = images.find(partner + "|" + cs.name);
-          if (p != images.end() && p->second.pixels.size() == img.pixels.size()) {
-            long beyond = 0;
-            for (std::size_t i = 0; i < img.pixels.size(); ++i) {
-              float a = img.pixels[i], b = p->second.pixels[i];
-              if (!std::isfinite(a) || !std::isfinite(b)) continue;  // counted as NaN / Inf already
-              double d = std::abs(double(a) - double(b));
-              ch.pair_max = std::max(ch.pair_max, d);
-              beyond += d > o.pair_tolerance;
-            }
-            ch.pair_share = img.pixels.empty() ? 0.0 : double(beyond) / double(img.pixels.size());
-            pair_failed = ch.pair_share > o.pair_share;
-          }
-        }
-        if (probe_failure[ci].empty()) {
-          double rmse = metrics::compare(img, truth[ci].visibility, truth[ci].background).rmse;
-          ch.rmse = std::isfinite(rmse) ? rmse : -1.0;  // NaN when nothing is compared (all background)
-        }
-        ch.failure = failure_text(ch, o, pair_failed);
-        if (!probe_failure[ci].empty()) ch.failure += (ch.failure.empty() ? "" : "; ") + probe_failure[ci];
-        images[key + "|" + cs.name] = std::move(img);
+        ch.variant = current, ch.case_name = cases[ci].name, ch.backend = backend_name, ch.partner = crashed->partner;
+        ch.inputs_hash = crashed->hashes[ci];
+        ch.failure = ci == reached ? how.message + " rendering this case"
+                                   : "not rendered: " + how.message + " on case " + cases[reached].name;
         res.checks.push_back(ch);
       }
-      ++done, ++rendered;
-      }
-      if (std::chrono::steady_clock::now() - last_checkpoint > std::chrono::seconds(10)) {
-        checkpoint();  // an interruption loses at most ten seconds of checks (whole groups)
-        last_checkpoint = std::chrono::steady_clock::now();
-      }
+      const auto started_before = static_cast<std::size_t>(crashed - group.begin());  // they render again
+      done -= started_before, rendered -= started_before;
+      group.erase(crashed);
+      next += g + (group.empty() ? 1 : 0);
     }
+    slice_checks.clear();
   }
   finish(res, keys, ship);
   res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -66,6 +66,9 @@ struct Options {
   bool reuse = true;                             // keep results of an earlier stress.json whose inputs match
   int reference_rays = 64;                       // per pixel, for the reference error and the coverage probe
   std::filesystem::path reference_cache;         // empty = none
+  // Renders (variant x case) per forked child process: lavapipe never frees ~1.5 MB of compiled code per
+  // render, so the whole space needs fresh processes. 0 = render in this process.
+  long renders_per_process = 700;
 };
 
 struct Check {  // one variant x case x backend
