@@ -25,6 +25,10 @@ class BackendError : public std::runtime_error {
 struct BackendOptions {
   int threads = 2;          // LP_NUM_THREADS, set before the driver loads
   bool validation = false;  // lavapipe: enable VK_LAYER_KHRONOS_validation; errors throw BackendError
+  // lavapipe: run mediump (RelaxedPrecision) arithmetic in real fp16, as mobile GPUs do, instead of llvmpipe's
+  // fp32 (compile/relaxed_fp16.h); needs shaderFloat16. osmesa rejects it (its GLSL has no such rewrite).
+  // For images only: llvmpipe converts around every fp16 op, so mediump draws get 2-7x slower, not faster.
+  bool mediump_as_fp16 = false;
 };
 
 struct DeviceInfo {
@@ -33,6 +37,7 @@ struct DeviceInfo {
   std::string api_version;  // "Vulkan 1.3.230" / "OpenGL 4.5 (Core Profile) Mesa 22.3.6"
   std::string driver;       // "Mesa 22.3.6"
   int threads = 0;          // LP_NUM_THREADS in effect
+  bool mediump_fp16 = false;  // mediump arithmetic runs in fp16 (BackendOptions::mediump_as_fp16)
 };
 
 // A prepared variant: its textures, pipelines and per-frame state (progressive history) on one backend.

@@ -14,6 +14,7 @@
 
 #include <fmt/format.h>
 
+#include "compile/relaxed_fp16.h"
 #include "render/backend.h"
 #include "render/lavapipe_device.h"
 
@@ -356,9 +357,19 @@ void LavapipeBackend::create_pipelines(const PipelinePlan& plan, LavapipePipelin
       if (sh.spirv.empty())
         throw BackendError(fmt::format("lavapipe: program {} has no SPIR-V (compile the vulkan target)",
                                        sh.program_key));
+      const std::vector<std::uint32_t>* code = &sh.spirv;
+      std::vector<std::uint32_t> fp16;
+      if (dev_->info.mediump_fp16) {
+        try {
+          fp16 = compile::relaxed_precision_to_fp16(sh.spirv);
+        } catch (const std::runtime_error& e) {
+          throw BackendError(fmt::format("lavapipe: program {}: {}", sh.program_key, e.what()));
+        }
+        code = &fp16;
+      }
       VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-      ci.codeSize = sh.spirv.size() * sizeof(std::uint32_t);
-      ci.pCode = sh.spirv.data();
+      ci.codeSize = code->size() * sizeof(std::uint32_t);
+      ci.pCode = code->data();
       VkResult r = vkCreateShaderModule(d, &ci, nullptr, &modules[i]);
       if (r != VK_SUCCESS) {
         modules[i] = VK_NULL_HANDLE;

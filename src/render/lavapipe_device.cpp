@@ -204,13 +204,19 @@ Device::Device(const BackendOptions& options) {
     info.api_version = "Vulkan " + version_text(properties.apiVersion);
     info.driver = driver.driverInfo;
 
+    VkPhysicalDeviceVulkan12Features have12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     VkPhysicalDeviceVulkan13Features have13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+    have13.pNext = &have12;
     VkPhysicalDeviceFeatures2 have{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     have.pNext = &have13;
     vkGetPhysicalDeviceFeatures2(physical, &have);
     if (!have13.dynamicRendering || !have13.synchronization2)
       throw BackendError(fmt::format("lavapipe: {} lacks dynamicRendering or synchronization2: install "
                                      "mesa-vulkan-drivers from Mesa 22.3 or later (run scripts/deps)", info.device));
+    if (options.mediump_as_fp16 && !have12.shaderFloat16)
+      throw BackendError(fmt::format("lavapipe: mediump as fp16 needs the shaderFloat16 feature, which {} ({}) "
+                                     "lacks", info.device, info.driver));
+    info.mediump_fp16 = options.mediump_as_fp16;
 
     uint32_t families = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(physical, &families, nullptr);
@@ -237,6 +243,10 @@ Device::Device(const BackendOptions& options) {
     VkPhysicalDeviceVulkan13Features want13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
     want13.dynamicRendering = VK_TRUE;
     want13.synchronization2 = VK_TRUE;
+    // Modules rewritten to fp16 declare the Float16 capability, which the device must enable.
+    VkPhysicalDeviceVulkan12Features want12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    want12.shaderFloat16 = options.mediump_as_fp16 ? VK_TRUE : VK_FALSE;
+    want13.pNext = &want12;
     VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     dci.pNext = &want13;
     dci.queueCreateInfoCount = 1;

@@ -63,6 +63,9 @@ struct Context {
   GlFunctions gl;
 
   Context(const BackendOptions& options, int major, int minor) {
+    if (options.mediump_as_fp16)
+      throw BackendError("osmesa: mediump as fp16 is lavapipe only (it rewrites Vulkan SPIR-V; OpenGL GLSL "
+                         "mediump stays fp32 on llvmpipe): use the lavapipe backend");
     {
       std::lock_guard lock(g_threads_mutex);
       if (options.threads < 0)
