@@ -156,6 +156,44 @@ TEST(Osmesa, RendersOcclusionAtTheBoxAndNoneOnOpenFloor) {
   }
 }
 
+// SAO's six-level z pyramid at quarter resolution of 96x54 (24x14, five levels possible): the plan at that
+// size keeps five levels and five pyramid draws. Before plan_for_size, OpenGL refused the texture storage
+// (GL_INVALID_OPERATION) and lavapipe silently took an invalid image.
+TEST(Osmesa, SaoPyramidFitsATinyTarget) {
+  compile::CompileOptions o;
+  o.targets = {variants::Target::gl45};
+  o.globs = {"sao-s12-p1-ndep-zdep-rst-d32-bbil-x4-hp"};
+  auto c = compile::compile_space(std::filesystem::path(AOVAR_SOURCE_DIR) / "shader_src" / "aovar.toml", o);
+  ASSERT_TRUE(c.ok() && c.space.variants.size() == 1u);
+  const PipelinePlan plan = plan_pipeline(c, 0, variants::Target::gl45);
+  auto zmip = [](const PipelinePlan& p) {
+    int levels = 0, draws = 0;
+    for (const Texture& t : p.textures)
+      if (t.name == "zmip") levels = t.levels;
+    for (const Draw& d : p.draws) draws += d.name.rfind("zmip.", 0) == 0;
+    return std::pair{levels, draws};
+  };
+  EXPECT_EQ(zmip(plan), (std::pair{kZmipLevels, kZmipLevels}));
+  EXPECT_EQ(zmip(plan_for_size(plan, {1280, 720})), (std::pair{kZmipLevels, kZmipLevels}));
+  EXPECT_EQ(zmip(plan_for_size(plan, {96, 54})), (std::pair{5, 5}));
+  EXPECT_EQ(plan_for_size(plan, {96, 54}).draws.size(), plan.draws.size() - 1);
+
+  auto backend = make_osmesa_backend({});
+  scene::Scene sc = box_scene();
+  backend->set_scene(sc);
+  auto p = backend->prepare(plan, {96, 54});
+  backend->render(*p, frame_of(sc.views.front(), 0));
+  image::FloatImage img = backend->read_result(*p);
+  ASSERT_EQ(img.pixels.size(), 96u * 54u);
+  int bad = 0, occluded = 0;
+  for (float v : img.pixels) {
+    bad += !(std::isfinite(v) && v >= 0.0f && v <= 1.0f);
+    occluded += v < 0.9f;
+  }
+  EXPECT_EQ(bad, 0);
+  EXPECT_GT(occluded, 0);
+}
+
 TEST(Osmesa, ProgressiveAveragesThisHalfWithThePreviousOne) {
   auto backend = make_osmesa_backend({});
   scene::Scene sc = box_scene();

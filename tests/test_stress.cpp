@@ -136,6 +136,33 @@ TEST(Stress, ChildProcessesMatchOneProcessAndSurviveACrash) {
   EXPECT_EQ(read_json(dir / "again" / "stress.json").at("failed").get<int>(), 0);
 }
 
+// mediump runs in real fp16 on lavapipe (render::BackendOptions::mediump_as_fp16), so mediump and highp
+// differ; in fp32 they cannot. HBAO squared scene-sized offsets and R in mediump: at radius 1e4, R^2
+// overflowed fp16 and every sample was rejected (99 % AO difference from highp on radius-1e4) until the
+// falloff moved to highp (ao/hbao.glsl).
+TEST(Stress, MediumpRunsInFp16AndLargeRadiiStayInItsRange) {
+  TempDir dir;
+  const std::string pair = "--variants hbao-s08-p0-ndep-zdep-rst-d16-bno-x1-mp --variants hbao-s08-p0-ndep-zdep-rst-d16-bno-x1-hp "
+                           "--case baseline --case radius-1e4 --no-reuse";
+  auto fp16 = run_aovar("stress " + pair + " --out " + (dir / "fp16").string());
+  ASSERT_EQ(fp16.status, 0) << fp16.output;
+  auto j = read_json(dir / "fp16" / "stress.json");
+  EXPECT_EQ(j.at("failed").get<int>(), 0) << fp16.output;
+  int compared = 0;
+  for (const auto& c : j.at("checks"))
+    if (c.at("partner") != "") {
+      ++compared;
+      EXPECT_GT(c.at("pair_max").get<double>(), 0.0) << c;  // fp16 rounding shows
+      EXPECT_EQ(c.at("nan").get<long>() + c.at("inf").get<long>(), 0) << c;
+      EXPECT_LE(c.at("pair_share").get<double>(), 0.01) << c;
+    }
+  EXPECT_EQ(compared, 2);
+
+  auto fp32 = run_aovar("stress " + pair + " --mediump-fp32 --out " + (dir / "fp32").string());
+  ASSERT_EQ(fp32.status, 0) << fp32.output;
+  for (const auto& c : read_json(dir / "fp32" / "stress.json").at("checks")) EXPECT_EQ(c.at("pair_max").get<double>(), 0.0) << c;
+}
+
 TEST(Stress, InverseProjectionKeepsDepthWithATinyNearPlane) {
   auto r = run_aovar("stress --variants 'alchemy-s0[46]-p0-*-zdep-rip-d*-bno-x[12]-hp' --case near-1e-4 "
                      "--case near-1e-4-far-1e6");

@@ -372,8 +372,10 @@ vec2 gtao_direction(int i) {
 // Largest horizon cosine along screen direction d (unit, pixels) from C, starting at the tangent's, low.
 AOP float gtao_horizon(vec3 c, AOP vec3 v, AOP vec3 n, AOP float nv, vec2 d, float step_px, float jitter,
                        AOP float low) {
-    AOP float radius = frame.clip.z;
-    AOP float inv_range = 1.0 / max(params.falloff * radius, 1e-4);
+    // Distances stay highp: scene-sized offsets overflow fp16 (mediump) when squared (|H| > 256), and so
+    // does R beyond 65504. Only the falloff weight and the unit direction, both in [0, 1], drop to AOP.
+    float radius = frame.clip.z;
+    float inv_range = 1.0 / max(params.falloff * radius, 1e-4);
     AOP float cos_h = low;
     for (int j = 0; j < GTAO_STEPS; ++j) {
         float t_px = max(1.0, (float(j) + jitter) * step_px);
@@ -381,17 +383,17 @@ AOP float gtao_horizon(vec3 c, AOP vec3 v, AOP vec3 n, AOP float nv, vec2 d, flo
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
             break; // the ray only moves further off screen
         }
-        // The difference of two nearby positions is taken in highp; only the small result drops to AOP.
-        AOP vec3 h = ao_position(uv) - c;
-        AOP float hh = dot(h, h);
-        if (hh > 0.0) {
-            AOP float inv_r = inversesqrt(hh);
-            AOP float w = clamp((radius - hh * inv_r) * inv_range, 0.0, 1.0);
+        vec3 offset = ao_position(uv) - c;
+        float dd = dot(offset, offset);
+        if (dd > 0.0) {
+            float inv_r = inversesqrt(dd);
+            AOP float w = clamp((radius - dd * inv_r) * inv_range, 0.0, 1.0);
             if (w > 0.0) {
+                AOP vec3 h = offset * inv_r;
                 AOP float hv = dot(h, v);
                 // Angle relative to the tangent of the sample's own slice, carried over to this slice
-                // (common/horizon.glsl).
-                AOP float cos_s = hv * inv_r - ao_sample_tangent_sin(hh, hv, dot(n, h), nv, low) + low;
+                // (common/horizon.glsl; scale-invariant, so the unit direction serves).
+                AOP float cos_s = hv - ao_sample_tangent_sin(1.0, hv, dot(n, h), nv, low) + low;
                 cos_h = max(cos_h, mix(low, clamp(cos_s, -1.0, 1.0), w));
             }
         }

@@ -413,8 +413,9 @@ void main() {
 
     AOP vec3 v = ao_safe_normalize(-c);
     AOP float nv = dot(n, v);
-    AOP float radius = frame.clip.z;
-    AOP float inv_r2 = 1.0 / (radius * radius);
+    // The falloff (r / R)^2 is taken in highp: with R = 1e4, R^2 overflows fp16 (mediump) and (r / R)^2 of
+    // a 20-unit room underflows it; either rejected every sample (aovar stress, case radius-1e4).
+    float inv_r2 = 1.0 / (frame.clip.z * frame.clip.z);
     AOP float cos_bias = cos(params.bias);
     AOP float sin_bias = sin(params.bias);
     AOP float occlusion = 0.0;
@@ -440,14 +441,16 @@ void main() {
             if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
                 break; // the ray only moves further off screen
             }
-            // The difference of two nearby positions is taken in highp; only the small result drops to AOP.
-            AOP vec3 h = ao_position(uv) - c;
-            AOP float hh = dot(h, h);
-            AOP float r2 = hh * inv_r2; // (r / R)^2; overflows to +inf (mediump) only far outside R
-            if (r2 < 1.0 && r2 > 0.0) {
+            // Offsets are scene-sized (overflowing fp16 when squared); only the unit direction and the
+            // falloff, both in [0, 1], drop to AOP. The horizon tests are scale-invariant.
+            vec3 offset = ao_position(uv) - c;
+            float dd = dot(offset, offset);
+            if (dd * inv_r2 < 1.0 && dd > 0.0) {
+                AOP float r2 = dd * inv_r2;
+                AOP vec3 h = offset * inversesqrt(dd);
                 AOP float hv = dot(h, v);
                 // Elevation relative to the tangent of the sample's own slice, carried over to this slice.
-                AOP float lift = hv * inversesqrt(hh) - ao_sample_tangent_sin(hh, hv, dot(n, h), nv, sin_t);
+                AOP float lift = hv - ao_sample_tangent_sin(1.0, hv, dot(n, h), nv, sin_t);
                 AOP float sin_s = min(sin_t + lift, 1.0);
                 if (sin_s > sin_h) {
                     ao_dir += (1.0 - r2) * (sin_s - sin_h);

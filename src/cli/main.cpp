@@ -385,7 +385,7 @@ struct StressCli {
   std::string size = "96x54", out, calibration, scene, eye, target, up = "0,1,0";
   std::vector<std::string> case_names;
   float fov = 60, near_plane = 0.1f, far_plane = 100, radius = 0;
-  bool no_calibration = false, list_cases = false, no_reuse = false;
+  bool no_calibration = false, list_cases = false, no_reuse = false, mediump_fp32 = false;
 };
 
 // aovar stress: per-variant pass/fail over the stress cases; exit 1 when a shipped variant fails.
@@ -402,6 +402,7 @@ int run_stress(StressCli& a) {
   o.size = parse_size(a.size);
   o.out = a.out;
   o.reuse = !a.no_reuse;
+  o.mediump_fp16 = !a.mediump_fp32;
   auto cache = a.common.cache_dir.empty() ? compile::CompileCache::default_dir() : std::filesystem::path(a.common.cache_dir);
   if (!a.common.no_cache) o.cache_dir = o.reference_cache = cache;
   std::filesystem::path cal_file = a.calibration;
@@ -634,6 +635,7 @@ int main(int argc, char** argv) {
   str->add_flag("--no-calibration", st.no_calibration, "use the manifest's default parameters");
   str->add_flag("--no-reuse", st.no_reuse, "check everything again (default: reuse checks whose inputs match OUT/stress.json)");
   str->add_option("--out,-o", st.out, "output folder: stress.json, stress.md");
+  str->add_flag("--mediump-fp32", st.mediump_fp32, "run mediump in fp32 on lavapipe (default: real fp16, as mobile GPUs)");
   str->add_option("--renders-per-process", st.options.renders_per_process,
                   "variant x case renders per child process (lavapipe keeps memory per render; 0: render in this process)")
       ->check(CLI::NonNegativeNumber)

@@ -491,7 +491,7 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
         auto finish = [&](MeasureRow& row, const Candidate& cand, render::PreparedPipeline& p,
                           const PipelineTiming& timing) {
           row.time = summarize(timing.total_ms);
-          row.passes = pass_stats(cand.plan, timing);
+          row.passes = pass_stats(render::plan_for_size(cand.plan, o.size), timing);  // the draws that ran
           row.create_ms = p.create_ms;
           row.first_frame_ms = timing.first_frame_ms;
           row.jit_ms = std::max(0.0, timing.first_frame_ms - row.time.min);

@@ -505,8 +505,9 @@ void LavapipeBackend::init_textures(LavapipePipeline& pp) {
   dev_->submit_and_wait(cmd, pp.fence);
 }
 
-std::unique_ptr<PreparedPipeline> LavapipeBackend::prepare(const PipelinePlan& plan, Extent size) {
+std::unique_ptr<PreparedPipeline> LavapipeBackend::prepare(const PipelinePlan& full_plan, Extent size) {
   auto start = std::chrono::steady_clock::now();
+  const PipelinePlan plan = plan_for_size(full_plan, size);
   validate_plan(plan);
   uint32_t max_dim = dev_->properties.limits.maxImageDimension2D;
   if (size.width <= 0 || size.height <= 0 || uint32_t(size.width) > max_dim || uint32_t(size.height) > max_dim)

@@ -350,8 +350,9 @@ class OsmesaBackend final : public Backend {
   bool has_scene_ = false;
 };
 
-std::unique_ptr<PreparedPipeline> OsmesaBackend::prepare(const PipelinePlan& plan, Extent size) {
+std::unique_ptr<PreparedPipeline> OsmesaBackend::prepare(const PipelinePlan& full_plan, Extent size) {
   auto start = std::chrono::steady_clock::now();
+  const PipelinePlan plan = plan_for_size(full_plan, size);
   c_->make_current();
   GlFunctions& gl = c_->gl;
   c_->check("before prepare");

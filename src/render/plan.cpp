@@ -281,6 +281,22 @@ PipelinePlan plan_prefix(const PipelinePlan& plan, const std::string& last_draw)
   return cut;
 }
 
+PipelinePlan plan_for_size(const PipelinePlan& plan, Extent size) {
+  PipelinePlan fit = plan;
+  const Extent ao = ao_extent(size, plan.resolution);
+  for (Texture& t : fit.textures) {
+    const Extent e = t.full_resolution ? size : ao;
+    int possible = 1;
+    while ((std::max(e.width, e.height) >> possible) > 0) ++possible;
+    t.levels = std::min(t.levels, possible);
+  }
+  std::erase_if(fit.draws, [&](const Draw& d) {
+    return std::any_of(d.outputs.begin(), d.outputs.end(),
+                       [&](const TextureRef& o) { return o.texture >= 0 && d.level >= fit.textures[o.texture].levels; });
+  });
+  return fit;
+}
+
 PipelinePlan plan_single_frame(const PipelinePlan& plan) {
   PipelinePlan one = plan;
   for (Draw& d : one.draws) {

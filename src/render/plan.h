@@ -99,6 +99,12 @@ std::vector<std::string> parameter_keys(const compile::CompiledSpace& compiled, 
 // Throws std::runtime_error when the plan has no such draw.
 PipelinePlan plan_prefix(const PipelinePlan& plan, const std::string& last_draw);
 
+// The plan at one frame size: a MIP chain cannot have more levels than its texture's extent allows
+// (floor(log2(max(w, h))) + 1; SAO's 6-level z pyramid at 24x14, quarter resolution of 96x54, has 5), so
+// each texture keeps at most that many and the draws into the missing levels go. Shaders never read them:
+// on-screen taps choose levels below log2 of the AO target's diagonal. Backends prepare this, not the plan.
+PipelinePlan plan_for_size(const PipelinePlan& plan, Extent size);
+
 // A progressive plan whose average reads this frame's half twice instead of the previous frame's other half:
 // what one frame alone shows (after a camera cut, or without history). Other plans come back unchanged.
 PipelinePlan plan_single_frame(const PipelinePlan& plan);

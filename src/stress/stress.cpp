@@ -149,8 +149,8 @@ std::string reproducer(const Options& o, const Check& check, const std::vector<C
   std::string args = it == cases.end() ? "--case " + check.case_name : case_arguments(*it);
   std::string variants = "--variants " + check.variant;
   if (!check.partner.empty()) variants += " --variants " + check.partner;  // the comparison needs both
-  return fmt::format("aovar stress --manifest {} {} --backend {} --size {}x{} {}", util::display_path(o.manifest), variants,
-                     check.backend, o.size.width, o.size.height, args);
+  return fmt::format("aovar stress --manifest {} {} --backend {} --size {}x{}{} {}", util::display_path(o.manifest),
+                     variants, check.backend, o.size.width, o.size.height, o.mediump_fp16 ? "" : " --mediump-fp32", args);
 }
 
 namespace {
@@ -290,6 +290,7 @@ json to_json(const Result& r, const Options& o) {
   }
   return {{"tool", "aovar stress"}, {"manifest", util::display_path(o.manifest)},
           {"size", fmt::format("{}x{}", o.size.width, o.size.height)}, {"backends", o.backends},
+          {"mediump", o.mediump_fp16 ? "fp16 on lavapipe (convert-relaxed-to-half), fp32 on osmesa" : "fp32"},
           {"pair_tolerance", o.pair_tolerance}, {"pair_share", o.pair_share}, {"failed", r.failed},
           {"shipped_failed", r.shipped_failed}, {"variants", variants}, {"checks", checks}};
 }
@@ -298,6 +299,9 @@ std::string to_markdown(const Result& r, const Options& o) {
   std::vector<Case> cases = o.cases.empty() ? default_cases() : o.cases;
   std::string s = fmt::format("# aovar stress\n\n{} variants, {} checks ({} cases x backends), {} failed ({} shipped).\n\n",
                               r.variants.size(), r.checks.size(), cases.size(), r.failed, r.shipped_failed);
+  s += o.mediump_fp16 ? "mediump arithmetic runs in fp16 on lavapipe (SPIRV-Tools convert-relaxed-to-half, shaderFloat16), "
+                        "as on mobile GPUs; OSMesa runs it in fp32.\n\n"
+                      : "mediump arithmetic runs in fp32 (--mediump-fp32): mediump cannot differ from highp.\n\n";
   s += "| variant | shipped | checks | result | failing cases |\n|---|:---:|---:|---|---|\n";
   for (const auto& v : r.variants) {
     std::set<std::string> failing;
@@ -338,7 +342,10 @@ struct Run {
   const std::map<std::string, scene::Scene>& scenes;
   const std::vector<reference::ReferenceImage>& truth;
   const std::vector<std::string>& keys;
+  int probe_variant;  // whose G-buffer the coverage probe renders: the same in every child
 };
+
+bool fp16_on(const Options& o, const std::string& backend) { return o.mediump_fp16 && backend == "lavapipe"; }
 
 // Coverage probe: the first variant's G-buffer (linear depth) on every case, against the ray tracer's
 // background mask. Background in the G-buffer = the clear value render::background_depth(far) (or
@@ -383,9 +390,15 @@ void render_groups(const Run& run, const std::string& backend_name, const std::v
   const variants::Target target = target_of(backend_name);
   render::BackendOptions bo;
   bo.threads = o.threads;
+  bo.mediump_as_fp16 = fp16_on(o, backend_name);
   auto backend = render::make_backend(backend_name, bo);
   std::string current_scene;
-  const auto probe_failure = probe_cases(run, *backend, target, groups.front().front().v, current_scene);
+  std::vector<std::string> probe_failure;
+  try {
+    probe_failure = probe_cases(run, *backend, target, run.probe_variant, current_scene);
+  } catch (const render::BackendError& e) {
+    throw std::runtime_error(fmt::format("the coverage probe (the G-buffer of {}) failed: {}", run.keys[run.probe_variant], e.what()));
+  }
   // Test hook: a driver crash on this variant must cost that variant, not the run (tests/test_stress.cpp).
   const char* crash_on = in_child ? std::getenv("AOVAR_STRESS_TEST_CRASH") : nullptr;
   for (const Group& group : groups) {
@@ -615,7 +628,7 @@ Result run_stress(const Options& o, const Progress& progress) {
     truth.push_back(reference::trace_reference(scenes.at(cs.scene), cs.view, ro));
   }
 
-  const Run run{o, c, cases, scenes, truth, keys};
+  const Run run{o, c, cases, scenes, truth, keys, order.front()};
   const std::size_t total = order.size() * o.backends.size();
   std::size_t done = 0, rendered = 0;
   auto last_checkpoint = std::chrono::steady_clock::now();
@@ -644,6 +657,7 @@ Result run_stress(const Options& o, const Progress& progress) {
         for (const auto& cs : cases) {
           util::Hasher h;
           h.add(base_hash).add(cs.scene).add(scenes.at(cs.scene).content_hash).add(case_arguments(cs)).add(backend_name);
+          if (fp16_on(o, backend_name)) h.add("mediump-fp16");
           m.hashes.push_back(h.hex());
           auto it = previous.by_key.find(check_key(keys[v], cs.name, backend_name));
           if (it == previous.by_key.end() || it->second.inputs_hash != m.hashes.back()) all_reused = false;

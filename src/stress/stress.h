@@ -69,6 +69,9 @@ struct Options {
   // Renders (variant x case) per forked child process: lavapipe never frees ~1.5 MB of compiled code per
   // render, so the whole space needs fresh processes. 0 = render in this process.
   long renders_per_process = 700;
+  // lavapipe runs mediump arithmetic in real fp16 (render::BackendOptions::mediump_as_fp16), as mobile GPUs
+  // do; otherwise llvmpipe runs it in fp32 and mediump never differs from highp.
+  bool mediump_fp16 = true;
 };
 
 struct Check {  // one variant x case x backend
