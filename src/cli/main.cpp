@@ -18,6 +18,7 @@
 #include "sweep/sweep.h"
 #include "reference/reference.h"
 #include "report/report.h"
+#include "profile/profile.h"
 #include "stress/stress.h"
 #include "shadergen/expand.h"
 #include "table/compare.h"
@@ -379,6 +380,59 @@ glm::vec3 parse_vec3(const std::string& text, const char* option) {
   return {v[0], v[1], v[2]};
 }
 
+struct ProfileCli {
+  profile::Options options;
+  std::string size = "640x360", out;
+  bool no_flicker = false, no_cache = false;
+};
+
+profile::Options profile_options(ProfileCli& a, const std::string& manifest) {
+  profile::Options o = a.options;
+  o.manifest = manifest;
+  o.size = parse_size(a.size);
+  o.measure_flicker = !a.no_flicker;
+  if (!a.no_cache) o.cache_dir = compile::CompileCache::default_dir();
+  return o;
+}
+
+// aovar profile: what the scene needs, with evidence; profile.json with --out.
+int run_profile(ProfileCli& a, const std::string& manifest) {
+  auto o = profile_options(a, manifest);
+  auto p = with_status([&](const auto& progress) { return profile::profile_scene(o, progress); });
+  std::cout << profile::to_text(p);
+  auto space = variants::build_space(variants::load_manifest(o.manifest));
+  auto pruned = profile::prune(variants::load_manifest(o.manifest), space, p);
+  std::cout << fmt::format("# {} variants after rules; the scene keeps {} and drops {} (aovar list --scene {} --pruned)\n",
+                           space.variants.size(), pruned.kept.size(), pruned.dropped.size(), o.scene);
+  if (!a.out.empty()) {
+    auto j = profile::to_json(p);
+    j["kept"] = pruned.kept.size();
+    j["dropped"] = pruned.dropped.size();
+    util::write_atomic(std::filesystem::path(a.out) / "profile.json", j.dump(1) + "\n");
+  }
+  return 0;
+}
+
+// aovar list --scene: the variants the scene's profile keeps; --pruned adds every dropped one with its reason.
+int run_list_scene(const CommonOptions& c, ProfileCli& a, bool show_pruned) {
+  auto o = profile_options(a, c.manifest);
+  auto p = with_status([&](const auto& progress) { return profile::profile_scene(o, progress); });
+  auto manifest = variants::load_manifest(o.manifest);
+  auto space = variants::build_space(manifest, c.globs);
+  auto pruned = profile::prune(manifest, space, p);
+  for (const auto& k : pruned.kept) std::cout << k << "\n";
+  if (show_pruned) {
+    for (const auto& r : space.pruned)
+      std::cout << r.key << "  dropped: " << manifest.rules[r.rule].reason << " (" << manifest.error_prefix() << ":"
+                << manifest.rules[r.rule].pos.line << ")\n";
+    for (const auto& [k, why] : pruned.dropped) std::cout << k << "  dropped for " << o.scene << ": " << why << "\n";
+  }
+  std::cout << fmt::format("# space {} / rules {} / selected {} / scene {} keeps {} ({} dropped, with reasons: --pruned)\n",
+                           space.space, space.collapsed, space.variants.size(), o.scene, pruned.kept.size(),
+                           pruned.dropped.size());
+  return 0;
+}
+
 struct StressCli {
   CommonOptions common;
   stress::Options options;
@@ -484,6 +538,27 @@ int main(int argc, char** argv) {
   auto* list = app.add_subcommand("list", "print the variants after rules (one key a line) and the counts");
   add_common(list, list_opts);
   list->add_flag("--pruned", show_pruned, "also print every dropped variant with the rule's reason");
+  ProfileCli list_profile;
+  list->add_option("--scene,-s", list_profile.options.scene,
+                   "keep only what this scene needs (aovar profile); --pruned prints each drop's reason");
+  list->add_option("--size", list_profile.size, "frame size the scene is profiled at")->capture_default_str();
+
+  ProfileCli prof;
+  std::string prof_manifest = "shader_src/aovar.toml";
+  auto* pro = app.add_subcommand("profile", "what a scene needs (depth range, r16f error, radius in pixels, background, "
+                                            "flicker, the renderer's buffers) and the variants it can drop");
+  pro->add_option("--manifest,-m", prof_manifest, "manifest file")->capture_default_str();
+  pro->add_option("--scene,-s", prof.options.scene, "builtin:atrium|spheres|stairs|cornell|... or a mesh file")
+      ->capture_default_str();
+  pro->add_option("--view", prof.options.views, "only these views (repeatable; default: every view)");
+  pro->add_option("--size", prof.size, "frame size the variants will run at")->capture_default_str();
+  pro->add_option("--radius", prof.options.radius, "AO radius in scene units (0: the scene's)")->capture_default_str();
+  pro->add_option("--r16f-tolerance", prof.options.r16f_tolerance,
+                  "keep r16f while its p99 position error is under this share of the radius")->capture_default_str();
+  pro->add_option("--threads", prof.options.threads, "threads (Embree, lavapipe)")->capture_default_str();
+  pro->add_flag("--no-flicker", prof.no_flicker, "do not render the progressive pair along the camera paths");
+  pro->add_flag("--no-cache", prof.no_cache, "compile the flicker pair without the cache");
+  pro->add_option("--out,-o", prof.out, "folder for profile.json");
 
   CommonOptions gen_opts;
   compile::OutputOptions out;
@@ -672,7 +747,9 @@ int main(int argc, char** argv) {
     if (mrg->parsed()) return run_merge(merge_out, merge_in);
     if (rep->parsed()) return run_report(report_table, report_out);
     if (str->parsed()) return run_stress(st);
-    if (list->parsed()) return run_list(list_opts, show_pruned);
+    if (list->parsed())
+      return list->count("--scene") ? run_list_scene(list_opts, list_profile, show_pruned) : run_list(list_opts, show_pruned);
+    if (pro->parsed()) return run_profile(prof, prof_manifest);
     if (ana->parsed()) return run_analyze(analyze_in);
     if (ref->parsed()) {
       ro.scene = ref_scene;

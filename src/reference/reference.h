@@ -49,6 +49,16 @@ using Progress = std::function<void(double fraction, double elapsed_s)>;
 ReferenceImage trace_reference(const scene::Scene& scene, const scene::View& view, const ReferenceOptions& options,
                                const Progress& progress = {});
 
+// What the camera sees, without AO: per pixel the linear view depth (distance along the view axis, the
+// quantity the G-buffer stores) of the primary ray's hit, +inf where it hits nothing (row 0 = bottom).
+// For scene profiles (src/profile): depth range, background share, r16f reconstruction.
+struct DepthImage {
+  image::FloatImage depth;
+  std::vector<glm::vec3> normal;  // geometric normal facing the camera (0 on background)
+};
+DepthImage trace_depth(const scene::Scene& scene, const scene::View& view, render::Extent size, int frame = 0,
+                       int threads = 0);
+
 // The world radius of "R" given as world units ("1.0") or as a percentage of the scene's bounding-box
 // diagonal ("1.5%"). Throws std::invalid_argument naming the text.
 float resolve_radius(const std::string& text, const scene::Scene& scene);

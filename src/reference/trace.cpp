@@ -142,6 +142,18 @@ struct PixelResult {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
+void set_ray(RTCRay& ray, glm::vec3 org, glm::vec3 dir, float tnear, float tfar) {
+  ray.org_x = org.x, ray.org_y = org.y, ray.org_z = org.z;
+  ray.dir_x = dir.x, ray.dir_y = dir.y, ray.dir_z = dir.z;
+  ray.tnear = tnear;
+  ray.tfar = tfar;
+  ray.time = 0.0f;
+  ray.mask = 0xffffffffu;
+  ray.id = 0;
+  ray.flags = 0;
+}
+
+
 class PixelTracer {
  public:
   PixelTracer(RTCScene scene, const Camera& cam, const ReferenceOptions& o, RayApi api, float scene_diagonal)
@@ -249,17 +261,6 @@ class PixelTracer {
   // shader_src/common/depth.glsl), and the rasteriser clips at near: the primary ray covers that range.
   float background_depth() const { return cam_.far_plane * 0.999f; }
 
-  static void set_ray(RTCRay& ray, glm::vec3 org, glm::vec3 dir, float tnear, float tfar) {
-    ray.org_x = org.x, ray.org_y = org.y, ray.org_z = org.z;
-    ray.dir_x = dir.x, ray.dir_y = dir.y, ray.dir_z = dir.z;
-    ray.tnear = tnear;
-    ray.tfar = tfar;
-    ray.time = 0.0f;
-    ray.mask = 0xffffffffu;
-    ray.id = 0;
-    ray.flags = 0;
-  }
-
   template <class Dir>
   void fill_packet(RTCRay8& ray, int lanes, glm::vec3 origin, int base, const Dir& direction) const {
     for (int j = 0; j < 8; ++j) {
@@ -365,3 +366,47 @@ ReferenceImage trace(const scene::Scene& sc, const scene::View& view, const Refe
 }
 
 }  // namespace aovar::reference::detail
+
+namespace aovar::reference {
+
+DepthImage trace_depth(const scene::Scene& sc, const scene::View& view, render::Extent size, int frame, int threads) {
+  if (size.width < 1 || size.height < 1) throw std::runtime_error("trace_depth: empty size");
+  ReferenceOptions o;
+  o.size = size;
+  o.frame = frame;
+  o.radius = 1.0f;
+  const int w = size.width, h = size.height;
+  DepthImage out;
+  out.depth = {w, h, std::vector<float>(static_cast<std::size_t>(w) * h, detail::kInf)};
+  out.normal.assign(out.depth.pixels.size(), glm::vec3(0.0f));
+  const int n = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();
+  std::unique_ptr<tbb::global_control> cap;
+  if (threads > 0)
+    cap = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(n));
+  tbb::task_arena arena(n);
+  arena.execute([&] {
+    detail::EmbreeScene embree(sc);
+    const detail::Camera cam = detail::make_camera(view, o);
+    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+      RTCIntersectContext ctx;
+      rtcInitIntersectContext(&ctx);
+      for (int y = rows.begin(); y < rows.end(); ++y)
+        for (int x = 0; x < w; ++x) {
+          const glm::vec3 dir = cam.direction(x, y);  // view-space z = -1: t is the linear depth
+          RTCRayHit rh{};
+          detail::set_ray(rh.ray, cam.eye, dir, cam.near_plane, cam.far_plane * 0.999f);
+          rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+          rtcIntersect1(embree.scene(), &ctx, &rh);
+          if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+          const std::size_t i = static_cast<std::size_t>(y) * w + x;
+          out.depth.pixels[i] = rh.ray.tfar;
+          glm::vec3 ng = glm::normalize(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+          out.normal[i] = glm::dot(ng, dir) > 0.0f ? -ng : ng;
+        }
+    });
+    embree.check("tracing depth");
+  });
+  return out;
+}
+
+}  // namespace aovar::reference

@@ -343,7 +343,7 @@ class Parser {
     } catch (const toml::parse_error& e) {
       fail(pos_of(e.source()), std::string(e.description()));
     }
-    check_keys(doc, {"manifest", "axes", "rules", "pipeline", "passes", "algorithms", "ship"}, "the manifest");
+    check_keys(doc, {"manifest", "axes", "rules", "pipeline", "passes", "algorithms", "ship", "renderer"}, "the manifest");
     if (const toml::node* n = doc.get("manifest")) {
       const toml::table& t = table_of(*n, "[manifest]");
       check_keys(t, {"name", "targets"}, "[manifest]");
@@ -380,6 +380,29 @@ class Parser {
         const toml::array* arr = v->as_array();
         if (!arr) fail(*v, "[ship] variants must be a list of variant-key globs (e.g. [\"alchemy-s08-*\"])");
         for (const toml::node& e : *arr) m_.ship.push_back({string_of(e, "a [ship] variant glob"), pos_of(e.source())});
+      }
+    }
+    if (const toml::node* n = doc.get("renderer")) {
+      const toml::table& t = table_of(*n, "[renderer]");
+      check_keys(t, {"normal_buffers", "position_buffer"}, "[renderer]");
+      if (const toml::node* v = t.get("normal_buffers")) {
+        const toml::array* arr = v->as_array();
+        if (!arr) fail(*v, "[renderer] normal_buffers must be a list of normal encodings (e.g. [\"rgb8\"], [] for none)");
+        std::vector<std::string> list;
+        for (const toml::node& e : *arr) {
+          std::string name = string_of(e, "a normal encoding");
+          bool known = false;
+          for (const AxisValue& a : m_.axis_values(Axis::normals)) known |= a.text == name && name != "depth";
+          if (!known) fail(e, fmt::format("'{}' is not a normal-buffer encoding of the normals axis (depth-derived normals need no buffer)", name));
+          list.push_back(name);
+        }
+        m_.renderer.normal_buffers = list;
+        m_.renderer.normal_buffers_pos = pos_of(v->source());
+      }
+      if (const toml::node* v = t.get("position_buffer")) {
+        if (!v->is_boolean()) fail(*v, "[renderer] position_buffer must be true or false");
+        m_.renderer.position_buffer = v->as_boolean()->get();
+        m_.renderer.position_buffer_pos = pos_of(v->source());
       }
     }
     for (const AxisValue& v : m_.axis_values(Axis::algorithm))

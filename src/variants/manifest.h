@@ -109,6 +109,13 @@ struct Manifest {
     SourcePos pos;
   };
   std::vector<ShipGlob> ship;
+  // [renderer]: the G-buffer the renderer can give the AO pass. Scene profiles (src/profile) drop variants
+  // that read what it lacks. Absent keys: everything is available.
+  struct Renderer {
+    std::optional<std::vector<std::string>> normal_buffers;  // normals axis values it can write ("rgb8", ...)
+    std::optional<bool> position_buffer;                       // a world/view position target
+    SourcePos normal_buffers_pos, position_buffer_pos;
+  } renderer;
 
   const Algorithm* algorithm(std::string_view name) const;
   const std::vector<AxisValue>& axis_values(Axis a) const { return values[index(a)]; }

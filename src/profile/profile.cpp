@@ -1,0 +1,387 @@
+#include "profile/profile.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <set>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "compile/generate.h"
+#include "metrics/metrics.h"
+#include "reference/reference.h"
+#include "render/backend.h"
+#include "render/plan.h"
+#include "scene/scene.h"
+#include "util/fs.h"
+
+namespace aovar::profile {
+namespace {
+
+using variants::Axis;
+using json = nlohmann::json;
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
+  return v[k];
+}
+
+// What an r16f render target stores for a float: IEEE half, round to nearest even (_Float16, GCC 12 on
+// x86-64); values beyond 65504 become +inf, which the G-buffer never writes (it clamps to background depth).
+double as_half(float z) { return static_cast<double>(static_cast<_Float16>(std::min(z, 65504.0f))); }
+
+// The AO radius in pixels of a target `height` pixels tall at linear depth z (common/depth.glsl's
+// ao_radius_px without its clamp to a quarter of the target).
+double radius_px(const scene::View& v, float radius, double height, double z) {
+  const double p11 = 1.0 / std::tan(glm::radians(static_cast<double>(v.fov_y_deg)) * 0.5);
+  return radius * p11 * 0.5 * height / z;
+}
+
+std::string token(const variants::Manifest& m, Axis a, int i) { return m.value(a, i).text; }
+
+// The progressive variant (and its full-sample form) whose flicker stands for progressive rendering: the
+// first progressive key of the space with its p0 form present.
+std::pair<std::string, std::string> flicker_pair(const variants::VariantSpace& space) {
+  std::set<std::string> keys;
+  for (const auto& e : space.variants) keys.insert(e.key);
+  for (const auto& key : keys) {
+    auto at = key.find("-p1-");
+    if (at == std::string::npos) continue;
+    std::string full = key;
+    full.replace(at, 4, "-p0-");
+    if (keys.count(full)) return {key, full};
+  }
+  return {};
+}
+
+// Mean |AO_t - AO_t-1| of `key` along the view's camera path (lavapipe).
+double path_flicker(render::Backend& backend, const compile::CompiledSpace& c, const std::string& key,
+                    const scene::View& view, float radius, render::Extent size) {
+  int v = -1;
+  for (std::size_t i = 0; i < c.space.variants.size(); ++i)
+    if (c.space.variants[i].key == key) v = static_cast<int>(i);
+  if (v < 0) throw std::runtime_error("profile: " + key + " did not compile");
+  auto prepared = backend.prepare(render::plan_pipeline(c, v, variants::Target::vulkan), size);
+  std::vector<image::FloatImage> frames;
+  // One frame of history first: a progressive variant averages its two halves from frame 1 on.
+  for (int f = 0; f <= std::max(2, view.path_frames); ++f) {
+    backend.render(*prepared, {&view, f, false, radius});
+    if (f > 0) frames.push_back(backend.read_result(*prepared));
+  }
+  return metrics::flicker(frames);
+}
+
+}  // namespace
+
+Profile profile_scene(const Options& o, const Progress& progress) {
+  auto say = [&](const std::string& s) {
+    if (progress) progress(s);
+  };
+  const variants::Manifest manifest = variants::load_manifest(o.manifest);
+  const scene::Scene sc = scene::load_scene(o.scene);
+  Profile p;
+  p.scene = o.scene;
+  p.scene_hash = sc.content_hash;
+  p.radius = o.radius > 0 ? o.radius : sc.ao_radius;
+  p.size = o.size;
+  std::vector<const scene::View*> views;
+  if (o.views.empty())
+    for (const auto& v : sc.views) views.push_back(&v);
+  else
+    for (const auto& name : o.views) views.push_back(&sc.view(name));
+
+  std::vector<double> resolutions;
+  for (const auto& v : manifest.axis_values(Axis::resolution)) resolutions.push_back(std::stod(v.text));
+
+  for (const scene::View* view : views) {
+    say("tracing the depth of " + view->name);
+    const auto traced = reference::trace_depth(sc, *view, o.size, 0, o.threads);
+    ViewProfile vp;
+    vp.view = view->name;
+    vp.near_plane = view->near_plane;
+    vp.far_plane = view->far_plane;
+    // The view ray of each pixel has view-space z = -1: P = z * ray, so |P16 - P32| = |z16 - z| |ray|.
+    const double tan_y = std::tan(glm::radians(static_cast<double>(view->fov_y_deg)) * 0.5);
+    const double tan_x = tan_y * o.size.width / o.size.height;
+    std::vector<double> depths, errors, rpx;
+    const int w = o.size.width, h = o.size.height;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const float z = traced.depth.pixels[static_cast<std::size_t>(y) * w + x];
+        if (!std::isfinite(z)) continue;
+        const double nx = ((x + 0.5) / w * 2 - 1) * tan_x, ny = ((y + 0.5) / h * 2 - 1) * tan_y;
+        depths.push_back(z);
+        errors.push_back(std::abs(as_half(z) - z) * std::sqrt(nx * nx + ny * ny + 1.0));
+        rpx.push_back(radius_px(*view, p.radius, h, z));
+      }
+    // Normals from depth by forward differences, r16f against r32f; a neighbour more than 5 % deeper or
+    // nearer is another surface (an edge, where both are meaningless).
+    auto at = [&](int x, int y, bool half) {
+      const double z = traced.depth.pixels[static_cast<std::size_t>(y) * w + x];
+      const double zz = half ? as_half(static_cast<float>(z)) : z;
+      return glm::dvec3(((x + 0.5) / w * 2 - 1) * tan_x * zz, ((y + 0.5) / h * 2 - 1) * tan_y * zz, -zz);
+    };
+    for (double res : resolutions) {
+      const int d = std::max(1, static_cast<int>(std::lround(1.0 / res)));  // one AO pixel, in full-res pixels
+      std::vector<double> angles;
+      for (int y = 0; y + d < h; y += d)
+        for (int x = 0; x + d < w; x += d) {
+          const float z = traced.depth.pixels[static_cast<std::size_t>(y) * w + x];
+          const float zx = traced.depth.pixels[static_cast<std::size_t>(y) * w + x + d];
+          const float zy = traced.depth.pixels[static_cast<std::size_t>(y + d) * w + x];
+          if (!std::isfinite(z) || !std::isfinite(zx) || !std::isfinite(zy)) continue;
+          if (std::abs(zx - z) > 0.05f * z || std::abs(zy - z) > 0.05f * z) continue;
+          glm::dvec3 n32 = glm::cross(at(x + d, y, false) - at(x, y, false), at(x, y + d, false) - at(x, y, false));
+          glm::dvec3 n16 = glm::cross(at(x + d, y, true) - at(x, y, true), at(x, y + d, true) - at(x, y, true));
+          if (glm::length(n32) <= 0 || glm::length(n16) <= 0) {
+            angles.push_back(90.0);  // r16f flattened the step to nothing: no normal at all
+            continue;
+          }
+          angles.push_back(
+              glm::degrees(std::acos(std::clamp(glm::dot(glm::normalize(n32), glm::normalize(n16)), -1.0, 1.0))));
+        }
+      vp.r16f_normal_p95.emplace_back(res, percentile(angles, 0.95));
+    }
+    const double pixels = static_cast<double>(w) * h;
+    vp.background_share = 1.0 - static_cast<double>(depths.size()) / pixels;
+    if (!depths.empty()) {
+      vp.depth_min = *std::min_element(depths.begin(), depths.end());
+      vp.depth_max = *std::max_element(depths.begin(), depths.end());
+      vp.depth_p05 = percentile(depths, 0.05), vp.depth_p50 = percentile(depths, 0.5), vp.depth_p95 = percentile(depths, 0.95);
+      vp.r16f_error_p99 = percentile(errors, 0.99);
+      vp.r16f_error_max = *std::max_element(errors.begin(), errors.end());
+      vp.radius_px_far = radius_px(*view, p.radius, h, vp.depth_p95);
+      vp.radius_px_median = radius_px(*view, p.radius, h, vp.depth_p50);
+      vp.radius_px_near = radius_px(*view, p.radius, h, vp.depth_p05);
+      // SAO reads level floor(log2(tap distance)) - 3 (ao/sao.glsl, q' = 8), taps reach the radius (capped
+      // at a quarter of the target like ao_radius_px).
+      const double reach = std::min(vp.radius_px_near, 0.25 * std::min(w, h));
+      vp.sao_levels_used = std::max(1, static_cast<int>(std::floor(std::log2(std::max(reach, 1.0)))) - 3 + 1);
+      for (double res : resolutions) {
+        const double share =
+            static_cast<double>(std::count_if(rpx.begin(), rpx.end(), [&](double r) { return r * res < 1.0; })) /
+            static_cast<double>(rpx.size());
+        vp.early_out.emplace_back(res, share);
+      }
+    }
+    vp.camera_step = view->path_frames > 1 ? glm::length(view->path_offset) / (view->path_frames - 1) : 0.0;
+    p.views.push_back(vp);
+  }
+
+  // Flicker of progressive halves along the moving paths (the static ones average their halves exactly).
+  auto space = variants::build_space(manifest);
+  const bool moving = std::any_of(p.views.begin(), p.views.end(), [](const ViewProfile& v) { return v.camera_step > 0; });
+  if (o.measure_flicker && moving) {
+    auto [progressive, full] = flicker_pair(space);
+    if (!progressive.empty()) {
+      p.flicker_pair = progressive + " vs " + full;
+      say("measuring the flicker of " + p.flicker_pair);
+      compile::CompileOptions co;
+      co.targets = {variants::Target::vulkan};
+      co.globs = {progressive, full};
+      co.cache_dir = o.cache_dir;
+      auto c = compile::compile_space(o.manifest, co);
+      if (!c.ok()) throw std::runtime_error(c.diagnostics.empty() ? "profile: compile failed" : c.diagnostics.front());
+      render::BackendOptions bo;
+      bo.threads = o.threads;
+      auto backend = render::make_backend("lavapipe", bo);
+      backend->set_scene(sc);
+      for (std::size_t i = 0; i < views.size(); ++i) {
+        if (p.views[i].camera_step <= 0) continue;
+        p.views[i].flicker_progressive = path_flicker(*backend, c, progressive, *views[i], p.radius, o.size);
+        p.views[i].flicker_full = path_flicker(*backend, c, full, *views[i], p.radius, o.size);
+      }
+    }
+  }
+
+  // Decisions, axis value by axis value.
+  auto decide = [&](Axis a, const std::string& value, bool keep, std::string reason) {
+    p.decisions.push_back({std::string(variants::axis_info(a).name), value, keep, std::move(reason)});
+  };
+  auto decide_pair = [&](const std::string& axes, const std::string& values, bool keep, std::string reason) {
+    p.decisions.push_back({axes, values, keep, std::move(reason)});
+  };
+  for (const auto& v : manifest.axis_values(Axis::depth_format)) {
+    if (v.text != "r16f") continue;
+    const ViewProfile* worst = nullptr;
+    for (const auto& vp : p.views)
+      if (!worst || vp.r16f_error_p99 > worst->r16f_error_p99) worst = &vp;
+    if (!worst) continue;
+    const double share = worst->r16f_error_p99 / p.radius;
+    decide(Axis::depth_format, v.text, share <= o.r16f_tolerance,
+           fmt::format("r16f linear depth moves reconstructed positions by {:.3g} (p99; max {:.3g}) on view {} (depth "
+                       "{:.3g}-{:.3g}): {:.2f}% of the AO radius {:.3g}, tolerance {:.2f}%",
+                       worst->r16f_error_p99, worst->r16f_error_max, worst->view, worst->depth_min, worst->depth_max,
+                       100 * share, p.radius, 100 * o.r16f_tolerance));
+  }
+  for (std::size_t r = 0; r < resolutions.size(); ++r) {
+    const ViewProfile* worst = nullptr;
+    for (const auto& vp : p.views)
+      if (r < vp.r16f_normal_p95.size() && (!worst || vp.r16f_normal_p95[r].second > worst->r16f_normal_p95[r].second))
+        worst = &vp;
+    if (!worst) continue;
+    const double angle = worst->r16f_normal_p95[r].second;
+    decide_pair("depth_format+normals+resolution", "r16f+depth+" + manifest.value(Axis::resolution, static_cast<int>(r)).text,
+                angle <= o.normal_tolerance_deg,
+                fmt::format("normals derived from r16f depth at {}x resolution turn by {:.1f} deg (p95) from those of "
+                            "r32f depth on view {} at {}x{}, tolerance {:.1f} deg",
+                            resolutions[r], angle, worst->view, o.size.width, o.size.height, o.normal_tolerance_deg));
+  }
+  for (std::size_t r = 0; r < resolutions.size(); ++r) {
+    const ViewProfile* worst = nullptr;
+    for (const auto& vp : p.views)
+      if (r < vp.early_out.size() && (!worst || vp.early_out[r].second > worst->early_out[r].second)) worst = &vp;
+    if (!worst) continue;
+    const double share = worst->early_out[r].second;
+    decide(Axis::resolution, manifest.value(Axis::resolution, static_cast<int>(r)).text, share <= o.early_out_share,
+           fmt::format("at {}x resolution the AO radius spans under one AO pixel (the pass's early-out: no AO) on "
+                       "{:.0f}% of the geometry pixels of view {} (median radius {:.2f} px at full resolution), "
+                       "threshold {:.0f}%",
+                       resolutions[r], 100 * share, worst->view, worst->radius_px_median, 100 * o.early_out_share));
+  }
+  // Samples, per resolution: taps spread over a disk of pi r^2 AO pixels; more taps than that re-read pixels.
+  for (std::size_t r = 0; r < resolutions.size(); ++r)
+    for (const auto& s : manifest.axis_values(Axis::samples)) {
+      const ViewProfile* widest = nullptr;
+      for (const auto& vp : p.views)
+        if (!widest || vp.radius_px_near > widest->radius_px_near) widest = &vp;
+      if (!widest) continue;
+      const double r_ao = std::min(widest->radius_px_near, 0.25 * std::min(o.size.width, o.size.height)) * resolutions[r];
+      const double disk = std::numbers::pi * r_ao * r_ao;
+      const double taps = std::stod(s.text);
+      decide(Axis::samples, s.text + "@" + manifest.value(Axis::resolution, static_cast<int>(r)).text, taps <= disk,
+             fmt::format("{} taps over a disk of {:.1f} AO pixels at {}x resolution (radius {:.2f} px at the nearest 5% "
+                         "of depths, view {}){}",
+                         s.text, disk, resolutions[r], r_ao, widest->view, taps <= disk ? "" : ": taps re-read pixels"));
+    }
+  {
+    const ViewProfile* worst = nullptr;
+    for (const auto& vp : p.views)
+      if (vp.flicker_progressive >= 0 &&
+          (!worst || vp.flicker_progressive - vp.flicker_full > worst->flicker_progressive - worst->flicker_full))
+        worst = &vp;
+    if (worst) {
+      const double extra = worst->flicker_progressive - worst->flicker_full;
+      decide(Axis::progressive, "true", extra <= o.flicker_tolerance,
+             fmt::format("progressive halves flicker {:.4f} against {:.4f} for all samples every frame ({}) along the "
+                         "camera path of view {} ({:.3g} units a frame), tolerance +{:.4f}",
+                         worst->flicker_progressive, worst->flicker_full, p.flicker_pair, worst->view,
+                         worst->camera_step, o.flicker_tolerance));
+    } else {
+      decide(Axis::progressive, "true", true,
+             o.measure_flicker ? "every view's camera is static: the two halves average to the full sample set"
+                               : "flicker not measured (--no-flicker)");
+    }
+  }
+  const auto display = util::display_path(o.manifest);
+  if (const auto& nb = manifest.renderer.normal_buffers)
+    for (const auto& v : manifest.axis_values(Axis::normals)) {
+      if (v.text == "depth") continue;
+      bool has = std::find(nb->begin(), nb->end(), v.text) != nb->end();
+      if (!has)
+        decide(Axis::normals, v.text, false,
+               fmt::format("the renderer writes no {} normal buffer ({}:{}: [renderer] normal_buffers)", v.text, display,
+                           manifest.renderer.normal_buffers_pos.line));
+    }
+  if (manifest.renderer.position_buffer && !*manifest.renderer.position_buffer)
+    decide(Axis::position, "position", false,
+           fmt::format("the renderer writes no position buffer ({}:{}: [renderer] position_buffer = false)", display,
+                       manifest.renderer.position_buffer_pos.line));
+  return p;
+}
+
+Pruned prune(const variants::Manifest& m, const variants::VariantSpace& space, const Profile& p) {
+  auto split = [](const std::string& text) {
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    for (std::size_t end; (end = text.find('+', start)) != std::string::npos; start = end + 1)
+      parts.push_back(text.substr(start, end - start));
+    parts.push_back(text.substr(start));
+    return parts;
+  };
+  auto value_of = [&](const variants::VariantEntry& e, const std::string& axis) -> std::string {
+    auto a = variants::find_axis(axis);
+    int i = a ? e.point[variants::index(*a)] : -1;
+    return i < 0 ? std::string() : token(m, *a, i);  // collapsed: the variant does not read the axis
+  };
+  // A decision applies when the variant has every named value (samples: "count@resolution").
+  auto applies = [&](const variants::VariantEntry& e, const Decision& d) {
+    auto axes = split(d.axis), values = split(d.value);
+    for (std::size_t i = 0; i < axes.size() && i < values.size(); ++i) {
+      std::string v = value_of(e, axes[i]);
+      if (axes[i] == "samples") v += "@" + value_of(e, "resolution");
+      if (v != values[i]) return false;
+    }
+    return true;
+  };
+  Pruned out;
+  for (const auto& e : space.variants) {
+    auto why = std::find_if(p.decisions.begin(), p.decisions.end(), [&](const Decision& d) { return !d.keep && applies(e, d); });
+    if (why != p.decisions.end()) out.dropped.emplace_back(e.key, why->axis + " " + why->value + ": " + why->reason);
+    else out.kept.push_back(e.key);
+  }
+  return out;
+}
+
+json to_json(const Profile& p) {
+  json views = json::array();
+  for (const auto& v : p.views) {
+    json early = json::array();
+    for (const auto& [res, share] : v.early_out) early.push_back({{"resolution", res}, {"share", share}});
+    json normals = json::array();
+    for (const auto& [res, deg] : v.r16f_normal_p95) normals.push_back({{"resolution", res}, {"degrees", deg}});
+    views.push_back({{"view", v.view}, {"near", v.near_plane}, {"far", v.far_plane}, {"background_share", v.background_share},
+                     {"depth", {{"min", v.depth_min}, {"p05", v.depth_p05}, {"p50", v.depth_p50}, {"p95", v.depth_p95},
+                                {"max", v.depth_max}}},
+                     {"r16f_position_error", {{"p99", v.r16f_error_p99}, {"max", v.r16f_error_max}}},
+                     {"r16f_normal_error_deg_p95", normals},
+                     {"radius_px", {{"far", v.radius_px_far}, {"median", v.radius_px_median}, {"near", v.radius_px_near}}},
+                     {"sao_levels_used", v.sao_levels_used}, {"camera_step", v.camera_step},
+                     {"flicker", {{"progressive", v.flicker_progressive}, {"full", v.flicker_full}}},
+                     {"early_out", early}});
+  }
+  json decisions = json::array();
+  for (const auto& d : p.decisions)
+    decisions.push_back({{"axis", d.axis}, {"value", d.value}, {"keep", d.keep}, {"reason", d.reason}});
+  return {{"tool", "aovar profile"}, {"scene", p.scene}, {"scene_hash", p.scene_hash}, {"radius", p.radius},
+          {"size", fmt::format("{}x{}", p.size.width, p.size.height)}, {"flicker_pair", p.flicker_pair},
+          {"views", views}, {"decisions", decisions}};
+}
+
+std::string to_text(const Profile& p) {
+  std::string s = fmt::format("scene {} at {}x{}, AO radius {:.3g}\n", p.scene, p.size.width, p.size.height, p.radius);
+  for (const auto& v : p.views) {
+    s += fmt::format("view {}: near {:.3g} far {:.3g}; background {:.1f}% of pixels; depth {:.3g} / {:.3g} / {:.3g} / {:.3g} / "
+                     "{:.3g} (min / p05 / median / p95 / max)\n",
+                     v.view, v.near_plane, v.far_plane, 100 * v.background_share, v.depth_min, v.depth_p05, v.depth_p50,
+                     v.depth_p95, v.depth_max);
+    std::string normals;
+    for (const auto& [res, deg] : v.r16f_normal_p95) normals += fmt::format("{}{}x {:.1f}", normals.empty() ? "" : ", ", res, deg);
+    s += fmt::format("  r16f: position error {:.3g} (p99), {:.3g} (max); depth-normal error (p95, deg) {}\n", v.r16f_error_p99,
+                     v.r16f_error_max, normals);
+    s += fmt::format("  AO radius {:.1f} / {:.1f} / {:.1f} px (far / median / "
+                     "near); SAO MIP levels used {}\n",
+                     v.radius_px_far, v.radius_px_median, v.radius_px_near,
+                     v.sao_levels_used);
+    std::string early;
+    for (const auto& [res, share] : v.early_out) early += fmt::format("{}{}x {:.0f}%", early.empty() ? "" : ", ", res, 100 * share);
+    s += "  early-out (radius under one AO pixel): " + early + "\n";
+    if (v.camera_step > 0)
+      s += v.flicker_progressive >= 0
+               ? fmt::format("  camera moves {:.3g} a frame; flicker progressive {:.4f}, full {:.4f}\n", v.camera_step,
+                             v.flicker_progressive, v.flicker_full)
+               : fmt::format("  camera moves {:.3g} a frame\n", v.camera_step);
+  }
+  for (const auto& d : p.decisions)
+    if (!d.keep || d.axis != "samples") s += fmt::format("{} {} {}: {}\n", d.keep ? "keep" : "drop", d.axis, d.value, d.reason);
+  int dropped_samples = 0;
+  for (const auto& d : p.decisions) dropped_samples += d.axis == "samples" && !d.keep;
+  if (dropped_samples == 0) s += "keep every sample count: no count has more taps than its disk has pixels\n";
+  return s;
+}
+
+}  // namespace aovar::profile

@@ -1,0 +1,95 @@
+#pragma once
+// `aovar profile` and `aovar list --scene` (issue 8): what one scene, seen through its views, needs from the
+// variant space, measured rather than assumed, and the variants it therefore does not need.
+//  - depth per view (Embree primary rays, the linear depth the G-buffer stores): range, percentiles,
+//    background share;
+//  - r16f: the positions the AO pass reconstructs from r16f linear depth against r32f, per pixel (IEEE
+//    half rounding of each pixel's depth times its view ray), as a share of the AO radius;
+//  - the AO radius in pixels per pixel (the templates' ao_radius_px), so at which AO resolutions the pass
+//    early-outs on most of the geometry (radius under one AO pixel), at which sample counts taps re-read
+//    pixels, and which of SAO's MIP levels the taps reach;
+//  - the camera paths: progressive halves against their full-sample form, flicker measured on lavapipe;
+//  - the renderer's declared G-buffer ([renderer] in the manifest): normal encodings, position buffer.
+// Every dropped variant carries its reason with the evidence (numbers, views, manifest lines).
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "render/frame.h"
+#include "variants/manifest.h"
+#include "variants/space.h"
+
+namespace aovar::profile {
+
+struct Options {
+  std::filesystem::path manifest = "shader_src/aovar.toml";
+  std::string scene = "builtin:atrium";
+  std::vector<std::string> views;    // empty = every view of the scene
+  render::Extent size{640, 360};     // the frame size the variants will run at
+  float radius = 0;                  // world units; 0 = the scene's default
+  double r16f_tolerance = 0.02;      // r16f is kept while its p99 position error stays under this share of R
+  double normal_tolerance_deg = 10;  // r16f + depth-derived normals kept while their p95 angle error is under this
+  double early_out_share = 0.5;      // a resolution is dropped when more geometry pixels than this early-out
+  double flicker_tolerance = 0.005;  // progressive is kept while its flicker exceeds the full form's by less
+  bool measure_flicker = true;       // render the progressive pair along moving camera paths (lavapipe)
+  int threads = 2;
+  std::filesystem::path cache_dir;   // compile cache for the flicker pair (empty = none)
+};
+
+struct ViewProfile {
+  std::string view;
+  float near_plane = 0, far_plane = 0;
+  double background_share = 0;
+  // Linear depth over the geometry pixels (0 when the view shows none).
+  double depth_min = 0, depth_p05 = 0, depth_p50 = 0, depth_p95 = 0, depth_max = 0;
+  // |P(r16f depth) - P(r32f depth)| in world units over the geometry pixels.
+  double r16f_error_p99 = 0, r16f_error_max = 0;
+  // Per manifest resolution: the angle (degrees, p95) between normals derived from r16f and from r32f depth
+  // (forward differences one AO pixel apart, as the shaders' dFdx/dFdy), over pixels whose two neighbours
+  // lie on the same surface.
+  std::vector<std::pair<double, double>> r16f_normal_p95;
+  // The AO radius in full-resolution pixels at the p95 / p50 / p05 depths (far, median, near).
+  double radius_px_far = 0, radius_px_median = 0, radius_px_near = 0;
+  int sao_levels_used = 0;           // MIP levels SAO's taps reach at the nearest 5 % of depths (1 = level 0)
+  double camera_step = 0;            // world units the eye moves per frame along the view's path (0: static)
+  double flicker_progressive = -1, flicker_full = -1;  // mean |AO_t - AO_t-1| (-1: not measured)
+  std::vector<std::pair<double, double>> early_out;    // per manifest resolution: (resolution, share)
+};
+
+// One axis value (or a combination: axis "depth_format+normals", value "r16f+depth"; samples per
+// resolution: value "32@0.25") and whether the scene needs it.
+struct Decision {
+  std::string axis, value;
+  bool keep = true;
+  std::string reason;  // why, with the evidence
+};
+
+struct Profile {
+  std::string scene, scene_hash;
+  float radius = 0;
+  render::Extent size;
+  std::vector<ViewProfile> views;
+  std::vector<Decision> decisions;
+  std::string flicker_pair;  // "progressive vs full" keys rendered for the flicker (empty: none)
+};
+
+using Progress = std::function<void(const std::string&)>;
+
+// Throws std::runtime_error (scene, manifest, view, backend errors: one line each).
+Profile profile_scene(const Options& options, const Progress& progress = {});
+
+struct Pruned {
+  std::vector<std::string> kept;
+  std::vector<std::pair<std::string, std::string>> dropped;  // key, reason
+};
+
+// The variants of `space` the profile keeps, and every other one with the reason of its first failing decision.
+Pruned prune(const variants::Manifest& manifest, const variants::VariantSpace& space, const Profile& profile);
+
+nlohmann::json to_json(const Profile& profile);
+std::string to_text(const Profile& profile);
+
+}  // namespace aovar::profile
