@@ -1,0 +1,170 @@
+// aovar profile / list --scene (issue 8): what a scene needs, measured, and every dropped variant with its
+// reason: shallow depth keeps r16f, deep depth drops it; a renderer without normal or position buffers
+// drops the variants that read them; the pruning log covers every variant; bad [renderer] input errors.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <fmt/format.h>
+#include <set>
+
+#include "profile/profile.h"
+#include "test_support.h"
+#include "util/fs.h"
+#include "variants/space.h"
+
+namespace aovar::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kManifest = fs::path(AOVAR_SOURCE_DIR) / "shader_src" / "aovar.toml";
+
+profile::Profile profile_of(const std::string& scene, const fs::path& manifest = kManifest) {
+  profile::Options o;
+  o.manifest = manifest;
+  o.scene = scene;
+  o.size = {320, 180};
+  o.measure_flicker = false;
+  return profile::profile_scene(o);
+}
+
+const profile::Decision* decision(const profile::Profile& p, const std::string& axis, const std::string& value) {
+  for (const auto& d : p.decisions)
+    if (d.axis == axis && d.value == value) return &d;
+  return nullptr;
+}
+
+TEST(Profile, ShallowDepthKeepsR16fDeepDepthDropsIt) {
+  // The atrium spans depths 0.9-32: half-float steps stay under 2 % of its radius. builtin:far puts its
+  // geometry 200-4000 units away, where r16f steps are whole units.
+  auto shallow = profile_of("builtin:atrium");
+  auto deep = profile_of("builtin:far");
+  const auto* keep = decision(shallow, "depth_format", "r16f");
+  const auto* drop = decision(deep, "depth_format", "r16f");
+  ASSERT_TRUE(keep && drop);
+  EXPECT_TRUE(keep->keep) << keep->reason;
+  EXPECT_FALSE(drop->keep) << drop->reason;
+  for (const auto& v : deep.views) EXPECT_GT(v.r16f_error_p99, 0.1) << v.view;     // units, at depth ~1000
+  for (const auto& v : shallow.views) EXPECT_LT(v.r16f_error_p99, 0.02) << v.view;  // at depth ~10
+  // The evidence names the view and the numbers.
+  EXPECT_NE(drop->reason.find("% of the AO radius"), std::string::npos) << drop->reason;
+
+  // The quarter resolution of builtin:far has its radius under one AO pixel nearly everywhere: dropped.
+  const auto* quarter = decision(deep, "resolution", "0.25");
+  ASSERT_TRUE(quarter);
+  EXPECT_FALSE(quarter->keep) << quarter->reason;
+  // Derivative normals lose precision at full resolution before they do at quarter resolution.
+  for (const auto& v : shallow.views) {
+    ASSERT_EQ(v.r16f_normal_p95.size(), 3u);
+    EXPECT_GT(v.r16f_normal_p95[0].second, v.r16f_normal_p95[2].second) << v.view;
+  }
+}
+
+TEST(Profile, EveryDroppedVariantHasItsReasonAndTheRestAreKept) {
+  auto p = profile_of("builtin:far");
+  auto manifest = variants::load_manifest(kManifest);
+  auto space = variants::build_space(manifest);
+  auto pruned = profile::prune(manifest, space, p);
+  EXPECT_EQ(pruned.kept.size() + pruned.dropped.size(), space.variants.size());
+  EXPECT_GT(pruned.dropped.size(), 0u);
+  EXPECT_LT(pruned.kept.size(), space.variants.size());
+  std::set<std::string> seen(pruned.kept.begin(), pruned.kept.end());
+  for (const auto& [key, why] : pruned.dropped) {
+    EXPECT_FALSE(why.empty()) << key;
+    EXPECT_TRUE(seen.insert(key).second) << key << " listed twice";
+    // At 320x180 builtin:far drops r16f and the half and quarter resolutions (radius under one AO pixel).
+    EXPECT_TRUE(key.find("-d16-") != std::string::npos || key.find("-x2-") != std::string::npos ||
+                key.find("-x4-") != std::string::npos)
+        << key << ": " << why;
+  }
+  // The CLI log: every dropped variant, with its reason, and the counts.
+  auto r = run_aovar("list --manifest " + kManifest.string() + " --scene builtin:far --size 320x180 --pruned");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::set<std::string> logged;
+  const std::string marker = "  dropped for builtin:far: ";
+  for (std::size_t start = 0, end; (end = r.output.find('\n', start)) != std::string::npos; start = end + 1) {
+    const std::string line = r.output.substr(start, end - start);
+    if (auto at = line.find(marker); at != std::string::npos && at + marker.size() < line.size()) logged.insert(line.substr(0, at));
+  }
+  EXPECT_EQ(logged.size(), pruned.dropped.size());
+  for (const auto& [key, why] : pruned.dropped) EXPECT_TRUE(logged.count(key)) << key;
+  EXPECT_NE(r.output.find(fmt::format("keeps {} ({} dropped", pruned.kept.size(), pruned.dropped.size())), std::string::npos)
+      << r.output.substr(r.output.size() - 300);
+}
+
+TEST(Profile, RendererWithoutNormalOrPositionBuffersDropsTheirReaders) {
+  TempDir dir;
+  const fs::path manifest = copy_shader_src(dir);
+  {
+    std::ofstream f(manifest, std::ios::app);
+    f << "\n[renderer]\nnormal_buffers = []\nposition_buffer = false\n";
+  }
+  auto p = profile_of("builtin:atrium", manifest);
+  auto m = variants::load_manifest(manifest);
+  auto space = variants::build_space(m);
+  auto pruned = profile::prune(m, space, p);
+  auto reads_buffer = [](const std::string& key) {
+    return key.find("-nrgb8-") != std::string::npos || key.find("-nrg8-") != std::string::npos ||
+           key.find("-noct16-") != std::string::npos || key.find("-zpos-") != std::string::npos;
+  };
+  std::size_t readers = 0, depth_normals = 0;
+  for (const auto& e : space.variants) {
+    readers += reads_buffer(e.key);
+    depth_normals += e.key.find("-ndep-") != std::string::npos && e.key.find("-zpos-") == std::string::npos;
+  }
+  ASSERT_GT(readers, 0u);
+  std::size_t dropped_readers = 0;
+  for (const auto& [key, why] : pruned.dropped)
+    if (reads_buffer(key)) {
+      ++dropped_readers;
+      EXPECT_TRUE(why.find("[renderer] normal_buffers") != std::string::npos ||
+                  why.find("[renderer] position_buffer = false") != std::string::npos)
+          << key << ": " << why;
+    }
+  EXPECT_EQ(dropped_readers, readers);
+  for (const auto& k : pruned.kept) EXPECT_FALSE(reads_buffer(k)) << k;
+  EXPECT_GT(depth_normals, 0u);
+}
+
+TEST(Profile, BadRendererTableIsAOneLineErrorWithItsLine) {
+  TempDir dir;
+  const fs::path manifest = copy_shader_src(dir);
+  {
+    std::ofstream f(manifest, std::ios::app);
+    f << "\n[renderer]\nnormal_buffers = [\"rgb9\"]\n";
+  }
+  try {
+    variants::load_manifest(manifest);
+    FAIL() << "a normal encoding the axis does not have must be refused";
+  } catch (const variants::ManifestError& e) {
+    std::string what = e.what();
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    EXPECT_NE(what.find("rgb9"), std::string::npos) << what;
+    EXPECT_NE(what.find("aovar.toml:"), std::string::npos) << what;
+  }
+}
+
+TEST(Profile, ProgressiveFlickerIsMeasuredAlongMovingPaths) {
+  profile::Options o;
+  o.manifest = kManifest;
+  o.scene = "builtin:atrium";
+  o.size = {160, 90};
+  auto p = profile::profile_scene(o);
+  int moving = 0;
+  for (const auto& v : p.views)
+    if (v.camera_step > 0) {
+      ++moving;
+      EXPECT_GT(v.flicker_full, 0.0) << v.view;
+      EXPECT_GT(v.flicker_progressive, 0.0) << v.view;
+    } else {
+      EXPECT_LT(v.flicker_full, 0.0) << v.view << ": a static view is not rendered";
+    }
+  ASSERT_GT(moving, 0);
+  const auto* d = decision(p, "progressive", "true");
+  ASSERT_TRUE(d);
+  EXPECT_NE(d->reason.find("flicker"), std::string::npos) << d->reason;
+  EXPECT_FALSE(p.flicker_pair.empty());
+}
+
+}  // namespace
+}  // namespace aovar::test
