@@ -327,6 +327,57 @@ Pruned prune(const variants::Manifest& m, const variants::VariantSpace& space, c
   return out;
 }
 
+std::vector<SkyView> sky_sweep(const scene::Scene& sc, const scene::View& base, int count, render::Extent size) {
+  const glm::vec3 d = base.target - base.eye;
+  glm::vec3 heading = glm::vec3(d.x, 0.0f, d.z);
+  heading = glm::length(heading) > 0 ? glm::normalize(heading) : glm::vec3(0, 0, -1);
+  const float distance = std::max(glm::length(d), 1e-3f);
+  std::vector<SkyView> out;
+  for (int i = 0; i < count; ++i) {
+    const float pitch = glm::radians(-45.0f + 110.0f * static_cast<float>(i) / static_cast<float>(std::max(1, count - 1)));
+    SkyView v;
+    v.view = base;
+    v.view.name = fmt::format("pitch{:+.0f}", glm::degrees(pitch));
+    v.view.target = base.eye + distance * (std::cos(pitch) * heading + std::sin(pitch) * glm::vec3(0, 1, 0));
+    v.view.up = {0, 1, 0};
+    v.view.path_offset = glm::vec3(0.0f);
+    const auto traced = reference::trace_depth(sc, v.view, size);
+    v.background_share = static_cast<double>(std::count_if(traced.depth.pixels.begin(), traced.depth.pixels.end(),
+                                                           [](float z) { return !std::isfinite(z); })) /
+                         static_cast<double>(traced.depth.pixels.size());
+    out.push_back(v);
+  }
+  std::sort(out.begin(), out.end(), [](const SkyView& a, const SkyView& b) { return a.background_share < b.background_share; });
+  return out;
+}
+
+std::vector<SkyTiming> time_against_background(render::Backend& backend, const render::PipelinePlan& plan,
+                                               const scene::Scene& sc, const std::vector<SkyView>& views,
+                                               render::Extent size, int reps) {
+  backend.set_scene(sc);
+  auto prepared = backend.prepare(plan, size);
+  const auto ran = render::plan_for_size(plan, size);  // the draws the backend times
+  std::vector<std::vector<double>> ao(views.size()), total(views.size());
+  for (std::size_t i = 0; i < views.size(); ++i)  // warm-up: first frames compile and fault in
+    backend.render(*prepared, {&views[i].view, 0, true, sc.ao_radius});
+  for (int r = 0; r < reps; ++r)
+    for (std::size_t k = 0; k < views.size(); ++k) {
+      const std::size_t i = (k + static_cast<std::size_t>(r)) % views.size();  // rotate the order each round
+      const auto ms = backend.render(*prepared, {&views[i].view, 0, true, sc.ao_radius});
+      double a = 0, t = 0;
+      for (std::size_t d = 0; d < ms.size() && d < ran.draws.size(); ++d) {
+        t += ms[d];
+        if (ran.draws[d].pass == "ao") a += ms[d];
+      }
+      ao[i].push_back(a);
+      total[i].push_back(t);
+    }
+  std::vector<SkyTiming> out;
+  for (std::size_t i = 0; i < views.size(); ++i)
+    out.push_back({views[i].background_share, percentile(ao[i], 0.5), percentile(total[i], 0.5)});
+  return out;
+}
+
 json to_json(const Profile& p) {
   json views = json::array();
   for (const auto& v : p.views) {

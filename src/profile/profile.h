@@ -18,7 +18,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "render/backend.h"
 #include "render/frame.h"
+#include "render/plan.h"
+#include "scene/scene.h"
 #include "variants/manifest.h"
 #include "variants/space.h"
 
@@ -88,6 +91,26 @@ struct Pruned {
 
 // The variants of `space` the profile keeps, and every other one with the reason of its first failing decision.
 Pruned prune(const variants::Manifest& manifest, const variants::VariantSpace& space, const Profile& profile);
+
+// Runtime skipping of background pixels. Every AO template returns before its sampling loop where the
+// G-buffer holds the background depth (ao_is_background: the early-out branch; no depth test or stencil is
+// involved), so the AO pass should cost little more than a fetch per sky pixel where the sky is coherent.
+// sky_sweep gives views from `base`'s eye pitched from 45 deg below its horizontal heading to 65 deg above,
+// each with its background share (primary rays, at `size`); time_against_background times the AO pass (the
+// draws of pass "ao") on each, interleaved round by round, median of `reps`.
+struct SkyView {
+  scene::View view;
+  double background_share = 0;
+};
+std::vector<SkyView> sky_sweep(const scene::Scene& scene, const scene::View& base, int count, render::Extent size);
+
+struct SkyTiming {
+  double background_share = 0;
+  double ao_ms = 0, total_ms = 0;  // medians
+};
+std::vector<SkyTiming> time_against_background(render::Backend& backend, const render::PipelinePlan& plan,
+                                               const scene::Scene& scene, const std::vector<SkyView>& views,
+                                               render::Extent size, int reps);
 
 nlohmann::json to_json(const Profile& profile);
 std::string to_text(const Profile& profile);
