@@ -279,6 +279,10 @@ int run_sweep(const CommonOptions& common, sweep::SweepOptions o, const std::str
                              m.at("backend").get<std::string>(), m.at("rows").get<int>(), m.at("cv_r2").get<double>(),
                              m.at("cv_spearman").get<double>(), m.value("cv_spearman_min", 0.0), m.value("features", "static + axes"),
                              m.value("predicts", false) ? ", predicts" : "");
+  if (o.prune_dominated)
+    std::cout << fmt::format("# prune: {} variants skipped as predicted dominated; {} more measured anyway as a check, "
+                             "{} of them on the Pareto front (cost_table.json meta.prune)\n",
+                             r.variants_skipped, r.variants_checked, r.checked_on_front);
   std::cout << fmt::format("# {} rows ({} measured, {} reused, {} predicted) in {:.1f} s{} -> {}\n", r.table.rows.size(),
                            r.rows_measured, r.rows_reused, r.rows_predicted, r.wall_s, cal_file.empty() || no_calibration ? "" : ", calibrated by " + util::display_path(cal_file),
                            util::display_path(o.out / "cost_table.json"));
@@ -738,6 +742,16 @@ int main(int argc, char** argv) {
   swp->add_option("--shard", sweep_shard, "k/n: measure only the k-th of n shards of the variants (join with aovar merge)");
   swp->add_option("--calibration", sweep_calibration, "calibration file (default: calibration.json next to the manifest)");
   swp->add_flag("--no-calibration", sweep_no_calibration, "use the manifest's default parameters");
+  swp->add_option("--views-file", so.measure.views_file, "views side file (TOML or JSON) for the scene(s)");
+  swp->add_option("--warmup", so.measure.warmup, "discarded frames after the first (JIT) frame")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  swp->add_flag("--prune-dominated", so.prune_dominated,
+                "measure a first share, then skip the variants the cost model predicts to be dominated");
+  swp->add_option("--prune-check", so.prune_check,
+                  "with --prune-dominated: measure max(N, a tenth) of the skipped ones anyway, report if any reach the front")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   swp->add_option("--out,-o", sweep_out, "output folder: cost_table.{json,csv,md}, measure/<scene>/")->required();
 
   CLI11_PARSE(app, argc, argv);

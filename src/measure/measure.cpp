@@ -112,30 +112,68 @@ MeasureRow row_from(const json& j) {
   return r;
 }
 
-// Rows of an earlier measure.json by inputs hash; a missing or unreadable file reuses nothing.
-std::map<std::string, MeasureRow> previous_rows(const fs::path& out, bool need_images, const Progress& say) {
+// An earlier measure.json: its rows and kept rows by inputs hash, with their JSON (a missing or unreadable
+// file reuses nothing), and its contact sheets with the rows they show.
+struct Previous {
   std::map<std::string, MeasureRow> rows;
+  std::map<std::string, json> text;
+  std::vector<std::string> contact_sheets;
+  std::string contact_sheets_rows;
+};
+Previous previous_rows(const fs::path& out, bool need_images, const Progress& say) {
+  Previous prev;
   auto text = util::read_file(out / "measure.json");
-  if (!text) return rows;
+  if (!text) return prev;
   try {
-    json doc = json::parse(*text);  // named: a temporary in the range-for would die before the loop
-    for (const auto& j : doc.at("rows")) {
-      MeasureRow r = row_from(j);
-      // Measured without images, or its image went missing: measure again.
-      if (r.image.empty() ? need_images : !fs::exists(out / r.image)) continue;
-      rows.emplace(r.inputs_hash, std::move(r));
-    }
+    json doc = json::parse(*text);
+    for (const char* list : {"rows", "kept_rows"})
+      for (const auto& j : doc.value(list, json::array())) {
+        MeasureRow r = row_from(j);
+        // Measured without images, or its image went missing: measure again.
+        if (r.image.empty() ? need_images : !fs::exists(out / r.image)) continue;
+        prev.text.emplace(r.inputs_hash, j);
+        prev.rows.emplace(r.inputs_hash, std::move(r));
+      }
+    prev.contact_sheets = doc.value("contact_sheets", std::vector<std::string>{});
+    prev.contact_sheets_rows = doc.value("contact_sheets_rows", "");
   } catch (const std::exception& e) {
-    rows.clear();  // an older or damaged file: measure everything again
+    prev = {};  // an older or damaged file: measure everything again
     if (say) say(fmt::format("note: {}: not reused ({}); measuring everything again",
                              util::display_path(out / "measure.json"), e.what()));
   }
-  return rows;
+  return prev;
+}
+
+// Which rows a set of contact sheets shows: their inputs, in order.
+std::string rows_fingerprint(const std::vector<MeasureRow>& rows) {
+  util::Hasher h;
+  for (const auto& r : rows) h.add(r.inputs_hash);
+  return h.hex();
 }
 
 struct VariantInputs {
   std::string spirv_hash, inputs_hash;
 };
+
+// Everything of a plan the backends execute: the programs (by key; their code is in spirv_hash), the
+// resolution and progressive flags, every texture (format, extent, buffering, clears, MIP levels) and every
+// draw (programs, parameter block, inputs, outputs, viewport). Variants that differ only in the renderer's
+// side (x2 and x4 run the same programs into smaller textures) must not share a row.
+std::string plan_text(const render::PipelinePlan& plan) {
+  std::string s = fmt::format("res {} prog {} result {}", plan.resolution, plan.progressive, plan.result);
+  for (const auto& sh : plan.shaders) s += fmt::format("|shader {} {}", sh.program_key, variants::stage_name(sh.stage));
+  for (const auto& t : plan.textures)
+    s += fmt::format("|tex {} {} {} {} {} {} {}", t.name, render::format_name(t.format), t.full_resolution,
+                     t.double_buffered, t.cleared, fmt::join(t.clear, ","), t.levels);
+  auto ref = [](const render::TextureRef& r) { return fmt::format("{}/{}/{}", r.texture, r.previous, r.level); };
+  for (const auto& d : plan.draws) {
+    s += fmt::format("|draw {} {} {} {} {} {} {} [{}]", d.name, d.pass, d.geometry, d.vertex, d.fragment,
+                     d.full_resolution, d.level, fmt::join(d.params, ","));
+    for (const auto& [binding, in] : d.inputs) s += fmt::format(" in{}={}", binding, ref(in));
+    for (const auto& out : d.outputs) s += " out=" + ref(out);
+  }
+  return s;
+}
 
 VariantInputs variant_inputs(const compile::CompiledSpace& c, int v, int t, const render::PipelinePlan& plan,
                              const std::string& context) {
@@ -145,13 +183,10 @@ VariantInputs variant_inputs(const compile::CompiledSpace& c, int v, int t, cons
       if (p >= 0) programs.add(c.builds[t][p].hash);
   VariantInputs in;
   in.spirv_hash = programs.hex();
+  // The key too: identical variants are measured once per run anyway (duplicates), and a row never
+  // stands in for another variant whatever the plan text leaves out.
   util::Hasher all;
-  all.add(in.spirv_hash).add(context);
-  for (const auto& d : plan.draws) {
-    all.add(d.name);
-    for (float f : d.params) all.add(fmt::format("{}", f));
-  }
-  for (const auto& tex : plan.textures) all.add(tex.name).add(render::format_name(tex.format));
+  all.add(in.spirv_hash).add(context).add(c.space.variants[v].key).add(plan_text(plan));
   in.inputs_hash = all.hex();
   return in;
 }
@@ -293,7 +328,7 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
   for (int v = 0; v < static_cast<int>(c.space.variants.size()); ++v) {
     const std::string& key = c.space.variants[v].key;
     if (key == o.baseline) baseline = v;
-    if (!util::glob_any(o.globs, key)) continue;
+    if (!util::glob_any(o.globs, key) || o.skip.count(key)) continue;
     if (o.shard_count > 1 && shard_of(key, o.shard_count) != o.shard_index) continue;
     auto [it, fresh] = representative.emplace(canonical(v), v);
     if (fresh) selected.push_back(v);
@@ -322,9 +357,6 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
     if (!parameters.count(key))
       throw std::runtime_error(fmt::format("--param {}: no selected variant has this parameter (they have: {})", key,
                                            fmt::join(parameters, ", ")));
-  util::Hasher selection;
-  for (int v : selected) selection.add(c.space.variants[v].key);
-  const std::string selection_hash = selection.hex();
   res.counts = compile::counts_line(c);
 
   // Progress: rows done out of rows wanted, and an ETA from the time per measured (not reused) row.
@@ -342,28 +374,47 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
     say(fmt::format("[{}/{} rows{}] {}", done, rows_wanted, eta, what));
   };
 
-  auto previous = o.reuse && !o.out.empty() ? previous_rows(o.out, o.images, progress) : std::map<std::string, MeasureRow>{};
+  Previous earlier = o.reuse && !o.out.empty() ? previous_rows(o.out, o.images, progress) : Previous{};
+  const auto& previous = earlier.rows;
+  // Earlier rows this run does not produce stay reusable (a narrower sweep, the first phase of a pruned one),
+  // unless this run writes their image (same backend, view and variant: a row with other inputs).
+  {
+    std::set<std::string> produced;
+    for (int v : selected) produced.insert(c.space.variants[v].key);
+    produced.insert(c.space.variants[baseline].key);
+    res.kept_rows = json::array();
+    for (const auto& [hash, r] : previous)
+      if (!produced.count(r.variant) ||
+          std::find(o.backends.begin(), o.backends.end(), r.backend) == o.backends.end() ||
+          std::none_of(views.begin(), views.end(), [&](const scene::View* v) { return v->name == r.view; }))
+        res.kept_rows.push_back(earlier.text.at(hash));
+  }
 
   // Ground truth: one ray-traced reference per view, at the measured size, radius and camera pose (the last
-  // frame of the path with --camera-path, as the images are), shared by every backend and variant.
+  // frame of the path with --camera-path, as the images are), shared by every backend and variant. Its
+  // cache key (scene, camera, size, radius, rays, mode) is part of every row's inputs; the image itself is
+  // traced (or loaded from the cache) only for a view with rows to measure, or whose copy under
+  // images/reference/ is missing, so a repeated run traces nothing.
+  auto reference_options = [&] {
+    reference::ReferenceOptions ro;
+    ro.size = o.size;
+    ro.radius = res.radius;
+    ro.rays = o.reference_rays;
+    ro.mode = o.reference_mode;
+    ro.frame = o.camera_path ? o.warmup + o.reps : 0;
+    ro.cache_dir = o.reference_cache;
+    return ro;
+  };
   std::map<std::string, reference::ReferenceImage> truth;
-  if (o.ground_truth) {
-    for (const scene::View* view : views) {
-      reference::ReferenceOptions ro;
-      ro.size = o.size;
-      ro.radius = res.radius;
-      ro.rays = o.reference_rays;
-      ro.mode = o.reference_mode;
-      ro.frame = o.camera_path ? o.warmup + o.reps : 0;
-      ro.cache_dir = o.reference_cache;
-      auto ref = reference::trace_reference(sc, *view, ro, [&](double f, double elapsed) {
-        say(fmt::format("reference {}: {:.0f} %{}", view->name, 100 * f,
-                        f > 0.01 ? fmt::format(", ETA {:.0f} s", elapsed * (1 - f) / f) : std::string()));
-      });
-      if (!o.out.empty() && o.images) reference::write_reference(o.out / "images" / "reference" / view->name, ref);
-      truth.emplace(view->name, std::move(ref));
-    }
-  }
+  auto ground_truth = [&](const scene::View& view) -> const reference::ReferenceImage& {
+    if (auto it = truth.find(view.name); it != truth.end()) return it->second;
+    auto ref = reference::trace_reference(sc, view, reference_options(), [&](double f, double elapsed) {
+      say(fmt::format("reference {}: {:.0f} %{}", view.name, 100 * f,
+                      f > 0.01 ? fmt::format(", ETA {:.0f} s", elapsed * (1 - f) / f) : std::string()));
+    });
+    if (!o.out.empty() && o.images) reference::write_reference(o.out / "images" / "reference" / view.name, ref);
+    return truth.emplace(view.name, std::move(ref)).first->second;
+  };
 
   for (const auto& backend_name : o.backends) {
     variants::Target target = backend_target(backend_name);
@@ -375,15 +426,16 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
     backend->set_scene(sc);
 
     for (const scene::View* view : views) {
-      std::string context = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", shadergen::generator_version(),
-                                        sc.content_hash, view_text(*view), backend_name, backend->info().device,
-                                        backend->info().driver, size_text(o.size), o.threads, o.reps, o.warmup,
-                                        res.radius);
+      // Every input of a row but the variant's own (programs, key, plan: variant_inputs). The selection and
+      // --batch are not inputs: the paired time (ratio to the baseline in the same rounds) cancels the drift
+      // between runs, so rows measured in different runs, or a sweep's pruning phases, combine.
+      const auto& info = backend->info();
+      std::string context = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", shadergen::generator_version(),
+                                        sc.content_hash, view_text(*view), backend_name, info.device, info.driver,
+                                        info.mediump_fp16, size_text(o.size), o.threads, o.reps, o.warmup,
+                                        res.radius, c.space.variants[baseline].key);
       if (o.camera_path) context += "|path";
-      if (o.ground_truth) context += fmt::format("|truth:{}", truth.at(view->name).key);
-      // The variants sharing the rounds change the times too (cache pressure on lavapipe), so rows are reused
-      // only within the same selection and batch size: an interrupted or repeated run, not a different one.
-      context += fmt::format("|{}|{}|{}", c.space.variants[baseline].key, o.batch, selection_hash);
+      if (o.ground_truth) context += "|truth:" + reference::cache_key(sc, *view, reference_options());
       auto make = [&](int v) {
         // Calibrated values of the variant's algorithm, then --param on top.
         render::ParamOverrides overrides = o.params;
@@ -408,25 +460,28 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
       };
 
       // Reuse rows whose inputs are unchanged; everything else is measured in batches with the baseline.
+      // What belongs to this run rather than to the measurement (another selection lists other duplicates,
+      // and the baseline's row is timing-only when no glob selects it) is taken from this run.
+      auto reuse = [&](const Candidate& cand) {
+        auto it = previous.find(cand.inputs.inputs_hash);
+        if (it == previous.end()) return false;
+        MeasureRow row = it->second;
+        row.duplicates = new_row(cand).duplicates;
+        row.is_baseline = cand.variant == baseline && !baseline_selected;
+        res.rows.push_back(std::move(row));
+        ++res.reused;
+        return true;
+      };
       std::vector<Candidate> todo;
       for (int v : selected) {
         if (v == baseline) continue;
         Candidate cand = make(v);
-        if (auto it = previous.find(cand.inputs.inputs_hash); it != previous.end()) {
-          res.rows.push_back(it->second);
-          ++res.reused;
-          continue;
-        }
-        todo.push_back(std::move(cand));
+        if (!reuse(cand)) todo.push_back(std::move(cand));
       }
       // The baseline is re-measured whenever anything else is (rel_time needs it in the same rounds).
       Candidate ref = make(baseline);
-      if (todo.empty())
-        if (auto it = previous.find(ref.inputs.inputs_hash); it != previous.end()) {
-          res.rows.push_back(it->second);
-          ++res.reused;
-          continue;
-        }
+      if (todo.empty() && reuse(ref)) continue;
+      if (o.ground_truth) ground_truth(*view);  // before the timing, which it would disturb
 
       std::string where = fmt::format("{} {}", backend_name, view->name);
       auto prep_start = Clock::now();
@@ -508,7 +563,7 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
             row.preview = rel.string() + ".png";
           }
           if (o.ground_truth) {
-            const auto& ref = truth.at(view->name);
+            const auto& ref = ground_truth(*view);
             row.error = metrics::compare(row.result, ref.visibility, ref.background);
             temporal_errors(row, cand.plan, p, *view, ref);
             if (!o.out.empty() && o.images) {
@@ -544,10 +599,24 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
       }
     }
   }
+  if (o.ground_truth && o.images && !o.out.empty())  // the contact sheets lead with it
+    for (const scene::View* view : views)
+      if (!fs::exists(o.out / "images" / "reference" / (view->name + ".pfm"))) ground_truth(*view);
   std::stable_sort(res.rows.begin(), res.rows.end(), [](const MeasureRow& a, const MeasureRow& b) {
     return std::tie(a.backend, a.view, a.variant) < std::tie(b.backend, b.view, b.variant);
   });
-  if (!o.out.empty() && o.images) res.contact_sheets = write_contact_sheets(res, o.out);
+  // Composing the sheets reads every image again: not when the sheets on disk already show these rows.
+  const std::string shown = rows_fingerprint(res.rows);
+  bool current = !earlier.contact_sheets.empty() && earlier.contact_sheets_rows == shown &&
+                 std::all_of(earlier.contact_sheets.begin(), earlier.contact_sheets.end(),
+                             [&](const std::string& f) { return fs::exists(o.out / f); });
+  if (current || !o.contact_sheets) {  // without sheets of its own, a run leaves the earlier ones listed
+    res.contact_sheets = earlier.contact_sheets;
+    res.contact_sheets_rows = earlier.contact_sheets_rows;
+  } else if (!o.out.empty() && o.images) {
+    res.contact_sheets = write_contact_sheets(res, o.out);
+    res.contact_sheets_rows = shown;
+  }
   res.wall_s = seconds_since(start);
   write_json(res, o);
   return res;
@@ -570,6 +639,7 @@ json to_json(const MeasureResult& res, const MeasureOptions& o) {
           {"manifest", util::display_path(o.manifest)},
           {"counts", res.counts},
           {"contact_sheets", res.contact_sheets},
+          {"contact_sheets_rows", res.contact_sheets_rows},
           {"size", size_text(o.size)},
           {"reps", o.reps},
           {"warmup", o.warmup},
@@ -581,7 +651,8 @@ json to_json(const MeasureResult& res, const MeasureOptions& o) {
           {"wall_s", res.wall_s},
           {"compile_s", res.compile_s},
           {"reused", res.reused},
-          {"rows", rows}};
+          {"rows", rows},
+          {"kept_rows", res.kept_rows.is_null() ? json::array() : res.kept_rows}};  // null: returned before selecting
 }
 
 }  // namespace aovar::measure

@@ -3,14 +3,15 @@
 // through the chosen backends, time them round-robin against a baseline variant, and write
 // measure.json plus a float image (PFM) and an 8-bit preview (PNG) per variant, view and backend.
 // Rows are keyed by a hash of everything that determines them, so an interrupted or repeated run reuses
-// what it already measured (measure.json is rewritten atomically after every batch).
+// what it already measured, whatever else it selects (measure.json is rewritten atomically after every batch).
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json_fwd.hpp>
+#include <nlohmann/json.hpp>
 
 #include "measure/stats.h"
 #include "measure/timing.h"
@@ -55,6 +56,9 @@ struct MeasureOptions {
   // Shard k of n (0-based k): only selected variants whose key hashes to k (stable across machines), so
   // n machines split one selection without overlap (the baseline is timed in every shard regardless).
   int shard_index = 0, shard_count = 1;
+  // Variant keys the globs select but not to measure (sweep --prune-dominated); the baseline is still timed.
+  std::set<std::string> skip;
+  bool contact_sheets = true;              // with images; false leaves the earlier sheets (sweep's pruning phases)
 };
 
 // The shard (0 .. n-1) a variant key belongs to: a stable hash of the key modulo n.
@@ -66,7 +70,8 @@ struct MeasureRow {
   std::vector<std::string> duplicates;  // selected variants with the same programs (not measured again)
   std::string backend, view;
   std::string spirv_hash;               // hash of every program the pipeline runs (backend's target)
-  std::string inputs_hash;              // programs, scene, view, backend, device, size, threads, reps, params
+  std::string inputs_hash;              // programs, plan, key, scene, view, backend, device, size, threads,
+                                        // reps, warmup, radius, parameters, baseline, reference key
   TimeStats time;                       // total per frame
   std::vector<std::pair<std::string, TimeStats>> passes;
   double rel_time = 0, rel_time_median = 0;
@@ -100,6 +105,9 @@ struct MeasureResult {
   std::vector<RunRecord> runs;
   std::string counts;  // "space N / rules R / selected S / dedup D"
   std::vector<std::string> contact_sheets;  // per backend and view with 2+ images, relative to the output folder
+  std::string contact_sheets_rows;          // fingerprint of the rows the sheets show
+  // Rows of the earlier measure.json this run did not select, as JSON: still reusable by a later run.
+  nlohmann::json kept_rows;
   double wall_s = 0, compile_s = 0;
   int reused = 0;
 };

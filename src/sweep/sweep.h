@@ -3,7 +3,8 @@
 // calibration) -> one cost table (cost_table.json, .csv, .md) with the Pareto front of time against error.
 // Resumable: each scene's measurements live in OUT/measure/<scene>/measure.json, rewritten atomically
 // after every batch and reused row by row, so an interrupted sweep loses at most one batch and a re-run
-// measures only what is missing. --shard k/n splits the variants over machines; `aovar merge` joins.
+// measures only what is missing (a repeat of a finished sweep measures and traces nothing).
+// --shard k/n splits the variants over machines; `aovar merge` joins.
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -22,11 +23,17 @@ struct SweepOptions {
   // Variants (globs) to predict rather than measure: each one not measured gets a row per scene, view and
   // backend with the time of that group's best cost model, marked `predicted` (no error, not on the front).
   std::vector<std::string> predict;
+  // --prune-dominated: measure a first share of the variants, then skip those the cost model predicts to be
+  // dominated (the rule: measure_pruned in sweep.cpp); --prune-check N: of those, measure max(N, a tenth
+  // rounded up) anyway and report how many would have reached the Pareto front.
+  bool prune_dominated = false;
+  int prune_check = 2;
 };
 
 struct SweepResult {
   table::CostTable table;
   int rows_measured = 0, rows_reused = 0, rows_predicted = 0;
+  int variants_skipped = 0, variants_checked = 0, checked_on_front = 0;  // --prune-dominated, over all scenes
   double wall_s = 0;
 };
 

@@ -376,7 +376,7 @@ CostTable from_measure(const json& m) {
     throw std::runtime_error("not a measure.json (no \"rows\" array)");
   CostTable t;
   for (const auto& [k, v] : m.items())
-    if (k != "rows" && k != "runs") t.meta[k] = v;
+    if (k != "rows" && k != "runs" && k != "kept_rows") t.meta[k] = v;
   std::string scene_name;
   if (m.contains("scene") && m.at("scene").is_object()) scene_name = m.at("scene").value("name", "");
   // Each (view, backend)'s baseline min, over every round of every batch: the scale of the paired times.

@@ -90,7 +90,7 @@ std::string to_markdown(const CostTable& table);
 void write_table_files(const CostTable& table, const std::filesystem::path& dir);
 
 // A measure.json (aovar measure --reference) as cost rows: meta keeps the measure header (without
-// rows and runs); rows measured without a reference get a null error.
+// rows, kept rows and runs); rows measured without a reference get a null error.
 CostTable from_measure(const nlohmann::json& measure_json);
 
 // Pareto front of (time_ms.min, error.rmse), both minimised, per (scene, view, backend): sets `pareto`
