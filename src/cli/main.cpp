@@ -404,8 +404,9 @@ int run_profile(ProfileCli& a, const std::string& manifest) {
   auto o = profile_options(a, manifest);
   auto p = with_status([&](const auto& progress) { return profile::profile_scene(o, progress); });
   std::cout << profile::to_text(p);
-  auto space = variants::build_space(variants::load_manifest(o.manifest));
-  auto pruned = profile::prune(variants::load_manifest(o.manifest), space, p);
+  const auto loaded = variants::load_manifest(o.manifest);
+  auto space = variants::build_space(loaded);
+  auto pruned = profile::prune(loaded, space, p);
   std::cout << fmt::format("# {} variants after rules; the scene keeps {} and drops {} (aovar list --scene {} --pruned)\n",
                            space.variants.size(), pruned.kept.size(), pruned.dropped.size(), o.scene);
   if (!a.out.empty()) {

@@ -244,12 +244,11 @@ Profile profile_scene(const Options& o, const Progress& progress) {
                        resolutions[r], 100 * share, worst->view, worst->radius_px_median, 100 * o.early_out_share));
   }
   // Samples, per resolution: taps spread over a disk of pi r^2 AO pixels; more taps than that re-read pixels.
-  for (std::size_t r = 0; r < resolutions.size(); ++r)
+  const ViewProfile* widest = nullptr;  // the largest radius in pixels: the most room for taps
+  for (const auto& vp : p.views)
+    if (!widest || vp.radius_px_near > widest->radius_px_near) widest = &vp;
+  for (std::size_t r = 0; widest && r < resolutions.size(); ++r)
     for (const auto& s : manifest.axis_values(Axis::samples)) {
-      const ViewProfile* widest = nullptr;
-      for (const auto& vp : p.views)
-        if (!widest || vp.radius_px_near > widest->radius_px_near) widest = &vp;
-      if (!widest) continue;
       const double r_ao = std::min(widest->radius_px_near, 0.25 * std::min(o.size.width, o.size.height)) * resolutions[r];
       const double disk = std::numbers::pi * r_ao * r_ao;
       const double taps = std::stod(s.text);
