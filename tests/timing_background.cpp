@@ -1,5 +1,6 @@
-// Timing test (run serially, label "timing"): the AO pass's early-out on background pixels makes its time
-// fall as the sky grows (issue 8, runtime skipping; figures in bench/README.md, bench/background).
+// Timing test (run serially, label "timing"): background pixels are rejected before the AO pass's fragment
+// shader (render/plan.h), so its time falls as the sky grows (issue 8, runtime skipping; figures in
+// bench/README.md, bench/background).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,8 +18,7 @@ const std::filesystem::path kManifest = std::filesystem::path(AOVAR_SOURCE_DIR) 
 namespace aovar::test {
 namespace {
 
-// Runtime skipping: the AO pass returns before sampling on background pixels, so its time falls as the sky
-// grows. Three views of the atrium from one eye, about 10 %, 50 % and 90 % sky, timed interleaved (median of
+// Runtime skipping: background pixels are not shaded, so the AO pass time falls as the sky grows. Three views of the atrium from one eye, about 10 %, 50 % and 90 % sky, timed interleaved (median of
 // 15 rounds); the gaps are several times the noise of this host.
 TEST(Profile, AoPassTimeFallsAsTheSkyGrows) {
   compile::CompileOptions co;

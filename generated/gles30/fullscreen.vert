@@ -50,5 +50,7 @@ void main() {
     // uv (0, 0) is render-target texel (0, 0) on every target, so v_uv == gl_FragCoord.xy / size and it
     // addresses textures written by earlier passes directly.
     v_uv = uv;
-    gl_Position = vec4(uv * 2.0 - 1.0, 0.0, 1.0);
+    // Depth 1.0 (clip z = w, inside the far plane on every API): draws that skip background test against a
+    // depth buffer holding 1.0 there (render/plan.h, runtime skipping); the others have no depth test.
+    gl_Position = vec4(uv * 2.0 - 1.0, 1.0, 1.0);
 }

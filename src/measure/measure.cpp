@@ -165,10 +165,12 @@ std::string plan_text(const render::PipelinePlan& plan) {
   for (const auto& t : plan.textures)
     s += fmt::format("|tex {} {} {} {} {} {} {}", t.name, render::format_name(t.format), t.full_resolution,
                      t.double_buffered, t.cleared, fmt::join(t.clear, ","), t.levels);
+  for (const auto& b : plan.depth_buffers) s += fmt::format("|zbuf {} {}", b.name, b.full_resolution);
   auto ref = [](const render::TextureRef& r) { return fmt::format("{}/{}/{}", r.texture, r.previous, r.level); };
   for (const auto& d : plan.draws) {
-    s += fmt::format("|draw {} {} {} {} {} {} {} [{}]", d.name, d.pass, d.geometry, d.vertex, d.fragment,
-                     d.full_resolution, d.level, fmt::join(d.params, ","));
+    s += fmt::format("|draw {} {} {} {} {} {} {} [{}] depth {} {}", d.name, d.pass, d.geometry, d.vertex, d.fragment,
+                     d.full_resolution, d.level, fmt::join(d.params, ","), render::depth_use_name(d.depth),
+                     d.depth_buffer);
     for (const auto& [binding, in] : d.inputs) s += fmt::format(" in{}={}", binding, ref(in));
     for (const auto& out : d.outputs) s += " out=" + ref(out);
   }

@@ -1,7 +1,7 @@
 // lavapipe backend: executes a PipelinePlan with Vulkan 1.3 dynamic rendering on Mesa's CPU driver and times
 // every draw with timestamp queries.
 //
-// Per prepared pipeline: every plan texture (two images when double-buffered), a depth buffer, one graphics
+// Per prepared pipeline: every plan texture (two images when double-buffered) and depth buffer, one graphics
 // pipeline per draw, descriptor sets per draw and frame parity, the frame and parameter uniform buffers, a
 // timestamp query pool and command buffers recorded once per parity (re-recorded only when the clear values
 // or the scene change). Between draws every texture rests in SHADER_READ_ONLY_OPTIMAL.
@@ -77,7 +77,7 @@ class LavapipePipeline final : public PreparedPipeline {
   bool has_geometry = false;
 
   std::vector<TextureImages> images;
-  Image depth;
+  std::vector<Image> depth_buffers;  // per plan depth buffer (D32F)
   std::vector<DrawState> states;
   Buffer frame_ubo, params_ubo, readback;
   VkDescriptorPool descriptor_pool = VK_NULL_HANDLE;
@@ -120,7 +120,7 @@ LavapipePipeline::~LavapipePipeline() {
     if (s.pipeline) vkDestroyPipeline(d, s.pipeline, nullptr);
   for (TextureImages& t : images)
     for (Image& i : t.copies) dev->destroy(i);
-  dev->destroy(depth);
+  for (Image& i : depth_buffers) dev->destroy(i);
   dev->destroy(frame_ubo);
   dev->destroy(params_ubo);
   dev->destroy(readback);
@@ -186,18 +186,22 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
       attachments.push_back(a);
     }
     VkRenderingAttachmentInfo depth_attachment{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    if (d.geometry) {
+    if (d.depth != DepthUse::none) {
+      // geometry and write_mask start the buffer afresh; skip_background reads what they left.
+      const bool load = d.depth == DepthUse::skip_background;
+      const VkPipelineStageFlags2 tests =
+          VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+      const Image& z = depth_buffers[d.depth_buffer];
       barriers.push_back(image_barrier(
-          depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-          VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-          VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-          VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+          z.image, VK_IMAGE_ASPECT_DEPTH_BIT,
+          load ? VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
+          VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, tests, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, tests,
           VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT));
-      depth_attachment.imageView = depth.view;
+      depth_attachment.imageView = z.view;
       depth_attachment.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-      depth_attachment.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-      depth_attachment.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-      depth_attachment.clearValue.depthStencil = {1.0f, 0};
+      depth_attachment.loadOp = load ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
+      depth_attachment.storeOp = VK_ATTACHMENT_STORE_OP_STORE;  // later draws of the frame test against it
+      depth_attachment.clearValue.depthStencil = {d.depth == DepthUse::write_mask ? 0.0f : 1.0f, 0};
     }
     pipeline_barrier(cmd, barriers.data(), static_cast<uint32_t>(barriers.size()));
 
@@ -206,7 +210,7 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
     ri.layerCount = 1;
     ri.colorAttachmentCount = static_cast<uint32_t>(attachments.size());
     ri.pColorAttachments = attachments.data();
-    if (d.geometry) ri.pDepthAttachment = &depth_attachment;
+    if (d.depth != DepthUse::none) ri.pDepthAttachment = &depth_attachment;
     vkCmdBeginRendering(cmd, &ri);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, s.pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, dev->pipeline_layout, 0, 1, &s.sets[p % parities],
@@ -250,13 +254,20 @@ void validate_plan(const PipelinePlan& plan) {
   int nt = static_cast<int>(plan.textures.size()), ns = static_cast<int>(plan.shaders.size());
   if (plan.draws.empty()) bad("no draws");
   if (plan.result < 0 || plan.result >= nt) bad("no result texture");
+  const int nz = static_cast<int>(plan.depth_buffers.size());
   const Texture& r = plan.textures[plan.result];
   // Full resolution normally; a plan_prefix cut may end at AO resolution (read back at that size).
   if (r.format != Format::r32f) bad("the result is not an r32f texture");
   for (const Draw& d : plan.draws) {
     if (d.vertex < 0 || d.vertex >= ns || d.fragment < 0 || d.fragment >= ns)
       bad(fmt::format("draw {} names no shader", d.name));
-    if (d.outputs.empty()) bad(fmt::format("draw {} has no outputs", d.name));
+    if (d.outputs.empty() && d.depth != DepthUse::write_mask) bad(fmt::format("draw {} has no outputs", d.name));
+    if ((d.depth != DepthUse::none) != (d.depth_buffer >= 0) || d.depth_buffer >= nz)
+      bad(fmt::format("draw {} uses depth {} with depth buffer {} of {}", d.name, depth_use_name(d.depth),
+                      d.depth_buffer, nz));
+    if (d.geometry && d.depth != DepthUse::geometry) bad(fmt::format("geometry draw {} has no depth test", d.name));
+    if (d.depth_buffer >= 0 && (plan.depth_buffers[d.depth_buffer].full_resolution != d.full_resolution || d.level != 0))
+      bad(fmt::format("draw {} tests a depth buffer of another size", d.name));
     for (const TextureRef& o : d.outputs) {
       if (o.texture >= nt) bad(fmt::format("draw {} writes texture {}", d.name, o.texture));
       if (o.texture >= 0 && plan.textures[o.texture].full_resolution != d.full_resolution)
@@ -422,9 +433,11 @@ void LavapipeBackend::create_pipelines(const PipelinePlan& plan, LavapipePipelin
       VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
       ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
       VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-      ds.depthTestEnable = dr.geometry;
-      ds.depthWriteEnable = dr.geometry;
-      ds.depthCompareOp = VK_COMPARE_OP_LESS;
+      ds.depthTestEnable = dr.depth != DepthUse::none;
+      ds.depthWriteEnable = dr.depth == DepthUse::geometry || dr.depth == DepthUse::write_mask;
+      ds.depthCompareOp = dr.depth == DepthUse::write_mask        ? VK_COMPARE_OP_ALWAYS
+                          : dr.depth == DepthUse::skip_background ? VK_COMPARE_OP_NOT_EQUAL
+                                                                  : VK_COMPARE_OP_LESS;
       std::vector<VkPipelineColorBlendAttachmentState> blend(dr.outputs.size());
       std::vector<VkFormat> formats(dr.outputs.size(), VK_FORMAT_UNDEFINED);
       for (std::size_t o = 0; o < dr.outputs.size(); ++o) {
@@ -439,7 +452,7 @@ void LavapipeBackend::create_pipelines(const PipelinePlan& plan, LavapipePipelin
       VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
       rendering.colorAttachmentCount = static_cast<uint32_t>(formats.size());
       rendering.pColorAttachmentFormats = formats.data();
-      rendering.depthAttachmentFormat = dr.geometry ? kDepthFormat : VK_FORMAT_UNDEFINED;
+      rendering.depthAttachmentFormat = dr.depth != DepthUse::none ? kDepthFormat : VK_FORMAT_UNDEFINED;
 
       VkGraphicsPipelineCreateInfo gci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
       gci.pNext = &rendering;
@@ -546,9 +559,10 @@ std::unique_ptr<PreparedPipeline> LavapipeBackend::prepare(const PipelinePlan& f
       pp->images[i].copies[c] = dev_->create_image(extent_of(t.full_resolution), f, usage, VK_IMAGE_ASPECT_COLOR_BIT,
                                                    static_cast<uint32_t>(std::max(t.levels, 1)));
   }
-  if (pp->has_geometry)
-    pp->depth = dev_->create_image(extent_of(true), kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-                                   VK_IMAGE_ASPECT_DEPTH_BIT);
+  for (const DepthBuffer& b : plan.depth_buffers)
+    pp->depth_buffers.push_back(dev_->create_image(extent_of(b.full_resolution), kDepthFormat,
+                                                   VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                                                   VK_IMAGE_ASPECT_DEPTH_BIT));
 
   // Uniform buffers: AOFrame (rewritten each frame) and every draw's AOParams at aligned offsets.
   pp->frame_ubo = dev_->create_buffer(sizeof(FrameBlock), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);

@@ -147,6 +147,7 @@ float resolve_clear(float v, float far_plane) {
 struct GlDraw {
   std::string name;
   bool geometry = false;
+  DepthUse depth = DepthUse::none;
   Extent viewport;
   GLuint program = 0;
   GLuint params = 0;                                  // AOParams UBO, 0 = the draw has no block
@@ -390,12 +391,15 @@ std::unique_ptr<PreparedPipeline> OsmesaBackend::prepare(const PipelinePlan& ful
     p->tex_size_.push_back(e);
   }
 
-  // Depth for geometry draws (full resolution).
-  GLuint depth_rb = 0;
-  if (std::any_of(plan.draws.begin(), plan.draws.end(), [](const Draw& d) { return d.geometry; })) {
-    gl.CreateRenderbuffers(1, &depth_rb);
-    p->names_.renderbuffers.push_back(depth_rb);
-    gl.NamedRenderbufferStorage(depth_rb, GL_DEPTH_COMPONENT32F, size.width, size.height);
+  // Depth buffers: the G-buffer's, the background mask (plan.h).
+  std::vector<GLuint> depth_rbs;
+  for (const DepthBuffer& b : plan.depth_buffers) {
+    GLuint rb = 0;
+    gl.CreateRenderbuffers(1, &rb);
+    p->names_.renderbuffers.push_back(rb);
+    const Extent e = b.full_resolution ? size : p->ao_;
+    gl.NamedRenderbufferStorage(rb, GL_DEPTH_COMPONENT32F, e.width, e.height);
+    depth_rbs.push_back(rb);
   }
 
   // AOFrame, filled by render.
@@ -451,6 +455,10 @@ std::unique_ptr<PreparedPipeline> OsmesaBackend::prepare(const PipelinePlan& ful
     GlDraw g;
     g.name = d.name;
     g.geometry = d.geometry;
+    g.depth = d.depth;
+    if ((d.depth != DepthUse::none) != (d.depth_buffer >= 0) || d.depth_buffer >= int(depth_rbs.size()))
+      throw BackendError(fmt::format("osmesa: {}: draw {} uses depth buffer {} of {}", plan.variant, d.name,
+                                     d.depth_buffer, depth_rbs.size()));
     g.viewport = d.full_resolution ? size : p->ao_;
     g.viewport.width = std::max(1, g.viewport.width >> d.level);
     g.viewport.height = std::max(1, g.viewport.height >> d.level);
@@ -497,7 +505,8 @@ std::unique_ptr<PreparedPipeline> OsmesaBackend::prepare(const PipelinePlan& ful
         gl.NamedFramebufferTexture(fbo, GLenum(GL_COLOR_ATTACHMENT0 + loc), p->tex_[r.texture][q], std::max(r.level, 0));
         buffers[loc] = GLenum(GL_COLOR_ATTACHMENT0 + loc);
       }
-      if (d.geometry) gl.NamedFramebufferRenderbuffer(fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb);
+      if (d.depth_buffer >= 0)
+        gl.NamedFramebufferRenderbuffer(fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rbs[d.depth_buffer]);
       gl.NamedFramebufferDrawBuffers(fbo, GLsizei(buffers.size()), buffers.data());
       GLenum status = gl.CheckNamedFramebufferStatus(fbo, GL_DRAW_FRAMEBUFFER);
       if (status != GL_FRAMEBUFFER_COMPLETE)
@@ -543,19 +552,29 @@ std::vector<double> OsmesaBackend::render(PreparedPipeline& pipeline, const Fram
   c_->check("before the first draw of {}", p.variant_);
   gl.Finish();  // earlier work (uploads, the previous frame) must not land in the first draw's time
 
-  const float far_depth = 1.0f;
+  const float far_depth = 1.0f, no_background = 0.0f;
   for (std::size_t i = 0; i < p.draws_.size(); ++i) {
     const GlDraw& d = p.draws_[i];
     auto t0 = std::chrono::steady_clock::now();
     gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, d.fbo[parity]);
     gl.Viewport(0, 0, d.viewport.width, d.viewport.height);
-    if (d.geometry) {
-      gl.Enable(GL_DEPTH_TEST);
-      gl.DepthMask(GL_TRUE);  // also lets the depth clear through
-      gl.ClearBufferfv(GL_DEPTH, 0, &far_depth);
-    } else {
-      gl.Disable(GL_DEPTH_TEST);
-      gl.DepthMask(GL_FALSE);
+    switch (d.depth) {
+      case DepthUse::none:
+        gl.Disable(GL_DEPTH_TEST);
+        gl.DepthMask(GL_FALSE);
+        break;
+      case DepthUse::geometry:
+      case DepthUse::write_mask:
+        gl.Enable(GL_DEPTH_TEST);
+        gl.DepthMask(GL_TRUE);  // also lets the depth clear through
+        gl.DepthFunc(d.depth == DepthUse::geometry ? GL_LESS : GL_ALWAYS);
+        gl.ClearBufferfv(GL_DEPTH, 0, d.depth == DepthUse::geometry ? &far_depth : &no_background);
+        break;
+      case DepthUse::skip_background:  // fullscreen triangle at depth 1.0; pixels holding 1.0 are not shaded
+        gl.Enable(GL_DEPTH_TEST);
+        gl.DepthMask(GL_FALSE);
+        gl.DepthFunc(GL_NOTEQUAL);
+        break;
     }
     for (const GlDraw::Clear& c : d.clears) gl.ClearBufferfv(GL_COLOR, c.location, c.value.data());
     gl.UseProgram(d.program);

@@ -31,6 +31,16 @@ int format_bytes(Format f) {
   return 0;
 }
 
+const char* depth_use_name(DepthUse u) {
+  switch (u) {
+    case DepthUse::none: return "none";
+    case DepthUse::geometry: return "geometry";
+    case DepthUse::write_mask: return "write_mask";
+    case DepthUse::skip_background: return "skip_background";
+  }
+  return "?";
+}
+
 std::vector<std::string> PipelinePlan::passes() const {
   std::vector<std::string> out;
   for (const auto& d : draws)
@@ -140,6 +150,43 @@ class PlanBuilder {
     return out;
   }
 
+  int depth_buffer(DepthBuffer b) {
+    plan_.depth_buffers.push_back(std::move(b));
+    return static_cast<int>(plan_.depth_buffers.size()) - 1;
+  }
+
+  // The AO-resolution depth buffer holding 1.0 where the depth texel the AO pass reads is background, drawn
+  // by the manifest's background_mask pass; -1 when the manifest has none (then nothing is skipped there).
+  int background_mask(int depth) {
+    const auto* mask = pass("background_mask");
+    if (!mask) return -1;
+    int buffer = depth_buffer({"background_mask", false});
+    Draw d;
+    d.name = d.pass = "background_mask";
+    d.vertex = shader((*mask)[0]);
+    d.fragment = shader((*mask)[1]);
+    d.params = params("background_mask", (*mask)[1]);
+    d.inputs = {{2, TextureRef{depth}}};
+    d.full_resolution = false;
+    d.depth = DepthUse::write_mask;
+    d.depth_buffer = buffer;
+    plan_.draws.push_back(std::move(d));
+    return buffer;
+  }
+
+  // The last draw rejects background pixels before shading (plan.h): its outputs start each frame at 1, the
+  // value its shader's early-out writes there. buffer -1: no mask at this resolution, the draw stays as is.
+  void skip_background(int buffer) {
+    if (buffer < 0) return;
+    Draw& d = plan_.draws.back();
+    d.depth = DepthUse::skip_background;
+    d.depth_buffer = buffer;
+    for (const TextureRef& out : d.outputs) {
+      plan_.textures[out.texture].cleared = true;
+      plan_.textures[out.texture].clear = {1, 1, 1, 1};
+    }
+  }
+
   // Method-specific inputs of the AO pass (plan.h): the texture bound at kPrefilterBinding, or -1.
   int prefilter(int depth, bool full_ao) {
     if (const auto* blur = pass("unsharp_blur")) {
@@ -189,7 +236,11 @@ class PlanBuilder {
     g.params = params("gbuffer", (*gbuffer)[1]);
     g.outputs = {TextureRef{depth}, TextureRef{normal}, TextureRef{position}};
     while (!g.outputs.empty() && g.outputs.back().texture < 0) g.outputs.pop_back();
+    g.depth = DepthUse::geometry;
+    const int zbuffer = g.depth_buffer = depth_buffer({"zbuffer", true});
     plan_.draws.push_back(std::move(g));
+    // Where background pixels are rejected before shading, at AO resolution (full: the G-buffer's depth).
+    const int ao_skip = full_ao ? zbuffer : background_mask(depth);
 
     // AO at its resolution; progressive variants keep both halves (double-buffered by frame parity).
     const auto* ao = pass("ao");
@@ -203,24 +254,31 @@ class PlanBuilder {
     const auto* keyed = pass("blur_keyed");
     Format ao_format = keyed ? Format::rgba8 : Format::r16f;
     int current = fullscreen("ao", "ao", *ao, gbuffer_inputs, full_ao, {}, plan_.progressive, ao_format);
+    skip_background(ao_skip);
 
     if (plan_.progressive) {
       const auto* prog = pass("progressive");
       if (!prog) throw std::runtime_error(plan_.variant + ": progressive variant but no progressive pass");
       current = fullscreen("progressive", "progressive", *prog,
                            {{5, TextureRef{current}}, {6, TextureRef{current, true}}}, full_ao, {}, false, ao_format);
+      skip_background(ao_skip);
     }
 
     const char* blur_pass = keyed ? "blur_keyed" : "blur";
+    // The keyed blurs take background from the key and write it back: their output there is not a constant.
+    const int blur_skip = keyed ? -1 : ao_skip;
     if (const auto* blur = keyed ? keyed : pass("blur")) {
       if (axis(Axis::blur) == "separable") {
         current = fullscreen("blur.h", "blur", *blur, {{2, TextureRef{depth}}, {5, TextureRef{current}}}, full_ao,
                              {{"axis", 0.0f}}, false, ao_format, blur_pass);
+        skip_background(blur_skip);
         current = fullscreen("blur.v", "blur", *blur, {{2, TextureRef{depth}}, {5, TextureRef{current}}}, full_ao,
                              {{"axis", 1.0f}}, false, ao_format, blur_pass);
+        skip_background(blur_skip);
       } else {
         current = fullscreen("blur", "blur", *blur, {{2, TextureRef{depth}}, {5, TextureRef{current}}}, full_ao, {},
                              false, ao_format, blur_pass);
+        skip_background(blur_skip);
       }
     }
 
@@ -228,6 +286,7 @@ class PlanBuilder {
       const auto* up = pass("upsample");
       if (!up) throw std::runtime_error(plan_.variant + ": reduced resolution but no upsample pass");
       current = fullscreen("upsample", "upsample", *up, {{2, TextureRef{depth}}, {5, TextureRef{current}}}, true);
+      skip_background(zbuffer);
     }
 
     plan_.textures[current].format = Format::r32f;  // the result: NaN and Inf survive the read-back
@@ -295,6 +354,32 @@ PipelinePlan plan_for_size(const PipelinePlan& plan, Extent size) {
                        [&](const TextureRef& o) { return o.texture >= 0 && d.level >= fit.textures[o.texture].levels; });
   });
   return fit;
+}
+
+PipelinePlan plan_without_background_skip(const PipelinePlan& plan) {
+  PipelinePlan all = plan;
+  std::erase_if(all.draws, [](const Draw& d) { return d.depth == DepthUse::write_mask; });
+  std::vector<bool> used(all.depth_buffers.size(), false);
+  for (Draw& d : all.draws) {
+    if (d.depth == DepthUse::skip_background) {
+      d.depth = DepthUse::none;
+      d.depth_buffer = -1;
+      for (const TextureRef& out : d.outputs)
+        if (out.texture >= 0) all.textures[out.texture].cleared = false;  // fullscreen outputs: rewritten anyway
+    }
+    if (d.depth_buffer >= 0) used[d.depth_buffer] = true;
+  }
+  std::vector<int> index(all.depth_buffers.size(), -1);
+  std::vector<DepthBuffer> kept;
+  for (std::size_t b = 0; b < all.depth_buffers.size(); ++b)
+    if (used[b]) {
+      index[b] = static_cast<int>(kept.size());
+      kept.push_back(all.depth_buffers[b]);
+    }
+  all.depth_buffers = std::move(kept);
+  for (Draw& d : all.draws)
+    if (d.depth_buffer >= 0) d.depth_buffer = index[d.depth_buffer];
+  return all;
 }
 
 PipelinePlan plan_single_frame(const PipelinePlan& plan) {

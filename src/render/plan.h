@@ -14,6 +14,17 @@
 //   upsample    fullscreen -> ao_full (depth-aware)                               full resolution
 //
 // The last draw's output is the result; it is R32F so NaN and Inf survive to the read-back.
+//
+// Background pixels skip the fragment shader (runtime skipping): the fullscreen draws whose shaders write a
+// constant 1 on background (ao, progressive, the unkeyed blurs, upsample) are depth-tested so that the
+// rasteriser rejects background pixels before shading; their outputs are cleared to 1 first, which is
+// exactly what the shaders' own early-out writes there. The test reads a depth buffer that says
+// "background" with the value 1.0:
+//   full resolution: the G-buffer's depth buffer (cleared to 1.0; only pixels no triangle covered keep it);
+//   AO resolution:   a mask drawn by the manifest's `background_mask` pass, which writes 1.0 where the
+//                    depth texel the AO pass reads holds the background (without that pass: no skipping at
+//                    reduced resolution, the shaders' early-out still applies).
+// Fullscreen triangles lie at depth 1.0 and pass where the stored depth is NOT_EQUAL to it.
 #include <array>
 #include <map>
 #include <string>
@@ -53,6 +64,20 @@ struct Shader {
   std::string glsl;                  // GLSL 450 core source (backend "osmesa")
 };
 
+// Depth buffers (D32F) draws test against; never sampled.
+struct DepthBuffer {
+  std::string name;               // "zbuffer" (the G-buffer's), "background_mask"
+  bool full_resolution = true;    // else the AO pass extent
+};
+
+enum class DepthUse {
+  none,
+  geometry,         // clear to 1.0, test LESS, write (the G-buffer)
+  write_mask,       // clear to 0.0, test ALWAYS, write: the fullscreen triangle's 1.0 where the shader keeps going
+  skip_background,  // test NOT_EQUAL against the triangle's 1.0, no write: pixels holding 1.0 are not shaded
+};
+const char* depth_use_name(DepthUse u);
+
 struct Draw {
   std::string name;   // "gbuffer", "ao", "progressive", "blur.h", "blur.v", "blur", "upsample"
   std::string pass;   // timing group: the manifest pass name ("blur" for both separable draws)
@@ -63,6 +88,8 @@ struct Draw {
   std::vector<TextureRef> outputs;  // colour attachment per location (texture -1 = location unused)
   bool full_resolution = true;      // viewport: full output or AO extent
   int level = 0;                    // MIP level every output is written at (viewport shrinks with it)
+  DepthUse depth = DepthUse::none;
+  int depth_buffer = -1;            // index into PipelinePlan::depth_buffers (with depth != none)
 };
 
 inline constexpr int kZmipLevels = 6;  // SAO's z pyramid: levels 0..5 (seed 003 §3: MAX_MIP_LEVEL 5)
@@ -76,6 +103,7 @@ struct PipelinePlan {
   std::vector<Shader> shaders;
   std::vector<Texture> textures;
   std::vector<Draw> draws;
+  std::vector<DepthBuffer> depth_buffers;
   int result = -1;  // texture holding the final AO (full resolution, R32F)
 
   std::vector<std::string> passes() const;  // timing groups in draw order, unique
@@ -104,6 +132,11 @@ PipelinePlan plan_prefix(const PipelinePlan& plan, const std::string& last_draw)
 // each texture keeps at most that many and the draws into the missing levels go. Shaders never read them:
 // on-screen taps choose levels below log2 of the AO target's diagonal. Backends prepare this, not the plan.
 PipelinePlan plan_for_size(const PipelinePlan& plan, Extent size);
+
+// The plan without runtime skipping: no background mask, no depth-tested fullscreen draws, every background
+// pixel shaded (and sent through the shaders' early-out). Produces the same image; for measuring what the
+// skipping saves.
+PipelinePlan plan_without_background_skip(const PipelinePlan& plan);
 
 // A progressive plan whose average reads this frame's half twice instead of the previous frame's other half:
 // what one frame alone shows (after a camera cut, or without history). Other plans come back unchanged.
