@@ -5,6 +5,7 @@
 
 #include <fstream>
 #include <fmt/format.h>
+#include <map>
 #include <set>
 
 #include "profile/profile.h"
@@ -39,8 +40,8 @@ TEST(Profile, ShallowDepthKeepsR16fDeepDepthDropsIt) {
   // geometry 200-4000 units away, where r16f steps are whole units.
   auto shallow = profile_of("builtin:atrium");
   auto deep = profile_of("builtin:far");
-  const auto* keep = decision(shallow, "depth_format", "r16f");
-  const auto* drop = decision(deep, "depth_format", "r16f");
+  const auto* keep = decision(shallow, "depth_format+position", "r16f+depth");
+  const auto* drop = decision(deep, "depth_format+position", "r16f+depth");
   ASSERT_TRUE(keep && drop);
   EXPECT_TRUE(keep->keep) << keep->reason;
   EXPECT_FALSE(drop->keep) << drop->reason;
@@ -90,6 +91,37 @@ TEST(Profile, EveryDroppedVariantHasItsReasonAndTheRestAreKept) {
   for (const auto& [key, why] : pruned.dropped) EXPECT_TRUE(logged.count(key)) << key;
   EXPECT_NE(r.output.find(fmt::format("keeps {} ({} dropped", pruned.kept.size(), pruned.dropped.size())), std::string::npos)
       << r.output.substr(r.output.size() - 300);
+}
+
+// r16f depth decisions reach only the variants whose AO reads what r16f changes: positions rebuilt from
+// depth, normals derived from depth (the normals axis, or SAO's own derivatives). Crytek, VO and unsharp
+// masking use no normals; a position buffer holds 32-bit positions whatever the depth format.
+TEST(Profile, R16fDecisionsReachOnlyWhatR16fDepthChanges) {
+  auto p = profile_of("builtin:atrium");  // its full-resolution r16f depth normals turn by more than 5 deg
+  const auto* full = decision(p, "depth_format+normal_source+resolution", "r16f+depth+1");
+  ASSERT_TRUE(full);
+  ASSERT_FALSE(full->keep) << full->reason;
+  auto manifest = variants::load_manifest(kManifest);
+  auto space = variants::build_space(manifest);
+  auto pruned = profile::prune(manifest, space, p);
+  std::map<std::string, std::string> dropped(pruned.dropped.begin(), pruned.dropped.end());
+  auto first = [&](const std::string& prefix, const std::string& part) {
+    for (const auto& e : space.variants)
+      if (e.key.rfind(prefix, 0) == 0 && e.key.find(part) != std::string::npos && e.key.find("-d16-") != std::string::npos &&
+          e.key.find("-x1-") != std::string::npos)
+        return e.key;
+    return std::string();
+  };
+  for (const std::string& key : {first("alchemy-", "-ndep-zdep-"), first("sao-", "-ndep-"), first("hbao-", "-ndep-zdep-")}) {
+    ASSERT_FALSE(key.empty());
+    ASSERT_TRUE(dropped.count(key)) << key << " derives its normals from r16f depth";
+    EXPECT_NE(dropped[key].find("normal_source"), std::string::npos) << dropped[key];
+  }
+  for (const std::string& key : {first("crytek-", "-"), first("vo-", "-"), first("unsharp-", "-"),
+                                 first("alchemy-", "-ndep-zpos-"), first("alchemy-", "-nrgb8-zdep-")}) {
+    ASSERT_FALSE(key.empty());
+    EXPECT_FALSE(dropped.count(key)) << key << ": " << dropped[key];
+  }
 }
 
 TEST(Profile, RendererWithoutNormalOrPositionBuffersDropsTheirReaders) {

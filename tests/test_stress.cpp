@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
 #include <regex>
 
 #include <nlohmann/json.hpp>
@@ -136,6 +137,65 @@ TEST(Stress, ChildProcessesMatchOneProcessAndSurviveACrash) {
   EXPECT_EQ(read_json(dir / "again" / "stress.json").at("failed").get<int>(), 0);
 }
 
+// A crash costs only the variant it hits, wherever it sits in its partner group: the r32f highp form
+// (rendered first, since the others compare with it) or the r16f highp form (compared with the r32f form,
+// and itself the mediump form's partner). The crashed variant fails with the signal on the case in flight
+// and is reported not rendered on the others; every other member's checks are those of a run without the
+// crash, except that a member whose partner crashed says it compared with nothing (partner "") rather
+// than naming a partner whose image never existed (pair_max 0 read as "identical").
+TEST(Stress, ACrashAnywhereInAGroupCostsOnlyThatVariant) {
+  TempDir dir;
+  const std::string variants = "--variants 'hbao-s04-p0-nrgb8-zdep-rst-d*-bbil-x1-*' --case baseline --case far-1e6 "
+                               "--no-reuse --renders-per-process 2";
+  const std::string d32 = "hbao-s04-p0-nrgb8-zdep-rst-d32-bbil-x1-hp", d16 = "hbao-s04-p0-nrgb8-zdep-rst-d16-bbil-x1-hp",
+                    mp = "hbao-s04-p0-nrgb8-zdep-rst-d16-bbil-x1-mp";
+  auto clean = run_aovar("stress " + variants + " --out " + (dir / "clean").string());
+  ASSERT_EQ(clean.status, 0) << clean.output;
+  std::map<std::string, nlohmann::json> expected;  // variant|case
+  const auto clean_json = read_json(dir / "clean" / "stress.json");
+  for (const auto& c : clean_json.at("checks"))
+    expected[c.at("variant").get<std::string>() + "|" + c.at("case").get<std::string>()] = c;
+  ASSERT_EQ(expected.size(), 6u);
+  for (const std::string c : {"baseline", "far-1e6"}) {
+    EXPECT_EQ(expected.at(d32 + "|" + c).at("partner"), "");
+    EXPECT_EQ(expected.at(d16 + "|" + c).at("partner"), d32);
+    EXPECT_EQ(expected.at(mp + "|" + c).at("partner"), d16);
+    EXPECT_GT(expected.at(mp + "|" + c).at("pair_max").get<double>(), 0.0);  // fp16 shows: a real comparison
+  }
+
+  for (const std::string& crashing : {d32, d16}) {
+    SCOPED_TRACE("crash on " + crashing);
+    const fs::path out = dir / ("crash-" + crashing);
+    ::setenv("AOVAR_STRESS_TEST_CRASH", crashing.c_str(), 1);
+    auto r = run_aovar("stress " + variants + " --out " + out.string());
+    ::unsetenv("AOVAR_STRESS_TEST_CRASH");
+    EXPECT_EQ(r.status, 0) << r.output;  // not shipped: listed, not fatal
+    auto j = read_json(out / "stress.json");
+    ASSERT_EQ(j.at("checks").size(), 6u) << r.output;
+    EXPECT_EQ(j.at("failed").get<int>(), 1);
+    for (const auto& v : j.at("variants")) EXPECT_EQ(v.at("passed").get<bool>(), v.at("variant") != crashing) << v;
+    for (const auto& c : j.at("checks")) {
+      const std::string variant = c.at("variant"), case_name = c.at("case");
+      if (variant == crashing) {
+        const std::string failure = c.at("failure");
+        if (case_name == "baseline") {
+          EXPECT_EQ(failure.rfind("the renderer crashed (signal 6", 0), 0u) << c;
+          EXPECT_NE(failure.find("rendering this case"), std::string::npos) << c;
+        } else {
+          EXPECT_EQ(failure.rfind("not rendered: the renderer crashed (signal 6", 0), 0u) << c;
+          EXPECT_NE(failure.find("on case baseline"), std::string::npos) << c;
+        }
+        EXPECT_EQ(c.at("pixels").get<long>(), 0) << c;
+        EXPECT_EQ(c.at("inputs_hash"), expected.at(variant + "|" + case_name).at("inputs_hash")) << c;
+        continue;
+      }
+      auto want = expected.at(variant + "|" + case_name);
+      if (want.at("partner") == crashing) want["partner"] = "", want["pair_max"] = 0.0, want["pair_share"] = 0.0;
+      EXPECT_EQ(c, want);  // rendered again without the crashed one: the same images, the same checks
+    }
+  }
+}
+
 // mediump runs in real fp16 on lavapipe (render::BackendOptions::mediump_as_fp16), so mediump and highp
 // differ; in fp32 they cannot. HBAO squared scene-sized offsets and R in mediump: at radius 1e4, R^2
 // overflowed fp16 and every sample was rejected (99 % AO difference from highp on radius-1e4) until the
@@ -160,7 +220,9 @@ TEST(Stress, MediumpRunsInFp16AndLargeRadiiStayInItsRange) {
 
   auto fp32 = run_aovar("stress " + pair + " --mediump-fp32 --out " + (dir / "fp32").string());
   ASSERT_EQ(fp32.status, 0) << fp32.output;
-  for (const auto& c : read_json(dir / "fp32" / "stress.json").at("checks")) EXPECT_EQ(c.at("pair_max").get<double>(), 0.0) << c;
+  const auto fp32_json = read_json(dir / "fp32" / "stress.json");  // bound: a temporary's member would dangle in the loop
+  ASSERT_EQ(fp32_json.at("checks").size(), 4u);
+  for (const auto& c : fp32_json.at("checks")) EXPECT_EQ(c.at("pair_max").get<double>(), 0.0) << c;
 }
 
 TEST(Stress, InverseProjectionKeepsDepthWithATinyNearPlane) {

@@ -15,10 +15,12 @@
 #include "compile/cache.h"
 #include "compile/generate.h"
 #include "measure/measure.h"
+#include "measure/scene_prune.h"
 #include "sweep/sweep.h"
 #include "reference/reference.h"
 #include "report/report.h"
 #include "profile/profile.h"
+#include "scene/scene.h"
 #include "stress/stress.h"
 #include "shadergen/expand.h"
 #include "table/compare.h"
@@ -237,6 +239,14 @@ int run_measure(const CommonOptions& common, measure::MeasureOptions o, const st
                            "{} rows ({} reused) in {:.1f} s{}\n",
                            r.scene, r.triangles, r.radius, o.baseline, size, o.reps, o.warmup, r.counts, r.rows.size(),
                            r.reused, r.wall_s, out.empty() ? "" : " -> " + util::display_path(std::filesystem::path(out) / "measure.json"));
+  if (r.pruning)
+    std::cout << fmt::format("# pruned by the scene's profile: {} ({}){}\n", r.pruning->summary(o.globs),
+                             r.pruning->reused ? fmt::format("profile reused in {:.2f} s", r.pruning->seconds)
+                                               : fmt::format("profiled in {:.1f} s", r.pruning->seconds),
+                             out.empty() ? std::string()
+                                         : "; each with its reason in " +
+                                               util::display_path(std::filesystem::path(out) / "measure.json") +
+                                               " \"pruned\" (--no-prune measures them)");
   if (!o.calibration.empty())
     std::cout << "# calibrated parameters: " << util::display_path(cal_file) << " (--no-calibration: the manifest's defaults)\n";
   for (const auto& sheet : r.contact_sheets)
@@ -283,6 +293,10 @@ int run_sweep(const CommonOptions& common, sweep::SweepOptions o, const std::str
     std::cout << fmt::format("# prune: {} variants skipped as predicted dominated; {} more measured anyway as a check, "
                              "{} of them on the Pareto front (cost_table.json meta.prune)\n",
                              r.variants_skipped, r.variants_checked, r.checked_on_front);
+  if (o.measure.prune_by_profile)
+    std::cout << fmt::format("# scene profiles: {} ({} reused) in {:.2f} s; each dropped variant with its reason: "
+                             "cost_table.json meta.pruned (--no-prune measures them)\n",
+                             o.scenes.size(), r.profiles_reused, r.profile_s);
   std::cout << fmt::format("# {} rows ({} measured, {} reused, {} predicted) in {:.1f} s{} -> {}\n", r.table.rows.size(),
                            r.rows_measured, r.rows_reused, r.rows_predicted, r.wall_s, cal_file.empty() || no_calibration ? "" : ", calibrated by " + util::display_path(cal_file),
                            util::display_path(o.out / "cost_table.json"));
@@ -402,10 +416,12 @@ profile::Options profile_options(ProfileCli& a, const std::string& manifest) {
 // aovar profile: what the scene needs, with evidence; profile.json with --out.
 int run_profile(ProfileCli& a, const std::string& manifest) {
   auto o = profile_options(a, manifest);
-  auto p = with_status([&](const auto& progress) { return profile::profile_scene(o, progress); });
-  std::cout << profile::to_text(p);
+  // The manifest and its space once: the profile picks its flicker pair from the space, which is then pruned.
   const auto loaded = variants::load_manifest(o.manifest);
-  auto space = variants::build_space(loaded);
+  const auto space = variants::build_space(loaded);
+  const auto sc = scene::load_scene(o.scene);
+  auto p = with_status([&](const auto& progress) { return profile::profile_scene(o, sc, loaded, space, progress); });
+  std::cout << profile::to_text(p);
   auto pruned = profile::prune(loaded, space, p);
   std::cout << fmt::format("# {} variants after rules; the scene keeps {} and drops {} (aovar list --scene {} --pruned)\n",
                            space.variants.size(), pruned.kept.size(), pruned.dropped.size(), o.scene);
@@ -421,10 +437,13 @@ int run_profile(ProfileCli& a, const std::string& manifest) {
 // aovar list --scene: the variants the scene's profile keeps; --pruned adds every dropped one with its reason.
 int run_list_scene(const CommonOptions& c, ProfileCli& a, bool show_pruned) {
   auto o = profile_options(a, c.manifest);
-  auto p = with_status([&](const auto& progress) { return profile::profile_scene(o, progress); });
-  auto manifest = variants::load_manifest(o.manifest);
-  auto space = variants::build_space(manifest, c.globs);
-  auto pruned = profile::prune(manifest, space, p);
+  // The manifest and its whole space once: the profile picks its flicker pair from it, the globs select
+  // from it what is pruned.
+  const auto manifest = variants::load_manifest(o.manifest);
+  const auto space = variants::build_space(manifest);
+  const auto sc = scene::load_scene(o.scene);
+  auto p = with_status([&](const auto& progress) { return profile::profile_scene(o, sc, manifest, space, progress); });
+  auto pruned = profile::prune(manifest, space, p, c.globs);
   for (const auto& k : pruned.kept) std::cout << k << "\n";
   if (show_pruned) {
     for (const auto& r : space.pruned)
@@ -433,8 +452,8 @@ int run_list_scene(const CommonOptions& c, ProfileCli& a, bool show_pruned) {
     for (const auto& [k, why] : pruned.dropped) std::cout << k << "  dropped for " << o.scene << ": " << why << "\n";
   }
   std::cout << fmt::format("# space {} / rules {} / selected {} / scene {} keeps {} ({} dropped, with reasons: --pruned)\n",
-                           space.space, space.collapsed, space.variants.size(), o.scene, pruned.kept.size(),
-                           pruned.dropped.size());
+                           space.space, space.collapsed, pruned.kept.size() + pruned.dropped.size(), o.scene,
+                           pruned.kept.size(), pruned.dropped.size());
   return 0;
 }
 
@@ -603,6 +622,9 @@ int main(int argc, char** argv) {
                  "frames walk each view's camera path (default: its first pose; the image is the last frame)");
   meas->add_flag("!--no-images", mo.images, "write no PFM/PNG images");
   meas->add_flag("!--no-reuse", mo.reuse, "measure everything again even when OUT/measure.json has the row");
+  bool measure_no_prune = false;
+  meas->add_flag("--no-prune", measure_no_prune,
+                 "measure every selected variant (default: drop, before compiling, those the scene's profile drops)");
   std::string measure_ref_mode = "occlusion", measure_calibration;
   bool no_calibration = false;
   meas->add_flag("--reference", mo.ground_truth,
@@ -753,6 +775,10 @@ int main(int argc, char** argv) {
                   "with --prune-dominated: measure max(N, a tenth) of the skipped ones anyway, report if any reach the front")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  bool sweep_no_prune = false;
+  swp->add_flag("--no-prune", sweep_no_prune,
+                "measure every selected variant on every scene (default: drop, before compiling, what each scene's "
+                "profile drops)");
   swp->add_option("--out,-o", sweep_out, "output folder: cost_table.{json,csv,md}, measure/<scene>/")->required();
 
   CLI11_PARSE(app, argc, argv);
@@ -775,11 +801,13 @@ int main(int argc, char** argv) {
     if (meas->parsed()) {
       mo.scene = measure_scene;
       mo.views_file = views_file;
+      mo.prune_by_profile = !measure_no_prune;
       return run_measure(measure_common, mo, measure_size, measure_params, measure_out, measure_ref_mode,
                          measure_calibration, no_calibration);
     }
     if (swp->parsed()) {
       so.out = sweep_out;
+      so.measure.prune_by_profile = !sweep_no_prune;
       return run_sweep(sweep_common, so, sweep_size, sweep_shard, sweep_calibration, sweep_no_calibration);
     }
     if (calc->parsed()) {

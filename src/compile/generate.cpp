@@ -77,7 +77,7 @@ CompiledSpace plan_space(const fs::path& manifest_path, const CompileOptions& op
   auto start = std::chrono::steady_clock::now();
   CompiledSpace c;
   c.manifest = variants::load_manifest(manifest_path);
-  c.space = variants::build_space(c.manifest, options.globs);
+  c.space = variants::build_space(c.manifest, options.globs, options.exclude);
   c.targets = options.targets.empty() ? c.manifest.targets : options.targets;
   const auto& programs = c.space.programs;
   const std::string manifest_display = c.manifest.error_prefix();
@@ -244,6 +244,7 @@ std::string fingerprint(const CompiledSpace& c, const CompileOptions& co, const 
   for (auto t : c.targets) h.add(variants::target_name(t));
   h.add(o.emit).add(o.cpp_namespace).add(co.werror ? 1 : 0);
   for (const auto& g : co.globs) h.add(g);
+  for (const auto& k : co.exclude) h.add("exclude").add(k);
   for (const auto& target : c.builds)
     for (const auto& b : target) h.add(b.hash);
   return h.hex();

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,7 @@ struct CompileOptions {
   bool werror = false;
   std::filesystem::path cache_dir;        // empty = no cache
   std::vector<std::string> globs;         // --variants
+  std::set<std::string> exclude;          // variant keys not to compile (those a scene's profile drops)
 };
 
 struct ProgramBuild {  // one program on one target

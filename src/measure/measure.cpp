@@ -14,6 +14,7 @@
 
 #include "compile/generate.h"
 #include "image/contact_sheet.h"
+#include "measure/scene_prune.h"
 #include "shadergen/expand.h"
 #include "util/fs.h"
 #include "util/glob.h"
@@ -312,6 +313,30 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
   if (!co.globs.empty()) co.globs.push_back(o.baseline);
   co.cache_dir = o.cache_dir;
   co.jobs = o.jobs;
+
+  // What the scene's profile drops is not compiled (the baseline, the pairing reference, is timed anyway).
+  if (o.prune_by_profile || o.pruning) {
+    res.pruning = o.pruning ? o.pruning : std::make_shared<const ScenePruning>(prune_scene(o, sc, views, o.globs, progress));
+    const ScenePruning& pr = *res.pruning;
+    say(pr.summary(o.globs) + (pr.reused ? " (profile reused)" : fmt::format(" (profiled in {:.1f} s)", pr.seconds)));
+    bool dropped = false;
+    for (const auto& d : pr.dropped)
+      if (util::glob_any(o.globs, d.variant)) {
+        dropped = true;
+        if (d.variant != o.baseline) co.exclude.insert(d.variant);
+      }
+    if (dropped && std::none_of(pr.kept.begin(), pr.kept.end(), [&](const std::string& k) { return util::glob_any(o.globs, k); })) {
+      // Nothing left to measure: the log of what was dropped, and the earlier rows kept for later runs.
+      say(fmt::format("note: scene {} drops every selected variant: nothing to measure (--no-prune measures them)", o.scene));
+      res.counts = "every selected variant dropped by the scene's profile";
+      res.kept_rows = json::array();
+      if (o.reuse && !o.out.empty())
+        for (const auto& [hash, j] : previous_rows(o.out, false, progress).text) res.kept_rows.push_back(j);
+      res.wall_s = seconds_since(start);
+      write_json(res, o);
+      return res;
+    }
+  }
   auto compile_start = Clock::now();
   compile::CompiledSpace c = compile::compile_space(o.manifest, co);
   res.compile_s = seconds_since(compile_start);
@@ -330,7 +355,7 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
   for (int v = 0; v < static_cast<int>(c.space.variants.size()); ++v) {
     const std::string& key = c.space.variants[v].key;
     if (key == o.baseline) baseline = v;
-    if (!util::glob_any(o.globs, key) || o.skip.count(key)) continue;
+    if (!util::glob_any(o.globs, key) || o.skip.count(key) || (res.pruning && res.pruning->drops(key))) continue;
     if (o.shard_count > 1 && shard_of(key, o.shard_count) != o.shard_index) continue;
     auto [it, fresh] = representative.emplace(canonical(v), v);
     if (fresh) selected.push_back(v);
@@ -350,6 +375,9 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
     baseline = it->second;  // identical to a selected variant: that one's row is the baseline row
   }
   bool baseline_selected = std::find(selected.begin(), selected.end(), baseline) != selected.end();
+  if (res.pruning && res.pruning->drops(c.space.variants[baseline].key))
+    say(fmt::format("note: the baseline {} is dropped by the scene's profile: timed as the pairing reference only",
+                    c.space.variants[baseline].key));
   // --param: each override must be a parameter of at least one selected variant (variants without it,
   // e.g. blur.radius_px on an unblurred one, simply do not take it).
   std::set<std::string> parameters;
@@ -624,6 +652,16 @@ MeasureResult run_measure(const MeasureOptions& o, const Progress& progress) {
   return res;
 }
 
+// The scene profile's pruning: every selected variant it drops with its rule and reason (null: not pruned).
+static json pruned_json(const MeasureResult& res, const MeasureOptions& o) {
+  if (!res.pruning) return nullptr;
+  json j = res.pruning->to_json(o.globs);
+  j["profile"] = res.pruning->profile_file;
+  j["profile_reused"] = res.pruning->reused;
+  j["seconds"] = res.pruning->seconds;
+  return j;
+}
+
 json to_json(const MeasureResult& res, const MeasureOptions& o) {
   json devices = json::array();
   for (const auto& d : res.devices)
@@ -654,7 +692,8 @@ json to_json(const MeasureResult& res, const MeasureOptions& o) {
           {"compile_s", res.compile_s},
           {"reused", res.reused},
           {"rows", rows},
-          {"kept_rows", res.kept_rows.is_null() ? json::array() : res.kept_rows}};  // null: returned before selecting
+          {"kept_rows", res.kept_rows.is_null() ? json::array() : res.kept_rows},  // null: returned before selecting
+          {"pruned", pruned_json(res, o)}};
 }
 
 }  // namespace aovar::measure

@@ -6,6 +6,7 @@
 // what it already measured, whatever else it selects (measure.json is rewritten atomically after every batch).
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
@@ -20,6 +21,8 @@
 #include "render/backend.h"
 
 namespace aovar::measure {
+
+struct ScenePruning;  // scene_prune.h
 
 // The default baseline variant (timed in every round): Alchemy, 8 samples, the mobile-typical buffers (seed 000's configuration).
 inline constexpr const char* kDefaultBaseline = "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
@@ -59,6 +62,12 @@ struct MeasureOptions {
   // Variant keys the globs select but not to measure (sweep --prune-dominated); the baseline is still timed.
   std::set<std::string> skip;
   bool contact_sheets = true;              // with images; false leaves the earlier sheets (sweep's pruning phases)
+  // Scene-profile pruning (scene_prune.h; on in the CLI unless --no-prune): the selected variants the scene's
+  // profile drops are neither compiled nor measured, and are listed in measure.json's "pruned" section with
+  // their reasons (the baseline, when dropped, is still timed as the pairing reference: a timing-only row).
+  // `pruning`: computed by the caller (sweep, over all its scenes' selections); else run_measure computes it.
+  bool prune_by_profile = false;
+  std::shared_ptr<const ScenePruning> pruning;
 };
 
 // The shard (0 .. n-1) a variant key belongs to: a stable hash of the key modulo n.
@@ -110,6 +119,7 @@ struct MeasureResult {
   nlohmann::json kept_rows;
   double wall_s = 0, compile_s = 0;
   int reused = 0;
+  std::shared_ptr<const ScenePruning> pruning;  // with prune_by_profile
 };
 
 // Throws std::runtime_error (and the scene/manifest/backend errors) with one-line messages. `progress`

@@ -1,7 +1,10 @@
 #include "profile/profile.h"
+#include "profile/half.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <set>
@@ -10,12 +13,14 @@
 #include <fmt/format.h>
 
 #include "compile/generate.h"
+#include "measure/stats.h"
 #include "metrics/metrics.h"
 #include "reference/reference.h"
 #include "render/backend.h"
 #include "render/plan.h"
 #include "scene/scene.h"
 #include "util/fs.h"
+#include "util/glob.h"
 
 namespace aovar::profile {
 namespace {
@@ -23,16 +28,11 @@ namespace {
 using variants::Axis;
 using json = nlohmann::json;
 
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
-  return v[k];
-}
+using measure::percentile;  // nearest rank, as measure::summarize
 
-// What an r16f render target stores for a float: IEEE half, round to nearest even (_Float16, GCC 12 on
-// x86-64); values beyond 65504 become +inf, which the G-buffer never writes (it clamps to background depth).
-double as_half(float z) { return static_cast<double>(static_cast<_Float16>(std::min(z, 65504.0f))); }
+// What an r16f render target stores for a depth (profile/half.h: IEEE half, round to nearest even); depths
+// beyond 65504 would become +inf, which the G-buffer never writes (it clamps to the background depth).
+double as_half(float z) { return static_cast<double>(round_to_half(std::min(z, 65504.0f))); }
 
 // The AO radius in pixels of a target `height` pixels tall at linear depth z (common/depth.glsl's
 // ao_radius_px without its clamp to a quarter of the target).
@@ -42,21 +42,6 @@ double radius_px(const scene::View& v, float radius, double height, double z) {
 }
 
 std::string token(const variants::Manifest& m, Axis a, int i) { return m.value(a, i).text; }
-
-// The progressive variant (and its full-sample form) whose flicker stands for progressive rendering: the
-// first progressive key of the space with its p0 form present.
-std::pair<std::string, std::string> flicker_pair(const variants::VariantSpace& space) {
-  std::set<std::string> keys;
-  for (const auto& e : space.variants) keys.insert(e.key);
-  for (const auto& key : keys) {
-    auto at = key.find("-p1-");
-    if (at == std::string::npos) continue;
-    std::string full = key;
-    full.replace(at, 4, "-p0-");
-    if (keys.count(full)) return {key, full};
-  }
-  return {};
-}
 
 // Mean |AO_t - AO_t-1| of `key` along the view's camera path (lavapipe).
 double path_flicker(render::Backend& backend, const compile::CompiledSpace& c, const std::string& key,
@@ -77,12 +62,30 @@ double path_flicker(render::Backend& backend, const compile::CompiledSpace& c, c
 
 }  // namespace
 
+std::pair<std::string, std::string> flicker_pair(const variants::VariantSpace& space) {
+  std::set<std::string> keys;
+  for (const auto& e : space.variants) keys.insert(e.key);
+  for (const auto& key : keys) {
+    auto at = key.find("-p1-");
+    if (at == std::string::npos) continue;
+    std::string full = key;
+    full.replace(at, 4, "-p0-");
+    if (keys.count(full)) return {key, full};
+  }
+  return {};
+}
+
 Profile profile_scene(const Options& o, const Progress& progress) {
+  const variants::Manifest manifest = variants::load_manifest(o.manifest);
+  const scene::Scene sc = scene::load_scene(o.scene);
+  return profile_scene(o, sc, manifest, variants::build_space(manifest), progress);
+}
+
+Profile profile_scene(const Options& o, const scene::Scene& sc, const variants::Manifest& manifest,
+                      const variants::VariantSpace& space, const Progress& progress) {
   auto say = [&](const std::string& s) {
     if (progress) progress(s);
   };
-  const variants::Manifest manifest = variants::load_manifest(o.manifest);
-  const scene::Scene sc = scene::load_scene(o.scene);
   Profile p;
   p.scene = o.scene;
   p.scene_hash = sc.content_hash;
@@ -173,7 +176,6 @@ Profile profile_scene(const Options& o, const Progress& progress) {
   }
 
   // Flicker of progressive halves along the moving paths (the static ones average their halves exactly).
-  auto space = variants::build_space(manifest);
   const bool moving = std::any_of(p.views.begin(), p.views.end(), [](const ViewProfile& v) { return v.camera_step > 0; });
   if (o.measure_flicker && moving) {
     auto [progressive, full] = flicker_pair(space);
@@ -205,6 +207,7 @@ Profile profile_scene(const Options& o, const Progress& progress) {
   auto decide_pair = [&](const std::string& axes, const std::string& values, bool keep, std::string reason) {
     p.decisions.push_back({axes, values, keep, std::move(reason)});
   };
+  // r16f tolerances (Options): calibrated by bench/r16f against rendered r16f/r32f pairs, bench/README.md.
   for (const auto& v : manifest.axis_values(Axis::depth_format)) {
     if (v.text != "r16f") continue;
     const ViewProfile* worst = nullptr;
@@ -212,7 +215,8 @@ Profile profile_scene(const Options& o, const Progress& progress) {
       if (!worst || vp.r16f_error_p99 > worst->r16f_error_p99) worst = &vp;
     if (!worst) continue;
     const double share = worst->r16f_error_p99 / p.radius;
-    decide(Axis::depth_format, v.text, share <= o.r16f_tolerance,
+    // position = depth: a position buffer holds 32-bit positions whatever the depth format.
+    decide_pair("depth_format+position", v.text + "+depth", share <= o.r16f_tolerance,
            fmt::format("r16f linear depth moves reconstructed positions by {:.3g} (p99; max {:.3g}) on view {} (depth "
                        "{:.3g}-{:.3g}): {:.2f}% of the AO radius {:.3g}, tolerance {:.2f}%",
                        worst->r16f_error_p99, worst->r16f_error_max, worst->view, worst->depth_min, worst->depth_max,
@@ -225,7 +229,9 @@ Profile profile_scene(const Options& o, const Progress& progress) {
         worst = &vp;
     if (!worst) continue;
     const double angle = worst->r16f_normal_p95[r].second;
-    decide_pair("depth_format+normals+resolution", "r16f+depth+" + manifest.value(Axis::resolution, static_cast<int>(r)).text,
+    // normal_source (prune): the normals a variant's AO method uses, "depth" only when derived from depth.
+    decide_pair("depth_format+normal_source+resolution",
+                "r16f+depth+" + manifest.value(Axis::resolution, static_cast<int>(r)).text,
                 angle <= o.normal_tolerance_deg,
                 fmt::format("normals derived from r16f depth at {}x resolution turn by {:.1f} deg (p95) from those of "
                             "r32f depth on view {} at {}x{}, tolerance {:.1f} deg",
@@ -293,7 +299,28 @@ Profile profile_scene(const Options& o, const Progress& progress) {
   return p;
 }
 
-Pruned prune(const variants::Manifest& m, const variants::VariantSpace& space, const Profile& p) {
+// The normals a variant's AO method uses: "depth" (derived from depth: the normals axis says depth and the
+// positions come from depth, or the method derives them itself, [algorithms] normals_from_depth),
+// "position" (derived from the 32-bit position buffer), "buffer" (a normal buffer), "none" (the method uses
+// no normals: Crytek, VO, unsharp masking).
+static std::string normal_source(const variants::Manifest& m, const variants::VariantEntry& e) {
+  auto value = [&](Axis a) {
+    int i = e.point[variants::index(a)];
+    return i < 0 ? std::string() : m.value(a, i).text;
+  };
+  const variants::Algorithm* algorithm = nullptr;
+  for (const auto& a : m.algorithms)
+    if (a.name == value(Axis::algorithm)) algorithm = &a;
+  if (!algorithm) return "none";
+  const bool reads_normals =
+      std::find(algorithm->reads.begin(), algorithm->reads.end(), Axis::normals) != algorithm->reads.end();
+  if (!reads_normals) return algorithm->normals_from_depth ? "depth" : "none";
+  if (value(Axis::normals) != "depth") return "buffer";
+  return value(Axis::position) == "position" ? "position" : "depth";
+}
+
+Pruned prune(const variants::Manifest& m, const variants::VariantSpace& space, const Profile& p,
+             const std::vector<std::string>& globs) {
   auto split = [](const std::string& text) {
     std::vector<std::string> parts;
     std::size_t start = 0;
@@ -303,6 +330,7 @@ Pruned prune(const variants::Manifest& m, const variants::VariantSpace& space, c
     return parts;
   };
   auto value_of = [&](const variants::VariantEntry& e, const std::string& axis) -> std::string {
+    if (axis == "normal_source") return normal_source(m, e);
     auto a = variants::find_axis(axis);
     int i = a ? e.point[variants::index(*a)] : -1;
     return i < 0 ? std::string() : token(m, *a, i);  // collapsed: the variant does not read the axis
@@ -319,9 +347,14 @@ Pruned prune(const variants::Manifest& m, const variants::VariantSpace& space, c
   };
   Pruned out;
   for (const auto& e : space.variants) {
+    if (!util::glob_any(globs, e.key)) continue;
     auto why = std::find_if(p.decisions.begin(), p.decisions.end(), [&](const Decision& d) { return !d.keep && applies(e, d); });
-    if (why != p.decisions.end()) out.dropped.emplace_back(e.key, why->axis + " " + why->value + ": " + why->reason);
-    else out.kept.push_back(e.key);
+    if (why != p.decisions.end()) {
+      out.dropped.emplace_back(e.key, why->axis + " " + why->value + ": " + why->reason);
+      out.rules.push_back(why->axis + " " + why->value);
+    } else {
+      out.kept.push_back(e.key);
+    }
   }
   return out;
 }
@@ -400,6 +433,48 @@ json to_json(const Profile& p) {
   return {{"tool", "aovar profile"}, {"scene", p.scene}, {"scene_hash", p.scene_hash}, {"radius", p.radius},
           {"size", fmt::format("{}x{}", p.size.width, p.size.height)}, {"flicker_pair", p.flicker_pair},
           {"views", views}, {"decisions", decisions}};
+}
+
+Profile profile_from_json(const json& j) {
+  auto extent = [](const std::string& text) {
+    render::Extent e;
+    if (std::sscanf(text.c_str(), "%dx%d", &e.width, &e.height) != 2) throw std::runtime_error("bad size '" + text + "'");
+    return e;
+  };
+  auto pairs = [](const json& list, const char* value) {
+    std::vector<std::pair<double, double>> out;
+    for (const auto& e : list) out.emplace_back(e.at("resolution").get<double>(), e.at(value).get<double>());
+    return out;
+  };
+  Profile p;
+  p.scene = j.at("scene");
+  p.scene_hash = j.at("scene_hash");
+  p.radius = j.at("radius");
+  p.size = extent(j.at("size"));
+  p.flicker_pair = j.at("flicker_pair");
+  for (const auto& v : j.at("views")) {
+    ViewProfile vp;
+    vp.view = v.at("view");
+    vp.near_plane = v.at("near");
+    vp.far_plane = v.at("far").is_null() ? std::numeric_limits<float>::infinity() : v.at("far").get<float>();
+    vp.background_share = v.at("background_share");
+    const json& d = v.at("depth");
+    vp.depth_min = d.at("min"), vp.depth_p05 = d.at("p05"), vp.depth_p50 = d.at("p50"), vp.depth_p95 = d.at("p95");
+    vp.depth_max = d.at("max");
+    vp.r16f_error_p99 = v.at("r16f_position_error").at("p99");
+    vp.r16f_error_max = v.at("r16f_position_error").at("max");
+    vp.r16f_normal_p95 = pairs(v.at("r16f_normal_error_deg_p95"), "degrees");
+    const json& r = v.at("radius_px");
+    vp.radius_px_far = r.at("far"), vp.radius_px_median = r.at("median"), vp.radius_px_near = r.at("near");
+    vp.sao_levels_used = v.at("sao_levels_used");
+    vp.camera_step = v.at("camera_step");
+    vp.flicker_progressive = v.at("flicker").at("progressive");
+    vp.flicker_full = v.at("flicker").at("full");
+    vp.early_out = pairs(v.at("early_out"), "share");
+    p.views.push_back(std::move(vp));
+  }
+  for (const auto& d : j.at("decisions")) p.decisions.push_back({d.at("axis"), d.at("value"), d.at("keep"), d.at("reason")});
+  return p;
 }
 
 std::string to_text(const Profile& p) {

@@ -33,8 +33,14 @@ struct Options {
   std::vector<std::string> views;    // empty = every view of the scene
   render::Extent size{640, 360};     // the frame size the variants will run at
   float radius = 0;                  // world units; 0 = the scene's default
-  double r16f_tolerance = 0.02;      // r16f is kept while its p99 position error stays under this share of R
-  double normal_tolerance_deg = 10;  // r16f + depth-derived normals kept while their p95 angle error is under this
+  // The two r16f tolerances are calibrated against rendered r16f/r32f pairs (bench/r16f, bench/README.md
+  // "bench/r16f"): "visible" = `aovar stress`'s pair test, more than 1 % of the pixels off by more than 0.1.
+  // Positions alone (buffered or no normals) never made a pair visible up to p99 = 22 % of R; the nearest
+  // miss (0.95 % of pixels) was at 5.3 %, and under 5 % no pair passed 0.07 %. Depth-derived normals made
+  // pairs visible from 2.9 deg (SAO, mostly); 5 deg misclassified 12 of 72 scene x radius x resolution
+  // decisions, the former 10 deg 20 (19 of them visible pairs kept).
+  double r16f_tolerance = 0.05;      // r16f is kept while its p99 position error stays under this share of R
+  double normal_tolerance_deg = 5;   // r16f + depth-derived normals kept while their p95 angle error is under this
   double early_out_share = 0.5;      // a resolution is dropped when more geometry pixels than this early-out
   double flicker_tolerance = 0.005;  // progressive is kept while its flicker exceeds the full form's by less
   bool measure_flicker = true;       // render the progressive pair along moving camera paths (lavapipe)
@@ -82,15 +88,28 @@ struct Profile {
 using Progress = std::function<void(const std::string&)>;
 
 // Throws std::runtime_error (scene, manifest, view, backend errors: one line each).
+// With the scene, the manifest and its variant space (every variant after the rules, no --variants globs:
+// the flicker pair is chosen from it) loaded by the caller, who prunes that same space afterwards;
+// options.manifest is still read to compile the flicker pair, options.scene names the profile.
+Profile profile_scene(const Options& options, const scene::Scene& scene, const variants::Manifest& manifest,
+                      const variants::VariantSpace& space, const Progress& progress = {});
+// Loads the scene (no views side file), the manifest and its space itself.
 Profile profile_scene(const Options& options, const Progress& progress = {});
+
+// The progressive variant and its full-sample form whose flicker stands for progressive rendering (the
+// first progressive key of `space` with its p0 form present); empty strings when there is none.
+std::pair<std::string, std::string> flicker_pair(const variants::VariantSpace& space);
 
 struct Pruned {
   std::vector<std::string> kept;
-  std::vector<std::pair<std::string, std::string>> dropped;  // key, reason
+  std::vector<std::pair<std::string, std::string>> dropped;  // key, reason ("<axis> <value>: <evidence>")
+  std::vector<std::string> rules;  // parallel to dropped: the decision that drops it ("<axis> <value>")
 };
 
-// The variants of `space` the profile keeps, and every other one with the reason of its first failing decision.
-Pruned prune(const variants::Manifest& manifest, const variants::VariantSpace& space, const Profile& profile);
+// The variants of `space` the profile keeps, and every other one with the reason of its first failing
+// decision; only the variants `globs` select (every one when empty).
+Pruned prune(const variants::Manifest& manifest, const variants::VariantSpace& space, const Profile& profile,
+             const std::vector<std::string>& globs = {});
 
 // Runtime skipping of background pixels. Every AO template returns before its sampling loop where the
 // G-buffer holds the background depth (ao_is_background: the early-out branch; no depth test or stencil is
@@ -113,6 +132,8 @@ std::vector<SkyTiming> time_against_background(render::Backend& backend, const r
                                                render::Extent size, int reps);
 
 nlohmann::json to_json(const Profile& profile);
+// The inverse of to_json (a profile.json read back); throws nlohmann::json errors on a malformed one.
+Profile profile_from_json(const nlohmann::json& json);
 std::string to_text(const Profile& profile);
 
 }  // namespace aovar::profile

@@ -250,6 +250,7 @@ std::map<std::pair<std::string, std::string>, std::vector<CostRow>> worst_view_f
 std::string markdown_report(const CostTable& t) {
   std::ostringstream md;
   md << "# aovar sweep report\n\n" << kTimeNote << "\n\n";
+  if (auto pruned = table::pruned_summary(t); !pruned.empty()) md << "## Scene profiles\n\n" << pruned.substr(1) << "\n";
   for (const auto& [k, rows] : worst_view_fronts(t)) {
     md << fmt::format("## What to ship: {} / {}, worst view\n\nEach variant's worst view (max RMSE and max time over "
                       "{}); `aovar select` picks from this front:\n\n| variant | worst paired ms | worst rmse | ssim |\n"
@@ -298,6 +299,21 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
                      cm.value("cv_r2", 0.0), cm.value("cv_spearman", 0.0), cm.value("cv_spearman_min", 0.0),
                      escape(cm.value("features", std::string())), cm.value("predicts", false) ? "; predicts" : "");
   h << "</ul>";
+  // The scene profiles' pruning, counts only (the variants and reasons are in cost_table.json meta.pruned).
+  if (t.meta.is_object() && t.meta.contains("pruned") && !t.meta.at("pruned").empty()) {
+    h << "<p>Pruned before compiling by each scene's profile (every dropped variant with its reason: "
+         "<code>cost_table.json</code> meta.pruned):</p><ul>";
+    for (const auto& p : t.meta.at("pruned")) {
+      std::string rules;
+      const nlohmann::json counts = p.value("rules", nlohmann::json::object());
+      for (const auto& [rule, n] : counts.items())
+        rules += fmt::format("{}{} {}", rules.empty() ? "" : ", ", rule, n.dump());
+      h << "<li>" << escape(fmt::format("{}: {} selected, {} kept, {} dropped{}", p.value("scene", ""), p.value("selected", 0),
+                                        p.value("kept", 0), p.value("dropped", 0), rules.empty() ? "" : " (" + rules + ")"))
+        << "</li>";
+    }
+    h << "</ul>";
+  }
   std::set<std::string> algorithms;
   for (const auto& r : t.rows) algorithms.insert(algorithm_of(r));
   h << legend_html(algorithms);

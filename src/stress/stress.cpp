@@ -742,6 +742,10 @@ Result run_stress(const Options& o, const Progress& progress) {
       const auto started_before = static_cast<std::size_t>(crashed - group.begin());  // they render again
       done -= started_before, rendered -= started_before;
       group.erase(crashed);
+      // Members compared with it compare with nothing now: say so (no partner) rather than report a
+      // comparison that never happened (pair_max 0 reads as identical images).
+      for (Member& m : group)
+        if (m.partner == current) m.partner.clear();
       next += g + (group.empty() ? 1 : 0);
     }
     slice_checks.clear();

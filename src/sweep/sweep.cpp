@@ -13,6 +13,7 @@
 
 #include "analyze/analyze.h"
 #include "compile/generate.h"
+#include "measure/scene_prune.h"
 #include "report/report.h"
 #include "scene/scene.h"
 #include "table/cost_model.h"
@@ -70,10 +71,12 @@ struct VariantStatic {
 
 // Static costs of the variants the globs select (exact keys are globs too), from the Vulkan SPIR-V of their
 // fragment programs.
-std::map<std::string, VariantStatic> static_costs(const measure::MeasureOptions& mo, const std::vector<std::string>& globs) {
+std::map<std::string, VariantStatic> static_costs(const measure::MeasureOptions& mo, const std::vector<std::string>& globs,
+                                                  const std::set<std::string>& exclude = {}) {
   compile::CompileOptions co;
   co.targets = {variants::Target::vulkan};
   co.globs = globs;
+  co.exclude = exclude;
   co.cache_dir = mo.cache_dir;
   co.jobs = mo.jobs;
   auto c = compile::compile_space(mo.manifest, co);
@@ -314,7 +317,7 @@ measure::MeasureResult measure_pruned(const SweepOptions& o, const measure::Meas
   // Candidates: the selected variants of this shard, one per group of identical ones (measured once).
   std::map<std::string, std::vector<std::string>> members;  // same_as key -> selected keys
   for (const auto& [key, vs] : statics) {
-    if (!util::glob_any(mo.globs, key)) continue;
+    if (!util::glob_any(mo.globs, key) || (mo.pruning && mo.pruning->drops(key))) continue;
     if (mo.shard_count > 1 && measure::shard_of(key, mo.shard_count) != mo.shard_index) continue;
     members[vs.same_as].push_back(key);
   }
@@ -456,28 +459,64 @@ SweepResult run_sweep(const SweepOptions& o, const std::function<void(const std:
   if (o.out.empty()) throw std::runtime_error("sweep: --out is required");
   if (o.scenes.empty()) throw std::runtime_error("sweep: give at least one --scene");
   SweepResult res;
-  json scenes = json::array(), pruned = json::array();
-  // With --prune-dominated the static costs come first: the cost model predicts from them what to skip.
-  std::map<std::string, VariantStatic> statics;
-  if (o.prune_dominated) {
-    if (progress) progress("analysing the SPIR-V of the selected variants");
-    statics = static_costs(o.measure, o.measure.globs);
-  }
+  json scenes = json::array(), pruned = json::array(), profile_pruned = json::array();
+  auto say_for = [&](std::size_t i) -> measure::Progress {
+    return [&, where = fmt::format("scene {}/{} {}", i + 1, o.scenes.size(), o.scenes[i])](const std::string& line) {
+      if (progress) progress(line.rfind("note: ", 0) == 0 ? line : where + ": " + line);
+    };
+  };
+  // Each scene's measure options and, with profile pruning, what its profile drops: every scene is profiled
+  // (or its stored profile read back) before anything is compiled. A variant is compiled when some scene
+  // keeps it, and measured (or predicted) on the scenes that keep it.
+  std::vector<measure::MeasureOptions> per_scene;
+  std::vector<std::string> covered = o.measure.globs;  // what the pruning lists cover: --variants and --predict
+  if (!covered.empty()) covered.insert(covered.end(), o.predict.begin(), o.predict.end());
+  std::map<std::string, std::shared_ptr<const measure::ScenePruning>> scene_pruning;
+  std::set<std::string> dropped_everywhere;
   for (std::size_t i = 0; i < o.scenes.size(); ++i) {
     measure::MeasureOptions mo = o.measure;
     mo.scene = o.scenes[i];
     mo.ground_truth = true;
-    const std::string folder = scene_folder(o.scenes[i]);
-    mo.out = o.out / "measure" / folder;
-    if (mo.views.empty()) {  // every view of the scene: the Pareto front per view and for the worst view
+    mo.out = o.out / "measure" / scene_folder(o.scenes[i]);
+    if (mo.views.empty() || mo.prune_by_profile) {
       scene::LoadOptions lo;
       lo.views_file = mo.views_file;
-      for (const auto& v : scene::load_scene(mo.scene, lo).views) mo.views.push_back(v.name);
+      const scene::Scene sc = scene::load_scene(mo.scene, lo);
+      if (mo.views.empty())  // every view of the scene: the Pareto front per view and for the worst view
+        for (const auto& v : sc.views) mo.views.push_back(v.name);
+      if (mo.prune_by_profile) {
+        std::vector<const scene::View*> views;
+        for (const auto& name : mo.views)
+          if (std::none_of(views.begin(), views.end(), [&](const scene::View* v) { return v->name == name; }))
+            views.push_back(&sc.view(name));
+        mo.pruning = std::make_shared<const measure::ScenePruning>(measure::prune_scene(mo, sc, views, covered, say_for(i)));
+        scene_pruning[mo.scene] = mo.pruning;
+        res.profile_s += mo.pruning->seconds;
+        res.profiles_reused += mo.pruning->reused;
+        std::set<std::string> dropped;
+        for (const auto& d : mo.pruning->dropped) dropped.insert(d.variant);
+        if (i == 0) dropped_everywhere = std::move(dropped);
+        else std::erase_if(dropped_everywhere, [&](const std::string& k) { return !dropped.count(k); });
+      }
     }
-    auto where = fmt::format("scene {}/{} {}", i + 1, o.scenes.size(), o.scenes[i]);
-    measure::Progress say = [&](const std::string& line) {
-      if (progress) progress(line.rfind("note: ", 0) == 0 ? line : where + ": " + line);
-    };
+    per_scene.push_back(std::move(mo));
+  }
+  // With --prune-dominated the static costs come first: the cost model predicts from them what to skip.
+  std::map<std::string, VariantStatic> statics;
+  if (o.prune_dominated) {
+    if (progress) progress("analysing the SPIR-V of the selected variants");
+    statics = static_costs(o.measure, o.measure.globs, dropped_everywhere);
+  }
+  for (std::size_t i = 0; i < o.scenes.size(); ++i) {
+    const measure::MeasureOptions& mo = per_scene[i];
+    const std::string folder = scene_folder(o.scenes[i]);
+    measure::Progress say = say_for(i);
+    if (mo.pruning) {
+      json j = mo.pruning->to_json(o.measure.globs);
+      j["profile"] = (fs::path("measure") / folder / mo.pruning->profile_file).generic_string();
+      if (!o.predict.empty()) j["predict"] = mo.pruning->to_json(o.predict);
+      profile_pruned.push_back(std::move(j));
+    }
     Pruning pruning;
     auto r = o.prune_dominated ? measure_pruned(o, mo, statics, folder, say, pruning) : measure::run_measure(mo, say);
     for (const auto& row : r.rows)  // the table's rows: not the baseline's timing-only one
@@ -524,13 +563,14 @@ SweepResult run_sweep(const SweepOptions& o, const std::function<void(const std:
     std::set<std::string> measured, measured_programs;
     for (const auto& row : res.table.rows) measured.insert(row.variant);
     for (const auto& key : measured) measured_programs.insert(statics.at(key).vulkan_programs);
-    auto candidates = static_costs(o.measure, o.predict);
+    auto candidates = static_costs(o.measure, o.predict, dropped_everywhere);
     std::vector<table::CostRow> predicted;
     for (const auto& [key, vs] : candidates) {
       if (measured.count(key) || measured_programs.count(vs.vulkan_programs)) continue;
       if (o.measure.shard_count > 1 && measure::shard_of(key, o.measure.shard_count) != o.measure.shard_index) continue;
       for (const auto& [g, model] : gm.best) {
         const table::CostRow& like = gm.groups.at(g).front();  // scene, view, backend, size, threads
+        if (auto p = scene_pruning.find(like.scene); p != scene_pruning.end() && p->second->drops(key)) continue;
         table::CostRow r;
         r.variant = key;
         r.axes = vs.axes;
@@ -559,6 +599,8 @@ SweepResult run_sweep(const SweepOptions& o, const std::function<void(const std:
                     {"calibrated", !o.measure.calibration.empty()},
                     {"shard", fmt::format("{}/{}", o.measure.shard_index + 1, o.measure.shard_count)},
                     {"cost_models", gm.models}};
+  res.table.meta["profile_prune"] = o.measure.prune_by_profile;
+  if (o.measure.prune_by_profile) res.table.meta["pruned"] = profile_pruned;
   if (o.prune_dominated)
     res.table.meta["prune"] = {{"skipped", res.variants_skipped}, {"checked", res.variants_checked},
                                {"checked_on_front", res.checked_on_front}, {"scenes", pruned}};

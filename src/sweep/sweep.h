@@ -34,6 +34,8 @@ struct SweepResult {
   table::CostTable table;
   int rows_measured = 0, rows_reused = 0, rows_predicted = 0;
   int variants_skipped = 0, variants_checked = 0, checked_on_front = 0;  // --prune-dominated, over all scenes
+  double profile_s = 0;     // scene profiles (measure.prune_by_profile): profiling or reading back, and pruning
+  int profiles_reused = 0;  // read back from OUT/measure/<scene>/profile.json
   double wall_s = 0;
 };
 

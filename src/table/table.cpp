@@ -360,7 +360,24 @@ std::string to_markdown(const CostTable& t) {
                        r->predicted ? std::string("-") : fmt::format("{:.3f}", r->time_ms.median), r->rel_time, err,
                        r->pareto ? "*" : "");
   }
-  return out;
+  return out + pruned_summary(t);
+}
+
+std::string pruned_summary(const CostTable& t) {
+  const json none = json::array();
+  const json& pruned = t.meta.is_object() && t.meta.contains("pruned") ? t.meta.at("pruned") : none;
+  std::string out;
+  for (const auto& p : pruned) {
+    std::string rules;
+    const json counts = p.value("rules", json::object());
+    for (const auto& [rule, n] : counts.items())
+      rules += fmt::format("{}{} {}", rules.empty() ? "" : ", ", rule, n.dump());
+    out += fmt::format("- {}: {} selected, {} kept, {} dropped{}\n", p.value("scene", ""), p.value("selected", 0),
+                       p.value("kept", 0), p.value("dropped", 0), rules.empty() ? "" : " (" + rules + ")");
+  }
+  if (out.empty()) return out;
+  return "\nPruned before compiling by each scene's profile (every dropped variant with its reason: cost_table.json "
+         "meta.pruned; `--no-prune` measures them):\n\n" + out;
 }
 
 void write_table_files(const CostTable& table, const std::filesystem::path& dir) {

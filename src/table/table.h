@@ -83,8 +83,12 @@ CostTable from_csv(const std::string& text);  // meta is not kept in CSV
 std::vector<std::vector<std::string>> parse_csv(const std::string& text);
 std::string csv_field(const std::string& field);
 
-// Markdown: one table sorted by scene, view, then time_ms.min (then variant, backend).
+// Markdown: one table sorted by scene, view, then time_ms.min (then variant, backend), then the counts of
+// meta.pruned (pruned_summary).
 std::string to_markdown(const CostTable& table);
+// A sweep's scene-profile pruning in a few lines: per scene selected, kept, dropped and dropped per rule
+// (meta.pruned; empty when the table has none).
+std::string pruned_summary(const CostTable& table);
 
 // cost_table.json, .csv and .md in `dir` (atomic each).
 void write_table_files(const CostTable& table, const std::filesystem::path& dir);

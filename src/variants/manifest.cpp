@@ -328,8 +328,12 @@ class Parser {
       AxisValue name{a.name, 0};
       if (auto err = check_value(Axis::algorithm, name)) fail(a.pos, *err);
       const toml::table& t = table_of(v, "an algorithm");
-      check_keys(t, {"reads", "params", "source"}, "an algorithm");
+      check_keys(t, {"reads", "params", "source", "normals_from_depth"}, "an algorithm");
       if (const toml::node* r = t.get("reads")) a.reads = axis_list(*r, "reads");
+      if (const toml::node* f = t.get("normals_from_depth")) {
+        if (!f->is_boolean()) fail(*f, fmt::format("normals_from_depth of algorithm '{}' must be true or false", a.name));
+        a.normals_from_depth = f->as_boolean()->get();
+      }
       if (const toml::node* s = t.get("params")) a.params = parse_params(*s);
       if (const toml::node* s = t.get("source")) a.source = string_of(*s, "source");
       m_.algorithms.push_back(std::move(a));

@@ -80,6 +80,10 @@ struct Pass {
 struct Algorithm {
   std::string name;
   std::vector<Axis> reads;
+  // Surface normals the method uses whatever the `normals` axis says: derived from depth in its own code
+  // (SAO). Methods that read the `normals` axis use the normals it names; the others use none. Read by
+  // `aovar profile`: r16f depth turns derived normals.
+  bool normals_from_depth = false;
   std::vector<Param> params;
   std::string source;
   SourcePos pos;

@@ -93,7 +93,7 @@ std::array<bool, kAxisCount> read_axes(const Manifest& m, const Point& p) {
   return read;
 }
 
-VariantSpace build_space(const Manifest& m, const std::vector<std::string>& globs) {
+VariantSpace build_space(const Manifest& m, const std::vector<std::string>& globs, const std::set<std::string>& exclude) {
   VariantSpace out;
   out.rule_drops.assign(m.rules.size(), 0);
   std::vector<std::uint64_t> would_drop(m.rules.size(), 0);  // each rule alone, for "matches nothing"
@@ -138,7 +138,7 @@ VariantSpace build_space(const Manifest& m, const std::vector<std::string>& glob
       if (!read[a]) collapsed[a] = -1;
     std::string key = variant_key(m, collapsed);
     if (variants.count(key)) continue;
-    if (!util::glob_any(globs, key)) {
+    if (!util::glob_any(globs, key) || exclude.count(key)) {
       ++out.filtered_out;
       variants.emplace(key, VariantEntry{});  // remember, so the collapse count stays right
       continue;

@@ -3,6 +3,7 @@
 // programs (one per pass stage) that the surviving variants need. Pure computation, no I/O.
 #include <array>
 #include <cstdint>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -43,12 +44,14 @@ struct VariantSpace {
   std::vector<ProgramSpec> programs;   // programs the listed variants need, sorted by key
   std::vector<PrunedVariant> pruned;   // sorted by key
   std::vector<std::uint64_t> rule_drops;  // per rule: points it dropped (first matching rule counts)
-  std::uint64_t filtered_out = 0;      // variants removed by the --variants globs
+  std::uint64_t filtered_out = 0;      // variants removed by the --variants globs (and `exclude`)
 };
 
 // Throws ManifestError for a rule that drops no point of the full product.
-// `globs` (shell patterns over variant keys) restricts the variants and programs; empty = all.
-VariantSpace build_space(const Manifest& m, const std::vector<std::string>& globs = {});
+// `globs` (shell patterns over variant keys) restricts the variants and programs; empty = all. `exclude`
+// (variant keys) leaves those out too: the variants a scene's profile drops are never compiled.
+VariantSpace build_space(const Manifest& m, const std::vector<std::string>& globs = {},
+                         const std::set<std::string>& exclude = {});
 
 // The full or collapsed key of a point.
 std::string variant_key(const Manifest& m, const Point& p);

@@ -1,0 +1,139 @@
+#include "measure/scene_prune.h"
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "compile/generate.h"
+#include "profile/profile.h"
+#include "shadergen/expand.h"
+#include "util/fs.h"
+#include "util/glob.h"
+#include "util/hash.h"
+
+namespace aovar::measure {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+// Every field of a view the profile reads (camera, planes, path).
+std::string camera_text(const scene::View& v) {
+  return fmt::format("{} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {}", v.name, v.eye.x, v.eye.y, v.eye.z,
+                     v.target.x, v.target.y, v.target.z, v.up.x, v.up.y, v.up.z, v.fov_y_deg, v.near_plane,
+                     v.far_plane, v.path_offset.x, v.path_offset.y, v.path_offset.z, v.path_frames);
+}
+
+}  // namespace
+
+bool ScenePruning::drops(const std::string& key) const {
+  auto it = std::lower_bound(dropped.begin(), dropped.end(), key,
+                             [](const PrunedVariant& d, const std::string& k) { return d.variant < k; });
+  return it != dropped.end() && it->variant == key;
+}
+
+json ScenePruning::to_json(const std::vector<std::string>& globs) const {
+  std::size_t kept_n = 0;
+  for (const auto& k : kept) kept_n += util::glob_any(globs, k);
+  json variants = json::array();
+  std::map<std::string, int> rules;
+  for (const auto& d : dropped) {
+    if (!util::glob_any(globs, d.variant)) continue;
+    ++rules[d.rule];
+    variants.push_back({{"variant", d.variant}, {"rule", d.rule}, {"reason", d.reason}});
+  }
+  return {{"scene", scene}, {"selected", kept_n + variants.size()}, {"kept", kept_n}, {"dropped", variants.size()},
+          {"rules", rules}, {"variants", variants}};
+}
+
+std::string ScenePruning::summary(const std::vector<std::string>& globs) const {
+  const json j = to_json(globs);
+  std::string rules;
+  for (const auto& [rule, n] : j.at("rules").items()) rules += fmt::format("{}{} {}", rules.empty() ? "" : ", ", rule, n.get<int>());
+  return fmt::format("{} keeps {} of {} selected variants; drops {}{}", scene, j.at("kept").get<std::size_t>(),
+                     j.at("selected").get<std::size_t>(), j.at("dropped").get<std::size_t>(),
+                     rules.empty() ? std::string() : " (" + rules + ")");
+}
+
+ScenePruning prune_scene(const MeasureOptions& o, const scene::Scene& sc, const std::vector<const scene::View*>& views,
+                         const std::vector<std::string>& globs, const Progress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  ScenePruning out;
+  out.scene = o.scene;
+  // One space for everything: the profile picks its flicker pair from it and the variants are pruned from it.
+  const variants::Manifest manifest = variants::load_manifest(o.manifest);
+  const variants::VariantSpace space = variants::build_space(manifest);
+  // Globs that select nothing are the caller's error to report (after compiling, as without pruning).
+  if (std::none_of(space.variants.begin(), space.variants.end(),
+                   [&](const variants::VariantEntry& e) { return util::glob_any(globs, e.key); })) {
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return out;
+  }
+
+  profile::Options po;
+  po.manifest = o.manifest;
+  po.scene = o.scene;
+  for (const scene::View* v : views) po.views.push_back(v->name);
+  po.size = o.size;
+  po.radius = o.radius;
+  po.threads = o.threads;
+  po.cache_dir = o.cache_dir;
+
+  // The profile's inputs. Its flicker is measured on the pair's programs: their expanded sources (templates
+  // and includes) stand for them, as the compile cache's hashes do.
+  util::Hasher h;
+  h.add("aovar profile 1").add(shadergen::generator_version()).add(compile::compiler_version()).add(manifest.text);
+  h.add(sc.content_hash).add(fmt::format("{}x{} {} {}", po.size.width, po.size.height, po.radius > 0 ? po.radius : sc.ao_radius,
+                                         po.threads));
+  h.add(fmt::format("{} {} {} {} {}", po.r16f_tolerance, po.normal_tolerance_deg, po.early_out_share, po.flicker_tolerance,
+                    po.measure_flicker));
+  for (const scene::View* v : views) h.add(camera_text(*v));
+  const auto [progressive, full] = profile::flicker_pair(space);
+  if (!progressive.empty()) {
+    shadergen::TemplateReader reader(manifest.root);
+    for (const auto& e : space.variants)
+      if (e.key == progressive || e.key == full)
+        for (const auto& pass : e.passes)
+          for (int p : pass)
+            if (p >= 0) h.add(shadergen::expand(reader, space.programs[p], variants::Target::vulkan, manifest.error_prefix()).text);
+  }
+  const std::string inputs = h.hex();
+
+  std::optional<profile::Profile> p;
+  const fs::path file = o.out.empty() ? fs::path() : o.out / "profile.json";
+  if (!file.empty()) out.profile_file = "profile.json";
+  if (auto text = !file.empty() && o.reuse ? util::read_file(file) : std::nullopt) {
+    try {
+      json j = json::parse(*text);
+      if (j.value("inputs_hash", "") == inputs) p = profile::profile_from_json(j);
+    } catch (const std::exception&) {
+      p.reset();  // an older or damaged file: profile again
+    }
+  }
+  out.reused = p.has_value();
+  if (!p) {
+    p = profile::profile_scene(po, sc, manifest, space, [&](const std::string& line) {
+      if (progress) progress("profiling " + o.scene + ": " + line);
+    });
+    if (!file.empty()) {
+      json j = profile::to_json(*p);
+      j["inputs_hash"] = inputs;
+      util::write_atomic(file, j.dump(1) + "\n");
+    }
+  }
+
+  auto pruned = profile::prune(manifest, space, *p, globs);
+  out.kept = std::move(pruned.kept);
+  for (std::size_t i = 0; i < pruned.dropped.size(); ++i)
+    out.dropped.push_back({pruned.dropped[i].first, pruned.rules[i], pruned.dropped[i].second});
+  std::sort(out.kept.begin(), out.kept.end());
+  std::sort(out.dropped.begin(), out.dropped.end(),
+            [](const PrunedVariant& a, const PrunedVariant& b) { return a.variant < b.variant; });
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace aovar::measure

@@ -1,0 +1,50 @@
+#pragma once
+// Scene-profile pruning inside `aovar measure` and `aovar sweep` (issue 8): before anything is compiled, the
+// scene is profiled as the run will render it (src/profile: its views, the frame size, the AO radius) and
+// the selected variants the profile drops are left out of the compile and the measurement, each with the
+// decision that drops it and its evidence (the text `aovar list --scene S --pruned` prints).
+// The profile is stored as OUT/profile.json (next to measure.json, atomically) with a hash of everything it
+// depends on — the scene's content, each view's camera and path, size, radius, threads, the tolerances,
+// the manifest's text and the expanded programs of the flicker pair — so a repeated run reads it back
+// instead of tracing depth and rendering the flicker pair again.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "measure/measure.h"
+#include "scene/scene.h"
+
+namespace aovar::measure {
+
+struct PrunedVariant {
+  std::string variant;
+  std::string rule;    // the profile's decision: "<axis> <value>" ("depth_format r16f")
+  std::string reason;  // "<rule>: <evidence>", as `aovar list --scene S --pruned` prints it
+};
+
+struct ScenePruning {
+  std::string scene;
+  std::vector<std::string> kept;       // of the variants the globs given to prune_scene select, sorted
+  std::vector<PrunedVariant> dropped;  // the others, sorted by key
+  std::string profile_file;            // where the profile is stored (empty without an output folder)
+  bool reused = false;                 // read back from profile_file (its inputs were unchanged)
+  double seconds = 0;                  // profiling (or reading back) and pruning
+
+  bool drops(const std::string& key) const;
+  // Over the variants `globs` select among those covered (every covered one when empty): the scene, the
+  // counts before and after, dropped per rule and every dropped one with its rule and reason. No times:
+  // shards of one sweep write the same section.
+  nlohmann::json to_json(const std::vector<std::string>& globs) const;
+  // "builtin:far keeps 3 of 5 selected variants; drops 2 (depth_format r16f 2)"
+  std::string summary(const std::vector<std::string>& globs) const;
+};
+
+// Profiles `scene` (loaded with its views side file) on `views` at o.size, o.radius (0: the scene's),
+// o.threads, compiling the flicker pair with o.cache_dir; reads OUT/profile.json back instead when o.out is
+// set, o.reuse is on and its inputs match, and writes it otherwise. `globs`: the variants to cover (the
+// run's --variants, and sweep's --predict; empty: every variant after the manifest's rules).
+ScenePruning prune_scene(const MeasureOptions& o, const scene::Scene& scene, const std::vector<const scene::View*>& views,
+                         const std::vector<std::string>& globs, const Progress& progress = {});
+
+}  // namespace aovar::measure
