@@ -20,6 +20,11 @@ TEST(Stats, NearestRankPercentiles) {
   EXPECT_EQ(measure::percentile(v, 0.95), 10.0);
   EXPECT_EQ(measure::percentile(v, 1.0), 10.0);
   EXPECT_EQ(measure::percentile(v, 7.0), 10.0);  // clamped
+  const auto summary = measure::summarize(v);  // the same ranks
+  EXPECT_EQ(summary.n, 10);
+  EXPECT_EQ(summary.min, 1.0);
+  EXPECT_EQ(summary.median, 5.0);
+  EXPECT_EQ(summary.p90, 9.0);
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(0, 100);
   for (int n : {1, 2, 3, 17, 1000}) {
