@@ -15,7 +15,7 @@
 #include "compile/cache.h"
 #include "compile/generate.h"
 #include "measure/measure.h"
-#include "measure/scene_prune.h"
+#include "profile/scene_prune.h"
 #include "sweep/sweep.h"
 #include "reference/reference.h"
 #include "report/report.h"
@@ -202,7 +202,7 @@ void print_measure_table(const measure::MeasureResult& r) {
     std::string error = !truth ? "" : row.error ? fmt::format("{:>6.4f} {:>7.4f}", row.error->rmse, row.error->ssim)
                                                 : fmt::format("{:>14}", "-");
     std::cout << fmt::format("{:<46} {:<9} {:<10} {:>8.2f} {:>8.2f} {:>8.2f} {:>6.2f} {}  {}{}\n", row.variant,
-                             row.backend, row.view, row.time.min, row.time.median, row.time.p90, row.rel_time, error,
+                             row.backend, row.view, row.time_ms.min, row.time_ms.median, row.time_ms.p90, row.rel_time, error,
                              passes, row.is_baseline ? "(baseline)" : row.reused ? "(reused)" : "");
   }
 }

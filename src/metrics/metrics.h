@@ -16,6 +16,7 @@ struct ErrorStats {
   double share_over_0_1 = 0;  // fraction of finite compared pixels with |error| > 0.1
   image::Health health;  // of the compared (non-background) pixels
   long finite = 0;            // compared pixels that entered the averages
+  bool operator==(const ErrorStats&) const = default;
 };
 
 // `background`: 1 = skip the pixel (may be empty: compare every pixel). Images must have the same size
