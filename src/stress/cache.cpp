@@ -49,7 +49,8 @@ Previous Previous::read(const std::filesystem::path& stress_json) {
   auto text = util::read_file(stress_json);
   if (!text) return p;
   try {
-    for (const auto& r : nlohmann::json::parse(*text).at("checks")) {
+    const auto j = nlohmann::json::parse(*text);  // bound: a temporary's member would dangle in the loop
+    for (const auto& r : j.at("checks")) {
       Check c = check_from_json(r);
       p.by_key_[check_key(c.variant, c.case_name, c.backend)] = c;
     }
