@@ -1,6 +1,9 @@
 // run_stress: the orchestration. Selects and compiles the variants, traces each case's reference, then per
 // backend reuses the groups an earlier stress.json already checked and renders the others in slices
-// (stress/slices.h), and writes stress.json and stress.md.
+// (stress/slices.h), and writes stress.json and stress.md. The parts: cases.cpp (the catalogue and its
+// command-line spelling), partners.h (who is compared with whom), checks.h (rendering and checking a
+// group), cache.h (inputs hashes, reuse, checkpoints), child.h / slices.h (forked slices, crashes),
+// report.h (stress.json, stress.md, the summary).
 #include "stress/stress.h"
 
 #include <algorithm>
