@@ -263,23 +263,28 @@ class PlanBuilder {
       const auto* prog = pass("progressive");
       if (!prog) throw std::runtime_error(plan_.variant + ": progressive variant but no progressive pass");
       current = fullscreen("progressive", "progressive", *prog,
-                           {{kInput, TextureRef{current}}, {kHistory, TextureRef{current, true}}}, full_ao, {}, false, ao_format);
+                           {{kInput, TextureRef{current}}, {kHistory, TextureRef{current, true}}}, full_ao, {}, false,
+                           ao_format);
       skip_background(ao_skip);
     }
 
+    // The passes after AO read depth and the AO chain so far.
+    auto depth_and = [&](int input) {
+      return std::vector<std::pair<int, TextureRef>>{{kDepth, TextureRef{depth}}, {kInput, TextureRef{input}}};
+    };
     const char* blur_pass = keyed ? "blur_keyed" : "blur";
     // The keyed blurs take background from the key and write it back: their output there is not a constant.
     const int blur_skip = keyed ? -1 : ao_skip;
     if (const auto* blur = keyed ? keyed : pass("blur")) {
       if (axis(Axis::blur) == "separable") {
-        current = fullscreen("blur.h", "blur", *blur, {{kDepth, TextureRef{depth}}, {kInput, TextureRef{current}}}, full_ao,
+        current = fullscreen("blur.h", "blur", *blur, depth_and(current), full_ao,
                              {{"axis", 0.0f}}, false, ao_format, blur_pass);
         skip_background(blur_skip);
-        current = fullscreen("blur.v", "blur", *blur, {{kDepth, TextureRef{depth}}, {kInput, TextureRef{current}}}, full_ao,
+        current = fullscreen("blur.v", "blur", *blur, depth_and(current), full_ao,
                              {{"axis", 1.0f}}, false, ao_format, blur_pass);
         skip_background(blur_skip);
       } else {
-        current = fullscreen("blur", "blur", *blur, {{kDepth, TextureRef{depth}}, {kInput, TextureRef{current}}}, full_ao, {},
+        current = fullscreen("blur", "blur", *blur, depth_and(current), full_ao, {},
                              false, ao_format, blur_pass);
         skip_background(blur_skip);
       }
@@ -288,7 +293,7 @@ class PlanBuilder {
     if (!full_ao) {
       const auto* up = pass("upsample");
       if (!up) throw std::runtime_error(plan_.variant + ": reduced resolution but no upsample pass");
-      current = fullscreen("upsample", "upsample", *up, {{kDepth, TextureRef{depth}}, {kInput, TextureRef{current}}}, true);
+      current = fullscreen("upsample", "upsample", *up, depth_and(current), true);
       skip_background(zbuffer);
     }
 
