@@ -305,19 +305,6 @@ std::pair<std::string, std::string> flicker_pair(const variants::Manifest& manif
   return {};
 }
 
-std::pair<std::string, std::string> flicker_pair(const variants::VariantSpace& space) {
-  std::set<std::string> keys;
-  for (const auto& e : space.variants) keys.insert(e.key);
-  for (const auto& key : keys) {
-    auto at = key.find("-p1-");
-    if (at == std::string::npos) continue;
-    std::string full = key;
-    full.replace(at, 4, "-p0-");
-    if (keys.count(full)) return {key, full};
-  }
-  return {};
-}
-
 Profile profile_scene(const Options& o, const Progress& progress) {
   const variants::Manifest manifest = variants::load_manifest(o.manifest);
   const scene::Scene sc = scene::load_scene(o.scene);

@@ -101,10 +101,6 @@ Profile profile_scene(const Options& options, const Progress& progress = {});
 // there is none.
 std::pair<std::string, std::string> flicker_pair(const variants::Manifest& manifest,
                                                  const variants::VariantSpace& space);
-// The same without the manifest, by the key's spelling ("-p1-" -> "-p0-"): kept only until
-// measure/scene_prune.cpp passes its manifest; remove it then.
-[[deprecated("pass the manifest: flicker_pair(manifest, space)")]]
-std::pair<std::string, std::string> flicker_pair(const variants::VariantSpace& space);
 
 struct Pruned {
   std::vector<std::string> kept;
