@@ -3,7 +3,7 @@
 #define AO_TARGET_GL45 1
 #define AO_STAGE_FRAGMENT 1
 #line 1 1
-// Progressive AO (seed 000 §4.10): this frame's half of the samples averaged with the previous frame's
+// Progressive AO (Sunet 2018, §4.10): this frame's half of the samples averaged with the previous frame's
 // other half. The history is that raw half, never the previous average, which would smear like motion blur.
 #line 1 2
 // Target abstraction (docs/template-contract.md, "Includes"). Every template includes this file first;

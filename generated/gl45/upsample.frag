@@ -102,7 +102,7 @@ float ao_radius_px(float z) {
 }
 #line 8 1
 #line 1 5
-// Weights shared by the depth-aware blurs and the upsample (seed 000 §3.3.1, eq. 3.3). Computed in AOP:
+// Weights shared by the depth-aware blurs and the upsample (Sunet 2018, §3.3.1, eq. 3.3). Computed in AOP:
 // the depth difference itself is taken in highp before it is scaled.
 
 // Range weight: 1 at equal depth, 1/e when the tap's depth differs from the centre's by depth_sigma

@@ -11,7 +11,7 @@
 #define AO_RECONSTRUCT_SIMILAR_TRIANGLES 1
 #define AO_PRECISION_HIGHP 1
 #line 1 1
-// Alchemy ambient obscurance (McGuire et al. 2011; seed 000 §3.2.6, §4.6; seed 002 §2.E; seed 003 eq. 1):
+// Alchemy ambient obscurance (McGuire et al. 2011; Sunet 2018, §3.2.6, §4.6; Aalund 2013, §3.2.13, §5.2.5; McGuire et al. 2012, eq. 1):
 //
 //     A = max(0, 1 - (2 sigma / s) * sum_i max(0, v_i . n - z_C beta) / (v_i . v_i + epsilon)) ^ k
 //
@@ -26,7 +26,7 @@
 // range check. Only taps that land on screen count in s.
 //
 // Axes: samples (N = AO_SAMPLES disc taps, common/kernels.glsl), progressive (1: only half
-// h = frame.frame_index.y of them, i = 2k + h, s <= N/2, seed 000 §4.10), normals and position and
+// h = frame.frame_index.y of them, i = 2k + h, s <= N/2, Sunet 2018, §4.10), normals and position and
 // reconstruct (via common/fetch.glsl), precision (estimator math in AOP).
 // Fetches per pixel: N + 1 depth (or position) texels, 1 normal (0 for normals = depth); N/2 + 1 progressive.
 #line 1 2
@@ -128,13 +128,13 @@ float ao_radius_px(float z) {
 }
 #line 5 4
 #line 1 6
-// View-space position of a G-buffer texel (seed 000 §5.4, §5.5). Reads the `position` and `reconstruct`
+// View-space position of a G-buffer texel (Sunet 2018, §5.4, §5.5). Reads the `position` and `reconstruct`
 // axes: only templates whose manifest entry lists both may include this file. Methods that read depth
 // only (no position buffer) include common/unproject.glsl instead.
 #line 5 6
 #line 6 6
 #line 1 7
-// View position from screen uv and linear depth (seed 000 §5.4, §5.5). Reads the `reconstruct` axis only:
+// View position from screen uv and linear depth (Sunet 2018, §5.4, §5.5). Reads the `reconstruct` axis only:
 // depth-only methods (no position buffer) include this file directly; common/reconstruct.glsl builds on it.
 #line 4 7
 
@@ -180,7 +180,7 @@ vec3 ao_position(vec2 uv) {
 }
 #line 6 4
 #line 1 8
-// View-space normal codecs for the `normals` axis (seed 000 §5.6). Reads the `normals` axis: only
+// View-space normal codecs for the `normals` axis (Sunet 2018, §5.6). Reads the `normals` axis: only
 // templates whose manifest entry lists it may include this file. View-space normals of visible surfaces
 // face the camera, i.e. mostly +z.
 
@@ -269,7 +269,7 @@ vec3 ao_normal(vec2 uv, vec3 view_pos) {
 }
 #line 22 1
 #line 1 9
-// Sample kernels for a compile-time sample count n (seed 000 §4.3.1, §4.3.2).
+// Sample kernels for a compile-time sample count n (Sunet 2018, §4.3.1, §4.3.2).
 //
 // Disc: a golden-angle (Vogel) spiral. Sample i sits at radius sqrt((i + 0.5) / n), i.e. at the centre of
 // its equal-area ring, and angle i * golden angle, which never lines up with earlier samples. This is
@@ -277,7 +277,7 @@ vec3 ao_normal(vec2 uv, vec3 view_pos) {
 // Poisson disc and has nothing for other counts. With a constant n and an unrolled loop every sample is a
 // compile-time constant.
 //
-// Progressive halves (seed 000 §4.10): half h (0 or 1) uses samples i = 2k + h, k in [0, n/2). Each half is
+// Progressive halves (Sunet 2018, §4.10): half h (0 or 1) uses samples i = 2k + h, k in [0, n/2). Each half is
 // itself a spiral (angle step 2 x golden angle) covering the whole disc, and the two halves interleave.
 
 const float AO_GOLDEN_ANGLE = 2.39996323; // pi * (3 - sqrt(5))
@@ -306,7 +306,7 @@ float ao_kernel_t(int i) {
 // Pair j of p antipodal pairs in the unit ball: the point returned and its negation. Directions are spread
 // evenly over the upper hemisphere (z uniform in [0, 1] is uniform in area; golden-angle azimuth), so pairs
 // cover the whole sphere; lengths t^(1/3) make the points uniform in volume (as the original Crytek kernel,
-// seed 002 §2.A), so that the fraction of points inside geometry estimates the occupied volume. On any plane
+// Aalund 2013, §3.2.3, §5.2.1), so that the fraction of points inside geometry estimates the occupied volume. On any plane
 // through the centre exactly one point of each pair lies on either side (points on the plane aside), which
 // makes a flat surface read exactly half occluded without relying on the sample count.
 vec3 ao_ball_pair_sample(int j, int p) {
@@ -317,7 +317,7 @@ vec3 ao_ball_pair_sample(int j, int p) {
 }
 #line 23 1
 #line 1 10
-// Per-pixel kernel rotation (seed 000 §4.3.3), computed procedurally instead of read from a 4x4 random
+// Per-pixel kernel rotation (Sunet 2018, §4.3.3), computed procedurally instead of read from a 4x4 random
 // texture. Each pixel of a 4x4 tile gets one of 16 angles, 2 pi / 16 apart, in an interleaved order:
 //
 //     y\x   0   1   2   3        index = (4 x + 8 (y & 1) + gray(y)) mod 16,  gray(y) = y ^ (y >> 1)
@@ -328,7 +328,7 @@ vec3 ao_ball_pair_sample(int j, int p) {
 //
 // A 4x4 Bayer matrix is worse here: its ranks are thresholds on a line, but angles wrap, so ranks 15 and 0
 // (vertical neighbours across the tile border) would be only 1/16 turn apart. The tile matches the 4x4 blur
-// footprint (seed 000 §4.3.4): any 4x4 window holds all 16 rotations, and a 4-tap row already holds four
+// footprint (Sunet 2018, §4.3.4): any 4x4 window holds all 16 rotations, and a 4-tap row already holds four
 // rotations a quarter turn apart.
 
 // (cos, sin) of the rotation angle of pixel p.

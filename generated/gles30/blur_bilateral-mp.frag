@@ -4,9 +4,9 @@
 #define AO_STAGE_FRAGMENT 1
 #define AO_PRECISION_MEDIUMP 1
 #line 1 1
-// Full 2-D bilateral filter at AO resolution (seed 000 §3.3.1, eq. 3.3): gaussian in distance times a
+// Full 2-D bilateral filter at AO resolution (Sunet 2018, §3.3.1, eq. 3.3): gaussian in distance times a
 // relative-depth weight over a (2R+1)^2 window, normalised by the weight sum. (2R+1)^2 taps against the
-// separable blur's 2 x (2R+1); seed 000 §5.7 finds the quality difference small. Reads: precision. Under
+// separable blur's 2 x (2R+1); Sunet 2018, §5.7 finds the quality difference small. Reads: precision. Under
 // AO_BLUR_KEYED (passes/blur_keyed_bilateral.frag: SAO) depth comes from the input's packed key.
 #line 1 2
 // Target abstraction (docs/template-contract.md, "Includes"). Every template includes this file first;
@@ -103,7 +103,7 @@ float ao_radius_px(float z) {
 }
 #line 8 1
 #line 1 5
-// Weights shared by the depth-aware blurs and the upsample (seed 000 §3.3.1, eq. 3.3). Computed in AOP:
+// Weights shared by the depth-aware blurs and the upsample (Sunet 2018, §3.3.1, eq. 3.3). Computed in AOP:
 // the depth difference itself is taken in highp before it is scaled.
 
 // Range weight: 1 at equal depth, 1/e when the tap's depth differs from the centre's by depth_sigma
@@ -124,7 +124,7 @@ AOP float ao_spatial_weight(AOP float d2, AOP float r) {
 }
 #line 9 1
 #line 1 6
-// SAO's depth key (seed 003 §2.3): the AO pass packs linear depth next to AO into an rgba8 target,
+// SAO's depth key (McGuire et al. 2012, §2.3): the AO pass packs linear depth next to AO into an rgba8 target,
 // (A, key_hi, key_lo), so its bilateral passes read one texel for both instead of the depth buffer too.
 // 16 bits in two 8-bit unorm channels: hi holds floor(t * 255.999) / 255 (exactly representable), lo the
 // fraction left over. The seed keys z / z_min linearly (z_min a chosen "farthest sharp plane"); with the far

@@ -8,7 +8,7 @@
 #define AO_PROGRESSIVE 0
 #define AO_PRECISION_MEDIUMP 1
 #line 1 1
-// Crytek SSAO (Mittring 2007; seed 000 §3.2.2, §4.4; seed 002 §2.A eq. 3.1, Listing 1):
+// Crytek SSAO (Mittring 2007; Sunet 2018, §3.2.2, §4.4; Aalund 2013, §3.2.3, §5.2.1 eq. 3.1, Listing 1):
 //
 //     A = clamp(2 (1 - (1/s) sum_i O_i), 0, 1) ^ c
 //     O_i = clamp((z_i - beta z_C - z(t_i)) / (0.001 z_C), 0, 1)
@@ -17,11 +17,11 @@
 // normal or position buffer): sample i lies at linear depth z_i and its texel t_i shows depth z(t_i); O_i is
 // 1 when that visible surface lies in front of the sample by more than beta z_C (beta = bias), with a ramp
 // over 0.1 % of z_C instead of a step so that depths a few ulps apart (two backends) cannot flip a sample.
-// s counts the samples evaluated, c = contrast (the c of the AO' post-process, seed 002 §3.1). A flat open
-// surface has half of a ball below it, so its open fraction is 1/2: as seed 000 §4.4 does, [0, 1/2] is
-// remapped to [0, 1] (seed 002 uses AO' a = 0.5 for the same purpose) and open surfaces read 1; an inner
+// s counts the samples evaluated, c = contrast (the c of the AO' post-process, Aalund 2013, §4.1.12). A flat open
+// surface has half of a ball below it, so its open fraction is 1/2: as Sunet 2018, §4.4 does, [0, 1/2] is
+// remapped to [0, 1] (Aalund 2013 uses AO' a = 0.5 for the same purpose) and open surfaces read 1; an inner
 // 90-degree corner reads 0.5 before the contrast. Like the original, the ball lives in screen space plus
-// depth (seed 002 §2.A: tc + (d.xy scale_xy, d.z scale_z) r): sample d lands at the texel offset
+// depth (Aalund 2013, §3.2.3, §5.2.1: tc + (d.xy scale_xy, d.z scale_z) r): sample d lands at the texel offset
 // d.xy R / z_C (the world radius projected at C's depth) and at linear depth z_C - R d.z; no unprojection.
 // The kernel is N/2 antipodal pairs (d, -d), uniform in the ball's volume (common/kernels.glsl), rotated per
 // pixel (common/noise.glsl), with texel offsets rounded symmetrically: linear depth is convex along a
@@ -30,8 +30,8 @@
 // grey and noisy, which the remap doubles).
 //
 // Range check (range_check, 0 = off ... 1 = on): a sample whose texel shows a surface outside the ball, in
-// front of it, is counted occluded by the original: the dark halos around silhouettes of seed 002 §2.A,
-// §5 (0 reproduces them, the choice of seed 000 §4.4). With the check on, such a sample takes the value a
+// front of it, is counted occluded by the original: the dark halos around silhouettes of Aalund 2013, §3.2.3, §5.2.1,
+// §5 (0 reproduces them, the choice of Sunet 2018, §4.4). With the check on, such a sample takes the value a
 // flat surface would give it, the complement of its partner (Ownby et al. 2010's paired sampling, seed
 // 002 §4, thesis §4.1.1), or 1/2 when both are out of range. "Outside the ball" is measured against both
 // C and C's plane continued to the texel (common/depth_plane.glsl), so that a floor seen at a grazing
@@ -39,13 +39,13 @@
 // Seed 000 §4.4's range check counted out-of-range samples open, which gave it white halos instead.
 // Deviations: linear depth in world units instead of the listing's window depth with an ad-hoc z scale of
 // 100 / z_far; the per-pixel rotation is used; lengths uniform in volume as in the original kernel rather
-// than seed 000 §4.4's [Cha11] scaling toward the centre, which narrowed contact shadows to ~0.2 R.
+// than Sunet 2018, §4.4's [Cha11] scaling toward the centre, which narrowed contact shadows to ~0.2 R.
 //
 // Axes: samples (N = AO_SAMPLES points, N/2 pairs), progressive (1: pairs j = 2k + h of half
 // h = frame.frame_index.y; N = 6 splits its 3 pairs 2 + 1), precision (estimator math in AOP). Reads the
 // depth buffer only (common/depth.glsl); no normals, position or reconstruct axis.
 // Fetches per pixel: N + 5 depth texels (N/2 + 5 progressive; 4 for C's plane, N + 1 with range_check = 0),
-// 0 normal; 0 projections, 0 unprojections (seed 000 table 5.7: N + 1 depth, 0 normal, N projections,
+// 0 normal; 0 projections, 0 unprojections (Sunet 2018, table 5.7: N + 1 depth, 0 normal, N projections,
 // N + 1 unprojections).
 #line 1 2
 // Target abstraction (docs/template-contract.md, "Includes"). Every template includes this file first;
@@ -147,11 +147,11 @@ float ao_radius_px(float z) {
 //
 // A sample is out of range when the surface its texel shows lies outside the ball of radius R around the
 // shaded point C, in front of it: a foreground object, whose silhouette would otherwise cast a dark halo on
-// what lies behind (seed 002 §2.A, §5). Depth alone cannot tell that object from C's own surface seen at a
+// what lies behind (Aalund 2013, §3.2.3, §5.2.1, §4.1.1). Depth alone cannot tell that object from C's own surface seen at a
 // grazing angle, which at a sample's texel also shows far in front of C; so the surface must lie in front of
 // both C and C's plane continued to that texel. 1 / z is affine in screen space across a plane, so the plane
 // is continued exactly by the gradient of 1 / z at C, taken per axis as the smaller of the two one-sided
-// differences (seed 002 §2.C's minimum_difference): a neighbour across a silhouette must not tilt it.
+// differences (Aalund 2013, §5.2.3's minimum_difference): a neighbour across a silhouette must not tilt it.
 #line 12 5
 
 // Gradient of 1 / z per depth texel at texel t of depth z (4 depth fetches).
@@ -178,7 +178,7 @@ float ao_out_of_range(float z, float z_c, float z_plane, float radius) {
 }
 #line 44 1
 #line 1 6
-// Sample kernels for a compile-time sample count n (seed 000 §4.3.1, §4.3.2).
+// Sample kernels for a compile-time sample count n (Sunet 2018, §4.3.1, §4.3.2).
 //
 // Disc: a golden-angle (Vogel) spiral. Sample i sits at radius sqrt((i + 0.5) / n), i.e. at the centre of
 // its equal-area ring, and angle i * golden angle, which never lines up with earlier samples. This is
@@ -186,7 +186,7 @@ float ao_out_of_range(float z, float z_c, float z_plane, float radius) {
 // Poisson disc and has nothing for other counts. With a constant n and an unrolled loop every sample is a
 // compile-time constant.
 //
-// Progressive halves (seed 000 §4.10): half h (0 or 1) uses samples i = 2k + h, k in [0, n/2). Each half is
+// Progressive halves (Sunet 2018, §4.10): half h (0 or 1) uses samples i = 2k + h, k in [0, n/2). Each half is
 // itself a spiral (angle step 2 x golden angle) covering the whole disc, and the two halves interleave.
 
 const float AO_GOLDEN_ANGLE = 2.39996323; // pi * (3 - sqrt(5))
@@ -215,7 +215,7 @@ float ao_kernel_t(int i) {
 // Pair j of p antipodal pairs in the unit ball: the point returned and its negation. Directions are spread
 // evenly over the upper hemisphere (z uniform in [0, 1] is uniform in area; golden-angle azimuth), so pairs
 // cover the whole sphere; lengths t^(1/3) make the points uniform in volume (as the original Crytek kernel,
-// seed 002 §2.A), so that the fraction of points inside geometry estimates the occupied volume. On any plane
+// Aalund 2013, §3.2.3, §5.2.1), so that the fraction of points inside geometry estimates the occupied volume. On any plane
 // through the centre exactly one point of each pair lies on either side (points on the plane aside), which
 // makes a flat surface read exactly half occluded without relying on the sample count.
 vec3 ao_ball_pair_sample(int j, int p) {
@@ -226,7 +226,7 @@ vec3 ao_ball_pair_sample(int j, int p) {
 }
 #line 45 1
 #line 1 7
-// Per-pixel kernel rotation (seed 000 §4.3.3), computed procedurally instead of read from a 4x4 random
+// Per-pixel kernel rotation (Sunet 2018, §4.3.3), computed procedurally instead of read from a 4x4 random
 // texture. Each pixel of a 4x4 tile gets one of 16 angles, 2 pi / 16 apart, in an interleaved order:
 //
 //     y\x   0   1   2   3        index = (4 x + 8 (y & 1) + gray(y)) mod 16,  gray(y) = y ^ (y >> 1)
@@ -237,7 +237,7 @@ vec3 ao_ball_pair_sample(int j, int p) {
 //
 // A 4x4 Bayer matrix is worse here: its ranks are thresholds on a line, but angles wrap, so ranks 15 and 0
 // (vertical neighbours across the tile border) would be only 1/16 turn apart. The tile matches the 4x4 blur
-// footprint (seed 000 §4.3.4): any 4x4 window holds all 16 rotations, and a 4-tap row already holds four
+// footprint (Sunet 2018, §4.3.4): any 4x4 window holds all 16 rotations, and a 4-tap row already holds four
 // rotations a quarter turn apart.
 
 // (cos, sin) of the rotation angle of pixel p.

@@ -11,8 +11,8 @@
 #define AO_RECONSTRUCT_SIMILAR_TRIANGLES 1
 #define AO_PRECISION_MEDIUMP 1
 #line 1 1
-// Horizon-based ambient occlusion, HBAO (Bavoil & Sainz 2008; seed 000 §3.2.3, §4.7; seed 002 §2.C,
-// eq. 3.2-3.4; seed 004 §3.3.4, notes 001_004.md §B.2.3):
+// Horizon-based ambient occlusion, HBAO (Bavoil & Sainz 2008; Sunet 2018, §3.2.3, §4.7; Aalund 2013, §3.2.4, §5.2.3,
+// eq. 3.2-3.4; Dörries 2018, §3.3.4):
 //
 //     A = 1 - (sigma / D) * sum_d sum_{j raises the horizon} W(r_j) (sin h_j - sin h_{j-1}),   h_0 = t_d + beta
 //     W(r) = 1 - r^2 / R^2 (0 beyond R),   visibility = clamp(A, 0, 1) ^ k
@@ -24,11 +24,11 @@
 // view position at the step. The horizon starts at the tangent angle t_d of the surface in that slice (from
 // the normal projected onto the slice) plus the tangent bias beta; a step whose elevation rises above the
 // horizon so far adds the rise in sine, attenuated by W of its distance, and becomes the horizon. Steps
-// further than R are skipped. sigma = intensity, k = contrast (the optional power of seed 004 §3.3.4; seed
+// further than R are skipped. sigma = intensity, k = contrast (the optional power of Dörries 2018, §3.3.4; seed
 // 002 §3.1 AO' c).
 //
-// Fixes of the seed listing (seed 002 §2.C, §5): each pixel rotates the directions (common/noise.glsl) and
-// jitters the step offsets (4 strata along a 4-pixel diagonal, the step-offset noise of seed 004 Listing
+// Fixes of the seed listing (Aalund 2013, §3.2.4, §5.2.3, §4.1.1): each pixel rotates the directions (common/noise.glsl) and
+// jitters the step offsets (4 strata along a 4-pixel diagonal, the step-offset noise of Dörries 2018, Listing
 // 3.21); H is the reconstructed sample position, not the nominal step; the tangent comes from the normal
 // once per direction, not from 4 depth neighbours inside the direction loop; angles live in the
 // perspective-correct slice rather than around the z axis, and each step is compared with the tangent of
@@ -41,11 +41,11 @@
 // samples -> directions x steps (total = N exactly, D even for the progressive halves, cost monotone in N):
 //     N     4    6    8    12   16   24   32
 //     DxS  2x2  2x3  4x2  4x3  4x4  6x4  8x4      S = 3 if N mod 4 != 0, else clamp(N/4, 2, 4); D = N/S
-// (seed 000 §4.7 uses 4 rays x 2 samples for N = 8; 4x4 is its "typical" scheme.) Directions are 2 pi / D
-// apart on the full circle (each ray is one-sided). Progressive (seed 000 §4.10): this frame marches only
+// (Sunet 2018, §4.7 uses 4 rays x 2 samples for N = 8; 4x4 is its "typical" scheme.) Directions are 2 pi / D
+// apart on the full circle (each ray is one-sided). Progressive (Sunet 2018, §4.10): this frame marches only
 // directions i = 2k + h, h = frame.frame_index.y; each half is itself evenly spread and the two
 // interleave, so the mean of two frames is the full kernel (before the clamp and power).
-// Radius: capped at a quarter of the AO screen; pixels whose disc is under 1 pixel are open (seed 004 §3.3.4).
+// Radius: capped at a quarter of the AO screen; pixels whose disc is under 1 pixel are open (Dörries 2018, §3.3.4).
 //
 // Axes: samples, progressive, normals, position, reconstruct (common/fetch.glsl), precision (AOP).
 // Fetches per pixel: depth/position 1 + N (1 + N/2 progressive; steps off screen are skipped), normal 1
@@ -149,13 +149,13 @@ float ao_radius_px(float z) {
 }
 #line 5 4
 #line 1 6
-// View-space position of a G-buffer texel (seed 000 §5.4, §5.5). Reads the `position` and `reconstruct`
+// View-space position of a G-buffer texel (Sunet 2018, §5.4, §5.5). Reads the `position` and `reconstruct`
 // axes: only templates whose manifest entry lists both may include this file. Methods that read depth
 // only (no position buffer) include common/unproject.glsl instead.
 #line 5 6
 #line 6 6
 #line 1 7
-// View position from screen uv and linear depth (seed 000 §5.4, §5.5). Reads the `reconstruct` axis only:
+// View position from screen uv and linear depth (Sunet 2018, §5.4, §5.5). Reads the `reconstruct` axis only:
 // depth-only methods (no position buffer) include this file directly; common/reconstruct.glsl builds on it.
 #line 4 7
 
@@ -201,7 +201,7 @@ vec3 ao_position(vec2 uv) {
 }
 #line 6 4
 #line 1 8
-// View-space normal codecs for the `normals` axis (seed 000 §5.6). Reads the `normals` axis: only
+// View-space normal codecs for the `normals` axis (Sunet 2018, §5.6). Reads the `normals` axis: only
 // templates whose manifest entry lists it may include this file. View-space normals of visible surfaces
 // face the camera, i.e. mostly +z.
 
@@ -290,7 +290,7 @@ vec3 ao_normal(vec2 uv, vec3 view_pos) {
 }
 #line 43 1
 #line 1 9
-// Per-pixel kernel rotation (seed 000 §4.3.3), computed procedurally instead of read from a 4x4 random
+// Per-pixel kernel rotation (Sunet 2018, §4.3.3), computed procedurally instead of read from a 4x4 random
 // texture. Each pixel of a 4x4 tile gets one of 16 angles, 2 pi / 16 apart, in an interleaved order:
 //
 //     y\x   0   1   2   3        index = (4 x + 8 (y & 1) + gray(y)) mod 16,  gray(y) = y ^ (y >> 1)
@@ -301,7 +301,7 @@ vec3 ao_normal(vec2 uv, vec3 view_pos) {
 //
 // A 4x4 Bayer matrix is worse here: its ranks are thresholds on a line, but angles wrap, so ranks 15 and 0
 // (vertical neighbours across the tile border) would be only 1/16 turn apart. The tile matches the 4x4 blur
-// footprint (seed 000 §4.3.4): any 4x4 window holds all 16 rotations, and a 4-tap row already holds four
+// footprint (Sunet 2018, §4.3.4): any 4x4 window holds all 16 rotations, and a 4-tap row already holds four
 // rotations a quarter turn apart.
 
 // (cos, sin) of the rotation angle of pixel p.
@@ -406,7 +406,7 @@ void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     vec2 rot = ao_rotation(pixel);
     mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x);
-    // Step offset in (0, 1): the centres of 4 strata, one per pixel of a 4-pixel diagonal (seed 004 Listing
+    // Step offset in (0, 1): the centres of 4 strata, one per pixel of a 4-pixel diagonal (Dörries 2018, Listing
     // 3.21, noise.z), so the 4x4 blur footprint sees every offset with 4 rotations each.
     float jitter = 0.25 * float((pixel.y - pixel.x) & 3) + 0.125;
     float step_px = radius_px / float(HBAO_STEPS);

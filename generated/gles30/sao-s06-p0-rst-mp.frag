@@ -9,7 +9,7 @@
 #define AO_RECONSTRUCT_SIMILAR_TRIANGLES 1
 #define AO_PRECISION_MEDIUMP 1
 #line 1 1
-// Scalable Ambient Obscurance (McGuire, Mara, Luebke 2012; seed 003):
+// Scalable Ambient Obscurance (McGuire, Mara, Luebke 2012; McGuire et al. 2012):
 //
 //     A = max(0, 1 - (2 sigma / s) * sum_i max(0, v_i . n_C - z_C beta) / (v_i . v_i + epsilon)) ^ k   (eq. 1)
 //
@@ -124,7 +124,7 @@ float ao_radius_px(float z) {
 }
 #line 24 1
 #line 1 5
-// View position from screen uv and linear depth (seed 000 §5.4, §5.5). Reads the `reconstruct` axis only:
+// View position from screen uv and linear depth (Sunet 2018, §5.4, §5.5). Reads the `reconstruct` axis only:
 // depth-only methods (no position buffer) include this file directly; common/reconstruct.glsl builds on it.
 #line 4 5
 
@@ -151,7 +151,7 @@ vec3 ao_view_position_from_depth(vec2 uv, float z) {
 }
 #line 25 1
 #line 1 6
-// SAO's depth key (seed 003 §2.3): the AO pass packs linear depth next to AO into an rgba8 target,
+// SAO's depth key (McGuire et al. 2012, §2.3): the AO pass packs linear depth next to AO into an rgba8 target,
 // (A, key_hi, key_lo), so its bilateral passes read one texel for both instead of the depth buffer too.
 // 16 bits in two 8-bit unorm channels: hi holds floor(t * 255.999) / 255 (exactly representable), lo the
 // fraction left over. The seed keys z / z_min linearly (z_min a chosen "farthest sharp plane"); with the far

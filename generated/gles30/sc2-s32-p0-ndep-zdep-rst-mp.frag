@@ -11,27 +11,27 @@
 #define AO_RECONSTRUCT_SIMILAR_TRIANGLES 1
 #define AO_PRECISION_MEDIUMP 1
 #line 1 1
-// StarCraft II SSAO (Filion & McNaughton 2008; seed 000 §3.2.4, §4.5; seed 002 §2.B, Listing 2):
+// StarCraft II SSAO (Filion & McNaughton 2008; Sunet 2018, §3.2.4, §4.5; Aalund 2013, §3.2.3, §5.2.2, Listing 2):
 //
 //     A = (1 - sum_i cos_i f(Delta_i) / sum_i h_i.z) ^ c,    cos_i = max(0, n . (Q_i - C) / |Q_i - C|)
 //     f(Delta) = O(Delta) R / max(Delta, R) clamp(rho - Delta / R, 0, 1)
 //     O(Delta) = clamp((Delta - beta z_C) / (0.001 z_C), 0, 1)
 //
 // Point samples P_i = C + R (T h_i.x + B h_i.y + n h_i.z) on the hemisphere of radius R around the normal n
-// of the shaded point C: h_i cosine-distributed on the unit hemisphere by Malley's method (seed 000 §4.3.2,
+// of the shaded point C: h_i cosine-distributed on the unit hemisphere by Malley's method (Sunet 2018, §4.3.2,
 // common/kernels.glsl), T and B from the per-pixel rotation vector r = (cos, sin, 0) (common/noise.glsl) by
-// Gram-Schmidt, T = normalize(r - n (r . n)), B = n x T (001_004.md §A.1.3). Each P_i is projected to its
+// Gram-Schmidt, T = normalize(r - n (r . n)), B = n x T (Whinham 2017, §2.7.2-2.7.3, App. B.1). Each P_i is projected to its
 // pixel, where the G-buffer shows the surface point Q_i; Delta_i = z(P_i) - z(Q_i) is how far that surface
 // lies in front of the sample (linear depths). An occluded sample (Delta > beta z_C, beta = bias, ramped so
 // that depths a few ulps apart cannot flip it) is weighted by the cosine between n and the direction to
-// its occluder Q_i (seed 000 §4.5) and by the falloff f: seed 002 §2.B's visibility rho = clamp((Delta - R)
+// its occluder Q_i (Sunet 2018, §4.5) and by the falloff f: Aalund 2013, §5.2.2's visibility rho = clamp((Delta - R)
 // / Delta, 0, 1) is 1 - min(1, R / Delta), written here as R / max(Delta, R), which has no division by zero
-// at Delta = 0 (the listing divides by Delta unguarded: -inf or NaN there); times seed 000 §4.5's range
-// check, which fades an occluder out linearly to 0 at Delta = rho R (rho = range; 1 = seed 000's linear
+// at Delta = 0 (the listing divides by Delta unguarded: -inf or NaN there); times Sunet 2018, §4.5's range
+// check, which fades an occluder out linearly to 0 at Delta = rho R (rho = range; 1 = Sunet 2018's linear
 // falloff), so that a silhouette far in front casts no halo. The weights are normalised by sum_i h_i.z, the
 // sample cosines, rather than by N: Malley's samples already carry cos, and the unnormalised cosine would
 // count it twice (an inner corner, which blocks half of the hemisphere, then read about 0.7 instead of
-// 0.5). Only samples that land on screen count. c = contrast (AO' c, seed 002 §3.1). Sampling only in
+// 0.5). Only samples that land on screen count. c = contrast (AO' c, Aalund 2013, §4.1.12). Sampling only in
 // front of the surface leaves open planes at exactly 1 (no AO' a or b); an occluder Q_i in C's own tangent
 // plane gets weight 0, so texel snapping and tessellation do not self-occlude.
 //
@@ -39,7 +39,7 @@
 // h = frame.frame_index.y), normals and position and reconstruct (via common/fetch.glsl), precision
 // (estimator math in AOP).
 // Fetches per pixel: N + 1 depth (or position) texels, 1 normal (0 for normals = depth); N/2 + 1
-// progressive; N projections, N + 1 unprojections (as seed 000 table 5.7).
+// progressive; N projections, N + 1 unprojections (as Sunet 2018, table 5.7).
 #line 1 2
 // Target abstraction (docs/template-contract.md, "Includes"). Every template includes this file first;
 // the generator has already emitted #version, AO_TARGET_*, AO_STAGE_* and the axis defines above it.
@@ -139,13 +139,13 @@ float ao_radius_px(float z) {
 }
 #line 5 4
 #line 1 6
-// View-space position of a G-buffer texel (seed 000 §5.4, §5.5). Reads the `position` and `reconstruct`
+// View-space position of a G-buffer texel (Sunet 2018, §5.4, §5.5). Reads the `position` and `reconstruct`
 // axes: only templates whose manifest entry lists both may include this file. Methods that read depth
 // only (no position buffer) include common/unproject.glsl instead.
 #line 5 6
 #line 6 6
 #line 1 7
-// View position from screen uv and linear depth (seed 000 §5.4, §5.5). Reads the `reconstruct` axis only:
+// View position from screen uv and linear depth (Sunet 2018, §5.4, §5.5). Reads the `reconstruct` axis only:
 // depth-only methods (no position buffer) include this file directly; common/reconstruct.glsl builds on it.
 #line 4 7
 
@@ -191,7 +191,7 @@ vec3 ao_position(vec2 uv) {
 }
 #line 6 4
 #line 1 8
-// View-space normal codecs for the `normals` axis (seed 000 §5.6). Reads the `normals` axis: only
+// View-space normal codecs for the `normals` axis (Sunet 2018, §5.6). Reads the `normals` axis: only
 // templates whose manifest entry lists it may include this file. View-space normals of visible surfaces
 // face the camera, i.e. mostly +z.
 
@@ -280,7 +280,7 @@ vec3 ao_normal(vec2 uv, vec3 view_pos) {
 }
 #line 33 1
 #line 1 9
-// Sample kernels for a compile-time sample count n (seed 000 §4.3.1, §4.3.2).
+// Sample kernels for a compile-time sample count n (Sunet 2018, §4.3.1, §4.3.2).
 //
 // Disc: a golden-angle (Vogel) spiral. Sample i sits at radius sqrt((i + 0.5) / n), i.e. at the centre of
 // its equal-area ring, and angle i * golden angle, which never lines up with earlier samples. This is
@@ -288,7 +288,7 @@ vec3 ao_normal(vec2 uv, vec3 view_pos) {
 // Poisson disc and has nothing for other counts. With a constant n and an unrolled loop every sample is a
 // compile-time constant.
 //
-// Progressive halves (seed 000 §4.10): half h (0 or 1) uses samples i = 2k + h, k in [0, n/2). Each half is
+// Progressive halves (Sunet 2018, §4.10): half h (0 or 1) uses samples i = 2k + h, k in [0, n/2). Each half is
 // itself a spiral (angle step 2 x golden angle) covering the whole disc, and the two halves interleave.
 
 const float AO_GOLDEN_ANGLE = 2.39996323; // pi * (3 - sqrt(5))
@@ -317,7 +317,7 @@ float ao_kernel_t(int i) {
 // Pair j of p antipodal pairs in the unit ball: the point returned and its negation. Directions are spread
 // evenly over the upper hemisphere (z uniform in [0, 1] is uniform in area; golden-angle azimuth), so pairs
 // cover the whole sphere; lengths t^(1/3) make the points uniform in volume (as the original Crytek kernel,
-// seed 002 §2.A), so that the fraction of points inside geometry estimates the occupied volume. On any plane
+// Aalund 2013, §3.2.3, §5.2.1), so that the fraction of points inside geometry estimates the occupied volume. On any plane
 // through the centre exactly one point of each pair lies on either side (points on the plane aside), which
 // makes a flat surface read exactly half occluded without relying on the sample count.
 vec3 ao_ball_pair_sample(int j, int p) {
@@ -328,7 +328,7 @@ vec3 ao_ball_pair_sample(int j, int p) {
 }
 #line 34 1
 #line 1 10
-// Per-pixel kernel rotation (seed 000 §4.3.3), computed procedurally instead of read from a 4x4 random
+// Per-pixel kernel rotation (Sunet 2018, §4.3.3), computed procedurally instead of read from a 4x4 random
 // texture. Each pixel of a 4x4 tile gets one of 16 angles, 2 pi / 16 apart, in an interleaved order:
 //
 //     y\x   0   1   2   3        index = (4 x + 8 (y & 1) + gray(y)) mod 16,  gray(y) = y ^ (y >> 1)
@@ -339,7 +339,7 @@ vec3 ao_ball_pair_sample(int j, int p) {
 //
 // A 4x4 Bayer matrix is worse here: its ranks are thresholds on a line, but angles wrap, so ranks 15 and 0
 // (vertical neighbours across the tile border) would be only 1/16 turn apart. The tile matches the 4x4 blur
-// footprint (seed 000 §4.3.4): any 4x4 window holds all 16 rotations, and a 4-tap row already holds four
+// footprint (Sunet 2018, §4.3.4): any 4x4 window holds all 16 rotations, and a 4-tap row already holds four
 // rotations a quarter turn apart.
 
 // (cos, sin) of the rotation angle of pixel p.

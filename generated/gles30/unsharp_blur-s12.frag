@@ -5,7 +5,7 @@
 #define AO_SAMPLES_12 1
 #define AO_SAMPLES 12
 #line 1 1
-// Gaussian blur of linear depth for the unsharp-mask method (seed 000 §3.2.1, §4.8; Luft et al. 2006),
+// Gaussian blur of linear depth for the unsharp-mask method (Sunet 2018, §3.2.1, §4.8; Luft et al. 2006),
 // separable: run twice, params.axis = 0 (horizontal, reads depth) then 1 (vertical, reads the first pass).
 // Depth-aware only in one direction: a tap in front of this pixel by more than range x R belongs to a
 // separate foreground object and counts at this pixel's depth, so objects do not darken the surfaces far

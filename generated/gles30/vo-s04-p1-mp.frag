@@ -8,7 +8,7 @@
 #define AO_PROGRESSIVE 1
 #define AO_PRECISION_MEDIUMP 1
 #line 1 1
-// Volumetric Obscurance with paired line samples (Loos & Sloan 2010; Ownby et al. 2010; seed 002 §2.D
+// Volumetric Obscurance with paired line samples (Loos & Sloan 2010; Ownby et al. 2010; Aalund 2013, §3.2.9, §5.2.4
 // eq. 3.5 and §4 (thesis §3.2.9, §4.1.1), Listing 4):
 //
 //     A = clamp(2 (1 - sum_i o_i h_i / sum_i h_i), 0, 1) ^ c
@@ -20,7 +20,7 @@
 // the depth z(t_i) its texel shows splits the segment into an empty part (in front) and an occupied part
 // (behind), o_i being the occupied ratio. Weighting each tap by its length gives the volume ratio (seed
 // 002 thesis §3.2.9: visible to occluded line lengths). A flat surface fills half the ball: as for Crytek,
-// [0, 1/2] of visibility is remapped to [0, 1] (seed 002 applies AO' a = 0.5 to VO for this) and open
+// [0, 1/2] of visibility is remapped to [0, 1] (Aalund 2013 applies AO' a = 0.5 to VO for this) and open
 // planes read 1. c = contrast (AO' c).
 // Paired samples (Ownby et al. 2010): taps come in pairs t_C +- o. A tap is invalid when its surface lies
 // behind its segment (ratio below lower_bound, Listing 4's bound) or outside the ball in front of it (the
@@ -142,11 +142,11 @@ float ao_radius_px(float z) {
 //
 // A sample is out of range when the surface its texel shows lies outside the ball of radius R around the
 // shaded point C, in front of it: a foreground object, whose silhouette would otherwise cast a dark halo on
-// what lies behind (seed 002 §2.A, §5). Depth alone cannot tell that object from C's own surface seen at a
+// what lies behind (Aalund 2013, §3.2.3, §5.2.1, §4.1.1). Depth alone cannot tell that object from C's own surface seen at a
 // grazing angle, which at a sample's texel also shows far in front of C; so the surface must lie in front of
 // both C and C's plane continued to that texel. 1 / z is affine in screen space across a plane, so the plane
 // is continued exactly by the gradient of 1 / z at C, taken per axis as the smaller of the two one-sided
-// differences (seed 002 §2.C's minimum_difference): a neighbour across a silhouette must not tilt it.
+// differences (Aalund 2013, §5.2.3's minimum_difference): a neighbour across a silhouette must not tilt it.
 #line 12 5
 
 // Gradient of 1 / z per depth texel at texel t of depth z (4 depth fetches).
@@ -173,7 +173,7 @@ float ao_out_of_range(float z, float z_c, float z_plane, float radius) {
 }
 #line 39 1
 #line 1 6
-// Sample kernels for a compile-time sample count n (seed 000 §4.3.1, §4.3.2).
+// Sample kernels for a compile-time sample count n (Sunet 2018, §4.3.1, §4.3.2).
 //
 // Disc: a golden-angle (Vogel) spiral. Sample i sits at radius sqrt((i + 0.5) / n), i.e. at the centre of
 // its equal-area ring, and angle i * golden angle, which never lines up with earlier samples. This is
@@ -181,7 +181,7 @@ float ao_out_of_range(float z, float z_c, float z_plane, float radius) {
 // Poisson disc and has nothing for other counts. With a constant n and an unrolled loop every sample is a
 // compile-time constant.
 //
-// Progressive halves (seed 000 §4.10): half h (0 or 1) uses samples i = 2k + h, k in [0, n/2). Each half is
+// Progressive halves (Sunet 2018, §4.10): half h (0 or 1) uses samples i = 2k + h, k in [0, n/2). Each half is
 // itself a spiral (angle step 2 x golden angle) covering the whole disc, and the two halves interleave.
 
 const float AO_GOLDEN_ANGLE = 2.39996323; // pi * (3 - sqrt(5))
@@ -210,7 +210,7 @@ float ao_kernel_t(int i) {
 // Pair j of p antipodal pairs in the unit ball: the point returned and its negation. Directions are spread
 // evenly over the upper hemisphere (z uniform in [0, 1] is uniform in area; golden-angle azimuth), so pairs
 // cover the whole sphere; lengths t^(1/3) make the points uniform in volume (as the original Crytek kernel,
-// seed 002 §2.A), so that the fraction of points inside geometry estimates the occupied volume. On any plane
+// Aalund 2013, §3.2.3, §5.2.1), so that the fraction of points inside geometry estimates the occupied volume. On any plane
 // through the centre exactly one point of each pair lies on either side (points on the plane aside), which
 // makes a flat surface read exactly half occluded without relying on the sample count.
 vec3 ao_ball_pair_sample(int j, int p) {
@@ -221,7 +221,7 @@ vec3 ao_ball_pair_sample(int j, int p) {
 }
 #line 40 1
 #line 1 7
-// Per-pixel kernel rotation (seed 000 §4.3.3), computed procedurally instead of read from a 4x4 random
+// Per-pixel kernel rotation (Sunet 2018, §4.3.3), computed procedurally instead of read from a 4x4 random
 // texture. Each pixel of a 4x4 tile gets one of 16 angles, 2 pi / 16 apart, in an interleaved order:
 //
 //     y\x   0   1   2   3        index = (4 x + 8 (y & 1) + gray(y)) mod 16,  gray(y) = y ^ (y >> 1)
@@ -232,7 +232,7 @@ vec3 ao_ball_pair_sample(int j, int p) {
 //
 // A 4x4 Bayer matrix is worse here: its ranks are thresholds on a line, but angles wrap, so ranks 15 and 0
 // (vertical neighbours across the tile border) would be only 1/16 turn apart. The tile matches the 4x4 blur
-// footprint (seed 000 §4.3.4): any 4x4 window holds all 16 rotations, and a 4-tap row already holds four
+// footprint (Sunet 2018, §4.3.4): any 4x4 window holds all 16 rotations, and a 4-tap row already holds four
 // rotations a quarter turn apart.
 
 // (cos, sin) of the rotation angle of pixel p.

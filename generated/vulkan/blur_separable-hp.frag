@@ -4,7 +4,7 @@
 #define AO_STAGE_FRAGMENT 1
 #define AO_PRECISION_HIGHP 1
 #line 1 1
-// Depth-aware separable blur at AO resolution (seed 000 §3.3.2, §4.3.4; seed 002 §3.2): run twice, with
+// Depth-aware separable blur at AO resolution (Sunet 2018, §3.3.2, §4.3.4; Aalund 2013, §5.3): run twice, with
 // params.axis = 0 (horizontal) then 1 (vertical). Each pass is a 1-D bilateral filter, gaussian in
 // distance times a relative-depth weight, normalised by this pixel's own weight sum. (The seed's combined
 // formula divides both passes by one 1/W_p^2; each pass has its own per-pixel sum, and only that keeps
@@ -105,7 +105,7 @@ float ao_radius_px(float z) {
 }
 #line 10 1
 #line 1 5
-// Weights shared by the depth-aware blurs and the upsample (seed 000 §3.3.1, eq. 3.3). Computed in AOP:
+// Weights shared by the depth-aware blurs and the upsample (Sunet 2018, §3.3.1, eq. 3.3). Computed in AOP:
 // the depth difference itself is taken in highp before it is scaled.
 
 // Range weight: 1 at equal depth, 1/e when the tap's depth differs from the centre's by depth_sigma
@@ -126,7 +126,7 @@ AOP float ao_spatial_weight(AOP float d2, AOP float r) {
 }
 #line 11 1
 #line 1 6
-// SAO's depth key (seed 003 §2.3): the AO pass packs linear depth next to AO into an rgba8 target,
+// SAO's depth key (McGuire et al. 2012, §2.3): the AO pass packs linear depth next to AO into an rgba8 target,
 // (A, key_hi, key_lo), so its bilateral passes read one texel for both instead of the depth buffer too.
 // 16 bits in two 8-bit unorm channels: hi holds floor(t * 255.999) / 255 (exactly representable), lo the
 // fraction left over. The seed keys z / z_min linearly (z_min a chosen "farthest sharp plane"); with the far

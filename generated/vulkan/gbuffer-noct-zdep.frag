@@ -58,7 +58,7 @@ AO_UBO(0) uniform AOFrame {
 } frame;
 #line 5 1
 #line 1 4
-// View-space normal codecs for the `normals` axis (seed 000 §5.6). Reads the `normals` axis: only
+// View-space normal codecs for the `normals` axis (Sunet 2018, §5.6). Reads the `normals` axis: only
 // templates whose manifest entry lists it may include this file. View-space normals of visible surfaces
 // face the camera, i.e. mostly +z.
 

@@ -11,8 +11,8 @@
 #define AO_RECONSTRUCT_SIMILAR_TRIANGLES 1
 #define AO_PRECISION_HIGHP 1
 #line 1 1
-// Ground-Truth ambient occlusion, GTAO (Jimenez, Wu, Pesce & Jarabo 2016; seed 004 §3.3.5, eq. 3.21-3.23,
-// Listings 3.21-3.23; notes 001_004.md §B.2.4):
+// Ground-Truth ambient occlusion, GTAO (Jimenez, Wu, Pesce & Jarabo 2016; Dörries 2018, §3.3.5, eq. 3.21-3.23,
+// Listings 3.21-3.23):
 //
 //     V = sum_s |n_p,s| (a(h1_s) + a(h2_s)) / sum_s |n_p,s| (cos g_s + g_s sin g_s)
 //     a(h) = (cos g + 2 h sin g - cos(2 h - g)) / 4      (eq. 3.23: int_0^h cos(th - g) |sin th| d th)
@@ -24,7 +24,7 @@
 // S steps along +d and S along -d up to the disc radius (world radius frame.clip.z projected at depth z_C),
 // keeping the largest cos th = dot(H, V)/|H| of H = Q - C, Q the reconstructed position at the step; h1 =
 // acos of it on the +d side, h2 = -acos on the -d side. A step's horizon cosine fades to the tangent's as
-// its distance goes from (1 - falloff) R to R (seed 004 §3.3.5: attenuation of far horizons before the max,
+// its distance goes from (1 - falloff) R to R (Dörries 2018, §3.3.5: attenuation of far horizons before the max,
 // no per-sample weight), so occluders outside the radius (silhouettes in front) cast no halo. The normal is
 // projected onto the slice (Timonen 2013): n_p of length |n_p|, at angle g from V. The horizons start at the
 // tangents g +- pi/2 and only rise, so they stay in the normal's hemisphere, and the cosine-weighted visible
@@ -38,19 +38,19 @@
 // for any slice count, where the plain mean leaves a slice-direction pattern on grazing surfaces. This and
 // the clamp to [0, 1] are the deviations from eq. 3.21; GTAO's thickness heuristic is not implemented.
 //
-// Noise (seed 004 Listing 3.21, the spatial part): a 4x4 pattern of 16 slice rotations (a fraction of the
+// Noise (Dörries 2018, Listing 3.21, the spatial part): a 4x4 pattern of 16 slice rotations (a fraction of the
 // slice spacing) and a 4-value step offset along the diagonal. Its temporal part (6 rotations x 4 offsets
 // per frame) is left out: nothing accumulates over frames here except the progressive halves.
 //
 // samples -> slices x steps per side (total fetches = 2 x slices x steps = N exactly, monotone in N):
 //     N      4    6    8    12   16   24   32
 //     SlxSt 2x1  3x1  2x2  2x3  2x4  3x4  4x4      steps = clamp(N/4, 1, 4); slices = N / (2 steps)
-// Slices are pi / slices apart (each covers both sides). Progressive (seed 000 §4.10): every slice marches
+// Slices are pi / slices apart (each covers both sides). Progressive (Sunet 2018, §4.10): every slice marches
 // one side only, +d for s + h even and -d for s + h odd (h = frame.frame_index.y), so each frame marches
 // N/2 steps along directions spread over the full circle and the two frames together march both sides of
 // every slice; the mean of two frames approximates the full kernel (equal where both frames' normalisers
 // are equal, e.g. surfaces facing the camera).
-// Radius: capped at a quarter of the AO screen; pixels whose disc is under 1 pixel are open (seed 004 §3.3.4).
+// Radius: capped at a quarter of the AO screen; pixels whose disc is under 1 pixel are open (Dörries 2018, §3.3.4).
 //
 // Axes: samples, progressive, normals, position, reconstruct (common/fetch.glsl), precision (AOP).
 // Fetches per pixel: depth/position 1 + N (1 + N/2 progressive; steps off screen are skipped), normal 1
@@ -154,13 +154,13 @@ float ao_radius_px(float z) {
 }
 #line 5 4
 #line 1 6
-// View-space position of a G-buffer texel (seed 000 §5.4, §5.5). Reads the `position` and `reconstruct`
+// View-space position of a G-buffer texel (Sunet 2018, §5.4, §5.5). Reads the `position` and `reconstruct`
 // axes: only templates whose manifest entry lists both may include this file. Methods that read depth
 // only (no position buffer) include common/unproject.glsl instead.
 #line 5 6
 #line 6 6
 #line 1 7
-// View position from screen uv and linear depth (seed 000 §5.4, §5.5). Reads the `reconstruct` axis only:
+// View position from screen uv and linear depth (Sunet 2018, §5.4, §5.5). Reads the `reconstruct` axis only:
 // depth-only methods (no position buffer) include this file directly; common/reconstruct.glsl builds on it.
 #line 4 7
 
@@ -206,7 +206,7 @@ vec3 ao_position(vec2 uv) {
 }
 #line 6 4
 #line 1 8
-// View-space normal codecs for the `normals` axis (seed 000 §5.6). Reads the `normals` axis: only
+// View-space normal codecs for the `normals` axis (Sunet 2018, §5.6). Reads the `normals` axis: only
 // templates whose manifest entry lists it may include this file. View-space normals of visible surfaces
 // face the camera, i.e. mostly +z.
 
@@ -355,8 +355,8 @@ const int GTAO_SLICES = AO_SAMPLES / (2 * GTAO_STEPS);
 
 const float GTAO_PI = 3.14159265;
 
-// Spatial noise of seed 004 Listing 3.21: x = slice rotation in [0, 1) of the slice spacing, 16 values on a
-// 4x4 tile; y = step offset, 4 values; both in the 4x4 blur footprint (seed 000 §4.3.4).
+// Spatial noise of Dörries 2018, Listing 3.21: x = slice rotation in [0, 1) of the slice spacing, 16 values on a
+// 4x4 tile; y = step offset, 4 values; both in the 4x4 blur footprint (Sunet 2018, §4.3.4).
 vec2 gtao_noise(ivec2 p) {
     float rotation = (1.0 / 16.0) * float((((p.x + p.y) & 3) << 2) + (p.x & 3));
     float offset = 0.25 * float((p.y - p.x) & 3);

@@ -3,7 +3,7 @@
 #define AO_TARGET_VULKAN 1
 #define AO_STAGE_FRAGMENT 1
 #line 1 1
-// Unsharp masking of the depth buffer (Luft et al. 2006; seed 000 §3.2.1, §4.8, §5.10.6):
+// Unsharp masking of the depth buffer (Luft et al. 2006; Sunet 2018, §3.2.1, §4.8, §5.10.6):
 //
 //     dD = G * D - D,      A = 1 - lambda * clamp(-dD / R, 0, 1)
 //
@@ -19,7 +19,7 @@
 //
 // Axes: none in this pass (depth only; `samples` sets the blur's taps). Fetches per pixel: 1 depth,
 // 1 blurred depth here; 2 (N + 1) + 1 in the two blur draws. No rotation noise, so no blur is needed, and no
-// progressive form (seed 000 §5.10: every method but this one has one).
+// progressive form (Sunet 2018, §5.10: every method but this one has one).
 #line 1 2
 // Target abstraction (docs/template-contract.md, "Includes"). Every template includes this file first;
 // the generator has already emitted #version, AO_TARGET_*, AO_STAGE_* and the axis defines above it.

@@ -1,4 +1,4 @@
-// Alchemy ambient obscurance (McGuire et al. 2011; seed 000 §3.2.6, §4.6; seed 002 §2.E; seed 003 eq. 1):
+// Alchemy ambient obscurance (McGuire et al. 2011; Sunet 2018, §3.2.6, §4.6; Aalund 2013, §3.2.13, §5.2.5; McGuire et al. 2012, eq. 1):
 //
 //     A = max(0, 1 - (2 sigma / s) * sum_i max(0, v_i . n - z_C beta) / (v_i . v_i + epsilon)) ^ k
 //
@@ -13,7 +13,7 @@
 // range check. Only taps that land on screen count in s.
 //
 // Axes: samples (N = AO_SAMPLES disc taps, common/kernels.glsl), progressive (1: only half
-// h = frame.frame_index.y of them, i = 2k + h, s <= N/2, seed 000 §4.10), normals and position and
+// h = frame.frame_index.y of them, i = 2k + h, s <= N/2, Sunet 2018, §4.10), normals and position and
 // reconstruct (via common/fetch.glsl), precision (estimator math in AOP).
 // Fetches per pixel: N + 1 depth (or position) texels, 1 normal (0 for normals = depth); N/2 + 1 progressive.
 #include "common/target.glsl"

@@ -1,4 +1,4 @@
-// Crytek SSAO (Mittring 2007; seed 000 §3.2.2, §4.4; seed 002 §2.A eq. 3.1, Listing 1):
+// Crytek SSAO (Mittring 2007; Sunet 2018, §3.2.2, §4.4; Aalund 2013, §3.2.3, §5.2.1 eq. 3.1, Listing 1):
 //
 //     A = clamp(2 (1 - (1/s) sum_i O_i), 0, 1) ^ c
 //     O_i = clamp((z_i - beta z_C - z(t_i)) / (0.001 z_C), 0, 1)
@@ -7,11 +7,11 @@
 // normal or position buffer): sample i lies at linear depth z_i and its texel t_i shows depth z(t_i); O_i is
 // 1 when that visible surface lies in front of the sample by more than beta z_C (beta = bias), with a ramp
 // over 0.1 % of z_C instead of a step so that depths a few ulps apart (two backends) cannot flip a sample.
-// s counts the samples evaluated, c = contrast (the c of the AO' post-process, seed 002 §3.1). A flat open
-// surface has half of a ball below it, so its open fraction is 1/2: as seed 000 §4.4 does, [0, 1/2] is
-// remapped to [0, 1] (seed 002 uses AO' a = 0.5 for the same purpose) and open surfaces read 1; an inner
+// s counts the samples evaluated, c = contrast (the c of the AO' post-process, Aalund 2013, §4.1.12). A flat open
+// surface has half of a ball below it, so its open fraction is 1/2: as Sunet 2018, §4.4 does, [0, 1/2] is
+// remapped to [0, 1] (Aalund 2013 uses AO' a = 0.5 for the same purpose) and open surfaces read 1; an inner
 // 90-degree corner reads 0.5 before the contrast. Like the original, the ball lives in screen space plus
-// depth (seed 002 §2.A: tc + (d.xy scale_xy, d.z scale_z) r): sample d lands at the texel offset
+// depth (Aalund 2013, §3.2.3, §5.2.1: tc + (d.xy scale_xy, d.z scale_z) r): sample d lands at the texel offset
 // d.xy R / z_C (the world radius projected at C's depth) and at linear depth z_C - R d.z; no unprojection.
 // The kernel is N/2 antipodal pairs (d, -d), uniform in the ball's volume (common/kernels.glsl), rotated per
 // pixel (common/noise.glsl), with texel offsets rounded symmetrically: linear depth is convex along a
@@ -20,8 +20,8 @@
 // grey and noisy, which the remap doubles).
 //
 // Range check (range_check, 0 = off ... 1 = on): a sample whose texel shows a surface outside the ball, in
-// front of it, is counted occluded by the original: the dark halos around silhouettes of seed 002 §2.A,
-// §5 (0 reproduces them, the choice of seed 000 §4.4). With the check on, such a sample takes the value a
+// front of it, is counted occluded by the original: the dark halos around silhouettes of Aalund 2013, §3.2.3, §5.2.1,
+// §5 (0 reproduces them, the choice of Sunet 2018, §4.4). With the check on, such a sample takes the value a
 // flat surface would give it, the complement of its partner (Ownby et al. 2010's paired sampling, seed
 // 002 §4, thesis §4.1.1), or 1/2 when both are out of range. "Outside the ball" is measured against both
 // C and C's plane continued to the texel (common/depth_plane.glsl), so that a floor seen at a grazing
@@ -29,13 +29,13 @@
 // Seed 000 §4.4's range check counted out-of-range samples open, which gave it white halos instead.
 // Deviations: linear depth in world units instead of the listing's window depth with an ad-hoc z scale of
 // 100 / z_far; the per-pixel rotation is used; lengths uniform in volume as in the original kernel rather
-// than seed 000 §4.4's [Cha11] scaling toward the centre, which narrowed contact shadows to ~0.2 R.
+// than Sunet 2018, §4.4's [Cha11] scaling toward the centre, which narrowed contact shadows to ~0.2 R.
 //
 // Axes: samples (N = AO_SAMPLES points, N/2 pairs), progressive (1: pairs j = 2k + h of half
 // h = frame.frame_index.y; N = 6 splits its 3 pairs 2 + 1), precision (estimator math in AOP). Reads the
 // depth buffer only (common/depth.glsl); no normals, position or reconstruct axis.
 // Fetches per pixel: N + 5 depth texels (N/2 + 5 progressive; 4 for C's plane, N + 1 with range_check = 0),
-// 0 normal; 0 projections, 0 unprojections (seed 000 table 5.7: N + 1 depth, 0 normal, N projections,
+// 0 normal; 0 projections, 0 unprojections (Sunet 2018, table 5.7: N + 1 depth, 0 normal, N projections,
 // N + 1 unprojections).
 #include "common/target.glsl"
 #include "common/frame.glsl"

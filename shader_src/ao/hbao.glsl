@@ -1,5 +1,5 @@
-// Horizon-based ambient occlusion, HBAO (Bavoil & Sainz 2008; seed 000 §3.2.3, §4.7; seed 002 §2.C,
-// eq. 3.2-3.4; seed 004 §3.3.4, notes 001_004.md §B.2.3):
+// Horizon-based ambient occlusion, HBAO (Bavoil & Sainz 2008; Sunet 2018, §3.2.3, §4.7; Aalund 2013, §3.2.4, §5.2.3,
+// eq. 3.2-3.4; Dörries 2018, §3.3.4):
 //
 //     A = 1 - (sigma / D) * sum_d sum_{j raises the horizon} W(r_j) (sin h_j - sin h_{j-1}),   h_0 = t_d + beta
 //     W(r) = 1 - r^2 / R^2 (0 beyond R),   visibility = clamp(A, 0, 1) ^ k
@@ -11,11 +11,11 @@
 // view position at the step. The horizon starts at the tangent angle t_d of the surface in that slice (from
 // the normal projected onto the slice) plus the tangent bias beta; a step whose elevation rises above the
 // horizon so far adds the rise in sine, attenuated by W of its distance, and becomes the horizon. Steps
-// further than R are skipped. sigma = intensity, k = contrast (the optional power of seed 004 §3.3.4; seed
+// further than R are skipped. sigma = intensity, k = contrast (the optional power of Dörries 2018, §3.3.4; seed
 // 002 §3.1 AO' c).
 //
-// Fixes of the seed listing (seed 002 §2.C, §5): each pixel rotates the directions (common/noise.glsl) and
-// jitters the step offsets (4 strata along a 4-pixel diagonal, the step-offset noise of seed 004 Listing
+// Fixes of the seed listing (Aalund 2013, §3.2.4, §5.2.3, §4.1.1): each pixel rotates the directions (common/noise.glsl) and
+// jitters the step offsets (4 strata along a 4-pixel diagonal, the step-offset noise of Dörries 2018, Listing
 // 3.21); H is the reconstructed sample position, not the nominal step; the tangent comes from the normal
 // once per direction, not from 4 depth neighbours inside the direction loop; angles live in the
 // perspective-correct slice rather than around the z axis, and each step is compared with the tangent of
@@ -28,11 +28,11 @@
 // samples -> directions x steps (total = N exactly, D even for the progressive halves, cost monotone in N):
 //     N     4    6    8    12   16   24   32
 //     DxS  2x2  2x3  4x2  4x3  4x4  6x4  8x4      S = 3 if N mod 4 != 0, else clamp(N/4, 2, 4); D = N/S
-// (seed 000 §4.7 uses 4 rays x 2 samples for N = 8; 4x4 is its "typical" scheme.) Directions are 2 pi / D
-// apart on the full circle (each ray is one-sided). Progressive (seed 000 §4.10): this frame marches only
+// (Sunet 2018, §4.7 uses 4 rays x 2 samples for N = 8; 4x4 is its "typical" scheme.) Directions are 2 pi / D
+// apart on the full circle (each ray is one-sided). Progressive (Sunet 2018, §4.10): this frame marches only
 // directions i = 2k + h, h = frame.frame_index.y; each half is itself evenly spread and the two
 // interleave, so the mean of two frames is the full kernel (before the clamp and power).
-// Radius: capped at a quarter of the AO screen; pixels whose disc is under 1 pixel are open (seed 004 §3.3.4).
+// Radius: capped at a quarter of the AO screen; pixels whose disc is under 1 pixel are open (Dörries 2018, §3.3.4).
 //
 // Axes: samples, progressive, normals, position, reconstruct (common/fetch.glsl), precision (AOP).
 // Fetches per pixel: depth/position 1 + N (1 + N/2 progressive; steps off screen are skipped), normal 1
@@ -88,7 +88,7 @@ void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     vec2 rot = ao_rotation(pixel);
     mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x);
-    // Step offset in (0, 1): the centres of 4 strata, one per pixel of a 4-pixel diagonal (seed 004 Listing
+    // Step offset in (0, 1): the centres of 4 strata, one per pixel of a 4-pixel diagonal (Dörries 2018, Listing
     // 3.21, noise.z), so the 4x4 blur footprint sees every offset with 4 rotations each.
     float jitter = 0.25 * float((pixel.y - pixel.x) & 3) + 0.125;
     float step_px = radius_px / float(HBAO_STEPS);

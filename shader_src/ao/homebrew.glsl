@@ -1,4 +1,4 @@
-// Home-brewed AO (seed 000 §4.9, §5.10.5, table 5.7):
+// Home-brewed AO (Sunet 2018, §4.9, §5.10.5, table 5.7):
 //
 //     A = clamp(1 - (sigma / s) sum_i w_i g_i, 0, 1) ^ c,    w_i = clamp(1 - N_p . N_q, 0, 1)
 //     g_i = [N_p . (Q_i - P) > beta z_p] smoothstep(0, 1, (1 - clamp(|Delta_i| / L, 0, 1))^2)
@@ -9,10 +9,10 @@
 // planes, whatever their slope) and grows with the angle between the surfaces; g fades a tap out with the
 // depth difference Delta_i = z_p - z_q, reaching 0 at |Delta| = L = falloff * R, so a surface far in front
 // or behind (across a silhouette) does not count. sigma = intensity, beta = bias, c = contrast (AO' c,
-// seed 002 §3.1), s the taps that land on screen.
+// Aalund 2013, §4.1.12), s the taps that land on screen.
 // Fixed from the seed: its f(d) = w smoothstep(0, 1, (1 + d)^2) only falls off for d = -Delta / L in [-1, 0];
 // for d > 0 (a tap behind p) it is 1, so everything behind silhouettes and convex edges occluded fully (the
-// "edge detection" look of seed 000 §5.10.5), and for d < -1 it climbed back to 1 (no falloff for far
+// "edge detection" look of Sunet 2018, §5.10.5), and for d < -1 it climbed back to 1 (no falloff for far
 // foreground). Here d is clamped to [-1, 0] by |Delta|, w to [0, 1] (facing normals gave up to 2), and a
 // tap occludes only above p's tangent plane (concave; ramped over 0.1 % of z_p), which needs the tap's view
 // position Q_i (similar triangles, or the position buffer): the sign of Delta alone cannot tell a wall
@@ -27,7 +27,7 @@
 // s <= N/2), normals (rgb8, rg8, oct16), position and reconstruct (via common/fetch.glsl), precision
 // (estimator math in AOP).
 // Fetches per pixel: N + 1 depth (or position) texels, N + 1 normal texels; N/2 + 1 of each progressive;
-// 0 projections, N + 1 unprojections (seed 000 table 5.7: N + 1, N + 1, 0, 0; the tangent-plane test
+// 0 projections, N + 1 unprojections (Sunet 2018, table 5.7: N + 1, N + 1, 0, 0; the tangent-plane test
 // costs the unprojections, two multiply-adds each for similar triangles).
 #include "common/target.glsl"
 #include "common/frame.glsl"

@@ -1,4 +1,4 @@
-// Scalable Ambient Obscurance (McGuire, Mara, Luebke 2012; seed 003):
+// Scalable Ambient Obscurance (McGuire, Mara, Luebke 2012; McGuire et al. 2012):
 //
 //     A = max(0, 1 - (2 sigma / s) * sum_i max(0, v_i . n_C - z_C beta) / (v_i . v_i + epsilon)) ^ k   (eq. 1)
 //

@@ -1,24 +1,24 @@
-// StarCraft II SSAO (Filion & McNaughton 2008; seed 000 §3.2.4, §4.5; seed 002 §2.B, Listing 2):
+// StarCraft II SSAO (Filion & McNaughton 2008; Sunet 2018, §3.2.4, §4.5; Aalund 2013, §3.2.3, §5.2.2, Listing 2):
 //
 //     A = (1 - sum_i cos_i f(Delta_i) / sum_i h_i.z) ^ c,    cos_i = max(0, n . (Q_i - C) / |Q_i - C|)
 //     f(Delta) = O(Delta) R / max(Delta, R) clamp(rho - Delta / R, 0, 1)
 //     O(Delta) = clamp((Delta - beta z_C) / (0.001 z_C), 0, 1)
 //
 // Point samples P_i = C + R (T h_i.x + B h_i.y + n h_i.z) on the hemisphere of radius R around the normal n
-// of the shaded point C: h_i cosine-distributed on the unit hemisphere by Malley's method (seed 000 §4.3.2,
+// of the shaded point C: h_i cosine-distributed on the unit hemisphere by Malley's method (Sunet 2018, §4.3.2,
 // common/kernels.glsl), T and B from the per-pixel rotation vector r = (cos, sin, 0) (common/noise.glsl) by
-// Gram-Schmidt, T = normalize(r - n (r . n)), B = n x T (001_004.md §A.1.3). Each P_i is projected to its
+// Gram-Schmidt, T = normalize(r - n (r . n)), B = n x T (Whinham 2017, §2.7.2-2.7.3, App. B.1). Each P_i is projected to its
 // pixel, where the G-buffer shows the surface point Q_i; Delta_i = z(P_i) - z(Q_i) is how far that surface
 // lies in front of the sample (linear depths). An occluded sample (Delta > beta z_C, beta = bias, ramped so
 // that depths a few ulps apart cannot flip it) is weighted by the cosine between n and the direction to
-// its occluder Q_i (seed 000 §4.5) and by the falloff f: seed 002 §2.B's visibility rho = clamp((Delta - R)
+// its occluder Q_i (Sunet 2018, §4.5) and by the falloff f: Aalund 2013, §5.2.2's visibility rho = clamp((Delta - R)
 // / Delta, 0, 1) is 1 - min(1, R / Delta), written here as R / max(Delta, R), which has no division by zero
-// at Delta = 0 (the listing divides by Delta unguarded: -inf or NaN there); times seed 000 §4.5's range
-// check, which fades an occluder out linearly to 0 at Delta = rho R (rho = range; 1 = seed 000's linear
+// at Delta = 0 (the listing divides by Delta unguarded: -inf or NaN there); times Sunet 2018, §4.5's range
+// check, which fades an occluder out linearly to 0 at Delta = rho R (rho = range; 1 = Sunet 2018's linear
 // falloff), so that a silhouette far in front casts no halo. The weights are normalised by sum_i h_i.z, the
 // sample cosines, rather than by N: Malley's samples already carry cos, and the unnormalised cosine would
 // count it twice (an inner corner, which blocks half of the hemisphere, then read about 0.7 instead of
-// 0.5). Only samples that land on screen count. c = contrast (AO' c, seed 002 §3.1). Sampling only in
+// 0.5). Only samples that land on screen count. c = contrast (AO' c, Aalund 2013, §4.1.12). Sampling only in
 // front of the surface leaves open planes at exactly 1 (no AO' a or b); an occluder Q_i in C's own tangent
 // plane gets weight 0, so texel snapping and tessellation do not self-occlude.
 //
@@ -26,7 +26,7 @@
 // h = frame.frame_index.y), normals and position and reconstruct (via common/fetch.glsl), precision
 // (estimator math in AOP).
 // Fetches per pixel: N + 1 depth (or position) texels, 1 normal (0 for normals = depth); N/2 + 1
-// progressive; N projections, N + 1 unprojections (as seed 000 table 5.7).
+// progressive; N projections, N + 1 unprojections (as Sunet 2018, table 5.7).
 #include "common/target.glsl"
 #include "common/frame.glsl"
 #include "common/fetch.glsl"

@@ -1,4 +1,4 @@
-// Volumetric Obscurance with paired line samples (Loos & Sloan 2010; Ownby et al. 2010; seed 002 §2.D
+// Volumetric Obscurance with paired line samples (Loos & Sloan 2010; Ownby et al. 2010; Aalund 2013, §3.2.9, §5.2.4
 // eq. 3.5 and §4 (thesis §3.2.9, §4.1.1), Listing 4):
 //
 //     A = clamp(2 (1 - sum_i o_i h_i / sum_i h_i), 0, 1) ^ c
@@ -10,7 +10,7 @@
 // the depth z(t_i) its texel shows splits the segment into an empty part (in front) and an occupied part
 // (behind), o_i being the occupied ratio. Weighting each tap by its length gives the volume ratio (seed
 // 002 thesis §3.2.9: visible to occluded line lengths). A flat surface fills half the ball: as for Crytek,
-// [0, 1/2] of visibility is remapped to [0, 1] (seed 002 applies AO' a = 0.5 to VO for this) and open
+// [0, 1/2] of visibility is remapped to [0, 1] (Aalund 2013 applies AO' a = 0.5 to VO for this) and open
 // planes read 1. c = contrast (AO' c).
 // Paired samples (Ownby et al. 2010): taps come in pairs t_C +- o. A tap is invalid when its surface lies
 // behind its segment (ratio below lower_bound, Listing 4's bound) or outside the ball in front of it (the

@@ -3,11 +3,11 @@
 //
 // A sample is out of range when the surface its texel shows lies outside the ball of radius R around the
 // shaded point C, in front of it: a foreground object, whose silhouette would otherwise cast a dark halo on
-// what lies behind (seed 002 §2.A, §5). Depth alone cannot tell that object from C's own surface seen at a
+// what lies behind (Aalund 2013, §3.2.3, §5.2.1, §4.1.1). Depth alone cannot tell that object from C's own surface seen at a
 // grazing angle, which at a sample's texel also shows far in front of C; so the surface must lie in front of
 // both C and C's plane continued to that texel. 1 / z is affine in screen space across a plane, so the plane
 // is continued exactly by the gradient of 1 / z at C, taken per axis as the smaller of the two one-sided
-// differences (seed 002 §2.C's minimum_difference): a neighbour across a silhouette must not tilt it.
+// differences (Aalund 2013, §5.2.3's minimum_difference): a neighbour across a silhouette must not tilt it.
 #include "common/depth.glsl"
 
 // Gradient of 1 / z per depth texel at texel t of depth z (4 depth fetches).

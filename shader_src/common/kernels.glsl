@@ -1,4 +1,4 @@
-// Sample kernels for a compile-time sample count n (seed 000 §4.3.1, §4.3.2).
+// Sample kernels for a compile-time sample count n (Sunet 2018, §4.3.1, §4.3.2).
 //
 // Disc: a golden-angle (Vogel) spiral. Sample i sits at radius sqrt((i + 0.5) / n), i.e. at the centre of
 // its equal-area ring, and angle i * golden angle, which never lines up with earlier samples. This is
@@ -6,7 +6,7 @@
 // Poisson disc and has nothing for other counts. With a constant n and an unrolled loop every sample is a
 // compile-time constant.
 //
-// Progressive halves (seed 000 §4.10): half h (0 or 1) uses samples i = 2k + h, k in [0, n/2). Each half is
+// Progressive halves (Sunet 2018, §4.10): half h (0 or 1) uses samples i = 2k + h, k in [0, n/2). Each half is
 // itself a spiral (angle step 2 x golden angle) covering the whole disc, and the two halves interleave.
 
 const float AO_GOLDEN_ANGLE = 2.39996323; // pi * (3 - sqrt(5))
@@ -35,7 +35,7 @@ float ao_kernel_t(int i) {
 // Pair j of p antipodal pairs in the unit ball: the point returned and its negation. Directions are spread
 // evenly over the upper hemisphere (z uniform in [0, 1] is uniform in area; golden-angle azimuth), so pairs
 // cover the whole sphere; lengths t^(1/3) make the points uniform in volume (as the original Crytek kernel,
-// seed 002 §2.A), so that the fraction of points inside geometry estimates the occupied volume. On any plane
+// Aalund 2013, §3.2.3, §5.2.1), so that the fraction of points inside geometry estimates the occupied volume. On any plane
 // through the centre exactly one point of each pair lies on either side (points on the plane aside), which
 // makes a flat surface read exactly half occluded without relying on the sample count.
 vec3 ao_ball_pair_sample(int j, int p) {

@@ -1,4 +1,4 @@
-// SAO's depth key (seed 003 §2.3): the AO pass packs linear depth next to AO into an rgba8 target,
+// SAO's depth key (McGuire et al. 2012, §2.3): the AO pass packs linear depth next to AO into an rgba8 target,
 // (A, key_hi, key_lo), so its bilateral passes read one texel for both instead of the depth buffer too.
 // 16 bits in two 8-bit unorm channels: hi holds floor(t * 255.999) / 255 (exactly representable), lo the
 // fraction left over. The seed keys z / z_min linearly (z_min a chosen "farthest sharp plane"); with the far

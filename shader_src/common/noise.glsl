@@ -1,4 +1,4 @@
-// Per-pixel kernel rotation (seed 000 §4.3.3), computed procedurally instead of read from a 4x4 random
+// Per-pixel kernel rotation (Sunet 2018, §4.3.3), computed procedurally instead of read from a 4x4 random
 // texture. Each pixel of a 4x4 tile gets one of 16 angles, 2 pi / 16 apart, in an interleaved order:
 //
 //     y\x   0   1   2   3        index = (4 x + 8 (y & 1) + gray(y)) mod 16,  gray(y) = y ^ (y >> 1)
@@ -9,7 +9,7 @@
 //
 // A 4x4 Bayer matrix is worse here: its ranks are thresholds on a line, but angles wrap, so ranks 15 and 0
 // (vertical neighbours across the tile border) would be only 1/16 turn apart. The tile matches the 4x4 blur
-// footprint (seed 000 §4.3.4): any 4x4 window holds all 16 rotations, and a 4-tap row already holds four
+// footprint (Sunet 2018, §4.3.4): any 4x4 window holds all 16 rotations, and a 4-tap row already holds four
 // rotations a quarter turn apart.
 
 // (cos, sin) of the rotation angle of pixel p.

@@ -1,4 +1,4 @@
-// View-space position of a G-buffer texel (seed 000 §5.4, §5.5). Reads the `position` and `reconstruct`
+// View-space position of a G-buffer texel (Sunet 2018, §5.4, §5.5). Reads the `position` and `reconstruct`
 // axes: only templates whose manifest entry lists both may include this file. Methods that read depth
 // only (no position buffer) include common/unproject.glsl instead.
 #include "common/frame.glsl"

@@ -1,6 +1,6 @@
-// Full 2-D bilateral filter at AO resolution (seed 000 §3.3.1, eq. 3.3): gaussian in distance times a
+// Full 2-D bilateral filter at AO resolution (Sunet 2018, §3.3.1, eq. 3.3): gaussian in distance times a
 // relative-depth weight over a (2R+1)^2 window, normalised by the weight sum. (2R+1)^2 taps against the
-// separable blur's 2 x (2R+1); seed 000 §5.7 finds the quality difference small. Reads: precision. Under
+// separable blur's 2 x (2R+1); Sunet 2018, §5.7 finds the quality difference small. Reads: precision. Under
 // AO_BLUR_KEYED (passes/blur_keyed_bilateral.frag: SAO) depth comes from the input's packed key.
 #include "common/target.glsl"
 #include "common/frame.glsl"

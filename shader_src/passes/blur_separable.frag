@@ -1,4 +1,4 @@
-// Depth-aware separable blur at AO resolution (seed 000 §3.3.2, §4.3.4; seed 002 §3.2): run twice, with
+// Depth-aware separable blur at AO resolution (Sunet 2018, §3.3.2, §4.3.4; Aalund 2013, §5.3): run twice, with
 // params.axis = 0 (horizontal) then 1 (vertical). Each pass is a 1-D bilateral filter, gaussian in
 // distance times a relative-depth weight, normalised by this pixel's own weight sum. (The seed's combined
 // formula divides both passes by one 1/W_p^2; each pass has its own per-pixel sum, and only that keeps

@@ -1,4 +1,4 @@
-// Progressive AO (seed 000 §4.10): this frame's half of the samples averaged with the previous frame's
+// Progressive AO (Sunet 2018, §4.10): this frame's half of the samples averaged with the previous frame's
 // other half. The history is that raw half, never the previous average, which would smear like motion blur.
 #include "common/target.glsl"
 

@@ -1,4 +1,4 @@
-// SAO's camera-space z pyramid (seed 003 §2.2, table 1), one draw per MIP level at AO resolution:
+// SAO's camera-space z pyramid (McGuire et al. 2012, §2.2, table 1), one draw per MIP level at AO resolution:
 //
 //     level 0:      z^0(x, y) = linear depth of the G-buffer texel under AO pixel (x, y)
 //     level m + 1:  z^(m+1)(x, y) = z^m(2x + ((y & 1) ^ 1), 2y + ((x & 1) ^ 1))   (rotated-grid subsample)
