@@ -14,7 +14,7 @@ namespace {
 
 struct CalibrateArgs {
   calibrate::CalibrateOptions options;
-  std::string manifest = default_manifest, cache_dir, size = "320x180", mode = "occlusion", out;
+  std::string manifest = default_manifest, cache_dir, size = "320x180", mode = default_reference_mode, out;
 };
 
 // The fits (train and validation error before -> after, fitted values with the defaults) and the closing line.

@@ -19,7 +19,7 @@ namespace {
 struct MeasureArgs {
   CommonOptions common;
   measure::MeasureOptions options;
-  std::string size = default_size, out, scene = "builtin:atrium", views_file, reference_mode = "occlusion";
+  std::string size = default_size, out, scene = default_scene, views_file, reference_mode = default_reference_mode;
   std::vector<std::string> params;
   bool no_prune = false;
   CalibrationOption calibration;

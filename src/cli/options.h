@@ -17,6 +17,8 @@ namespace aovar::cli {
 
 inline constexpr const char* default_manifest = "shader_src/aovar.toml";
 inline constexpr const char* default_size = "640x360";  // measure, sweep, reference, profile
+inline constexpr const char* default_scene = "builtin:atrium";  // measure, reference
+inline constexpr const char* default_reference_mode = "occlusion";  // measure, reference, calibrate
 // Help text of --cache-dir, after what the folder holds: where it is when the option is not given.
 inline constexpr const char* cache_dir_default_help = "(default: $AOVAR_CACHE_DIR or ~/.cache/aovar)";
 

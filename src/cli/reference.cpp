@@ -15,7 +15,7 @@ namespace {
 
 struct ReferenceArgs {
   reference::RunOptions options;
-  std::string size = default_size, mode = "occlusion", scene = "builtin:atrium", views_file, out, cache_dir;
+  std::string size = default_size, mode = default_reference_mode, scene = default_scene, views_file, out, cache_dir;
   bool no_cache = false;
 };
 
