@@ -17,7 +17,7 @@
 #include <fmt/format.h>
 
 #include "compile/generate.h"
-#include "measure/stats.h"
+#include "util/stats.h"
 #include "profile/profile.h"
 #include "render/backend.h"
 #include "scene/scene.h"
@@ -62,7 +62,7 @@ std::vector<std::array<Timing, 2>> time_pair(render::Backend& backend, const ren
   std::vector<std::array<Timing, 2>> out(views.size());
   for (std::size_t i = 0; i < views.size(); ++i)
     for (int k = 0; k < 2; ++k)
-      out[i][k] = {measure::summarize(ao[i][k]).median, measure::summarize(frame[i][k]).median};
+      out[i][k] = {util::summarize(ao[i][k]).median, util::summarize(frame[i][k]).median};
   return out;
 }
 

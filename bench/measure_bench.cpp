@@ -71,13 +71,13 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "\r\033[K");
     std::vector<double> ta, tb, delta;
     std::map<std::string, double> in_b;
-    for (const auto& r : b.rows) in_b[r.variant] = r.time.min;
+    for (const auto& r : b.rows) in_b[r.variant] = r.time_ms.min;
     std::string device = a.devices.empty() ? "" : a.devices[0].device + ", " + a.devices[0].api_version;
     std::printf("\n%s (%s)\n%-46s %9s %9s %7s\n", backend.c_str(), device.c_str(), "variant", "run 1 ms",
                 "run 2 ms", "delta");
     for (const auto& r : a.rows) {
       if (!in_b.count(r.variant)) continue;
-      ta.push_back(r.time.min);
+      ta.push_back(r.time_ms.min);
       tb.push_back(in_b[r.variant]);
       delta.push_back(std::abs(tb.back() - ta.back()) / ta.back());
       std::printf("%-46s %9.2f %9.2f %+6.1f%%\n", r.variant.c_str(), ta.back(), tb.back(),

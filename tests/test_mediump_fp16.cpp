@@ -3,6 +3,8 @@
 // then differs from its highp partner (it does not without the flag), and highp programs are left alone.
 #include <gtest/gtest.h>
 
+#include "image/health.h"
+
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -205,7 +207,7 @@ TEST(MediumpFp16, MediumpVariantsDifferFromHighpOnlyWithTheFlag) {
     EXPECT_LE(on.mean_abs, 1.0 / 255.0) << mp;
     EXPECT_LE(on.max_abs, 0.1) << mp;
     for (const auto& img : mp16) {
-      auto h = measure::image_health(img);
+      auto h = image::health(img);
       EXPECT_EQ(h.nan + h.inf + h.out_of_range, 0) << mp << ": " << h.nan << " NaN, " << h.inf << " Inf, "
                                                    << h.out_of_range << " outside [0, 1]";
     }

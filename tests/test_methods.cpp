@@ -4,6 +4,8 @@
 // soon as it is added there.
 #include <gtest/gtest.h>
 
+#include "image/health.h"
+
 
 #include <algorithm>
 #include <map>
@@ -55,7 +57,7 @@ TEST_P(Method, RendersFiniteVisibilityInRangeOnEveryBuiltinScene) {
       for (const auto& [kind, key] : mv.keys) {
         for (const auto& view : sc.views) {
           auto img = render_plan(*backend, plan_for(mv, key, b), view, {160, 90}, sc.ao_radius, 2);
-          auto h = measure::image_health(img);
+          auto h = image::health(img);
           EXPECT_EQ(h.nan + h.inf + h.out_of_range, 0)
               << b << " " << key << " " << scene_name << "/" << view.name << ": " << h.nan << " NaN, " << h.inf
               << " Inf, " << h.out_of_range << " outside [0, 1]";

@@ -2,6 +2,8 @@
 // progressive halves, and the cost ordering of sample counts.
 #include <gtest/gtest.h>
 
+#include "image/health.h"
+
 #include <cmath>
 #include <map>
 
@@ -47,7 +49,7 @@ TEST_P(EveryScene, RendersFiniteOcclusionInRangeWithEveryVariant) {
   for (const auto& key : kVariety) {
     auto plan = render::plan_pipeline(c, variant_index(c, key), target_of(backend_name));
     auto img = render_plan(*backend, plan, sc.views.front(), {160, 90}, sc.ao_radius, 3);
-    auto h = measure::image_health(img);
+    auto h = image::health(img);
     EXPECT_EQ(h.nan, 0) << key;
     EXPECT_EQ(h.inf, 0) << key;
     EXPECT_EQ(h.out_of_range, 0) << key;
@@ -208,7 +210,7 @@ TEST(Measure, WritesJsonAndImagesAndReusesUnchangedRows) {
   const auto& ref_row = first.rows[1].variant == measure::kDefaultBaseline ? first.rows[1] : first.rows[0];
   const auto& other = &ref_row == &first.rows[0] ? first.rows[1] : first.rows[0];
   ASSERT_EQ(ref_row.variant, measure::kDefaultBaseline);
-  EXPECT_DOUBLE_EQ(other.rel_time, other.time.min / ref_row.time.min) << "both were timed in the same rounds";
+  EXPECT_DOUBLE_EQ(other.rel_time, other.time_ms.min / ref_row.time_ms.min) << "both were timed in the same rounds";
 
   // One contact sheet for the backend and view: both 160 x 90 images side by side under their labels.
   ASSERT_EQ(json.at("contact_sheets"), nlohmann::json::array({"contact_sheet-lavapipe-overview.png"}));

@@ -24,7 +24,7 @@ table::CostRow row(const std::string& variant, std::map<std::string, std::string
   r.backend = "lavapipe";
   r.time_ms.min = ms;
   r.time_ms.n = 3;
-  r.error = table::ErrorStat{rmse, rmse, 20, 0.9, 0, rmse};
+  r.error = metrics::ErrorStats{rmse, rmse, 20, 0.9, 0, rmse};
   return r;
 }
 

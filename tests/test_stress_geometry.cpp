@@ -7,6 +7,8 @@
 // builtin:far r16f must also differ measurably from r32f, more than on the atrium.
 #include <gtest/gtest.h>
 
+#include "image/health.h"
+
 
 #include <algorithm>
 #include <cmath>
@@ -302,7 +304,7 @@ void expect_healthy(const MethodVariants& mv, const std::vector<Kind>& kinds, co
       auto plan = plan_for(mv, key->second, b);
       for (const auto& view : views) {
         auto img = render_plan(*backend, plan, view, {160, 90}, radius, 2);
-        auto h = measure::image_health(img);
+        auto h = image::health(img);
         EXPECT_EQ(h.nan + h.inf + h.out_of_range, 0)
             << b << " " << key->second << " " << sc.name << "/" << view.name << " (near " << view.near_plane
             << ", far " << view.far_plane << "): " << h.nan << " NaN, " << h.inf << " Inf, " << h.out_of_range

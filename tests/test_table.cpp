@@ -4,6 +4,8 @@
 #include <cmath>
 #include <random>
 
+#include "measure/measure.h"
+#include "measure/rows_json.h"
 #include "table/compare.h"
 #include "table/cost_model.h"
 #include "table/select.h"
@@ -28,7 +30,7 @@ CostRow row(std::string variant, double time, std::optional<double> rmse, std::s
   r.time_ms = {time, time * 1.1, time * 1.2, 10};
   r.rel_time = time / 2;
   if (rmse) {
-    ErrorStat e;
+    metrics::ErrorStats e;
     e.rmse = *rmse;
     e.mae = *rmse / 2;
     e.psnr = 20;
@@ -51,7 +53,14 @@ CostTable sample_table() {
   CostRow a = row("alchemy-s08", 1.5, 0.05);
   a.axes = {{"algorithm", "alchemy"}, {"samples", "8"}};
   a.spirv_hash = "abc";
-  a.static_cost = {{"fetches", 12}, {"note", "a, \"quoted\"\nline"}};
+  StaticCost s;  // its JSON text in the CSV holds commas and quotes
+  s.ao.fetches.depth = 12;
+  s.ao.alu = 3.5;
+  s.ao.dynamic_loops = 1;
+  s.passes.fetches.prefilter = 2;
+  s.work_per_pixel = 40.25;
+  s.weighted_others.branches = 0.125;
+  a.static_cost = s;
   a.health = {1, 2, 3};
   a.flicker = 0.0125;
   a.images = {"images/a,b.pfm", "images/a \"q\".png"};
@@ -108,28 +117,44 @@ TEST(Table, MarkdownIsSortedBySceneViewTime) {
   EXPECT_EQ(md.rfind("| scene | view |", 0), 0u);
 }
 
-TEST(Table, FromMeasure) {
-  nlohmann::json m = {{"tool", "aovar measure"}, {"scene", {{"name", "builtin:atrium"}}}, {"runs", nlohmann::json::array()}};
-  nlohmann::json r = {{"variant", "alchemy-s08"}, {"axes", {{"samples", "8"}}}, {"scene", "builtin:atrium"},
-                      {"view", "overview"}, {"backend", "lavapipe"}, {"size", "64x36"}, {"threads", 2},
-                      {"spirv_hash", "h"}, {"time_ms", {{"min", 1.0}, {"median", 1.1}, {"p90", 1.2}, {"n", 5}}},
-                      {"rel_time", 1.0},
+// measure.json's rows (measure/rows_json.h) become cost rows in memory (measure::cost_rows): the shared
+// fields, +inf PSNR from null, the images, the paired time on the baseline's scale, the Pareto mark, and the
+// baseline's timing-only row left out.
+TEST(Table, RowsOfAMeasureJson) {
+  nlohmann::json r = {{"variant", "alchemy-s08"}, {"axes", {{"samples", "8"}}}, {"duplicates", nlohmann::json::array()},
+                      {"scene", "builtin:atrium"}, {"view", "overview"}, {"backend", "lavapipe"}, {"size", "64x36"},
+                      {"threads", 2}, {"radius", 0.5}, {"spirv_hash", "h"}, {"inputs_hash", "i1"},
+                      {"time_ms", {{"min", 1.0}, {"median", 1.1}, {"p90", 1.2}, {"n", 5}}},
+                      {"passes", nlohmann::json::object()}, {"rel_time", 0.5}, {"rel_time_median", 0.4},
+                      {"baseline", "base"}, {"is_baseline", false}, {"create_ms", 1}, {"first_frame_ms", 2}, {"jit_ms", 1},
                       {"health", {{"nan", 0}, {"inf", 0}, {"out_of_range", 4}, {"pixels", 100}}},
+                      {"mean_visibility", 0.8},
                       {"error", {{"rmse", 0.1}, {"mae", 0.05}, {"psnr", nullptr}, {"ssim", 0.9}, {"bias", 0.01},
                                  {"max", 0.5}, {"share_over_0_1", 0.2}, {"pixels", 100}}},
-                      {"flicker", nullptr}, {"image", "images/a.pfm"}, {"preview", "images/a.png"}, {"error_map", ""}};
-  m["rows"] = {r};
-  CostTable t = from_measure(m);
-  ASSERT_EQ(t.rows.size(), 1u);
-  EXPECT_EQ(t.rows[0].time_ms.min, 1.0);
-  ASSERT_TRUE(t.rows[0].error);
-  EXPECT_EQ(t.rows[0].error->rmse, 0.1);
-  EXPECT_TRUE(std::isinf(t.rows[0].error->psnr));
-  EXPECT_EQ(t.rows[0].health.out_of_range, 4);
-  EXPECT_EQ(t.rows[0].images, (std::vector<std::string>{"images/a.pfm", "images/a.png"}));
-  EXPECT_TRUE(t.rows[0].pareto);
-  EXPECT_FALSE(t.meta.contains("rows"));
-  EXPECT_FALSE(t.meta.contains("runs"));
+                      {"error_one_frame", nullptr}, {"flicker", nullptr},
+                      {"image", "images/a.pfm"}, {"preview", "images/a.png"}, {"error_map", ""}};
+  nlohmann::json base = r;
+  base["variant"] = "base";
+  base["inputs_hash"] = "i2";
+  base["is_baseline"] = true;  // measured for timing only: no row of the table
+  base["time_ms"]["min"] = 2.5;
+  base["rel_time"] = base["rel_time_median"] = 1.0;
+  measure::MeasureResult m;
+  m.rows = {measure::row_from_json(r), measure::row_from_json(base)};
+  measure::pair_times(m.rows);
+  auto rows = measure::cost_rows(m, "measure/scene");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].time_ms.min, 1.0);
+  EXPECT_DOUBLE_EQ(rows[0].time_ms.paired, 0.4 * 2.5) << "rel_time_median x the baseline's min";
+  ASSERT_TRUE(rows[0].error);
+  EXPECT_EQ(rows[0].error->rmse, 0.1);
+  EXPECT_TRUE(std::isinf(rows[0].error->psnr));
+  EXPECT_EQ(rows[0].health.out_of_range, 4);
+  EXPECT_EQ(rows[0].images, (std::vector<std::string>{"measure/scene/images/a.pfm", "measure/scene/images/a.png"}));
+  EXPECT_TRUE(rows[0].pareto);
+  // And back: the row's JSON is what was read.
+  EXPECT_EQ(measure::row_to_json(m.rows[0], m).at("time_ms"), r.at("time_ms"));
+  EXPECT_EQ(measure::row_to_json(m.rows[0], m).at("error"), r.at("error"));
 }
 
 TEST(Table, ParetoFrontWithTies) {
@@ -433,7 +458,7 @@ TEST(CostModel, PureNoiseHasNoSkill) {
 
 TEST(CostModel, FeatureSpecsCompose) {
   auto rows = synthetic_rows(false, 3);
-  FeatureSpec extra{{"static.alu"}, [](const CostRow& r) { return std::vector<double>{r.static_cost.value("alu", 0.0)}; }};
+  FeatureSpec extra{{"static.alu"}, [](const CostRow& r) { return std::vector<double>{r.static_cost ? r.static_cost->ao.alu : 0.0}; }};
   auto both = axis_features(rows).then(extra);
   EXPECT_EQ(both.names.back(), "static.alu");
   EXPECT_EQ(both.extract(rows[0]).size(), both.names.size());

@@ -10,7 +10,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "measure/measure.h"
-#include "measure/scene_prune.h"
+#include "profile/scene_prune.h"
 #include "util/fs.h"
 
 namespace aovar::cli {
@@ -56,7 +56,7 @@ std::string measure_table(const measure::MeasureResult& r) {
     std::string error = !truth ? "" : row.error ? fmt::format("{:>6.4f} {:>7.4f}", row.error->rmse, row.error->ssim)
                                                 : fmt::format("{:>14}", "-");
     s += fmt::format("{:<46} {:<9} {:<10} {:>8.2f} {:>8.2f} {:>8.2f} {:>6.2f} {}  {}{}\n", row.variant, row.backend,
-                     row.view, row.time.min, row.time.median, row.time.p90, row.rel_time, error, passes,
+                     row.view, row.time_ms.min, row.time_ms.median, row.time_ms.p90, row.rel_time, error, passes,
                      row.is_baseline ? "(baseline)" : row.reused ? "(reused)" : "");
   }
   return s;

@@ -14,17 +14,18 @@
 
 #include <nlohmann/json.hpp>
 
-#include "measure/stats.h"
 #include "measure/timing.h"
 #include "metrics/metrics.h"
+#include "profile/scene_prune.h"
 #include "reference/reference.h"
 #include "render/backend.h"
+#include "table/table.h"
 
 namespace aovar::measure {
 
-struct ScenePruning;  // scene_prune.h
+using profile::ScenePruning;
 
-// The default baseline variant (timed in every round): Alchemy, 8 samples, the mobile-typical buffers (seed 000's configuration).
+// The default baseline variant (timed in every round): Alchemy, 8 samples, the mobile-typical buffers (Sunet 2018's configuration).
 inline constexpr const char* kDefaultBaseline = "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
 
 struct MeasureOptions {
@@ -70,33 +71,32 @@ struct MeasureOptions {
   std::shared_ptr<const ScenePruning> pruning;
 };
 
+// The scene-profile pruning options of a measurement: its manifest, scene, size, radius, threads and compile
+// cache; the profile stored in its output folder and reused with it.
+profile::PruneOptions prune_options(const MeasureOptions& options);
+
 // The shard (0 .. n-1) a variant key belongs to: a stable hash of the key modulo n.
 int shard_of(const std::string& key, int shard_count);
 
-struct MeasureRow {
-  std::string variant;
-  std::vector<std::pair<std::string, std::string>> axes;
+// A measured row: the cost-table row (variant, axes, scene, view, backend, size, threads, time_ms with its
+// paired time, rel_time, error, health, flicker, images) and how it was measured.
+struct MeasureRow : table::CostRow {
   std::vector<std::string> duplicates;  // selected variants with the same programs (not measured again)
-  std::string backend, view;
-  std::string spirv_hash;               // hash of every program the pipeline runs (backend's target)
   std::string inputs_hash;              // programs, plan, key, scene, view, backend, device, size, threads,
-                                        // reps, warmup, radius, parameters, baseline, reference key
-  TimeStats time;                       // total per frame
-  std::vector<std::pair<std::string, TimeStats>> passes;
-  double rel_time = 0, rel_time_median = 0;
+                                        // reps, warmup, radius, parameters, baseline, reference key (inputs.h)
+  std::vector<std::pair<std::string, util::TimeStats>> passes;
   std::string baseline;                 // the variant timed in every round with this one
-  bool is_baseline = false;            // the baseline, measured although no --variants glob selected it
+  bool is_baseline = false;             // the baseline, measured although no --variants glob selected it
   double create_ms = 0, first_frame_ms = 0, jit_ms = 0;
-  struct Health { long nan = 0, inf = 0, out_of_range = 0, pixels = 0; } health;
   double mean_visibility = 0;
-  std::optional<metrics::ErrorStats> error;  // against the ground truth (--reference)
   // Progressive variants with --reference: the error of one frame alone (its half of the samples, no
   // history); `error` is then the converged error (both halves averaged on a static camera).
   std::optional<metrics::ErrorStats> error_one_frame;
-  std::optional<double> flicker;             // --reference: mean |AO_t - AO_t-1| along the view's camera path
-  std::string image, preview, error_map;     // paths relative to the output folder
+  std::string image, preview, error_map;  // paths relative to the output folder (`images` lists them)
   image::FloatImage result;             // kept in memory for callers (tests); not serialised
   bool reused = false;
+
+  void list_images();  // images = the non-empty of image, preview, error_map
 };
 
 struct RunRecord {  // one batch on one backend and view: where the time went
@@ -122,6 +122,10 @@ struct MeasureResult {
   std::shared_ptr<const ScenePruning> pruning;  // with prune_by_profile
 };
 
+// The table's rows of a measurement (every row but the baseline's timing-only one), images relative to
+// `prefix` (sweep: measure/<scene folder>).
+std::vector<table::CostRow> cost_rows(const MeasureResult& result, const std::filesystem::path& prefix = {});
+
 // Throws std::runtime_error (and the scene/manifest/backend errors) with one-line messages. `progress`
 // gets transient status lines, and lines starting "note: " that a user should see even without a terminal.
 MeasureResult run_measure(const MeasureOptions& options, const Progress& progress = {});
@@ -131,8 +135,5 @@ nlohmann::json to_json(const MeasureResult& result, const MeasureOptions& option
 // Sets glibc's heap thresholds so freed driver buffers stay mapped (run_measure calls it; timing code
 // outside run_measure should too). Process-wide and idempotent.
 void keep_heap_mapped();
-
-// Health of a float image: NaN, Inf and values outside [0, 1].
-MeasureRow::Health image_health(const image::FloatImage& img);
 
 }  // namespace aovar::measure

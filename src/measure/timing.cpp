@@ -54,8 +54,8 @@ RoundRobinResult time_round_robin(render::Backend& backend, const std::vector<re
   return r;
 }
 
-std::vector<std::pair<std::string, TimeStats>> pass_stats(const render::PipelinePlan& plan, const PipelineTiming& t) {
-  std::vector<std::pair<std::string, TimeStats>> out;
+std::vector<std::pair<std::string, util::TimeStats>> pass_stats(const render::PipelinePlan& plan, const PipelineTiming& t) {
+  std::vector<std::pair<std::string, util::TimeStats>> out;
   for (const auto& pass : plan.passes()) {
     std::vector<double> samples;
     for (const auto& round : t.draw_ms) {
@@ -64,7 +64,7 @@ std::vector<std::pair<std::string, TimeStats>> pass_stats(const render::Pipeline
         if (plan.draws[d].pass == pass) sum += round[d];
       samples.push_back(sum);
     }
-    out.emplace_back(pass, summarize(std::move(samples)));
+    out.emplace_back(pass, util::summarize(std::move(samples)));
   }
   return out;
 }
@@ -73,7 +73,7 @@ double median_ratio(const PipelineTiming& t, const PipelineTiming& reference) {
   std::vector<double> ratios;
   for (std::size_t i = 0; i < t.total_ms.size() && i < reference.total_ms.size(); ++i)
     if (reference.total_ms[i] > 0) ratios.push_back(t.total_ms[i] / reference.total_ms[i]);
-  return summarize(std::move(ratios)).median;
+  return util::summarize(std::move(ratios)).median;
 }
 
 }  // namespace aovar::measure

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "measure/stats.h"
+#include "util/stats.h"
 #include "render/backend.h"
 
 namespace aovar::measure {
@@ -41,7 +41,7 @@ RoundRobinResult time_round_robin(render::Backend& backend, const std::vector<re
                                   const Progress& progress = {});
 
 // Per timing group ("gbuffer", "ao", "blur", ...): stats of the summed draw times of that group per round.
-std::vector<std::pair<std::string, TimeStats>> pass_stats(const render::PipelinePlan& plan, const PipelineTiming& t);
+std::vector<std::pair<std::string, util::TimeStats>> pass_stats(const render::PipelinePlan& plan, const PipelineTiming& t);
 
 // Median over rounds of this pipeline's total divided by the reference's total in the same round.
 double median_ratio(const PipelineTiming& t, const PipelineTiming& reference);

@@ -139,14 +139,8 @@ ErrorStats compare(const FloatImage& image, const FloatImage& reference, const s
   long over = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (!is_compared(background, i)) continue;
-    ++s.health.pixels;
     const float v = image.pixels[i], r = reference.pixels[i];
-    if (std::isnan(v))
-      ++s.health.nan;
-    else if (std::isinf(v))
-      ++s.health.inf;
-    else if (v < 0.0f || v > 1.0f)
-      ++s.health.out_of_range;
+    image::count(s.health, v);
     if (!std::isfinite(v) || !std::isfinite(r)) continue;
     valid[i] = 1;
     ++s.finite;

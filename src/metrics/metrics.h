@@ -6,19 +6,17 @@
 #include <filesystem>
 #include <vector>
 
+#include "image/health.h"
 #include "image/image.h"
 
 namespace aovar::metrics {
 
-struct Health {
-  long nan = 0, inf = 0, out_of_range = 0, pixels = 0;  // pixels = compared (non-background) pixels
-};
-
 struct ErrorStats {
   double rmse = 0, mae = 0, psnr = 0, ssim = 1, bias = 0, max = 0;
   double share_over_0_1 = 0;  // fraction of finite compared pixels with |error| > 0.1
-  Health health;
+  image::Health health;  // of the compared (non-background) pixels
   long finite = 0;            // compared pixels that entered the averages
+  bool operator==(const ErrorStats&) const = default;
 };
 
 // `background`: 1 = skip the pixel (may be empty: compare every pixel). Images must have the same size

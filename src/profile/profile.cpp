@@ -13,7 +13,7 @@
 #include <fmt/format.h>
 
 #include "compile/generate.h"
-#include "measure/stats.h"
+#include "util/stats.h"
 #include "metrics/metrics.h"
 #include "reference/reference.h"
 #include "render/backend.h"
@@ -28,7 +28,7 @@ namespace {
 using variants::Axis;
 using json = nlohmann::json;
 
-using measure::percentile;  // nearest rank, as measure::summarize
+using util::percentile;  // nearest rank, as util::summarize
 
 // What an r16f render target stores for a depth (profile/half.h: IEEE half, round to nearest even); depths
 // beyond 65504 would become +inf, which the G-buffer never writes (it clamps to the background depth).

@@ -75,6 +75,10 @@ class Backend {
 
 std::vector<std::string> backend_names();  // {"lavapipe", "osmesa"}
 
+// The shader target a backend runs: lavapipe the Vulkan SPIR-V, osmesa the GL 4.5 GLSL. Throws BackendError
+// naming the backends for an unknown name.
+variants::Target target_of(std::string_view backend);
+
 // Throws BackendError (unknown name, missing driver, failed context) with what to do.
 std::unique_ptr<Backend> make_backend(std::string_view name, const BackendOptions& options);
 

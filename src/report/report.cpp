@@ -156,7 +156,7 @@ std::string time_bars_svg(const std::string& title, const std::vector<const Cost
 }
 
 double static_cost(const CostRow& r) {  // static work per output pixel of the fullscreen passes (sweep.cpp)
-  return r.static_cost.contains("work_per_pixel") ? r.static_cost["work_per_pixel"].get<double>() : -1;
+  return r.static_cost ? r.static_cost->work_per_pixel : -1;
 }
 
 std::string image_tag(const fs::path& file, const std::string& caption) {

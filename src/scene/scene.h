@@ -49,6 +49,9 @@ struct CameraPose {
 };
 CameraPose camera_at(const View& view, int frame);
 
+// Every field of a view (name, camera, planes, path) as text: what caches key a view by.
+std::string camera_text(const View& view);
+
 struct Scene {
   std::string name;    // "builtin:atrium", or the file path as given
   std::string source;  // "builtin" or the file's display path

@@ -1,5 +1,5 @@
 #pragma once
-// `aovar sweep` (DESIGN.md §6): manifest x scenes x views -> measure with the ray-traced reference (and the
+// `aovar sweep` (docs/cli.md): manifest x scenes x views -> measure with the ray-traced reference (and the
 // calibration) -> one cost table (cost_table.json, .csv, .md) with the Pareto front of time against error.
 // Resumable: each scene's measurements live in OUT/measure/<scene>/measure.json, rewritten atomically
 // after every batch and reused row by row, so an interrupted sweep loses at most one batch and a re-run

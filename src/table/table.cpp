@@ -37,7 +37,7 @@ double parse_double(const std::string& s, const std::string& column) {
 }
 
 const char* kErrorFields[] = {"rmse", "mae", "psnr", "ssim", "bias", "max"};
-double& error_field(ErrorStat& e, int i) {
+double& error_field(metrics::ErrorStats& e, int i) {
   double* f[] = {&e.rmse, &e.mae, &e.psnr, &e.ssim, &e.bias, &e.max};
   return *f[i];
 }
@@ -54,7 +54,7 @@ json to_json(const CostRow& r) {
   json error = nullptr;
   if (r.error) {
     error = json::object();
-    ErrorStat e = *r.error;
+    metrics::ErrorStats e = *r.error;
     for (int i = 0; i < 6; ++i) error[kErrorFields[i]] = num(error_field(e, i));
   }
   return {{"variant", r.variant},
@@ -65,7 +65,7 @@ json to_json(const CostRow& r) {
           {"backend", r.backend},
           {"size", r.size},
           {"threads", r.threads},
-          {"static", r.static_cost},
+          {"static", to_json(r.static_cost)},
           {"time_ms", {{"min", r.time_ms.min}, {"median", r.time_ms.median}, {"p90", r.time_ms.p90}, {"n", r.time_ms.n},
                        {"paired", r.time_ms.paired}}},
           {"rel_time", r.rel_time},
@@ -98,7 +98,7 @@ CostRow row_from_json(const json& j) {
     field = "threads";
     r.threads = j.value("threads", 0);
     field = "static";
-    if (j.contains("static") && !j.at("static").is_null()) r.static_cost = j.at("static");
+    if (j.contains("static")) r.static_cost = static_cost_from_json(j.at("static"));
     field = "time_ms";
     const json& t = j.at("time_ms");
     r.time_ms = {t.at("min").get<double>(), t.value("median", 0.0), t.value("p90", 0.0), t.value("n", 0),
@@ -109,7 +109,7 @@ CostRow row_from_json(const json& j) {
     r.rel_time_median = j.value("rel_time_median", 0.0);
     field = "error";
     if (j.contains("error") && !j.at("error").is_null()) {
-      ErrorStat e;
+      metrics::ErrorStats e;
       const json& ej = j.at("error");
       for (int i = 0; i < 6; ++i) {
         const json& v = ej.at(kErrorFields[i]);
@@ -120,7 +120,9 @@ CostRow row_from_json(const json& j) {
     field = "health";
     if (j.contains("health")) {
       const json& h = j.at("health");
-      r.health = {h.value("nan", 0L), h.value("inf", 0L), h.value("out_of_range", 0L)};
+      r.health.nan = h.value("nan", 0L);
+      r.health.inf = h.value("inf", 0L);
+      r.health.out_of_range = h.value("out_of_range", 0L);
     }
     field = "pareto";
     r.pareto = j.value("pareto", false);
@@ -253,7 +255,7 @@ std::string to_csv(const CostTable& t) {
     for (std::size_t i = 0; i < r.images.size(); ++i) images += (i ? ";" : "") + r.images[i];
     auto e = [&](int i) {
       if (!r.error) return std::string();
-      ErrorStat copy = *r.error;
+      metrics::ErrorStats copy = *r.error;
       return text(error_field(copy, i));
     };
     std::vector<std::string> tail = {r.spirv_hash, r.scene, r.view, r.backend, r.size, std::to_string(r.threads),
@@ -262,7 +264,7 @@ std::string to_csv(const CostTable& t) {
                                      std::to_string(r.health.nan), std::to_string(r.health.inf),
                                      std::to_string(r.health.out_of_range), r.pareto ? "true" : "false",
                                      r.predicted ? "true" : "false", r.flicker ? text(*r.flicker) : "", images,
-                                     r.static_cost.dump()};
+                                     r.static_cost ? to_json(r.static_cost).dump() : std::string("{}")};
     f.insert(f.end(), tail.begin(), tail.end());
     line(f);
   }
@@ -297,16 +299,16 @@ CostTable from_csv(const std::string& s) {
     r.rel_time = parse_double(c["rel_time"], "rel_time");
     if (c.count("rel_time_median")) r.rel_time_median = parse_double(c["rel_time_median"], "rel_time_median");
     if (!c["error.rmse"].empty()) {
-      ErrorStat e;
+      metrics::ErrorStats e;
       for (int i = 0; i < 6; ++i) {
         std::string col = std::string("error.") + kErrorFields[i];
         error_field(e, i) = parse_double(c[col], col);
       }
       r.error = e;
     }
-    r.health = {static_cast<long>(parse_double(c["health.nan"], "health.nan")),
-                static_cast<long>(parse_double(c["health.inf"], "health.inf")),
-                static_cast<long>(parse_double(c["health.out_of_range"], "health.out_of_range"))};
+    r.health.nan = static_cast<long>(parse_double(c["health.nan"], "health.nan"));
+    r.health.inf = static_cast<long>(parse_double(c["health.inf"], "health.inf"));
+    r.health.out_of_range = static_cast<long>(parse_double(c["health.out_of_range"], "health.out_of_range"));
     r.pareto = c["pareto"] == "true";
     r.predicted = c["predicted"] == "true";
     if (!c["flicker"].empty()) r.flicker = parse_double(c["flicker"], "flicker");
@@ -317,7 +319,7 @@ CostTable from_csv(const std::string& s) {
       if (end == std::string::npos) break;
       start = end + 1;
     }
-    r.static_cost = c["static"].empty() ? json::object() : json::parse(c["static"]);
+    r.static_cost = c["static"].empty() ? std::nullopt : static_cost_from_json(json::parse(c["static"]));
     t.rows.push_back(std::move(r));
   }
   return t;
@@ -384,37 +386,6 @@ void write_table_files(const CostTable& table, const std::filesystem::path& dir)
   write_json(table, dir / "cost_table.json");
   util::write_atomic(dir / "cost_table.csv", to_csv(table));
   util::write_atomic(dir / "cost_table.md", to_markdown(table));
-}
-
-// ---- measure.json ----
-
-CostTable from_measure(const json& m) {
-  if (!m.is_object() || !m.contains("rows") || !m.at("rows").is_array())
-    throw std::runtime_error("not a measure.json (no \"rows\" array)");
-  CostTable t;
-  for (const auto& [k, v] : m.items())
-    if (k != "rows" && k != "runs" && k != "kept_rows") t.meta[k] = v;
-  std::string scene_name;
-  if (m.contains("scene") && m.at("scene").is_object()) scene_name = m.at("scene").value("name", "");
-  // Each (view, backend)'s baseline min, over every round of every batch: the scale of the paired times.
-  std::map<std::tuple<std::string, std::string, std::string>, double> baseline_ms;
-  for (const auto& j : m.at("rows"))
-    if (j.contains("time_ms") && j.value("variant", "") == j.value("baseline", ""))
-      baseline_ms[{j.value("view", ""), j.value("backend", ""), j.value("variant", "")}] = j["time_ms"].value("min", 0.0);
-  for (const auto& j : m.at("rows")) {
-    CostRow r = row_from_json(j);  // the shared fields have the same names
-    auto base = baseline_ms.find({r.view, r.backend, j.value("baseline", "")});
-    if (base != baseline_ms.end() && r.rel_time_median > 0) r.time_ms.paired = r.rel_time_median * base->second;
-    if (r.scene.empty()) r.scene = scene_name;
-    r.static_cost = json::object();
-    r.pareto = false;
-    r.predicted = false;
-    for (const char* f : {"image", "preview", "error_map"})
-      if (j.contains(f) && j.at(f).is_string() && !j.at(f).get<std::string>().empty()) r.images.push_back(j.at(f));
-    t.rows.push_back(std::move(r));
-  }
-  mark_pareto(t);
-  return t;
 }
 
 // ---- Pareto ----

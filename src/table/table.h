@@ -1,5 +1,5 @@
 #pragma once
-// The cost table (DESIGN.md §6): one row per variant, scene, view and backend with its time, its error
+// The cost table (docs/cli.md, "File formats"): one row per variant, scene, view and backend with its time, its error
 // against the ray-traced reference and its static cost. Read and written as cost_table.json (the
 // contract), cost_table.csv (flattened, RFC 4180) and cost_table.md (a Markdown table for people).
 #include <filesystem>
@@ -11,31 +11,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "image/health.h"
+#include "metrics/metrics.h"
+#include "table/static_cost.h"
+#include "util/stats.h"
+
 namespace aovar::table {
-
-struct TimeMs {
-  double min = 0, median = 0, p90 = 0;
-  int n = 0;  // 0 for predicted rows
-  // The baseline's min over every round times this row's paired ratio (rel_time_median): the row's time on
-  // the baseline's best-round scale, free of the drift between batches measured at different moments
-  // (5-10 % on these hosts). 0 when unknown (tables written before it existed).
-  double paired = 0;
-  // The time that decides (Pareto, select, the cost model, sorting): paired when known, else min.
-  double decision() const { return paired > 0 ? paired : min; }
-  bool operator==(const TimeMs&) const = default;
-};
-
-struct ErrorStat {
-  double rmse = 0, mae = 0;
-  double psnr = std::numeric_limits<double>::infinity();  // identical images: +inf (JSON null)
-  double ssim = 1, bias = 0, max = 0;
-  bool operator==(const ErrorStat&) const = default;
-};
-
-struct Health {
-  long nan = 0, inf = 0, out_of_range = 0;
-  bool operator==(const Health&) const = default;
-};
 
 struct CostRow {
   std::string variant;                       // key
@@ -43,14 +24,16 @@ struct CostRow {
   std::string spirv_hash, scene, view, backend;
   std::string size;                          // "WxH"
   int threads = 0;
-  nlohmann::json static_cost = nlohmann::json::object();  // "static": the static analyser's object (opaque here)
-  TimeMs time_ms;
+  std::optional<StaticCost> static_cost;    // "static": from the SPIR-V (sweep); nullopt when not analysed
+  util::TimeStats time_ms;                   // paired: the decision time (util/stats.h)
   double rel_time = 0;           // time_ms.min / the baseline's min in the same batch
   // Median over rounds of this row's frame time / the baseline's in the same round: a paired ratio that
   // cancels drift between rounds and batches (0 when unknown, e.g. predicted rows).
   double rel_time_median = 0;
-  std::optional<ErrorStat> error;            // null when measured without --reference
-  Health health;
+  // Against the ray-traced reference; null when measured without --reference. cost_table.json keeps rmse, mae,
+  // psnr, ssim, bias and max (measure.json all of it).
+  std::optional<metrics::ErrorStats> error;
+  image::Health health;                      // cost_table.json keeps nan, inf and out_of_range
   bool pareto = false;
   bool predicted = false;                    // time_ms from the cost model, not measured
   std::optional<double> flicker;
@@ -92,10 +75,6 @@ std::string pruned_summary(const CostTable& table);
 
 // cost_table.json, .csv and .md in `dir` (atomic each).
 void write_table_files(const CostTable& table, const std::filesystem::path& dir);
-
-// A measure.json (aovar measure --reference) as cost rows: meta keeps the measure header (without
-// rows, kept rows and runs); rows measured without a reference get a null error.
-CostTable from_measure(const nlohmann::json& measure_json);
 
 // Pareto front of (time_ms.min, error.rmse), both minimised, per (scene, view, backend): sets `pareto`
 // on every row (false for rows without an error). A row is on the front when no other row is at least as

@@ -7,15 +7,16 @@
 // depends on — the scene's content, each view's camera and path, size, radius, threads, the tolerances,
 // the manifest's text and the expanded programs of the flicker pair — so a repeated run reads it back
 // instead of tracing depth and rendering the flicker pair again.
+#include <filesystem>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
-#include "measure/measure.h"
+#include "profile/profile.h"
 #include "scene/scene.h"
 
-namespace aovar::measure {
+namespace aovar::profile {
 
 struct PrunedVariant {
   std::string variant;
@@ -40,11 +41,18 @@ struct ScenePruning {
   std::string summary(const std::vector<std::string>& globs) const;
 };
 
-// Profiles `scene` (loaded with its views side file) on `views` at o.size, o.radius (0: the scene's),
-// o.threads, compiling the flicker pair with o.cache_dir; reads OUT/profile.json back instead when o.out is
-// set, o.reuse is on and its inputs match, and writes it otherwise. `globs`: the variants to cover (the
-// run's --variants, and sweep's --predict; empty: every variant after the manifest's rules).
-ScenePruning prune_scene(const MeasureOptions& o, const scene::Scene& scene, const std::vector<const scene::View*>& views,
+struct PruneOptions {
+  Options profile;                  // manifest, scene, size, radius, threads, cache dir, tolerances (views: set
+                                    // from prune_scene's `views`)
+  std::filesystem::path store_dir;  // where profile.json is stored and read back (empty: nowhere)
+  bool reuse = true;                // read a stored profile back when its inputs match
+};
+
+// Profiles `scene` (loaded with its views side file) on `views` at o.profile.size and radius (0: the
+// scene's), compiling the flicker pair with its cache dir; reads STORE/profile.json back instead when
+// o.store_dir is set, o.reuse is on and its inputs match, and writes it otherwise. `globs`: the variants to
+// cover (the run's --variants, and sweep's --predict; empty: every variant after the manifest's rules).
+ScenePruning prune_scene(const PruneOptions& o, const scene::Scene& scene, const std::vector<const scene::View*>& views,
                          const std::vector<std::string>& globs, const Progress& progress = {});
 
-}  // namespace aovar::measure
+}  // namespace aovar::profile

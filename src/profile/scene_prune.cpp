@@ -1,4 +1,4 @@
-#include "measure/scene_prune.h"
+#include "profile/scene_prune.h"
 
 #include <algorithm>
 #include <chrono>
@@ -8,26 +8,14 @@
 #include <fmt/format.h>
 
 #include "compile/generate.h"
-#include "profile/profile.h"
 #include "shadergen/expand.h"
 #include "util/fs.h"
 #include "util/glob.h"
 #include "util/hash.h"
 
-namespace aovar::measure {
+namespace aovar::profile {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
-
-namespace {
-
-// Every field of a view the profile reads (camera, planes, path).
-std::string camera_text(const scene::View& v) {
-  return fmt::format("{} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {}", v.name, v.eye.x, v.eye.y, v.eye.z,
-                     v.target.x, v.target.y, v.target.z, v.up.x, v.up.y, v.up.z, v.fov_y_deg, v.near_plane,
-                     v.far_plane, v.path_offset.x, v.path_offset.y, v.path_offset.z, v.path_frames);
-}
-
-}  // namespace
 
 bool ScenePruning::drops(const std::string& key) const {
   auto it = std::lower_bound(dropped.begin(), dropped.end(), key,
@@ -58,13 +46,13 @@ std::string ScenePruning::summary(const std::vector<std::string>& globs) const {
                      rules.empty() ? std::string() : " (" + rules + ")");
 }
 
-ScenePruning prune_scene(const MeasureOptions& o, const scene::Scene& sc, const std::vector<const scene::View*>& views,
+ScenePruning prune_scene(const PruneOptions& o, const scene::Scene& sc, const std::vector<const scene::View*>& views,
                          const std::vector<std::string>& globs, const Progress& progress) {
   const auto start = std::chrono::steady_clock::now();
   ScenePruning out;
-  out.scene = o.scene;
+  out.scene = o.profile.scene;
   // One space for everything: the profile picks its flicker pair from it and the variants are pruned from it.
-  const variants::Manifest manifest = variants::load_manifest(o.manifest);
+  const variants::Manifest manifest = variants::load_manifest(o.profile.manifest);
   const variants::VariantSpace space = variants::build_space(manifest);
   // Globs that select nothing are the caller's error to report (after compiling, as without pruning).
   if (std::none_of(space.variants.begin(), space.variants.end(),
@@ -73,14 +61,9 @@ ScenePruning prune_scene(const MeasureOptions& o, const scene::Scene& sc, const 
     return out;
   }
 
-  profile::Options po;
-  po.manifest = o.manifest;
-  po.scene = o.scene;
+  Options po = o.profile;
+  po.views.clear();
   for (const scene::View* v : views) po.views.push_back(v->name);
-  po.size = o.size;
-  po.radius = o.radius;
-  po.threads = o.threads;
-  po.cache_dir = o.cache_dir;
 
   // The profile's inputs. Its flicker is measured on the pair's programs: their expanded sources (templates
   // and includes) stand for them, as the compile cache's hashes do.
@@ -90,8 +73,8 @@ ScenePruning prune_scene(const MeasureOptions& o, const scene::Scene& sc, const 
                                          po.threads));
   h.add(fmt::format("{} {} {} {} {}", po.r16f_tolerance, po.normal_tolerance_deg, po.early_out_share, po.flicker_tolerance,
                     po.measure_flicker));
-  for (const scene::View* v : views) h.add(camera_text(*v));
-  const auto [progressive, full] = profile::flicker_pair(space);
+  for (const scene::View* v : views) h.add(scene::camera_text(*v));
+  const auto [progressive, full] = flicker_pair(space);
   if (!progressive.empty()) {
     shadergen::TemplateReader reader(manifest.root);
     for (const auto& e : space.variants)
@@ -102,30 +85,30 @@ ScenePruning prune_scene(const MeasureOptions& o, const scene::Scene& sc, const 
   }
   const std::string inputs = h.hex();
 
-  std::optional<profile::Profile> p;
-  const fs::path file = o.out.empty() ? fs::path() : o.out / "profile.json";
+  std::optional<Profile> p;
+  const fs::path file = o.store_dir.empty() ? fs::path() : o.store_dir / "profile.json";
   if (!file.empty()) out.profile_file = "profile.json";
   if (auto text = !file.empty() && o.reuse ? util::read_file(file) : std::nullopt) {
     try {
       json j = json::parse(*text);
-      if (j.value("inputs_hash", "") == inputs) p = profile::profile_from_json(j);
+      if (j.value("inputs_hash", "") == inputs) p = profile_from_json(j);
     } catch (const std::exception&) {
       p.reset();  // an older or damaged file: profile again
     }
   }
   out.reused = p.has_value();
   if (!p) {
-    p = profile::profile_scene(po, sc, manifest, space, [&](const std::string& line) {
-      if (progress) progress("profiling " + o.scene + ": " + line);
+    p = profile_scene(po, sc, manifest, space, [&](const std::string& line) {
+      if (progress) progress("profiling " + o.profile.scene + ": " + line);
     });
     if (!file.empty()) {
-      json j = profile::to_json(*p);
+      json j = to_json(*p);
       j["inputs_hash"] = inputs;
       util::write_atomic(file, j.dump(1) + "\n");
     }
   }
 
-  auto pruned = profile::prune(manifest, space, *p, globs);
+  auto pruned = prune(manifest, space, *p, globs);
   out.kept = std::move(pruned.kept);
   for (std::size_t i = 0; i < pruned.dropped.size(); ++i)
     out.dropped.push_back({pruned.dropped[i].first, pruned.rules[i], pruned.dropped[i].second});
@@ -136,4 +119,4 @@ ScenePruning prune_scene(const MeasureOptions& o, const scene::Scene& sc, const 
   return out;
 }
 
-}  // namespace aovar::measure
+}  // namespace aovar::profile

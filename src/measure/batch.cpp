@@ -1,0 +1,266 @@
+#include "measure/batch.h"
+
+#include <algorithm>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "image/image.h"
+#include "shadergen/expand.h"
+
+namespace aovar::measure {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+std::string size_text(render::Extent e) { return fmt::format("{}x{}", e.width, e.height); }
+}  // namespace
+
+BatchMeasurer::BatchMeasurer(const MeasureOptions& options, const compile::CompiledSpace& compiled,
+                             const scene::Scene& scene, const Selection& selection, const PreviousRun& earlier,
+                             MeasureResult& result, const Progress& progress)
+    : o_(options), c_(compiled), scene_(scene), sel_(selection), earlier_(earlier), res_(result), progress_(progress) {}
+
+std::map<std::string, json> BatchMeasurer::unproduced_rows(const std::vector<const scene::View*>& views) const {
+  std::set<std::string> produced;
+  for (int v : sel_.measured) produced.insert(c_.space.variants[v].key);
+  produced.insert(c_.space.variants[sel_.baseline].key);
+  std::map<std::string, json> kept;
+  for (const auto& [hash, r] : earlier_.rows)
+    if (!produced.count(r.variant) ||
+        std::find(o_.backends.begin(), o_.backends.end(), r.backend) == o_.backends.end() ||
+        std::none_of(views.begin(), views.end(), [&](const scene::View* v) { return v->name == r.view; }))
+      kept.emplace(hash, earlier_.text.at(hash));
+  return kept;
+}
+
+// Progress: rows done out of rows wanted, and an ETA from the time per measured (not reused) row.
+void BatchMeasurer::status(const std::string& what) const {
+  if (!progress_) return;
+  std::string eta;
+  std::size_t done = res_.rows.size();
+  if (rows_measured_ > 0 && done < rows_wanted_) {
+    double per_row = seconds_since(measuring_start_) / static_cast<double>(rows_measured_);
+    auto left = static_cast<long>(per_row * static_cast<double>(rows_wanted_ - done));
+    eta = fmt::format(", ETA {}m{:02}s", left / 60, left % 60);
+  }
+  progress_(fmt::format("[{}/{} rows{}] {}", done, rows_wanted_, eta, what));
+}
+
+// Ground truth: one ray-traced reference per view, at the measured size, radius and camera pose (the last
+// frame of the path with --camera-path, as the images are), shared by every backend and variant. Its cache
+// key (scene, camera, size, radius, rays, mode) is part of every row's inputs; the image itself is traced
+// (or loaded from the cache) only for a view with rows to measure, or whose copy under images/reference/ is
+// missing, so a repeated run traces nothing.
+reference::ReferenceOptions BatchMeasurer::reference_options() const {
+  reference::ReferenceOptions ro;
+  ro.size = o_.size;
+  ro.radius = res_.radius;
+  ro.rays = o_.reference_rays;
+  ro.mode = o_.reference_mode;
+  ro.frame = o_.camera_path ? o_.warmup + o_.reps : 0;
+  ro.cache_dir = o_.reference_cache;
+  return ro;
+}
+
+const reference::ReferenceImage& BatchMeasurer::ground_truth(const scene::View& view) {
+  if (auto it = truth_.find(view.name); it != truth_.end()) return it->second;
+  auto ref = reference::trace_reference(scene_, view, reference_options(), [&](double f, double elapsed) {
+    if (progress_)
+      progress_(fmt::format("reference {}: {:.0f} %{}", view.name, 100 * f,
+                            f > 0.01 ? fmt::format(", ETA {:.0f} s", elapsed * (1 - f) / f) : std::string()));
+  });
+  if (!o_.out.empty() && o_.images) reference::write_reference(o_.out / "images" / "reference" / view.name, ref);
+  return truth_.emplace(view.name, std::move(ref)).first->second;
+}
+
+void BatchMeasurer::store_references(const std::vector<const scene::View*>& views) {
+  for (const scene::View* view : views)
+    if (!fs::exists(o_.out / "images" / "reference" / (view->name + ".pfm"))) ground_truth(*view);
+}
+
+// Every input of a row but the variant's own (programs, key, plan: variant_inputs). The selection and --batch
+// are not inputs: the paired time (ratio to the baseline in the same rounds) cancels the drift between runs,
+// so rows measured in different runs, or a sweep's pruning phases, combine.
+std::string BatchMeasurer::context(const runner::VariantRunner& runner, const scene::View& view) const {
+  const auto& info = runner.device();
+  std::string context = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", shadergen::generator_version(),
+                                    scene_.content_hash, scene::camera_text(view), info.backend, info.device,
+                                    info.driver, info.mediump_fp16, size_text(o_.size), o_.threads, o_.reps, o_.warmup,
+                                    res_.radius, c_.space.variants[sel_.baseline].key);
+  if (o_.camera_path) context += "|path";
+  if (o_.ground_truth) context += "|truth:" + reference::cache_key(scene_, view, reference_options());
+  return context;
+}
+
+BatchMeasurer::Candidate BatchMeasurer::candidate(runner::VariantRunner& runner, int v, const std::string& context) const {
+  Candidate cand{v, runner.plan(v, o_.params, false), {}};
+  cand.inputs = variant_inputs(c_, v, c_.target_index(runner.target()), cand.plan, context);
+  return cand;
+}
+
+MeasureRow BatchMeasurer::new_row(const Candidate& cand, const std::string& backend, const std::string& view) const {
+  MeasureRow row;
+  row.variant = cand.plan.variant;
+  row.axes = cand.plan.axes;
+  if (auto d = sel_.duplicates.find(cand.variant); d != sel_.duplicates.end()) row.duplicates = d->second;
+  row.scene = res_.scene;
+  row.backend = backend;
+  row.view = view;
+  row.size = size_text(o_.size);
+  row.threads = o_.threads;
+  row.spirv_hash = cand.inputs.spirv_hash;
+  row.inputs_hash = cand.inputs.inputs_hash;
+  row.baseline = c_.space.variants[sel_.baseline].key;
+  return row;
+}
+
+// A row whose inputs are unchanged comes from the earlier run. What belongs to this run rather than to the
+// measurement (another selection lists other duplicates, and the baseline's row is timing-only when no glob
+// selects it) is taken from this run.
+bool BatchMeasurer::reuse(const Candidate& cand, const std::string& backend, const std::string& view) {
+  auto it = earlier_.rows.find(cand.inputs.inputs_hash);
+  if (it == earlier_.rows.end()) return false;
+  MeasureRow row = it->second;
+  row.duplicates = new_row(cand, backend, view).duplicates;
+  row.is_baseline = cand.variant == sel_.baseline && !sel_.baseline_selected;
+  res_.rows.push_back(std::move(row));
+  ++res_.reused;
+  return true;
+}
+
+void BatchMeasurer::measure_all(const std::vector<const scene::View*>& views, const std::function<void()>& after_batch) {
+  rows_wanted_ = (sel_.measured.size() + (sel_.baseline_selected ? 0 : 1)) * views.size() * o_.backends.size();
+  measuring_start_ = Clock::now();
+  for (const auto& backend_name : o_.backends) {
+    runner::RunnerOptions ro;
+    ro.backend = backend_name;
+    ro.device.threads = o_.threads;
+    ro.size = o_.size;
+    ro.calibration = o_.calibration;
+    runner::VariantRunner runner(c_, ro);
+    res_.devices.push_back(runner.device());
+    runner.use_scene(scene_);
+    for (const scene::View* view : views) measure_view(runner, *view, after_batch);
+  }
+}
+
+// Reuse rows whose inputs are unchanged; everything else is measured in batches with the baseline, which is
+// re-measured whenever anything else is (rel_time needs it in the same rounds).
+void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::View& view,
+                                 const std::function<void()>& after_batch) {
+  const std::string& backend = runner.device().backend;
+  const std::string ctx = context(runner, view);
+  std::vector<Candidate> todo;
+  for (int v : sel_.measured) {
+    if (v == sel_.baseline) continue;
+    Candidate cand = candidate(runner, v, ctx);
+    if (!reuse(cand, backend, view.name)) todo.push_back(std::move(cand));
+  }
+  Candidate ref = candidate(runner, sel_.baseline, ctx);
+  if (todo.empty() && reuse(ref, backend, view.name)) return;
+  if (o_.ground_truth) ground_truth(view);  // before the timing, which it would disturb
+
+  const std::string where = fmt::format("{} {}", backend, view.name);
+  auto prep_start = Clock::now();
+  auto ref_pipeline = runner.prepare(ref.plan);
+  PipelineTiming ref_timing;  // accumulates over batches
+  double ref_first_ms = 0;
+  const int batch_size = std::max(1, o_.batch - 1);
+  const int batches = std::max<int>(1, static_cast<int>((todo.size() + batch_size - 1) / batch_size));
+  for (int b = 0; b < batches; ++b) {
+    const std::size_t lo = static_cast<std::size_t>(b) * batch_size, hi = std::min(todo.size(), lo + batch_size);
+    RunRecord run{backend, view.name, static_cast<int>(hi - lo) + 1};
+    std::vector<std::unique_ptr<render::PreparedPipeline>> prepared;
+    std::vector<render::PreparedPipeline*> pointers{ref_pipeline.get()};
+    for (std::size_t i = lo; i < hi; ++i) {
+      status(fmt::format("{}: batch {}/{}: preparing {}", where, b + 1, batches, todo[i].plan.variant));
+      prepared.push_back(runner.prepare(todo[i].plan));
+      pointers.push_back(prepared.back().get());
+    }
+    run.prepare_s = seconds_since(prep_start);
+
+    TimingOptions to{o_.warmup, o_.reps, res_.radius, o_.camera_path};
+    auto timed = time_round_robin(runner.backend(), pointers, view, to, [&](const std::string& s) {
+      status(fmt::format("{}: batch {}/{}: {} ({} pipelines)", where, b + 1, batches, s, pointers.size()));
+    });
+    run.warmup_s = timed.wall_warmup_s;
+    run.timed_wall_s = timed.wall_timed_s;
+    run.timed_sum_s = timed.sum_timed_s;
+    const PipelineTiming& batch_ref = timed.pipelines[0];
+    if (b == 0) ref_first_ms = batch_ref.first_frame_ms;
+    const double ref_min = util::summarize(batch_ref.total_ms).min;
+    ref_timing.total_ms.insert(ref_timing.total_ms.end(), batch_ref.total_ms.begin(), batch_ref.total_ms.end());
+    ref_timing.draw_ms.insert(ref_timing.draw_ms.end(), batch_ref.draw_ms.begin(), batch_ref.draw_ms.end());
+
+    auto read_start = Clock::now();
+    for (std::size_t i = lo; i < hi; ++i) {
+      const PipelineTiming& timing = timed.pipelines[i - lo + 1];
+      MeasureRow row = new_row(todo[i], backend, view.name);
+      finish_row(row, runner, todo[i], *prepared[i - lo], timing, view);
+      row.rel_time = ref_min > 0 ? row.time_ms.min / ref_min : 0;
+      row.rel_time_median = median_ratio(timing, batch_ref);
+      res_.rows.push_back(std::move(row));
+      ++rows_measured_;
+    }
+    if (b == batches - 1) {  // the baseline's own row, from every round of every batch
+      MeasureRow row = new_row(ref, backend, view.name);
+      row.is_baseline = !sel_.baseline_selected;
+      ref_timing.first_frame_ms = ref_first_ms;
+      finish_row(row, runner, ref, *ref_pipeline, ref_timing, view);
+      row.rel_time = row.rel_time_median = 1.0;
+      res_.rows.push_back(std::move(row));
+      ++rows_measured_;
+    }
+    run.readback_s = seconds_since(read_start);
+    res_.runs.push_back(run);
+    after_batch();
+    prep_start = Clock::now();
+  }
+}
+
+// Flicker along the view's camera path (every variant), and for progressive ones the error of a single frame
+// (a plan whose average reads this frame's half twice, prepared for the purpose).
+void BatchMeasurer::temporal_errors(MeasureRow& row, runner::VariantRunner& runner, const render::PipelinePlan& plan,
+                                    render::PreparedPipeline& p, const scene::View& view,
+                                    const reference::ReferenceImage& truth) {
+  row.flicker = metrics::flicker(runner.render_path(p, view, res_.radius, 0, std::max(2, view.path_frames)));
+  if (!plan.progressive) return;
+  auto single = runner.prepare(render::plan_single_frame(plan));
+  runner.backend().render(*single, {&view, 0, true, res_.radius});
+  row.error_one_frame = runner::score(runner.read(*single).image, truth);
+}
+
+void BatchMeasurer::finish_row(MeasureRow& row, runner::VariantRunner& runner, const Candidate& cand,
+                               render::PreparedPipeline& p, const PipelineTiming& timing, const scene::View& view) {
+  row.time_ms = util::summarize(timing.total_ms);
+  row.passes = pass_stats(render::plan_for_size(cand.plan, o_.size), timing);  // the draws that ran
+  row.create_ms = p.create_ms;
+  row.first_frame_ms = timing.first_frame_ms;
+  row.jit_ms = std::max(0.0, timing.first_frame_ms - row.time_ms.min);
+  runner::Still still = runner.read(p);
+  row.health = still.health;
+  row.mean_visibility = still.mean_visibility;
+  row.result = std::move(still.image);
+  const std::string rel = (fs::path("images") / row.backend / view.name / row.variant).string();
+  if (!o_.out.empty() && o_.images) {
+    image::write_pfm(o_.out / (rel + ".pfm"), row.result);
+    image::write_png(o_.out / (rel + ".png"), row.result);
+    row.image = rel + ".pfm";
+    row.preview = rel + ".png";
+  }
+  if (o_.ground_truth) {
+    const auto& truth = ground_truth(view);
+    row.error = runner::score(row.result, truth);
+    temporal_errors(row, runner, cand.plan, p, view, truth);
+    if (!o_.out.empty() && o_.images) {
+      metrics::write_error_heatmap(o_.out / (rel + ".error.png"), row.result, truth.visibility, truth.background);
+      row.error_map = rel + ".error.png";
+    }
+  }
+  row.list_images();
+}
+
+}  // namespace aovar::measure

@@ -1,0 +1,75 @@
+#pragma once
+// The measuring core of `aovar measure`: per backend and view, rows whose inputs are unchanged are reused,
+// the others are prepared in batches and timed round-robin with the baseline (measure/timing.h), then read
+// back, scored against the view's ray-traced reference and written as images.
+#include <chrono>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "measure/measure.h"
+#include "measure/inputs.h"
+#include "measure/rows_json.h"
+#include "runner/variant_runner.h"
+
+namespace aovar::measure {
+
+// The selected variants after globs, shard, skip list, profile drops and dedup.
+struct Selection {
+  std::vector<int> measured;                           // one per group of identical variants
+  std::map<int, std::vector<std::string>> duplicates;  // by measured variant: the identical selected ones
+  int baseline = -1;                                   // timed in every round
+  bool baseline_selected = false;                      // else its row is timing-only (is_baseline)
+};
+
+class BatchMeasurer {
+ public:
+  // Appends rows, runs and devices to `result`; every reference must outlive the measurer.
+  BatchMeasurer(const MeasureOptions& options, const compile::CompiledSpace& compiled, const scene::Scene& scene,
+                const Selection& selection, const PreviousRun& earlier, MeasureResult& result, const Progress& progress);
+
+  // Earlier rows this run does not produce stay reusable (a narrower sweep, the first phase of a pruned one),
+  // unless this run writes their image (same backend, view and variant: a row with other inputs).
+  std::map<std::string, nlohmann::json> unproduced_rows(const std::vector<const scene::View*>& views) const;
+
+  // Every backend and view; `after_batch` after each measured batch (the caller checkpoints).
+  void measure_all(const std::vector<const scene::View*>& views, const std::function<void()>& after_batch);
+
+  // Traces (or loads) the reference of every view whose copy under OUT/images/reference/ is missing.
+  void store_references(const std::vector<const scene::View*>& views);
+
+ private:
+  struct Candidate {
+    int variant;
+    render::PipelinePlan plan;
+    VariantInputs inputs;
+  };
+  void measure_view(runner::VariantRunner& runner, const scene::View& view, const std::function<void()>& after_batch);
+  Candidate candidate(runner::VariantRunner& runner, int variant, const std::string& context) const;
+  MeasureRow new_row(const Candidate& cand, const std::string& backend, const std::string& view) const;
+  bool reuse(const Candidate& cand, const std::string& backend, const std::string& view);
+  void finish_row(MeasureRow& row, runner::VariantRunner& runner, const Candidate& cand, render::PreparedPipeline& p,
+                  const PipelineTiming& timing, const scene::View& view);
+  void temporal_errors(MeasureRow& row, runner::VariantRunner& runner, const render::PipelinePlan& plan,
+                       render::PreparedPipeline& p, const scene::View& view, const reference::ReferenceImage& truth);
+  std::string context(const runner::VariantRunner& runner, const scene::View& view) const;
+  reference::ReferenceOptions reference_options() const;
+  const reference::ReferenceImage& ground_truth(const scene::View& view);
+  void status(const std::string& what) const;
+
+  const MeasureOptions& o_;
+  const compile::CompiledSpace& c_;
+  const scene::Scene& scene_;
+  const Selection& sel_;
+  const PreviousRun& earlier_;
+  MeasureResult& res_;
+  Progress progress_;
+  std::map<std::string, reference::ReferenceImage> truth_;
+  std::size_t rows_wanted_ = 0, rows_measured_ = 0;
+  std::chrono::steady_clock::time_point measuring_start_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace aovar::measure

@@ -1,0 +1,135 @@
+#include "measure/rows_json.h"
+
+#include <cmath>
+#include <limits>
+#include <tuple>
+
+#include <fmt/format.h>
+
+#include "util/fs.h"
+
+namespace aovar::measure {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+json stats_json(const util::TimeStats& s) {
+  return {{"min", s.min}, {"median", s.median}, {"p90", s.p90}, {"n", s.n}};
+}
+util::TimeStats stats_from(const json& j) {
+  return {j.at("min").get<double>(), j.at("median").get<double>(), j.at("p90").get<double>(), j.at("n").get<int>()};
+}
+
+// PSNR of identical images is +inf, which JSON cannot hold: written as null.
+json error_json(const metrics::ErrorStats& e) {
+  return {{"rmse", e.rmse}, {"mae", e.mae}, {"psnr", std::isfinite(e.psnr) ? json(e.psnr) : json(nullptr)},
+          {"ssim", e.ssim}, {"bias", e.bias}, {"max", e.max}, {"share_over_0_1", e.share_over_0_1},
+          {"pixels", e.health.pixels}};
+}
+metrics::ErrorStats error_from(const json& j) {
+  metrics::ErrorStats e;
+  e.rmse = j.at("rmse");
+  e.mae = j.at("mae");
+  e.psnr = j.at("psnr").is_null() ? std::numeric_limits<double>::infinity() : j.at("psnr").get<double>();
+  e.ssim = j.at("ssim");
+  e.bias = j.at("bias");
+  e.max = j.at("max");
+  e.share_over_0_1 = j.at("share_over_0_1");
+  e.health.pixels = j.at("pixels");
+  return e;
+}
+
+}  // namespace
+
+json row_to_json(const MeasureRow& r, const MeasureResult& res) {
+  json axes = json::object();
+  for (const auto& [k, v] : r.axes) axes[k] = v;
+  json passes = json::object();
+  for (const auto& [k, s] : r.passes) passes[k] = stats_json(s);
+  return {{"variant", r.variant}, {"axes", axes}, {"duplicates", r.duplicates}, {"scene", r.scene},
+          {"view", r.view}, {"backend", r.backend}, {"size", r.size}, {"threads", r.threads},
+          {"radius", res.radius}, {"spirv_hash", r.spirv_hash}, {"inputs_hash", r.inputs_hash},
+          {"time_ms", stats_json(r.time_ms)}, {"passes", passes}, {"rel_time", r.rel_time},
+          {"rel_time_median", r.rel_time_median}, {"baseline", r.baseline}, {"is_baseline", r.is_baseline},
+          {"create_ms", r.create_ms}, {"first_frame_ms", r.first_frame_ms}, {"jit_ms", r.jit_ms},
+          {"health", {{"nan", r.health.nan}, {"inf", r.health.inf}, {"out_of_range", r.health.out_of_range},
+                      {"pixels", r.health.pixels}}},
+          {"mean_visibility", r.mean_visibility}, {"error", r.error ? error_json(*r.error) : json(nullptr)},
+          {"error_one_frame", r.error_one_frame ? error_json(*r.error_one_frame) : json(nullptr)},
+          {"flicker", r.flicker ? json(*r.flicker) : json(nullptr)},
+          {"image", r.image}, {"preview", r.preview}, {"error_map", r.error_map}};
+}
+
+MeasureRow row_from_json(const json& j) {
+  MeasureRow r;
+  r.variant = j.at("variant");
+  for (auto& [k, v] : j.at("axes").items()) r.axes[k] = v.get<std::string>();
+  r.duplicates = j.at("duplicates").get<std::vector<std::string>>();
+  r.scene = j.at("scene");
+  r.backend = j.at("backend");
+  r.view = j.at("view");
+  r.size = j.at("size");
+  r.threads = j.at("threads");
+  r.spirv_hash = j.at("spirv_hash");
+  r.inputs_hash = j.at("inputs_hash");
+  r.time_ms = stats_from(j.at("time_ms"));
+  for (auto& [k, v] : j.at("passes").items()) r.passes.emplace_back(k, stats_from(v));
+  r.rel_time = j.at("rel_time");
+  r.rel_time_median = j.at("rel_time_median");
+  r.baseline = j.at("baseline");
+  r.is_baseline = j.at("is_baseline");
+  r.create_ms = j.at("create_ms");
+  r.first_frame_ms = j.at("first_frame_ms");
+  r.jit_ms = j.at("jit_ms");
+  const json& h = j.at("health");
+  r.health.nan = h.at("nan");
+  r.health.inf = h.at("inf");
+  r.health.out_of_range = h.at("out_of_range");
+  r.health.pixels = h.at("pixels");
+  r.mean_visibility = j.at("mean_visibility");
+  if (!j.at("error").is_null()) r.error = error_from(j.at("error"));
+  if (!j.at("error_one_frame").is_null()) r.error_one_frame = error_from(j.at("error_one_frame"));
+  if (!j.at("flicker").is_null()) r.flicker = j.at("flicker").get<double>();
+  r.image = j.at("image");
+  r.preview = j.at("preview");
+  r.error_map = j.at("error_map");
+  r.list_images();
+  r.reused = true;
+  return r;
+}
+
+PreviousRun read_previous(const fs::path& out, bool need_images, const Progress& say) {
+  PreviousRun prev;
+  auto text = util::read_file(out / "measure.json");
+  if (!text) return prev;
+  try {
+    json doc = json::parse(*text);
+    for (const char* list : {"rows", "kept_rows"})
+      for (const auto& j : doc.value(list, json::array())) {
+        MeasureRow r = row_from_json(j);
+        if (r.image.empty() ? need_images : !fs::exists(out / r.image)) continue;
+        prev.text.emplace(r.inputs_hash, j);
+        prev.rows.emplace(r.inputs_hash, std::move(r));
+      }
+    prev.contact_sheets = doc.value("contact_sheets", std::vector<std::string>{});
+    prev.contact_sheets_rows = doc.value("contact_sheets_rows", "");
+  } catch (const std::exception& e) {
+    prev = {};  // an older or damaged file: measure everything again
+    if (say) say(fmt::format("note: {}: not reused ({}); measuring everything again",
+                             util::display_path(out / "measure.json"), e.what()));
+  }
+  return prev;
+}
+
+void pair_times(std::vector<MeasureRow>& rows) {
+  std::map<std::tuple<std::string, std::string, std::string>, double> baseline_ms;
+  for (const auto& r : rows)
+    if (r.variant == r.baseline) baseline_ms[{r.view, r.backend, r.variant}] = r.time_ms.min;
+  for (auto& r : rows) {
+    auto base = baseline_ms.find({r.view, r.backend, r.baseline});
+    r.time_ms.paired = base != baseline_ms.end() && r.rel_time_median > 0 ? r.rel_time_median * base->second : 0;
+  }
+}
+
+}  // namespace aovar::measure
