@@ -16,11 +16,18 @@
 #include <string>
 #include <vector>
 
+#include "shadergen/bindings.h"
+
 namespace aovar::analyze {
 
-// Sampler bindings of the AO pipeline (src/render/plan.h): 2 depth, 3 normal, 4 position, 5 AO input,
-// 6 history, 7 prefilter (blurred depth / z MIP). -1 collects reads whose image the walker cannot resolve.
-enum Binding : int { kDepth = 2, kNormal = 3, kPosition = 4, kInput = 5, kHistory = 6, kPrefilter = 7 };
+// Texture reads are counted per sampler binding of the template contract (shadergen/bindings.h): depth,
+// normal, position, AO input, history, prefilter. -1 collects reads whose image the walker cannot resolve.
+using shadergen::binding::kDepth;
+using shadergen::binding::kHistory;
+using shadergen::binding::kInput;
+using shadergen::binding::kNormal;
+using shadergen::binding::kPosition;
+using shadergen::binding::kPrefilter;
 
 struct LoopInfo {
   std::string function;   // OpName of the enclosing function (mangled by glslang: "main(", "f(vf2;")

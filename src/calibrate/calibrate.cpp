@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <memory>
 #include <numeric>
 #include <stdexcept>
 
@@ -12,6 +14,7 @@
 #include "compile/generate.h"
 #include "metrics/metrics.h"
 #include "render/backend.h"
+#include "runner/variant_runner.h"
 #include "scene/scene.h"
 #include "util/fs.h"
 #include "util/glob.h"
@@ -106,12 +109,6 @@ std::vector<ViewCase> builtin_cases(const std::string& which) {
   return out;
 }
 
-variants::Target target_of(const std::string& backend) {
-  if (backend == "lavapipe") return variants::Target::vulkan;
-  if (backend == "osmesa") return variants::Target::gl45;
-  throw std::runtime_error(fmt::format("unknown backend '{}' (use lavapipe or osmesa)", backend));
-}
-
 // The variant a method is fitted with: 16 samples, full resolution, separable blur, r32f depth, highp, the
 // buffered RGB8 normal when the method reads normals. Its values then apply to every variant of the method.
 std::vector<std::string> fit_globs(const std::string& algorithm) {
@@ -125,31 +122,38 @@ struct Case {
   reference::ReferenceImage truth;
 };
 
-}  // namespace
+// A parameter marked `fit = true`: its "ao.<name>" key, range and manifest default.
+struct FitParam {
+  std::string key;
+  double min, max, value;
+};
 
-Calibration calibrate(const CalibrateOptions& o, const Progress& progress) {
-  auto say = [&](const std::string& s) { if (progress) progress(s); };
-  const variants::Target target = target_of(o.backend);
-  auto manifest = variants::load_manifest(o.manifest);
+std::vector<std::string> algorithms_to_fit(const CalibrateOptions& o, const variants::Manifest& manifest) {
   std::vector<std::string> algorithms = o.algorithms;
   if (algorithms.empty())
     for (const auto& v : manifest.axis_values(variants::Axis::algorithm)) algorithms.push_back(v.text);
   for (const auto& a : algorithms)
     if (!manifest.algorithm(a))
-      throw std::runtime_error(fmt::format("{}: no algorithm '{}' (aovar list shows them)", manifest.error_prefix(), a));
+      throw std::runtime_error(
+          fmt::format("{}: no algorithm '{}' (aovar list shows them)", manifest.error_prefix(), a));
+  return algorithms;
+}
 
+compile::CompiledSpace compile_fit_variants(const CalibrateOptions& o, const std::vector<std::string>& algorithms,
+                                            variants::Target target) {
   compile::CompileOptions co;
   co.targets = {target};
   for (const auto& a : algorithms)
     for (auto& g : fit_globs(a)) co.globs.push_back(std::move(g));
   co.cache_dir = o.compile_cache;
-  say("compiling the variants to fit");
   auto c = compile::compile_space(o.manifest, co);
-  if (!c.ok())
-    throw std::runtime_error(c.diagnostics.empty() ? "compile failed" : c.diagnostics.front());
+  if (!c.ok()) throw std::runtime_error(c.diagnostics.empty() ? "compile failed" : c.diagnostics.front());
+  return c;
+}
 
-  // Scenes, views and their references.
-  std::map<std::string, scene::Scene> scenes;
+// The training and validation views with their ray-traced references; `scenes` holds each scene once.
+std::vector<Case> load_cases(const CalibrateOptions& o, std::map<std::string, scene::Scene>& scenes,
+                             const Progress& say) {
   std::vector<Case> cases;
   auto add_cases = [&](const std::vector<ViewCase>& list, bool training) {
     for (const auto& vc : list) {
@@ -170,123 +174,161 @@ Calibration calibrate(const CalibrateOptions& o, const Progress& progress) {
     say(fmt::format("reference {} {}", k.scene->name, k.view->name));
     k.truth = reference::trace_reference(*k.scene, *k.view, ro);
   }
+  return cases;
+}
 
-  render::BackendOptions bo;
-  bo.threads = o.threads;
-  auto backend = render::make_backend(o.backend, bo);
+// Index of the variant `algorithm` is fitted with (the first fit_globs match).
+int fit_variant(const compile::CompiledSpace& c, const variants::Manifest& manifest, const std::string& algorithm) {
+  for (const auto& glob : fit_globs(algorithm))
+    for (std::size_t v = 0; v < c.space.variants.size(); ++v)
+      if (util::glob_match(glob, c.space.variants[v].key)) return static_cast<int>(v);
+  throw std::runtime_error(fmt::format("{}: no 16-sample, full-resolution, separable-blur variant of '{}' to fit "
+                                       "(the manifest's rules remove it)", manifest.error_prefix(), algorithm));
+}
+
+// The fit variant rendered on the cases with given parameter values: one prepared pipeline whose AO draw is
+// re-parameterised with set_params, since re-preparing would JIT every time.
+class Objective {
+ public:
+  Objective(runner::VariantRunner& runner, int variant, const std::vector<Case>& cases)
+      : runner_(runner), variant_(variant), cases_(cases), plan_(runner.plan(variant, {}, true)) {
+    auto ao = std::find_if(plan_.draws.begin(), plan_.draws.end(), [](const auto& d) { return d.name == "ao"; });
+    if (ao == plan_.draws.end()) throw std::runtime_error(plan_.variant + ": no ao draw");
+    ao_index_ = static_cast<std::size_t>(ao - plan_.draws.begin());
+    prepared_ = runner.prepare(plan_);
+  }
+
+  // Per-case MSE over the cases of one kind (NaN, Inf and values outside [0, 1] count as an error of 1
+  // each, so a parameter set cannot win by breaking pixels).
+  std::vector<double> errors(const render::ParamOverrides& values, bool training) {
+    runner_.backend().set_params(*prepared_, ao_index_, runner_.plan(variant_, values, true).draws[ao_index_].params);
+    std::vector<double> mse;
+    for (const Case& k : cases_) {
+      if (k.training != training) continue;
+      runner_.use_scene(*k.scene);
+      const runner::Still still = runner_.render_still(*prepared_, plan_, *k.view, k.scene->ao_radius);
+      const metrics::ErrorStats e = runner::score(still.image, k.truth);
+      double bad = static_cast<double>(e.health.nan + e.health.inf + e.health.out_of_range);
+      double n = std::max<double>(1.0, static_cast<double>(e.health.pixels));
+      double sq = e.finite > 0 ? e.rmse * e.rmse : 1.0;
+      mse.push_back((sq * static_cast<double>(e.finite) + bad) / n);
+    }
+    return mse;
+  }
+
+ private:
+  runner::VariantRunner& runner_;
+  int variant_;
+  const std::vector<Case>& cases_;
+  render::PipelinePlan plan_;
+  std::size_t ao_index_ = 0;
+  std::unique_ptr<render::PreparedPipeline> prepared_;
+};
+
+double mean(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+}
+
+double mean_rmse(const std::vector<double>& mse) {
+  double s = 0;
+  for (double m : mse) s += std::sqrt(m);
+  return mse.empty() ? 0.0 : s / static_cast<double>(mse.size());
+}
+
+// Per-case MSE before and after the fit, for one kind of case (training or validation).
+struct Errors {
+  std::vector<double> before, after;
+};
+
+// The fit's per-view errors and their means, from the per-case MSE in case order.
+void report_errors(AlgorithmFit& fit, const std::vector<Case>& cases, const Errors& train, const Errors& valid) {
+  std::size_t ti = 0, vi = 0;
+  for (const Case& k : cases) {
+    ViewError ve{k.scene->name, k.view->name, k.training, 0, 0};
+    if (k.training) ve.rmse_before = std::sqrt(train.before[ti]), ve.rmse_after = std::sqrt(train.after[ti]), ++ti;
+    else ve.rmse_before = std::sqrt(valid.before[vi]), ve.rmse_after = std::sqrt(valid.after[vi]), ++vi;
+    fit.views.push_back(ve);
+  }
+  fit.train_rmse_before = mean_rmse(train.before);
+  fit.train_rmse_after = mean_rmse(train.after);
+  fit.validation_rmse_before = mean_rmse(valid.before);
+  fit.validation_rmse_after = mean_rmse(valid.after);
+}
+
+// Fits one algorithm's `fit = true` parameters on the training cases, starting from the manifest defaults.
+AlgorithmFit fit_algorithm(runner::VariantRunner& runner, const variants::Manifest& manifest,
+                           const std::string& algorithm, const std::vector<Case>& cases, const CalibrateOptions& o,
+                           const Progress& say) {
+  const int variant = fit_variant(runner.compiled(), manifest, algorithm);
+  AlgorithmFit fit;
+  fit.algorithm = algorithm;
+  fit.variant = runner.compiled().space.variants[variant].key;
+  std::vector<FitParam> params;
+  for (const auto& p : manifest.algorithm(algorithm)->params)
+    if (p.fit) params.push_back({"ao." + p.name, p.min, p.max, p.value});
+  Objective objective(runner, variant, cases);
+  // The search runs over [0, 1] per parameter, mapped onto its range.
+  auto values_at = [&](const std::vector<double>& u) {
+    render::ParamOverrides values;
+    for (std::size_t i = 0; i < params.size(); ++i)
+      values[params[i].key] = params[i].min + std::clamp(u[i], 0.0, 1.0) * (params[i].max - params[i].min);
+    return values;
+  };
+  std::vector<double> start;
+  for (const auto& p : params) {
+    fit.defaults[p.key] = p.value;
+    start.push_back(p.max > p.min ? (p.value - p.min) / (p.max - p.min) : 0.0);
+  }
+
+  Errors train, valid;
+  train.before = objective.errors(fit.defaults, true);
+  valid.before = objective.errors(fit.defaults, false);
+  int evaluation = 0;
+  auto best = minimize(
+      [&](const std::vector<double>& u) {
+        double m = mean(objective.errors(values_at(u), true));
+        say(fmt::format("{}: evaluation {}/{}: training RMSE {:.4f}", algorithm, ++evaluation, o.max_evaluations,
+                        std::sqrt(m)));
+        return m;
+      },
+      start, o.max_evaluations, 0.15, 1e-3, &fit.evaluations);
+  fit.fitted = values_at(best);
+  train.after = objective.errors(fit.fitted, true);
+  valid.after = objective.errors(fit.fitted, false);
+  // Never worse than the defaults on the training views (the search starts there, but keep it explicit).
+  if (mean(train.after) > mean(train.before)) {
+    fit.fitted = fit.defaults;
+    train.after = train.before;
+    valid.after = valid.before;
+  }
+  report_errors(fit, cases, train, valid);
+  return fit;
+}
+
+}  // namespace
+
+Calibration calibrate(const CalibrateOptions& o, const Progress& progress) {
+  const Progress say = [&](const std::string& s) { if (progress) progress(s); };
+  const variants::Target target = render::target_of(o.backend);
+  const auto manifest = variants::load_manifest(o.manifest);
+  const std::vector<std::string> algorithms = algorithms_to_fit(o, manifest);
+  say("compiling the variants to fit");
+  const compile::CompiledSpace c = compile_fit_variants(o, algorithms, target);
+  std::map<std::string, scene::Scene> scenes;
+  const std::vector<Case> cases = load_cases(o, scenes, say);
+
+  runner::RunnerOptions ro;
+  ro.backend = o.backend;
+  ro.device.threads = o.threads;
+  ro.size = o.size;
+  runner::VariantRunner runner(c, ro);
   Calibration out;
   out.backend = o.backend;
   out.size = o.size;
   out.rays = o.rays;
   out.mode = o.mode;
-
-  for (const auto& algorithm : algorithms) {
-    int variant = -1;
-    for (const auto& glob : fit_globs(algorithm)) {
-      for (std::size_t v = 0; v < c.space.variants.size() && variant < 0; ++v)
-        if (util::glob_match(glob, c.space.variants[v].key)) variant = static_cast<int>(v);
-      if (variant >= 0) break;
-    }
-    if (variant < 0)
-      throw std::runtime_error(fmt::format("{}: no 16-sample, full-resolution, separable-blur variant of '{}' to fit "
-                                           "(the manifest's rules remove it)", manifest.error_prefix(), algorithm));
-    AlgorithmFit fit;
-    fit.algorithm = algorithm;
-    fit.variant = c.space.variants[variant].key;
-    struct Fitted {
-      std::string key;
-      double min, max, value;
-    };
-    std::vector<Fitted> params;
-    for (const auto& p : manifest.algorithm(algorithm)->params)
-      if (p.fit) params.push_back({"ao." + p.name, p.min, p.max, p.value});
-
-    render::PipelinePlan plan = render::plan_pipeline(c, variant, target);
-    auto ao_draw = std::find_if(plan.draws.begin(), plan.draws.end(), [](const auto& d) { return d.name == "ao"; });
-    if (ao_draw == plan.draws.end()) throw std::runtime_error(fit.variant + ": no ao draw");
-    const std::size_t ao_index = static_cast<std::size_t>(ao_draw - plan.draws.begin());
-    auto prepared = backend->prepare(plan, o.size);
-
-    const scene::Scene* current = nullptr;
-    // Renders every case of one kind with the given values; returns per-case MSE (NaN, Inf and values
-    // outside [0, 1] count as an error of 1 each, so a parameter set cannot win by breaking pixels).
-    auto errors = [&](const render::ParamOverrides& values, bool training) {
-      backend->set_params(*prepared, ao_index,
-                          render::plan_pipeline(c, variant, target, values).draws[ao_index].params);
-      std::vector<double> mse;
-      for (const Case& k : cases) {
-        if (k.training != training) continue;
-        if (current != k.scene) backend->set_scene(*k.scene), current = k.scene;
-        render::FrameSetup fsu;
-        fsu.view = k.view;
-        fsu.static_camera = true;
-        fsu.radius = k.scene->ao_radius;
-        for (int f = 0; f < 2; ++f) {
-          fsu.frame = f;
-          backend->render(*prepared, fsu);
-        }
-        auto img = backend->read_result(*prepared);
-        auto e = metrics::compare(img, k.truth.visibility, k.truth.background);
-        double bad = static_cast<double>(e.health.nan + e.health.inf + e.health.out_of_range);
-        double n = std::max<double>(1.0, static_cast<double>(e.health.pixels));
-        double sq = e.finite > 0 ? e.rmse * e.rmse : 1.0;
-        mse.push_back((sq * static_cast<double>(e.finite) + bad) / n);
-      }
-      return mse;
-    };
-    auto mean = [](const std::vector<double>& v) {
-      return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
-    };
-    auto values_at = [&](const std::vector<double>& u) {
-      render::ParamOverrides values;
-      for (std::size_t i = 0; i < params.size(); ++i)
-        values[params[i].key] = params[i].min + std::clamp(u[i], 0.0, 1.0) * (params[i].max - params[i].min);
-      return values;
-    };
-
-    std::vector<double> start;
-    for (const auto& p : params) {
-      fit.defaults[p.key] = p.value;
-      start.push_back(p.max > p.min ? (p.value - p.min) / (p.max - p.min) : 0.0);
-    }
-    auto train_before = errors(fit.defaults, true);
-    auto valid_before = errors(fit.defaults, false);
-    int evaluation = 0;
-    auto best = minimize(
-        [&](const std::vector<double>& u) {
-          double m = mean(errors(values_at(u), true));
-          say(fmt::format("{}: evaluation {}/{}: training RMSE {:.4f}", algorithm, ++evaluation, o.max_evaluations,
-                          std::sqrt(m)));
-          return m;
-        },
-        start, o.max_evaluations, 0.15, 1e-3, &fit.evaluations);
-    fit.fitted = values_at(best);
-    auto train_after = errors(fit.fitted, true);
-    auto valid_after = errors(fit.fitted, false);
-    // Never worse than the defaults on the training views (the search starts there, but keep it explicit).
-    if (mean(train_after) > mean(train_before)) {
-      fit.fitted = fit.defaults;
-      train_after = train_before;
-      valid_after = valid_before;
-    }
-    std::size_t ti = 0, vi = 0;
-    for (const Case& k : cases) {
-      ViewError ve{k.scene->name, k.view->name, k.training, 0, 0};
-      if (k.training) ve.rmse_before = std::sqrt(train_before[ti]), ve.rmse_after = std::sqrt(train_after[ti]), ++ti;
-      else ve.rmse_before = std::sqrt(valid_before[vi]), ve.rmse_after = std::sqrt(valid_after[vi]), ++vi;
-      fit.views.push_back(ve);
-    }
-    auto mean_rmse = [](const std::vector<double>& mse) {
-      double s = 0;
-      for (double m : mse) s += std::sqrt(m);
-      return mse.empty() ? 0.0 : s / static_cast<double>(mse.size());
-    };
-    fit.train_rmse_before = mean_rmse(train_before);
-    fit.train_rmse_after = mean_rmse(train_after);
-    fit.validation_rmse_before = mean_rmse(valid_before);
-    fit.validation_rmse_after = mean_rmse(valid_after);
-    out.fits.push_back(std::move(fit));
-  }
+  for (const auto& algorithm : algorithms)
+    out.fits.push_back(fit_algorithm(runner, manifest, algorithm, cases, o, say));
   return out;
 }
 

@@ -18,7 +18,9 @@
 #include "reference/reference.h"
 #include "render/backend.h"
 #include "render/plan.h"
+#include "runner/variant_runner.h"
 #include "scene/scene.h"
+#include "variants/key.h"
 #include "util/fs.h"
 #include "util/glob.h"
 
@@ -43,34 +45,262 @@ double radius_px(const scene::View& v, float radius, double height, double z) {
 
 std::string token(const variants::Manifest& m, Axis a, int i) { return m.value(a, i).text; }
 
-// Mean |AO_t - AO_t-1| of `key` along the view's camera path (lavapipe).
-double path_flicker(render::Backend& backend, const compile::CompiledSpace& c, const std::string& key,
-                    const scene::View& view, float radius, render::Extent size) {
-  int v = -1;
-  for (std::size_t i = 0; i < c.space.variants.size(); ++i)
-    if (c.space.variants[i].key == key) v = static_cast<int>(i);
+// Mean |AO_t - AO_t-1| of `key` along the view's camera path.
+double path_flicker(runner::VariantRunner& runner, const std::string& key, const scene::View& view, float radius) {
+  const int v = runner::find_variant(runner.compiled(), key);
   if (v < 0) throw std::runtime_error("profile: " + key + " did not compile");
-  auto prepared = backend.prepare(render::plan_pipeline(c, v, variants::Target::vulkan), size);
-  std::vector<image::FloatImage> frames;
+  auto prepared = runner.prepare(runner.plan(v, {}, true));
   // One frame of history first: a progressive variant averages its two halves from frame 1 on.
-  for (int f = 0; f <= std::max(2, view.path_frames); ++f) {
-    backend.render(*prepared, {&view, f, false, radius});
-    if (f > 0) frames.push_back(backend.read_result(*prepared));
+  return metrics::flicker(runner.render_path(*prepared, view, radius, 1, std::max(2, view.path_frames)));
+}
+
+// Per resolution: the p95 angle (degrees) between normals derived from r16f and from r32f depth, by forward
+// differences one AO pixel apart; a neighbour more than 5 % deeper or nearer is another surface (an edge,
+// where both are meaningless).
+std::vector<std::pair<double, double>> r16f_normal_p95(const image::FloatImage& depth, const scene::View& view,
+                                                      const std::vector<double>& resolutions) {
+  const int w = depth.width, h = depth.height;
+  const double tan_y = std::tan(glm::radians(static_cast<double>(view.fov_y_deg)) * 0.5);
+  const double tan_x = tan_y * w / h;
+  auto at = [&](int x, int y, bool half) {
+    const double z = depth.pixels[static_cast<std::size_t>(y) * w + x];
+    const double zz = half ? as_half(static_cast<float>(z)) : z;
+    return glm::dvec3(((x + 0.5) / w * 2 - 1) * tan_x * zz, ((y + 0.5) / h * 2 - 1) * tan_y * zz, -zz);
+  };
+  std::vector<std::pair<double, double>> out;
+  for (double res : resolutions) {
+    const int d = std::max(1, static_cast<int>(std::lround(1.0 / res)));  // one AO pixel, in full-res pixels
+    std::vector<double> angles;
+    for (int y = 0; y + d < h; y += d)
+      for (int x = 0; x + d < w; x += d) {
+        const float z = depth.pixels[static_cast<std::size_t>(y) * w + x];
+        const float zx = depth.pixels[static_cast<std::size_t>(y) * w + x + d];
+        const float zy = depth.pixels[static_cast<std::size_t>(y + d) * w + x];
+        if (!std::isfinite(z) || !std::isfinite(zx) || !std::isfinite(zy)) continue;
+        if (std::abs(zx - z) > 0.05f * z || std::abs(zy - z) > 0.05f * z) continue;
+        glm::dvec3 n32 = glm::cross(at(x + d, y, false) - at(x, y, false), at(x, y + d, false) - at(x, y, false));
+        glm::dvec3 n16 = glm::cross(at(x + d, y, true) - at(x, y, true), at(x, y + d, true) - at(x, y, true));
+        if (glm::length(n32) <= 0 || glm::length(n16) <= 0) {
+          angles.push_back(90.0);  // r16f flattened the step to nothing: no normal at all
+          continue;
+        }
+        angles.push_back(
+            glm::degrees(std::acos(std::clamp(glm::dot(glm::normalize(n32), glm::normalize(n16)), -1.0, 1.0))));
+      }
+    out.emplace_back(res, percentile(angles, 0.95));
   }
-  return metrics::flicker(frames);
+  return out;
+}
+
+// What one view needs, from its traced depth: depth statistics, r16f errors, the radius in pixels and
+// what it implies (SAO levels, early-outs per resolution), the camera's step.
+ViewProfile profile_view(const scene::Scene& sc, const scene::View& view, const Options& o, float radius,
+                         const std::vector<double>& resolutions) {
+  const auto traced = reference::trace_depth(sc, view, o.size, 0, o.threads);
+  ViewProfile vp;
+  vp.view = view.name;
+  vp.near_plane = view.near_plane;
+  vp.far_plane = view.far_plane;
+  // The view ray of each pixel has view-space z = -1: P = z * ray, so |P16 - P32| = |z16 - z| |ray|.
+  const double tan_y = std::tan(glm::radians(static_cast<double>(view.fov_y_deg)) * 0.5);
+  const double tan_x = tan_y * o.size.width / o.size.height;
+  std::vector<double> depths, errors, rpx;
+  const int w = o.size.width, h = o.size.height;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float z = traced.depth.pixels[static_cast<std::size_t>(y) * w + x];
+      if (!std::isfinite(z)) continue;
+      const double nx = ((x + 0.5) / w * 2 - 1) * tan_x, ny = ((y + 0.5) / h * 2 - 1) * tan_y;
+      depths.push_back(z);
+      errors.push_back(std::abs(as_half(z) - z) * std::sqrt(nx * nx + ny * ny + 1.0));
+      rpx.push_back(radius_px(view, radius, h, z));
+    }
+  vp.r16f_normal_p95 = r16f_normal_p95(traced.depth, view, resolutions);
+  const double pixels = static_cast<double>(w) * h;
+  vp.background_share = 1.0 - static_cast<double>(depths.size()) / pixels;
+  if (!depths.empty()) {
+    vp.depth_min = *std::min_element(depths.begin(), depths.end());
+    vp.depth_max = *std::max_element(depths.begin(), depths.end());
+    vp.depth_p05 = percentile(depths, 0.05), vp.depth_p50 = percentile(depths, 0.5), vp.depth_p95 = percentile(depths, 0.95);
+    vp.r16f_error_p99 = percentile(errors, 0.99);
+    vp.r16f_error_max = *std::max_element(errors.begin(), errors.end());
+    vp.radius_px_far = radius_px(view, radius, h, vp.depth_p95);
+    vp.radius_px_median = radius_px(view, radius, h, vp.depth_p50);
+    vp.radius_px_near = radius_px(view, radius, h, vp.depth_p05);
+    // SAO reads level floor(log2(tap distance)) - 3 (ao/sao.glsl, q' = 8), taps reach the radius (capped
+    // at a quarter of the target like ao_radius_px).
+    const double reach = std::min(vp.radius_px_near, 0.25 * std::min(w, h));
+    vp.sao_levels_used = std::max(1, static_cast<int>(std::floor(std::log2(std::max(reach, 1.0)))) - 3 + 1);
+    for (double res : resolutions) {
+      const double share =
+          static_cast<double>(std::count_if(rpx.begin(), rpx.end(), [&](double r) { return r * res < 1.0; })) /
+          static_cast<double>(rpx.size());
+      vp.early_out.emplace_back(res, share);
+    }
+  }
+  vp.camera_step = view.path_frames > 1 ? glm::length(view.path_offset) / (view.path_frames - 1) : 0.0;
+  return vp;
+}
+
+// Flicker of progressive halves along the moving paths (the static ones average their halves exactly),
+// rendered on lavapipe: the flicker pair of `space`, compiled for it alone.
+void measure_flicker(Profile& p, const std::vector<const scene::View*>& views, const scene::Scene& sc,
+                     const variants::Manifest& manifest, const variants::VariantSpace& space, const Options& o,
+                     const Progress& say) {
+  auto [progressive, full] = flicker_pair(manifest, space);
+  if (progressive.empty()) return;
+  p.flicker_pair = progressive + " vs " + full;
+  say("measuring the flicker of " + p.flicker_pair);
+  compile::CompileOptions co;
+  co.targets = {variants::Target::vulkan};
+  co.globs = {progressive, full};
+  co.cache_dir = o.cache_dir;
+  auto c = compile::compile_space(o.manifest, co);
+  if (!c.ok()) throw std::runtime_error(c.diagnostics.empty() ? "profile: compile failed" : c.diagnostics.front());
+  runner::RunnerOptions ro;
+  ro.backend = "lavapipe";
+  ro.device.threads = o.threads;
+  ro.size = o.size;
+  runner::VariantRunner runner(c, ro);
+  runner.use_scene(sc);
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    if (p.views[i].camera_step <= 0) continue;
+    p.views[i].flicker_progressive = path_flicker(runner, progressive, *views[i], p.radius);
+    p.views[i].flicker_full = path_flicker(runner, full, *views[i], p.radius);
+  }
+}
+
+void decide(Profile& p, Axis a, const std::string& value, bool keep, std::string reason) {
+  p.decisions.push_back({std::string(variants::axis_info(a).name), value, keep, std::move(reason)});
+}
+void decide_pair(Profile& p, const std::string& axes, const std::string& values, bool keep, std::string reason) {
+  p.decisions.push_back({axes, values, keep, std::move(reason)});
+}
+
+// r16f depth, by the positions it reconstructs (tolerances: Options, calibrated by bench/r16f against
+// rendered r16f/r32f pairs, bench/README.md).
+void decide_r16f_positions(Profile& p, const variants::Manifest& manifest, const Options& o) {
+  for (const auto& v : manifest.axis_values(Axis::depth_format)) {
+    if (v.text != "r16f") continue;
+    const ViewProfile* worst = nullptr;
+    for (const auto& vp : p.views)
+      if (!worst || vp.r16f_error_p99 > worst->r16f_error_p99) worst = &vp;
+    if (!worst) continue;
+    const double share = worst->r16f_error_p99 / p.radius;
+    // position = depth: a position buffer holds 32-bit positions whatever the depth format.
+    decide_pair(p, "depth_format+position", v.text + "+depth", share <= o.r16f_tolerance,
+                fmt::format("r16f linear depth moves reconstructed positions by {:.3g} (p99; max {:.3g}) on view {} "
+                            "(depth {:.3g}-{:.3g}): {:.2f}% of the AO radius {:.3g}, tolerance {:.2f}%",
+                            worst->r16f_error_p99, worst->r16f_error_max, worst->view, worst->depth_min,
+                            worst->depth_max, 100 * share, p.radius, 100 * o.r16f_tolerance));
+  }
+}
+
+// r16f depth with normals derived from it, per resolution.
+void decide_r16f_normals(Profile& p, const variants::Manifest& manifest, const std::vector<double>& resolutions,
+                         const Options& o) {
+  for (std::size_t r = 0; r < resolutions.size(); ++r) {
+    const ViewProfile* worst = nullptr;
+    for (const auto& vp : p.views)
+      if (r < vp.r16f_normal_p95.size() && (!worst || vp.r16f_normal_p95[r].second > worst->r16f_normal_p95[r].second))
+        worst = &vp;
+    if (!worst) continue;
+    const double angle = worst->r16f_normal_p95[r].second;
+    // normal_source (prune): the normals a variant's AO method uses, "depth" only when derived from depth.
+    decide_pair(p, "depth_format+normal_source+resolution",
+                "r16f+depth+" + manifest.value(Axis::resolution, static_cast<int>(r)).text,
+                angle <= o.normal_tolerance_deg,
+                fmt::format("normals derived from r16f depth at {}x resolution turn by {:.1f} deg (p95) from those of "
+                            "r32f depth on view {} at {}x{}, tolerance {:.1f} deg",
+                            resolutions[r], angle, worst->view, o.size.width, o.size.height, o.normal_tolerance_deg));
+  }
+}
+
+// Resolutions at which the AO radius spans under one AO pixel on most of the geometry.
+void decide_resolutions(Profile& p, const variants::Manifest& manifest, const std::vector<double>& resolutions,
+                        const Options& o) {
+  for (std::size_t r = 0; r < resolutions.size(); ++r) {
+    const ViewProfile* worst = nullptr;
+    for (const auto& vp : p.views)
+      if (r < vp.early_out.size() && (!worst || vp.early_out[r].second > worst->early_out[r].second)) worst = &vp;
+    if (!worst) continue;
+    const double share = worst->early_out[r].second;
+    decide(p, Axis::resolution, manifest.value(Axis::resolution, static_cast<int>(r)).text, share <= o.early_out_share,
+           fmt::format("at {}x resolution the AO radius spans under one AO pixel (the pass's early-out: no AO) on "
+                       "{:.0f}% of the geometry pixels of view {} (median radius {:.2f} px at full resolution), "
+                       "threshold {:.0f}%",
+                       resolutions[r], 100 * share, worst->view, worst->radius_px_median, 100 * o.early_out_share));
+  }
+}
+
+// Samples, per resolution: taps spread over a disk of pi r^2 AO pixels; more taps than that re-read pixels.
+void decide_samples(Profile& p, const variants::Manifest& manifest, const std::vector<double>& resolutions,
+                    const Options& o) {
+  const ViewProfile* widest = nullptr;  // the largest radius in pixels: the most room for taps
+  for (const auto& vp : p.views)
+    if (!widest || vp.radius_px_near > widest->radius_px_near) widest = &vp;
+  for (std::size_t r = 0; widest && r < resolutions.size(); ++r)
+    for (const auto& s : manifest.axis_values(Axis::samples)) {
+      const double r_ao = std::min(widest->radius_px_near, 0.25 * std::min(o.size.width, o.size.height)) * resolutions[r];
+      const double disk = std::numbers::pi * r_ao * r_ao;
+      const double taps = std::stod(s.text);
+      decide(p, Axis::samples, s.text + "@" + manifest.value(Axis::resolution, static_cast<int>(r)).text, taps <= disk,
+             fmt::format("{} taps over a disk of {:.1f} AO pixels at {}x resolution (radius {:.2f} px at the nearest 5% "
+                         "of depths, view {}){}",
+                         s.text, disk, resolutions[r], r_ao, widest->view, taps <= disk ? "" : ": taps re-read pixels"));
+    }
+}
+
+// Progressive halves, by their flicker against the full form's on the worst moving view.
+void decide_progressive(Profile& p, const Options& o) {
+  const ViewProfile* worst = nullptr;
+  for (const auto& vp : p.views)
+    if (vp.flicker_progressive >= 0 &&
+        (!worst || vp.flicker_progressive - vp.flicker_full > worst->flicker_progressive - worst->flicker_full))
+      worst = &vp;
+  if (!worst) {
+    decide(p, Axis::progressive, "true", true,
+           o.measure_flicker ? "every view's camera is static: the two halves average to the full sample set"
+                             : "flicker not measured (--no-flicker)");
+    return;
+  }
+  const double extra = worst->flicker_progressive - worst->flicker_full;
+  decide(p, Axis::progressive, "true", extra <= o.flicker_tolerance,
+         fmt::format("progressive halves flicker {:.4f} against {:.4f} for all samples every frame ({}) along the "
+                     "camera path of view {} ({:.3g} units a frame), tolerance +{:.4f}",
+                     worst->flicker_progressive, worst->flicker_full, p.flicker_pair, worst->view, worst->camera_step,
+                     o.flicker_tolerance));
+}
+
+// The G-buffer the renderer declares ([renderer] in the manifest): normal encodings, position buffer.
+void decide_renderer_buffers(Profile& p, const variants::Manifest& manifest, const Options& o) {
+  const auto display = util::display_path(o.manifest);
+  if (const auto& nb = manifest.renderer.normal_buffers)
+    for (const auto& v : manifest.axis_values(Axis::normals)) {
+      if (v.text == "depth") continue;
+      bool has = std::find(nb->begin(), nb->end(), v.text) != nb->end();
+      if (!has)
+        decide(p, Axis::normals, v.text, false,
+               fmt::format("the renderer writes no {} normal buffer ({}:{}: [renderer] normal_buffers)", v.text, display,
+                           manifest.renderer.normal_buffers_pos.line));
+    }
+  if (manifest.renderer.position_buffer && !*manifest.renderer.position_buffer)
+    decide(p, Axis::position, "position", false,
+           fmt::format("the renderer writes no position buffer ({}:{}: [renderer] position_buffer = false)", display,
+                       manifest.renderer.position_buffer_pos.line));
 }
 
 }  // namespace
 
-std::pair<std::string, std::string> flicker_pair(const variants::VariantSpace& space) {
+std::pair<std::string, std::string> flicker_pair(const variants::Manifest& manifest,
+                                                 const variants::VariantSpace& space) {
   std::set<std::string> keys;
   for (const auto& e : space.variants) keys.insert(e.key);
   for (const auto& key : keys) {
-    auto at = key.find("-p1-");
-    if (at == std::string::npos) continue;
-    std::string full = key;
-    full.replace(at, 4, "-p0-");
-    if (keys.count(full)) return {key, full};
+    const auto point = variants::parse_key(manifest, key);
+    if (!point || variants::value_text(manifest, *point, Axis::progressive) != "true") continue;
+    const auto full = variants::with_axis(manifest, key, Axis::progressive, "false");
+    if (full && keys.count(*full)) return {key, *full};
   }
   return {};
 }
@@ -83,7 +313,7 @@ Profile profile_scene(const Options& o, const Progress& progress) {
 
 Profile profile_scene(const Options& o, const scene::Scene& sc, const variants::Manifest& manifest,
                       const variants::VariantSpace& space, const Progress& progress) {
-  auto say = [&](const std::string& s) {
+  const Progress say = [&](const std::string& s) {
     if (progress) progress(s);
   };
   Profile p;
@@ -96,206 +326,23 @@ Profile profile_scene(const Options& o, const scene::Scene& sc, const variants::
     for (const auto& v : sc.views) views.push_back(&v);
   else
     for (const auto& name : o.views) views.push_back(&sc.view(name));
-
   std::vector<double> resolutions;
   for (const auto& v : manifest.axis_values(Axis::resolution)) resolutions.push_back(std::stod(v.text));
 
   for (const scene::View* view : views) {
     say("tracing the depth of " + view->name);
-    const auto traced = reference::trace_depth(sc, *view, o.size, 0, o.threads);
-    ViewProfile vp;
-    vp.view = view->name;
-    vp.near_plane = view->near_plane;
-    vp.far_plane = view->far_plane;
-    // The view ray of each pixel has view-space z = -1: P = z * ray, so |P16 - P32| = |z16 - z| |ray|.
-    const double tan_y = std::tan(glm::radians(static_cast<double>(view->fov_y_deg)) * 0.5);
-    const double tan_x = tan_y * o.size.width / o.size.height;
-    std::vector<double> depths, errors, rpx;
-    const int w = o.size.width, h = o.size.height;
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const float z = traced.depth.pixels[static_cast<std::size_t>(y) * w + x];
-        if (!std::isfinite(z)) continue;
-        const double nx = ((x + 0.5) / w * 2 - 1) * tan_x, ny = ((y + 0.5) / h * 2 - 1) * tan_y;
-        depths.push_back(z);
-        errors.push_back(std::abs(as_half(z) - z) * std::sqrt(nx * nx + ny * ny + 1.0));
-        rpx.push_back(radius_px(*view, p.radius, h, z));
-      }
-    // Normals from depth by forward differences, r16f against r32f; a neighbour more than 5 % deeper or
-    // nearer is another surface (an edge, where both are meaningless).
-    auto at = [&](int x, int y, bool half) {
-      const double z = traced.depth.pixels[static_cast<std::size_t>(y) * w + x];
-      const double zz = half ? as_half(static_cast<float>(z)) : z;
-      return glm::dvec3(((x + 0.5) / w * 2 - 1) * tan_x * zz, ((y + 0.5) / h * 2 - 1) * tan_y * zz, -zz);
-    };
-    for (double res : resolutions) {
-      const int d = std::max(1, static_cast<int>(std::lround(1.0 / res)));  // one AO pixel, in full-res pixels
-      std::vector<double> angles;
-      for (int y = 0; y + d < h; y += d)
-        for (int x = 0; x + d < w; x += d) {
-          const float z = traced.depth.pixels[static_cast<std::size_t>(y) * w + x];
-          const float zx = traced.depth.pixels[static_cast<std::size_t>(y) * w + x + d];
-          const float zy = traced.depth.pixels[static_cast<std::size_t>(y + d) * w + x];
-          if (!std::isfinite(z) || !std::isfinite(zx) || !std::isfinite(zy)) continue;
-          if (std::abs(zx - z) > 0.05f * z || std::abs(zy - z) > 0.05f * z) continue;
-          glm::dvec3 n32 = glm::cross(at(x + d, y, false) - at(x, y, false), at(x, y + d, false) - at(x, y, false));
-          glm::dvec3 n16 = glm::cross(at(x + d, y, true) - at(x, y, true), at(x, y + d, true) - at(x, y, true));
-          if (glm::length(n32) <= 0 || glm::length(n16) <= 0) {
-            angles.push_back(90.0);  // r16f flattened the step to nothing: no normal at all
-            continue;
-          }
-          angles.push_back(
-              glm::degrees(std::acos(std::clamp(glm::dot(glm::normalize(n32), glm::normalize(n16)), -1.0, 1.0))));
-        }
-      vp.r16f_normal_p95.emplace_back(res, percentile(angles, 0.95));
-    }
-    const double pixels = static_cast<double>(w) * h;
-    vp.background_share = 1.0 - static_cast<double>(depths.size()) / pixels;
-    if (!depths.empty()) {
-      vp.depth_min = *std::min_element(depths.begin(), depths.end());
-      vp.depth_max = *std::max_element(depths.begin(), depths.end());
-      vp.depth_p05 = percentile(depths, 0.05), vp.depth_p50 = percentile(depths, 0.5), vp.depth_p95 = percentile(depths, 0.95);
-      vp.r16f_error_p99 = percentile(errors, 0.99);
-      vp.r16f_error_max = *std::max_element(errors.begin(), errors.end());
-      vp.radius_px_far = radius_px(*view, p.radius, h, vp.depth_p95);
-      vp.radius_px_median = radius_px(*view, p.radius, h, vp.depth_p50);
-      vp.radius_px_near = radius_px(*view, p.radius, h, vp.depth_p05);
-      // SAO reads level floor(log2(tap distance)) - 3 (ao/sao.glsl, q' = 8), taps reach the radius (capped
-      // at a quarter of the target like ao_radius_px).
-      const double reach = std::min(vp.radius_px_near, 0.25 * std::min(w, h));
-      vp.sao_levels_used = std::max(1, static_cast<int>(std::floor(std::log2(std::max(reach, 1.0)))) - 3 + 1);
-      for (double res : resolutions) {
-        const double share =
-            static_cast<double>(std::count_if(rpx.begin(), rpx.end(), [&](double r) { return r * res < 1.0; })) /
-            static_cast<double>(rpx.size());
-        vp.early_out.emplace_back(res, share);
-      }
-    }
-    vp.camera_step = view->path_frames > 1 ? glm::length(view->path_offset) / (view->path_frames - 1) : 0.0;
-    p.views.push_back(vp);
+    p.views.push_back(profile_view(sc, *view, o, p.radius, resolutions));
   }
-
-  // Flicker of progressive halves along the moving paths (the static ones average their halves exactly).
   const bool moving = std::any_of(p.views.begin(), p.views.end(), [](const ViewProfile& v) { return v.camera_step > 0; });
-  if (o.measure_flicker && moving) {
-    auto [progressive, full] = flicker_pair(space);
-    if (!progressive.empty()) {
-      p.flicker_pair = progressive + " vs " + full;
-      say("measuring the flicker of " + p.flicker_pair);
-      compile::CompileOptions co;
-      co.targets = {variants::Target::vulkan};
-      co.globs = {progressive, full};
-      co.cache_dir = o.cache_dir;
-      auto c = compile::compile_space(o.manifest, co);
-      if (!c.ok()) throw std::runtime_error(c.diagnostics.empty() ? "profile: compile failed" : c.diagnostics.front());
-      render::BackendOptions bo;
-      bo.threads = o.threads;
-      auto backend = render::make_backend("lavapipe", bo);
-      backend->set_scene(sc);
-      for (std::size_t i = 0; i < views.size(); ++i) {
-        if (p.views[i].camera_step <= 0) continue;
-        p.views[i].flicker_progressive = path_flicker(*backend, c, progressive, *views[i], p.radius, o.size);
-        p.views[i].flicker_full = path_flicker(*backend, c, full, *views[i], p.radius, o.size);
-      }
-    }
-  }
+  if (o.measure_flicker && moving) measure_flicker(p, views, sc, manifest, space, o, say);
 
   // Decisions, axis value by axis value.
-  auto decide = [&](Axis a, const std::string& value, bool keep, std::string reason) {
-    p.decisions.push_back({std::string(variants::axis_info(a).name), value, keep, std::move(reason)});
-  };
-  auto decide_pair = [&](const std::string& axes, const std::string& values, bool keep, std::string reason) {
-    p.decisions.push_back({axes, values, keep, std::move(reason)});
-  };
-  // r16f tolerances (Options): calibrated by bench/r16f against rendered r16f/r32f pairs, bench/README.md.
-  for (const auto& v : manifest.axis_values(Axis::depth_format)) {
-    if (v.text != "r16f") continue;
-    const ViewProfile* worst = nullptr;
-    for (const auto& vp : p.views)
-      if (!worst || vp.r16f_error_p99 > worst->r16f_error_p99) worst = &vp;
-    if (!worst) continue;
-    const double share = worst->r16f_error_p99 / p.radius;
-    // position = depth: a position buffer holds 32-bit positions whatever the depth format.
-    decide_pair("depth_format+position", v.text + "+depth", share <= o.r16f_tolerance,
-           fmt::format("r16f linear depth moves reconstructed positions by {:.3g} (p99; max {:.3g}) on view {} (depth "
-                       "{:.3g}-{:.3g}): {:.2f}% of the AO radius {:.3g}, tolerance {:.2f}%",
-                       worst->r16f_error_p99, worst->r16f_error_max, worst->view, worst->depth_min, worst->depth_max,
-                       100 * share, p.radius, 100 * o.r16f_tolerance));
-  }
-  for (std::size_t r = 0; r < resolutions.size(); ++r) {
-    const ViewProfile* worst = nullptr;
-    for (const auto& vp : p.views)
-      if (r < vp.r16f_normal_p95.size() && (!worst || vp.r16f_normal_p95[r].second > worst->r16f_normal_p95[r].second))
-        worst = &vp;
-    if (!worst) continue;
-    const double angle = worst->r16f_normal_p95[r].second;
-    // normal_source (prune): the normals a variant's AO method uses, "depth" only when derived from depth.
-    decide_pair("depth_format+normal_source+resolution",
-                "r16f+depth+" + manifest.value(Axis::resolution, static_cast<int>(r)).text,
-                angle <= o.normal_tolerance_deg,
-                fmt::format("normals derived from r16f depth at {}x resolution turn by {:.1f} deg (p95) from those of "
-                            "r32f depth on view {} at {}x{}, tolerance {:.1f} deg",
-                            resolutions[r], angle, worst->view, o.size.width, o.size.height, o.normal_tolerance_deg));
-  }
-  for (std::size_t r = 0; r < resolutions.size(); ++r) {
-    const ViewProfile* worst = nullptr;
-    for (const auto& vp : p.views)
-      if (r < vp.early_out.size() && (!worst || vp.early_out[r].second > worst->early_out[r].second)) worst = &vp;
-    if (!worst) continue;
-    const double share = worst->early_out[r].second;
-    decide(Axis::resolution, manifest.value(Axis::resolution, static_cast<int>(r)).text, share <= o.early_out_share,
-           fmt::format("at {}x resolution the AO radius spans under one AO pixel (the pass's early-out: no AO) on "
-                       "{:.0f}% of the geometry pixels of view {} (median radius {:.2f} px at full resolution), "
-                       "threshold {:.0f}%",
-                       resolutions[r], 100 * share, worst->view, worst->radius_px_median, 100 * o.early_out_share));
-  }
-  // Samples, per resolution: taps spread over a disk of pi r^2 AO pixels; more taps than that re-read pixels.
-  const ViewProfile* widest = nullptr;  // the largest radius in pixels: the most room for taps
-  for (const auto& vp : p.views)
-    if (!widest || vp.radius_px_near > widest->radius_px_near) widest = &vp;
-  for (std::size_t r = 0; widest && r < resolutions.size(); ++r)
-    for (const auto& s : manifest.axis_values(Axis::samples)) {
-      const double r_ao = std::min(widest->radius_px_near, 0.25 * std::min(o.size.width, o.size.height)) * resolutions[r];
-      const double disk = std::numbers::pi * r_ao * r_ao;
-      const double taps = std::stod(s.text);
-      decide(Axis::samples, s.text + "@" + manifest.value(Axis::resolution, static_cast<int>(r)).text, taps <= disk,
-             fmt::format("{} taps over a disk of {:.1f} AO pixels at {}x resolution (radius {:.2f} px at the nearest 5% "
-                         "of depths, view {}){}",
-                         s.text, disk, resolutions[r], r_ao, widest->view, taps <= disk ? "" : ": taps re-read pixels"));
-    }
-  {
-    const ViewProfile* worst = nullptr;
-    for (const auto& vp : p.views)
-      if (vp.flicker_progressive >= 0 &&
-          (!worst || vp.flicker_progressive - vp.flicker_full > worst->flicker_progressive - worst->flicker_full))
-        worst = &vp;
-    if (worst) {
-      const double extra = worst->flicker_progressive - worst->flicker_full;
-      decide(Axis::progressive, "true", extra <= o.flicker_tolerance,
-             fmt::format("progressive halves flicker {:.4f} against {:.4f} for all samples every frame ({}) along the "
-                         "camera path of view {} ({:.3g} units a frame), tolerance +{:.4f}",
-                         worst->flicker_progressive, worst->flicker_full, p.flicker_pair, worst->view,
-                         worst->camera_step, o.flicker_tolerance));
-    } else {
-      decide(Axis::progressive, "true", true,
-             o.measure_flicker ? "every view's camera is static: the two halves average to the full sample set"
-                               : "flicker not measured (--no-flicker)");
-    }
-  }
-  const auto display = util::display_path(o.manifest);
-  if (const auto& nb = manifest.renderer.normal_buffers)
-    for (const auto& v : manifest.axis_values(Axis::normals)) {
-      if (v.text == "depth") continue;
-      bool has = std::find(nb->begin(), nb->end(), v.text) != nb->end();
-      if (!has)
-        decide(Axis::normals, v.text, false,
-               fmt::format("the renderer writes no {} normal buffer ({}:{}: [renderer] normal_buffers)", v.text, display,
-                           manifest.renderer.normal_buffers_pos.line));
-    }
-  if (manifest.renderer.position_buffer && !*manifest.renderer.position_buffer)
-    decide(Axis::position, "position", false,
-           fmt::format("the renderer writes no position buffer ({}:{}: [renderer] position_buffer = false)", display,
-                       manifest.renderer.position_buffer_pos.line));
+  decide_r16f_positions(p, manifest, o);
+  decide_r16f_normals(p, manifest, resolutions, o);
+  decide_resolutions(p, manifest, resolutions, o);
+  decide_samples(p, manifest, resolutions, o);
+  decide_progressive(p, o);
+  decide_renderer_buffers(p, manifest, o);
   return p;
 }
 

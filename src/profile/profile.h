@@ -97,8 +97,10 @@ Profile profile_scene(const Options& options, const scene::Scene& scene, const v
 Profile profile_scene(const Options& options, const Progress& progress = {});
 
 // The progressive variant and its full-sample form whose flicker stands for progressive rendering (the
-// first progressive key of `space` with its p0 form present); empty strings when there is none.
-std::pair<std::string, std::string> flicker_pair(const variants::VariantSpace& space);
+// first progressive key of `space` whose progressive = false partner is in it too); empty strings when
+// there is none.
+std::pair<std::string, std::string> flicker_pair(const variants::Manifest& manifest,
+                                                 const variants::VariantSpace& space);
 
 struct Pruned {
   std::vector<std::string> kept;

@@ -74,7 +74,7 @@ ScenePruning prune_scene(const PruneOptions& o, const scene::Scene& sc, const st
   h.add(fmt::format("{} {} {} {} {}", po.r16f_tolerance, po.normal_tolerance_deg, po.early_out_share, po.flicker_tolerance,
                     po.measure_flicker));
   for (const scene::View* v : views) h.add(scene::camera_text(*v));
-  const auto [progressive, full] = flicker_pair(space);
+  const auto [progressive, full] = flicker_pair(manifest, space);
   if (!progressive.empty()) {
     shadergen::TemplateReader reader(manifest.root);
     for (const auto& e : space.variants)

@@ -103,7 +103,18 @@ class LavapipePipeline final : public PreparedPipeline {
     return t.copies[ref.previous ? 1 - p : p];
   }
 
+  // A target's extent: the output's or the AO pass's.
+  VkExtent2D extent_of(bool full_resolution) const {
+    const Extent e = full_resolution ? size : ao;
+    return VkExtent2D{uint32_t(e.width), uint32_t(e.height)};
+  }
+
   void record_frame(int p, float far_plane, const SceneBuffers& scene);
+
+ private:
+  VkRenderingAttachmentInfo color_attachment(const Draw& d, const TextureRef& out, int p, float far_plane,
+                                             std::vector<VkImageMemoryBarrier2>& barriers) const;
+  VkRenderingAttachmentInfo depth_attachment(const Draw& d, std::vector<VkImageMemoryBarrier2>& barriers) const;
 };
 
 LavapipePipeline::~LavapipePipeline() {
@@ -138,6 +149,60 @@ VkClearValue clear_value(const Texture& t, float far_plane) {
   return v;
 }
 
+// The attachment of output `out` of draw `d` in frame parity `p`, and the barrier that makes its level a
+// colour attachment (appended to `barriers`).
+VkRenderingAttachmentInfo LavapipePipeline::color_attachment(const Draw& d, const TextureRef& out, int p,
+                                                             float far_plane,
+                                                             std::vector<VkImageMemoryBarrier2>& barriers) const {
+  VkRenderingAttachmentInfo a{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  if (out.texture < 0) {  // location unused: no view, writes discarded
+    a.imageView = VK_NULL_HANDLE;
+    return a;
+  }
+  const Texture& t = textures[out.texture];
+  const Image& img = image(TextureRef{out.texture, false}, p);
+  const uint32_t level = static_cast<uint32_t>(std::max(out.level, 0));
+  // Cleared targets and fullscreen outputs (every texel rewritten) need no old contents.
+  bool load = !t.cleared && d.geometry;
+  barriers.push_back(image_barrier(
+      img.image, VK_IMAGE_ASPECT_COLOR_BIT,
+      load ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
+      VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+      VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
+          VK_PIPELINE_STAGE_2_COPY_BIT,
+      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT, level, 1));
+  a.imageView = img.level_view(static_cast<int>(level));
+  a.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+  a.loadOp = t.cleared ? VK_ATTACHMENT_LOAD_OP_CLEAR : load ? VK_ATTACHMENT_LOAD_OP_LOAD
+                                                            : VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+  a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  if (t.cleared) a.clearValue = clear_value(t, far_plane);
+  return a;
+}
+
+// Draw `d`'s depth attachment (none when it tests no depth) and its barrier (appended to `barriers`).
+VkRenderingAttachmentInfo LavapipePipeline::depth_attachment(const Draw& d,
+                                                             std::vector<VkImageMemoryBarrier2>& barriers) const {
+  VkRenderingAttachmentInfo a{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  if (d.depth == DepthUse::none) return a;
+  // geometry and write_mask start the buffer afresh; skip_background reads what they left.
+  const bool load = d.depth == DepthUse::skip_background;
+  const VkPipelineStageFlags2 tests =
+      VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+  const Image& z = depth_buffers[d.depth_buffer];
+  barriers.push_back(image_barrier(
+      z.image, VK_IMAGE_ASPECT_DEPTH_BIT, load ? VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
+      VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, tests, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, tests,
+      VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT));
+  a.imageView = z.view;
+  a.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+  a.loadOp = load ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
+  a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;  // later draws of the frame test against it
+  a.clearValue.depthStencil = {d.depth == DepthUse::write_mask ? 0.0f : 1.0f, 0};
+  return a;
+}
+
 void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& scene) {
   VkCommandBuffer cmd = frame_cmd[p];
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -157,52 +222,8 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
 
     barriers.clear();
     attachments.clear();
-    for (const TextureRef& out : d.outputs) {
-      VkRenderingAttachmentInfo a{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-      if (out.texture < 0) {  // location unused: no view, writes discarded
-        a.imageView = VK_NULL_HANDLE;
-        attachments.push_back(a);
-        continue;
-      }
-      const Texture& t = textures[out.texture];
-      const Image& img = image(TextureRef{out.texture, false}, p);
-      const uint32_t level = static_cast<uint32_t>(std::max(out.level, 0));
-      // Cleared targets and fullscreen outputs (every texel rewritten) need no old contents.
-      bool load = !t.cleared && d.geometry;
-      barriers.push_back(image_barrier(
-          img.image, VK_IMAGE_ASPECT_COLOR_BIT,
-          load ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
-          VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-          VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
-              VK_PIPELINE_STAGE_2_COPY_BIT,
-          VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-          VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT, level, 1));
-      a.imageView = img.level_view(static_cast<int>(level));
-      a.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-      a.loadOp = t.cleared ? VK_ATTACHMENT_LOAD_OP_CLEAR : load ? VK_ATTACHMENT_LOAD_OP_LOAD
-                                                                : VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-      a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-      if (t.cleared) a.clearValue = clear_value(t, far_plane);
-      attachments.push_back(a);
-    }
-    VkRenderingAttachmentInfo depth_attachment{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    if (d.depth != DepthUse::none) {
-      // geometry and write_mask start the buffer afresh; skip_background reads what they left.
-      const bool load = d.depth == DepthUse::skip_background;
-      const VkPipelineStageFlags2 tests =
-          VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
-      const Image& z = depth_buffers[d.depth_buffer];
-      barriers.push_back(image_barrier(
-          z.image, VK_IMAGE_ASPECT_DEPTH_BIT,
-          load ? VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
-          VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, tests, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, tests,
-          VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT));
-      depth_attachment.imageView = z.view;
-      depth_attachment.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-      depth_attachment.loadOp = load ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
-      depth_attachment.storeOp = VK_ATTACHMENT_STORE_OP_STORE;  // later draws of the frame test against it
-      depth_attachment.clearValue.depthStencil = {d.depth == DepthUse::write_mask ? 0.0f : 1.0f, 0};
-    }
+    for (const TextureRef& out : d.outputs) attachments.push_back(color_attachment(d, out, p, far_plane, barriers));
+    const VkRenderingAttachmentInfo depth_target = depth_attachment(d, barriers);
     pipeline_barrier(cmd, barriers.data(), static_cast<uint32_t>(barriers.size()));
 
     VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
@@ -210,7 +231,7 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
     ri.layerCount = 1;
     ri.colorAttachmentCount = static_cast<uint32_t>(attachments.size());
     ri.pColorAttachments = attachments.data();
-    if (d.depth != DepthUse::none) ri.pDepthAttachment = &depth_attachment;
+    if (d.depth != DepthUse::none) ri.pDepthAttachment = &depth_target;
     vkCmdBeginRendering(cmd, &ri);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, s.pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, dev->pipeline_layout, 0, 1, &s.sets[p % parities],
@@ -246,50 +267,6 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
   recorded[p] = {true, far_plane, scene.generation};
 }
 
-// Throws BackendError for a plan this backend cannot execute (a bug in the planner, not user input).
-void validate_plan(const PipelinePlan& plan) {
-  auto bad = [&](const std::string& what) {
-    throw BackendError(fmt::format("lavapipe: plan of {} is malformed: {}", plan.variant, what));
-  };
-  int nt = static_cast<int>(plan.textures.size()), ns = static_cast<int>(plan.shaders.size());
-  if (plan.draws.empty()) bad("no draws");
-  if (plan.result < 0 || plan.result >= nt) bad("no result texture");
-  const int nz = static_cast<int>(plan.depth_buffers.size());
-  const Texture& r = plan.textures[plan.result];
-  // Full resolution normally; a plan_prefix cut may end at AO resolution (read back at that size).
-  if (r.format != Format::r32f) bad("the result is not an r32f texture");
-  for (const Draw& d : plan.draws) {
-    if (d.vertex < 0 || d.vertex >= ns || d.fragment < 0 || d.fragment >= ns)
-      bad(fmt::format("draw {} names no shader", d.name));
-    if (d.outputs.empty() && d.depth != DepthUse::write_mask) bad(fmt::format("draw {} has no outputs", d.name));
-    if ((d.depth != DepthUse::none) != (d.depth_buffer >= 0) || d.depth_buffer >= nz)
-      bad(fmt::format("draw {} uses depth {} with depth buffer {} of {}", d.name, depth_use_name(d.depth),
-                      d.depth_buffer, nz));
-    if (d.geometry && d.depth != DepthUse::geometry) bad(fmt::format("geometry draw {} has no depth test", d.name));
-    if (d.depth_buffer >= 0 && (plan.depth_buffers[d.depth_buffer].full_resolution != d.full_resolution || d.level != 0))
-      bad(fmt::format("draw {} tests a depth buffer of another size", d.name));
-    for (const TextureRef& o : d.outputs) {
-      if (o.texture >= nt) bad(fmt::format("draw {} writes texture {}", d.name, o.texture));
-      if (o.texture >= 0 && plan.textures[o.texture].full_resolution != d.full_resolution)
-        bad(fmt::format("draw {} writes {} at another resolution", d.name, plan.textures[o.texture].name));
-      if (o.texture >= 0 && (std::max(o.level, 0) != d.level || d.level >= plan.textures[o.texture].levels))
-        bad(fmt::format("draw {} writes level {} of {} ({} levels) at viewport level {}", d.name, o.level,
-                        plan.textures[o.texture].name, plan.textures[o.texture].levels, d.level));
-      // Reading another MIP level of the texture being written is fine: the views do not overlap.
-      for (const auto& [binding, in] : d.inputs)
-        if (o.texture >= 0 && in.texture == o.texture && !in.previous && (in.level < 0 || in.level == d.level))
-          bad(fmt::format("draw {} reads the texture it writes", d.name));
-    }
-    for (const auto& [binding, in] : d.inputs) {
-      if (binding < static_cast<int>(kFirstSampler) || binding >= static_cast<int>(kBindingCount))
-        bad(fmt::format("draw {} binds a texture at binding {} (2..7 only)", d.name, binding));
-      if (in.texture < 0 || in.texture >= nt) bad(fmt::format("draw {} reads texture {}", d.name, in.texture));
-      if (in.level >= plan.textures[in.texture].levels)
-        bad(fmt::format("draw {} reads level {} of {}", d.name, in.level, plan.textures[in.texture].name));
-    }
-  }
-}
-
 class LavapipeBackend final : public Backend {
  public:
   explicit LavapipeBackend(const BackendOptions& options) : dev_(std::make_shared<Device>(options)) {}
@@ -319,7 +296,15 @@ class LavapipeBackend final : public Backend {
     dev_->destroy(scene_.indices);
     scene_ = SceneBuffers{};
   }
+  // The steps of prepare(), in order.
+  void create_images(const PipelinePlan& plan, LavapipePipeline& pp);
+  void create_uniform_buffers(const PipelinePlan& plan, LavapipePipeline& pp);
+  void create_descriptor_sets(const PipelinePlan& plan, LavapipePipeline& pp);
+  void write_descriptor_set(const Draw& draw, LavapipePipeline& pp, DrawState& s, int parity);
   void create_pipelines(const PipelinePlan& plan, LavapipePipeline& pp);
+  VkPipeline create_pipeline(const PipelinePlan& plan, const Draw& draw, VkExtent2D extent,
+                             const std::vector<VkShaderModule>& modules);
+  void create_frame_objects(const PipelinePlan& plan, LavapipePipeline& pp);
   void init_textures(LavapipePipeline& pp);
 
   std::shared_ptr<Device> dev_;
@@ -355,131 +340,139 @@ void LavapipeBackend::set_scene(const scene::Scene& scene) {
   scene_.generation = next_scene_generation();
 }
 
-void LavapipeBackend::create_pipelines(const PipelinePlan& plan, LavapipePipeline& pp) {
-  VkDevice d = dev_->device;
-  std::vector<VkShaderModule> modules(plan.shaders.size(), VK_NULL_HANDLE);
-  auto release_modules = [&] {
+// Shader modules by plan shader index, destroyed when the pipelines are built (they keep what they need).
+struct ShaderModules {
+  VkDevice device;
+  std::vector<VkShaderModule> modules;
+  ~ShaderModules() {
     for (VkShaderModule m : modules)
-      if (m) vkDestroyShaderModule(d, m, nullptr);
-  };
-  try {
-    for (std::size_t i = 0; i < plan.shaders.size(); ++i) {
-      const Shader& sh = plan.shaders[i];
-      if (sh.spirv.empty())
-        throw BackendError(fmt::format("lavapipe: program {} has no SPIR-V (compile the vulkan target)",
-                                       sh.program_key));
-      const std::vector<std::uint32_t>* code = &sh.spirv;
-      std::vector<std::uint32_t> fp16;
-      if (dev_->info.mediump_fp16) {
-        try {
-          fp16 = compile::relaxed_precision_to_fp16(sh.spirv);
-        } catch (const std::runtime_error& e) {
-          throw BackendError(fmt::format("lavapipe: program {}: {}", sh.program_key, e.what()));
-        }
-        code = &fp16;
-      }
-      VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-      ci.codeSize = code->size() * sizeof(std::uint32_t);
-      ci.pCode = code->data();
-      VkResult r = vkCreateShaderModule(d, &ci, nullptr, &modules[i]);
-      if (r != VK_SUCCESS) {
-        modules[i] = VK_NULL_HANDLE;
-        throw BackendError(fmt::format("lavapipe: the driver rejected program {} ({})", sh.program_key,
-                                       result_name(r)));
-      }
-      dev_->check_validation(fmt::format("shader module creation of program {}", sh.program_key));
-    }
-
-    VkVertexInputBindingDescription vb[2] = {{0, sizeof(glm::vec3), VK_VERTEX_INPUT_RATE_VERTEX},
-                                             {1, sizeof(glm::vec3), VK_VERTEX_INPUT_RATE_VERTEX}};
-    VkVertexInputAttributeDescription va[2] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
-                                               {1, 1, VK_FORMAT_R32G32B32_SFLOAT, 0}};
-    for (std::size_t i = 0; i < plan.draws.size(); ++i) {
-      const Draw& dr = plan.draws[i];
-      DrawState& s = pp.states[i];
-      const Shader& vs = plan.shaders[dr.vertex];
-      const Shader& fs = plan.shaders[dr.fragment];
-      VkPipelineShaderStageCreateInfo stages[2]{};
-      stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-      stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-      stages[0].module = modules[dr.vertex];
-      stages[0].pName = "main";
-      stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-      stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-      stages[1].module = modules[dr.fragment];
-      stages[1].pName = "main";
-
-      VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-      if (dr.geometry) {
-        vi.vertexBindingDescriptionCount = 2;
-        vi.pVertexBindingDescriptions = vb;
-        vi.vertexAttributeDescriptionCount = 2;
-        vi.pVertexAttributeDescriptions = va;
-      }
-      VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-      ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-      VkViewport viewport{0, 0, float(s.extent.width), float(s.extent.height), 0.0f, 1.0f};
-      VkRect2D scissor{{0, 0}, s.extent};
-      VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-      vp.viewportCount = 1;
-      vp.pViewports = &viewport;
-      vp.scissorCount = 1;
-      vp.pScissors = &scissor;
-      VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-      rs.polygonMode = VK_POLYGON_MODE_FILL;
-      rs.cullMode = VK_CULL_MODE_NONE;  // the fullscreen triangle's winding flips with the API's y direction
-      rs.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-      rs.lineWidth = 1.0f;
-      VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-      ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-      VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-      ds.depthTestEnable = dr.depth != DepthUse::none;
-      ds.depthWriteEnable = dr.depth == DepthUse::geometry || dr.depth == DepthUse::write_mask;
-      ds.depthCompareOp = dr.depth == DepthUse::write_mask        ? VK_COMPARE_OP_ALWAYS
-                          : dr.depth == DepthUse::skip_background ? VK_COMPARE_OP_NOT_EQUAL
-                                                                  : VK_COMPARE_OP_LESS;
-      std::vector<VkPipelineColorBlendAttachmentState> blend(dr.outputs.size());
-      std::vector<VkFormat> formats(dr.outputs.size(), VK_FORMAT_UNDEFINED);
-      for (std::size_t o = 0; o < dr.outputs.size(); ++o) {
-        blend[o].colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
-                                  VK_COLOR_COMPONENT_A_BIT;
-        if (dr.outputs[o].texture >= 0) formats[o] = vk_format(plan.textures[dr.outputs[o].texture].format);
-      }
-      VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-      cb.attachmentCount = static_cast<uint32_t>(blend.size());
-      cb.pAttachments = blend.data();
-      // Locations keep their numbers: an unused one is VK_FORMAT_UNDEFINED (no attachment).
-      VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-      rendering.colorAttachmentCount = static_cast<uint32_t>(formats.size());
-      rendering.pColorAttachmentFormats = formats.data();
-      rendering.depthAttachmentFormat = dr.depth != DepthUse::none ? kDepthFormat : VK_FORMAT_UNDEFINED;
-
-      VkGraphicsPipelineCreateInfo gci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-      gci.pNext = &rendering;
-      gci.stageCount = 2;
-      gci.pStages = stages;
-      gci.pVertexInputState = &vi;
-      gci.pInputAssemblyState = &ia;
-      gci.pViewportState = &vp;
-      gci.pRasterizationState = &rs;
-      gci.pMultisampleState = &ms;
-      gci.pDepthStencilState = &ds;
-      gci.pColorBlendState = &cb;
-      gci.layout = dev_->pipeline_layout;
-      VkResult r = vkCreateGraphicsPipelines(d, VK_NULL_HANDLE, 1, &gci, nullptr, &s.pipeline);
-      if (r != VK_SUCCESS) {
-        s.pipeline = VK_NULL_HANDLE;
-        throw BackendError(fmt::format("lavapipe: the driver rejected the pipeline of draw {} ({} + {}): {}",
-                                       dr.name, vs.program_key, fs.program_key, result_name(r)));
-      }
-      dev_->check_validation(fmt::format("pipeline creation of draw {} ({} + {})", dr.name, vs.program_key,
-                                         fs.program_key));
-    }
-  } catch (...) {
-    release_modules();
-    throw;
+      if (m) vkDestroyShaderModule(device, m, nullptr);
   }
-  release_modules();  // pipelines keep what they need
+};
+
+// A shader's SPIR-V with mediump arithmetic rewritten to fp16 (BackendOptions::mediump_as_fp16).
+std::vector<std::uint32_t> fp16_code(const Shader& sh) {
+  try {
+    return compile::relaxed_precision_to_fp16(sh.spirv);
+  } catch (const std::runtime_error& e) {
+    throw BackendError(fmt::format("lavapipe: program {}: {}", sh.program_key, e.what()));
+  }
+}
+
+VkPipelineDepthStencilStateCreateInfo depth_state(DepthUse use) {
+  VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  ds.depthTestEnable = use != DepthUse::none;
+  ds.depthWriteEnable = use == DepthUse::geometry || use == DepthUse::write_mask;
+  ds.depthCompareOp = use == DepthUse::write_mask        ? VK_COMPARE_OP_ALWAYS
+                      : use == DepthUse::skip_background ? VK_COMPARE_OP_NOT_EQUAL
+                                                         : VK_COMPARE_OP_LESS;
+  return ds;
+}
+
+void LavapipeBackend::create_pipelines(const PipelinePlan& plan, LavapipePipeline& pp) {
+  ShaderModules shaders{dev_->device, std::vector<VkShaderModule>(plan.shaders.size(), VK_NULL_HANDLE)};
+  for (std::size_t i = 0; i < plan.shaders.size(); ++i) {
+    const Shader& sh = plan.shaders[i];
+    if (sh.spirv.empty())
+      throw BackendError(fmt::format("lavapipe: program {} has no SPIR-V (compile the vulkan target)", sh.program_key));
+    std::vector<std::uint32_t> fp16;
+    if (dev_->info.mediump_fp16) fp16 = fp16_code(sh);
+    const std::vector<std::uint32_t>& code = dev_->info.mediump_fp16 ? fp16 : sh.spirv;
+    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    ci.codeSize = code.size() * sizeof(std::uint32_t);
+    ci.pCode = code.data();
+    VkResult r = vkCreateShaderModule(dev_->device, &ci, nullptr, &shaders.modules[i]);
+    if (r != VK_SUCCESS) {
+      shaders.modules[i] = VK_NULL_HANDLE;
+      throw BackendError(fmt::format("lavapipe: the driver rejected program {} ({})", sh.program_key, result_name(r)));
+    }
+    dev_->check_validation(fmt::format("shader module creation of program {}", sh.program_key));
+  }
+  for (std::size_t i = 0; i < plan.draws.size(); ++i) {
+    const Draw& dr = plan.draws[i];
+    pp.states[i].pipeline = create_pipeline(plan, dr, pp.states[i].extent, shaders.modules);  // pp destroys it
+    dev_->check_validation(fmt::format("pipeline creation of draw {} ({} + {})", dr.name,
+                                       plan.shaders[dr.vertex].program_key, plan.shaders[dr.fragment].program_key));
+  }
+}
+
+VkPipeline LavapipeBackend::create_pipeline(const PipelinePlan& plan, const Draw& dr, VkExtent2D extent,
+                                            const std::vector<VkShaderModule>& modules) {
+  const Shader& vs = plan.shaders[dr.vertex];
+  const Shader& fs = plan.shaders[dr.fragment];
+  VkPipelineShaderStageCreateInfo stages[2]{};
+  stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+  stages[0].module = modules[dr.vertex];
+  stages[0].pName = "main";
+  stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+  stages[1].module = modules[dr.fragment];
+  stages[1].pName = "main";
+
+  // Geometry draws read positions (location 0) and normals (location 1), one buffer each.
+  VkVertexInputBindingDescription vb[2] = {{0, sizeof(glm::vec3), VK_VERTEX_INPUT_RATE_VERTEX},
+                                           {1, sizeof(glm::vec3), VK_VERTEX_INPUT_RATE_VERTEX}};
+  VkVertexInputAttributeDescription va[2] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+                                             {1, 1, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+  VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+  if (dr.geometry) {
+    vi.vertexBindingDescriptionCount = 2;
+    vi.pVertexBindingDescriptions = vb;
+    vi.vertexAttributeDescriptionCount = 2;
+    vi.pVertexAttributeDescriptions = va;
+  }
+  VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+  ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  VkViewport viewport{0, 0, float(extent.width), float(extent.height), 0.0f, 1.0f};
+  VkRect2D scissor{{0, 0}, extent};
+  VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+  vp.viewportCount = 1;
+  vp.pViewports = &viewport;
+  vp.scissorCount = 1;
+  vp.pScissors = &scissor;
+  VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+  rs.polygonMode = VK_POLYGON_MODE_FILL;
+  rs.cullMode = VK_CULL_MODE_NONE;  // the fullscreen triangle's winding flips with the API's y direction
+  rs.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+  rs.lineWidth = 1.0f;
+  VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+  ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  const VkPipelineDepthStencilStateCreateInfo ds = depth_state(dr.depth);
+  std::vector<VkPipelineColorBlendAttachmentState> blend(dr.outputs.size());
+  std::vector<VkFormat> formats(dr.outputs.size(), VK_FORMAT_UNDEFINED);
+  for (std::size_t o = 0; o < dr.outputs.size(); ++o) {
+    blend[o].colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                              VK_COLOR_COMPONENT_A_BIT;
+    if (dr.outputs[o].texture >= 0) formats[o] = vk_format(plan.textures[dr.outputs[o].texture].format);
+  }
+  VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+  cb.attachmentCount = static_cast<uint32_t>(blend.size());
+  cb.pAttachments = blend.data();
+  // Locations keep their numbers: an unused one is VK_FORMAT_UNDEFINED (no attachment).
+  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+  rendering.colorAttachmentCount = static_cast<uint32_t>(formats.size());
+  rendering.pColorAttachmentFormats = formats.data();
+  rendering.depthAttachmentFormat = dr.depth != DepthUse::none ? kDepthFormat : VK_FORMAT_UNDEFINED;
+
+  VkGraphicsPipelineCreateInfo gci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+  gci.pNext = &rendering;
+  gci.stageCount = 2;
+  gci.pStages = stages;
+  gci.pVertexInputState = &vi;
+  gci.pInputAssemblyState = &ia;
+  gci.pViewportState = &vp;
+  gci.pRasterizationState = &rs;
+  gci.pMultisampleState = &ms;
+  gci.pDepthStencilState = &ds;
+  gci.pColorBlendState = &cb;
+  gci.layout = dev_->pipeline_layout;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  VkResult r = vkCreateGraphicsPipelines(dev_->device, VK_NULL_HANDLE, 1, &gci, nullptr, &pipeline);
+  if (r != VK_SUCCESS)
+    throw BackendError(fmt::format("lavapipe: the driver rejected the pipeline of draw {} ({} + {}): {}", dr.name,
+                                   vs.program_key, fs.program_key, result_name(r)));
+  return pipeline;
 }
 
 // Defines every texel before the first frame: double-buffered textures start open (1.0) so that frame 0's
@@ -521,12 +514,11 @@ void LavapipeBackend::init_textures(LavapipePipeline& pp) {
 std::unique_ptr<PreparedPipeline> LavapipeBackend::prepare(const PipelinePlan& full_plan, Extent size) {
   auto start = std::chrono::steady_clock::now();
   const PipelinePlan plan = plan_for_size(full_plan, size);
-  validate_plan(plan);
+  validate_plan(plan, "lavapipe");
   uint32_t max_dim = dev_->properties.limits.maxImageDimension2D;
   if (size.width <= 0 || size.height <= 0 || uint32_t(size.width) > max_dim || uint32_t(size.height) > max_dim)
     throw BackendError(fmt::format("lavapipe: output size {}x{} is out of range (1..{} per side)", size.width,
                                    size.height, max_dim));
-  VkDevice d = dev_->device;
   auto pp = std::make_unique<LavapipePipeline>(dev_);  // on a throw its destructor frees what exists
   pp->size = size;
   pp->ao = ao_extent(size, plan.resolution);
@@ -536,16 +528,24 @@ std::unique_ptr<PreparedPipeline> LavapipeBackend::prepare(const PipelinePlan& f
   for (const Texture& t : plan.textures)
     if (t.double_buffered) pp->parities = 2;
   for (const Draw& dr : plan.draws) pp->has_geometry |= dr.geometry;
-  auto extent_of = [&](bool full) {
-    Extent e = full ? pp->size : pp->ao;
-    return VkExtent2D{uint32_t(e.width), uint32_t(e.height)};
-  };
 
-  // Textures.
+  create_images(plan, *pp);
+  create_uniform_buffers(plan, *pp);
+  create_descriptor_sets(plan, *pp);
+  create_pipelines(plan, *pp);
+  create_frame_objects(plan, *pp);
+  init_textures(*pp);
+  dev_->check_validation(fmt::format("prepare of {}", plan.variant));
+  pp->create_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return pp;
+}
+
+// Every plan texture (two images when double-buffered) and depth buffer.
+void LavapipeBackend::create_images(const PipelinePlan& plan, LavapipePipeline& pp) {
   const VkFormatFeatureFlags needed = VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT;
   const VkImageUsageFlags usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
                                   VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-  pp->images.resize(plan.textures.size());
+  pp.images.resize(plan.textures.size());
   for (std::size_t i = 0; i < plan.textures.size(); ++i) {
     const Texture& t = plan.textures[i];
     VkFormat f = vk_format(t.format);
@@ -554,108 +554,111 @@ std::unique_ptr<PreparedPipeline> LavapipeBackend::prepare(const PipelinePlan& f
     if ((fp.optimalTilingFeatures & needed) != needed)
       throw BackendError(fmt::format("lavapipe: {} cannot render to and sample format {} (texture {})",
                                      dev_->info.device, format_name(t.format), t.name));
-    pp->images[i].count = t.double_buffered ? 2 : 1;
-    for (int c = 0; c < pp->images[i].count; ++c)
-      pp->images[i].copies[c] = dev_->create_image(extent_of(t.full_resolution), f, usage, VK_IMAGE_ASPECT_COLOR_BIT,
-                                                   static_cast<uint32_t>(std::max(t.levels, 1)));
+    pp.images[i].count = t.double_buffered ? 2 : 1;
+    for (int c = 0; c < pp.images[i].count; ++c)
+      pp.images[i].copies[c] = dev_->create_image(pp.extent_of(t.full_resolution), f, usage, VK_IMAGE_ASPECT_COLOR_BIT,
+                                                  static_cast<uint32_t>(std::max(t.levels, 1)));
   }
   for (const DepthBuffer& b : plan.depth_buffers)
-    pp->depth_buffers.push_back(dev_->create_image(extent_of(b.full_resolution), kDepthFormat,
-                                                   VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-                                                   VK_IMAGE_ASPECT_DEPTH_BIT));
+    pp.depth_buffers.push_back(dev_->create_image(pp.extent_of(b.full_resolution), kDepthFormat,
+                                                  VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                                                  VK_IMAGE_ASPECT_DEPTH_BIT));
+}
 
-  // Uniform buffers: AOFrame (rewritten each frame) and every draw's AOParams at aligned offsets.
-  pp->frame_ubo = dev_->create_buffer(sizeof(FrameBlock), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+// AOFrame (rewritten each frame) and every draw's AOParams at aligned offsets of one buffer; also each
+// draw's viewport extent.
+void LavapipeBackend::create_uniform_buffers(const PipelinePlan& plan, LavapipePipeline& pp) {
+  pp.frame_ubo = dev_->create_buffer(sizeof(FrameBlock), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
   VkDeviceSize align = std::max<VkDeviceSize>(dev_->properties.limits.minUniformBufferOffsetAlignment, 16);
-  pp->states.resize(plan.draws.size());
+  pp.states.resize(plan.draws.size());
   VkDeviceSize params_size = 0;
   for (std::size_t i = 0; i < plan.draws.size(); ++i) {
-    DrawState& s = pp->states[i];
-    s.extent = extent_of(plan.draws[i].full_resolution);
+    DrawState& s = pp.states[i];
+    s.extent = pp.extent_of(plan.draws[i].full_resolution);
     s.extent.width = std::max(1u, s.extent.width >> plan.draws[i].level);
     s.extent.height = std::max(1u, s.extent.height >> plan.draws[i].level);
     s.params_offset = params_size;
-    // std140 float members sit at 4 * i; a draw without a block still gets a small range for binding 1.
+    // std140 float members sit at 4 * i; a draw without a block still gets a small range for its binding.
     s.params_range = align_up(std::max<VkDeviceSize>(plan.draws[i].params.size() * sizeof(float), 16), 16);
     params_size = align_up(params_size + s.params_range, align);
   }
-  pp->params_ubo = dev_->create_buffer(params_size, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
-  std::memset(pp->params_ubo.mapped, 0, params_size);
+  pp.params_ubo = dev_->create_buffer(params_size, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+  std::memset(pp.params_ubo.mapped, 0, params_size);
   for (std::size_t i = 0; i < plan.draws.size(); ++i)
     if (!plan.draws[i].params.empty())
-      std::memcpy(static_cast<char*>(pp->params_ubo.mapped) + pp->states[i].params_offset,
+      std::memcpy(static_cast<char*>(pp.params_ubo.mapped) + pp.states[i].params_offset,
                   plan.draws[i].params.data(), plan.draws[i].params.size() * sizeof(float));
+}
 
-  // Descriptor sets: one per draw and parity.
-  uint32_t sets = static_cast<uint32_t>(plan.draws.size()) * pp->parities;
-  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2 * sets},
-                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, (kBindingCount - 2) * sets}};
+// One descriptor set per draw and frame parity.
+void LavapipeBackend::create_descriptor_sets(const PipelinePlan& plan, LavapipePipeline& pp) {
+  uint32_t sets = static_cast<uint32_t>(plan.draws.size()) * pp.parities;
+  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kFirstSampler * sets},
+                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, (kBindingCount - kFirstSampler) * sets}};
   VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   dpci.maxSets = sets;
   dpci.poolSizeCount = 2;
   dpci.pPoolSizes = sizes;
-  check(vkCreateDescriptorPool(d, &dpci, nullptr, &pp->descriptor_pool), "vkCreateDescriptorPool");
-  for (std::size_t i = 0; i < plan.draws.size(); ++i) {
-    const Draw& dr = plan.draws[i];
-    DrawState& s = pp->states[i];
-    for (int p = 0; p < pp->parities; ++p) {
-      VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-      ai.descriptorPool = pp->descriptor_pool;
-      ai.descriptorSetCount = 1;
-      ai.pSetLayouts = &dev_->set_layout;
-      check(vkAllocateDescriptorSets(d, &ai, &s.sets[p]), "vkAllocateDescriptorSets");
-      VkDescriptorBufferInfo buffers[2] = {{pp->frame_ubo.buffer, 0, sizeof(FrameBlock)},
-                                           {pp->params_ubo.buffer, s.params_offset, s.params_range}};
-      VkDescriptorImageInfo samplers[kBindingCount - kFirstSampler];
-      for (auto& si : samplers) si = {dev_->sampler, dev_->dummy.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-      for (const auto& [binding, ref] : dr.inputs)
-        samplers[binding - kFirstSampler].imageView =
-            ref.level < 0 ? pp->image(ref, p).view : pp->image(ref, p).level_view(ref.level);
-      VkWriteDescriptorSet w[kBindingCount];
-      for (uint32_t b = 0; b < kBindingCount; ++b) {
-        w[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-        w[b].dstSet = s.sets[p];
-        w[b].dstBinding = b;
-        w[b].descriptorCount = 1;
-        if (b < kFirstSampler) {
-          w[b].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-          w[b].pBufferInfo = &buffers[b];
-        } else {
-          w[b].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-          w[b].pImageInfo = &samplers[b - kFirstSampler];
-        }
-      }
-      vkUpdateDescriptorSets(d, kBindingCount, w, 0, nullptr);
+  check(vkCreateDescriptorPool(dev_->device, &dpci, nullptr, &pp.descriptor_pool), "vkCreateDescriptorPool");
+  for (std::size_t i = 0; i < plan.draws.size(); ++i)
+    for (int p = 0; p < pp.parities; ++p) write_descriptor_set(plan.draws[i], pp, pp.states[i], p);
+}
+
+// Allocates and fills draw `dr`'s set for frame parity `p`: the two uniform blocks, its inputs at their
+// sampler bindings and the dummy texture at every other.
+void LavapipeBackend::write_descriptor_set(const Draw& dr, LavapipePipeline& pp, DrawState& s, int p) {
+  VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  ai.descriptorPool = pp.descriptor_pool;
+  ai.descriptorSetCount = 1;
+  ai.pSetLayouts = &dev_->set_layout;
+  check(vkAllocateDescriptorSets(dev_->device, &ai, &s.sets[p]), "vkAllocateDescriptorSets");
+  VkDescriptorBufferInfo buffers[kFirstSampler];
+  buffers[shadergen::binding::kFrame] = {pp.frame_ubo.buffer, 0, sizeof(FrameBlock)};
+  buffers[shadergen::binding::kParams] = {pp.params_ubo.buffer, s.params_offset, s.params_range};
+  VkDescriptorImageInfo samplers[kBindingCount - kFirstSampler];
+  for (auto& si : samplers) si = {dev_->sampler, dev_->dummy.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  for (const auto& [binding, ref] : dr.inputs)
+    samplers[binding - kFirstSampler].imageView =
+        ref.level < 0 ? pp.image(ref, p).view : pp.image(ref, p).level_view(ref.level);
+  VkWriteDescriptorSet w[kBindingCount];
+  for (uint32_t b = 0; b < kBindingCount; ++b) {
+    w[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w[b].dstSet = s.sets[p];
+    w[b].dstBinding = b;
+    w[b].descriptorCount = 1;
+    if (b < kFirstSampler) {
+      w[b].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+      w[b].pBufferInfo = &buffers[b];
+    } else {
+      w[b].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+      w[b].pImageInfo = &samplers[b - kFirstSampler];
     }
   }
+  vkUpdateDescriptorSets(dev_->device, kBindingCount, w, 0, nullptr);
+}
 
-  create_pipelines(plan, *pp);
-
-  // Timestamps, command buffers, fence, read-back buffer.
+// Timestamps, command buffers (one per parity and one for the read-back), fence, read-back buffer.
+void LavapipeBackend::create_frame_objects(const PipelinePlan& plan, LavapipePipeline& pp) {
+  VkDevice d = dev_->device;
   VkQueryPoolCreateInfo qci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
   qci.queryType = VK_QUERY_TYPE_TIMESTAMP;
   qci.queryCount = static_cast<uint32_t>(2 * plan.draws.size());
-  check(vkCreateQueryPool(d, &qci, nullptr, &pp->queries), "vkCreateQueryPool");
+  check(vkCreateQueryPool(d, &qci, nullptr, &pp.queries), "vkCreateQueryPool");
   VkCommandBuffer cmds[3]{};
   VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   cai.commandPool = dev_->pool;
   cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  cai.commandBufferCount = static_cast<uint32_t>(pp->parities) + 1;
+  cai.commandBufferCount = static_cast<uint32_t>(pp.parities) + 1;
   check(vkAllocateCommandBuffers(d, &cai, cmds), "vkAllocateCommandBuffers");
-  for (int p = 0; p < pp->parities; ++p) pp->frame_cmd[p] = cmds[p];
-  pp->readback_cmd = cmds[pp->parities];
+  for (int p = 0; p < pp.parities; ++p) pp.frame_cmd[p] = cmds[p];
+  pp.readback_cmd = cmds[pp.parities];
   VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  check(vkCreateFence(d, &fci, nullptr, &pp->fence), "vkCreateFence");
-  VkExtent2D result_extent = extent_of(plan.textures[plan.result].full_resolution);
-  pp->readback = dev_->create_buffer(VkDeviceSize(result_extent.width) * result_extent.height * sizeof(float),
-                                     VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
-  pp->stamps.resize(2 * plan.draws.size());
-  pp->times.resize(plan.draws.size());
-
-  init_textures(*pp);
-  dev_->check_validation(fmt::format("prepare of {}", plan.variant));
-  pp->create_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  return pp;
+  check(vkCreateFence(d, &fci, nullptr, &pp.fence), "vkCreateFence");
+  VkExtent2D result_extent = pp.extent_of(plan.textures[plan.result].full_resolution);
+  pp.readback = dev_->create_buffer(VkDeviceSize(result_extent.width) * result_extent.height * sizeof(float),
+                                    VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+  pp.stamps.resize(2 * plan.draws.size());
+  pp.times.resize(plan.draws.size());
 }
 
 std::vector<double> LavapipeBackend::render(PreparedPipeline& pipeline, const FrameSetup& frame) {

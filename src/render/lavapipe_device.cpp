@@ -89,6 +89,17 @@ std::string version_text(uint32_t v) {
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 constexpr const char* kInstallDriver = "install mesa-vulkan-drivers (run scripts/deps)";
 
+// Errors only: validation, general and performance messages, reported to the device (on_message).
+VkDebugUtilsMessengerCreateInfoEXT messenger_info(Device* device) {
+  VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+  info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                     VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+  info.pfnUserCallback = on_message;
+  info.pUserData = device;
+  return info;
+}
+
 }  // namespace
 
 Device::Device(const BackendOptions& options) {
@@ -98,7 +109,22 @@ Device::Device(const BackendOptions& options) {
   setenv("LP_NUM_THREADS", std::to_string(options.threads).c_str(), 1);
   info.backend = "lavapipe";
   info.threads = options.threads;
+  create_instance(options.validation);
+  try {
+    if (options.validation) create_messenger();
+    pick_physical_device();
+    check_features(options.mediump_as_fp16);
+    pick_queue_family();
+    create_device(options.mediump_as_fp16);
+    create_shared_objects();
+    check_validation("device creation");
+  } catch (...) {
+    release();  // a throwing constructor runs no destructor: free whatever exists (every handle starts null)
+    throw;
+  }
+}
 
+void Device::create_instance(bool validation) {
   uint32_t loader = VK_API_VERSION_1_0;
   if (vkEnumerateInstanceVersion(&loader) != VK_SUCCESS || loader < VK_API_VERSION_1_3)
     throw BackendError(fmt::format("lavapipe: the Vulkan loader supports only Vulkan {} (1.3 needed): install "
@@ -107,7 +133,7 @@ Device::Device(const BackendOptions& options) {
 
   std::vector<const char*> layers, extensions;
   bool sync_validation = false;
-  if (options.validation) {
+  if (validation) {
     if (!has_layer(kValidationLayer))
       throw BackendError("lavapipe: validation requested but the layer VK_LAYER_KHRONOS_validation is not "
                          "installed: install vulkan-validationlayers (run scripts/deps)");
@@ -125,19 +151,13 @@ Device::Device(const BackendOptions& options) {
   app.apiVersion = VK_API_VERSION_1_3;
 
   // Chained into the instance so that instance creation and destruction are validated too.
-  VkDebugUtilsMessengerCreateInfoEXT messenger_info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-  messenger_info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-  messenger_info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
-                               VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
-                               VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
-  messenger_info.pfnUserCallback = on_message;
-  messenger_info.pUserData = this;
+  VkDebugUtilsMessengerCreateInfoEXT messenger = messenger_info(this);
   // Synchronisation validation also checks our barriers (hazards between draws and frames).
   VkValidationFeatureEnableEXT enables[] = {VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
   VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
   features.enabledValidationFeatureCount = 1;
   features.pEnabledValidationFeatures = enables;
-  if (sync_validation) messenger_info.pNext = &features;
+  if (sync_validation) messenger.pNext = &features;
 
   VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   ici.pApplicationInfo = &app;
@@ -145,121 +165,121 @@ Device::Device(const BackendOptions& options) {
   ici.ppEnabledLayerNames = layers.data();
   ici.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
   ici.ppEnabledExtensionNames = extensions.data();
-  if (options.validation) ici.pNext = &messenger_info;
+  if (validation) ici.pNext = &messenger;
   VkResult r = vkCreateInstance(&ici, nullptr, &instance);
-  if (r != VK_SUCCESS) {
-    instance = VK_NULL_HANDLE;
-    if (r == VK_ERROR_INCOMPATIBLE_DRIVER)
-      throw BackendError(fmt::format("lavapipe: no Vulkan driver found (vkCreateInstance: {}): {}{}", result_name(r),
-                                     kInstallDriver,
-                                     std::getenv("VK_ICD_FILENAMES") || std::getenv("VK_DRIVER_FILES")
-                                         ? "; VK_ICD_FILENAMES/VK_DRIVER_FILES is set: check that it names lvp_icd.*.json"
-                                         : ""));
-    throw BackendError(fmt::format("lavapipe: cannot create a Vulkan 1.3 instance ({}): {}", result_name(r),
-                                   kInstallDriver));
-  }
+  if (r == VK_SUCCESS) return;
+  instance = VK_NULL_HANDLE;
+  if (r == VK_ERROR_INCOMPATIBLE_DRIVER)
+    throw BackendError(fmt::format("lavapipe: no Vulkan driver found (vkCreateInstance: {}): {}{}", result_name(r),
+                                   kInstallDriver,
+                                   std::getenv("VK_ICD_FILENAMES") || std::getenv("VK_DRIVER_FILES")
+                                       ? "; VK_ICD_FILENAMES/VK_DRIVER_FILES is set: check that it names lvp_icd.*.json"
+                                       : ""));
+  throw BackendError(fmt::format("lavapipe: cannot create a Vulkan 1.3 instance ({}): {}", result_name(r),
+                                 kInstallDriver));
+}
 
-  try {
-    if (options.validation) {
-      auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
-          vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
-      destroy_messenger_ = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
-          vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
-      if (!create || !destroy_messenger_)
-        throw BackendError("lavapipe: the validation layer offers no VK_EXT_debug_utils messenger");
-      messenger_info.pNext = nullptr;
-      check(create(instance, &messenger_info, nullptr, &messenger_), "vkCreateDebugUtilsMessengerEXT");
+void Device::create_messenger() {
+  auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+      vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
+  destroy_messenger_ = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+      vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
+  if (!create || !destroy_messenger_)
+    throw BackendError("lavapipe: the validation layer offers no VK_EXT_debug_utils messenger");
+  const VkDebugUtilsMessengerCreateInfoEXT messenger = messenger_info(this);
+  check(create(instance, &messenger, nullptr, &messenger_), "vkCreateDebugUtilsMessengerEXT");
+}
+
+// The CPU device: lavapipe. Other ICDs (intel, radeon) may be installed without their hardware.
+void Device::pick_physical_device() {
+  uint32_t n = 0;
+  check(vkEnumeratePhysicalDevices(instance, &n, nullptr), "vkEnumeratePhysicalDevices");
+  std::vector<VkPhysicalDevice> devices(n);
+  if (n) check(vkEnumeratePhysicalDevices(instance, &n, devices.data()), "vkEnumeratePhysicalDevices");
+  std::string too_old;
+  for (VkPhysicalDevice d : devices) {
+    VkPhysicalDeviceProperties p;
+    vkGetPhysicalDeviceProperties(d, &p);
+    if (p.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU) continue;
+    if (p.apiVersion < VK_API_VERSION_1_3) {
+      too_old = fmt::format("{} (Vulkan {})", p.deviceName, version_text(p.apiVersion));
+      continue;
     }
-
-    // The CPU device: lavapipe. Other ICDs (intel, radeon) may be installed without their hardware.
-    uint32_t n = 0;
-    check(vkEnumeratePhysicalDevices(instance, &n, nullptr), "vkEnumeratePhysicalDevices");
-    std::vector<VkPhysicalDevice> devices(n);
-    if (n) check(vkEnumeratePhysicalDevices(instance, &n, devices.data()), "vkEnumeratePhysicalDevices");
-    std::string too_old;
-    for (VkPhysicalDevice d : devices) {
-      VkPhysicalDeviceProperties p;
-      vkGetPhysicalDeviceProperties(d, &p);
-      if (p.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU) continue;
-      if (p.apiVersion < VK_API_VERSION_1_3) {
-        too_old = fmt::format("{} (Vulkan {})", p.deviceName, version_text(p.apiVersion));
-        continue;
-      }
-      physical = d;
-      break;
-    }
-    if (!physical && !too_old.empty())
-      throw BackendError(fmt::format("lavapipe: the Vulkan CPU device {} is older than Vulkan 1.3: install "
-                                     "mesa-vulkan-drivers from Mesa 22.3 or later (run scripts/deps)", too_old));
-    if (!physical)
-      throw BackendError(fmt::format("lavapipe: no Vulkan CPU device (lavapipe) found: {}", kInstallDriver));
-
-    VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
-    VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
-    props2.pNext = &driver;
-    vkGetPhysicalDeviceProperties2(physical, &props2);
-    properties = props2.properties;
-    vkGetPhysicalDeviceMemoryProperties(physical, &memory);
-    info.device = properties.deviceName;
-    info.api_version = "Vulkan " + version_text(properties.apiVersion);
-    info.driver = driver.driverInfo;
-
-    VkPhysicalDeviceVulkan12Features have12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-    VkPhysicalDeviceVulkan13Features have13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-    have13.pNext = &have12;
-    VkPhysicalDeviceFeatures2 have{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-    have.pNext = &have13;
-    vkGetPhysicalDeviceFeatures2(physical, &have);
-    if (!have13.dynamicRendering || !have13.synchronization2)
-      throw BackendError(fmt::format("lavapipe: {} lacks dynamicRendering or synchronization2: install "
-                                     "mesa-vulkan-drivers from Mesa 22.3 or later (run scripts/deps)", info.device));
-    if (options.mediump_as_fp16 && !have12.shaderFloat16)
-      throw BackendError(fmt::format("lavapipe: mediump as fp16 needs the shaderFloat16 feature, which {} ({}) "
-                                     "lacks", info.device, info.driver));
-    info.mediump_fp16 = options.mediump_as_fp16;
-
-    uint32_t families = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(physical, &families, nullptr);
-    std::vector<VkQueueFamilyProperties> family(families);
-    vkGetPhysicalDeviceQueueFamilyProperties(physical, &families, family.data());
-    bool found = false;
-    for (uint32_t i = 0; i < families && !found; ++i)
-      if (family[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) {
-        queue_family = i;
-        found = true;
-      }
-    if (!found) throw BackendError(fmt::format("lavapipe: {} has no graphics queue", info.device));
-    uint32_t bits = family[queue_family].timestampValidBits;
-    if (bits == 0 || !properties.limits.timestampComputeAndGraphics)
-      throw BackendError(fmt::format("lavapipe: {} has no timestamp queries (draw times need them)", info.device));
-    timestamp_mask = bits >= 64 ? ~0ull : (1ull << bits) - 1;
-
-    float priority = 1.0f;
-    VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-    qci.queueFamilyIndex = queue_family;
-    qci.queueCount = 1;
-    qci.pQueuePriorities = &priority;
-    // dynamicRendering must be enabled explicitly (DESIGN.md §4); synchronization2 for vkCmdPipelineBarrier2.
-    VkPhysicalDeviceVulkan13Features want13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-    want13.dynamicRendering = VK_TRUE;
-    want13.synchronization2 = VK_TRUE;
-    // Modules rewritten to fp16 declare the Float16 capability, which the device must enable.
-    VkPhysicalDeviceVulkan12Features want12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-    want12.shaderFloat16 = options.mediump_as_fp16 ? VK_TRUE : VK_FALSE;
-    want13.pNext = &want12;
-    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-    dci.pNext = &want13;
-    dci.queueCreateInfoCount = 1;
-    dci.pQueueCreateInfos = &qci;
-    check(vkCreateDevice(physical, &dci, nullptr, &device), "vkCreateDevice");
-    vkGetDeviceQueue(device, queue_family, 0, &queue);
-
-    create_shared_objects();
-    check_validation("device creation");
-  } catch (...) {
-    release();  // a throwing constructor runs no destructor: free whatever exists (every handle starts null)
-    throw;
+    physical = d;
+    break;
   }
+  if (!physical && !too_old.empty())
+    throw BackendError(fmt::format("lavapipe: the Vulkan CPU device {} is older than Vulkan 1.3: install "
+                                   "mesa-vulkan-drivers from Mesa 22.3 or later (run scripts/deps)", too_old));
+  if (!physical)
+    throw BackendError(fmt::format("lavapipe: no Vulkan CPU device (lavapipe) found: {}", kInstallDriver));
+
+  VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+  VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  props2.pNext = &driver;
+  vkGetPhysicalDeviceProperties2(physical, &props2);
+  properties = props2.properties;
+  vkGetPhysicalDeviceMemoryProperties(physical, &memory);
+  info.device = properties.deviceName;
+  info.api_version = "Vulkan " + version_text(properties.apiVersion);
+  info.driver = driver.driverInfo;
+}
+
+void Device::check_features(bool mediump_as_fp16) {
+  VkPhysicalDeviceVulkan12Features have12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceVulkan13Features have13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  have13.pNext = &have12;
+  VkPhysicalDeviceFeatures2 have{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  have.pNext = &have13;
+  vkGetPhysicalDeviceFeatures2(physical, &have);
+  if (!have13.dynamicRendering || !have13.synchronization2)
+    throw BackendError(fmt::format("lavapipe: {} lacks dynamicRendering or synchronization2: install "
+                                   "mesa-vulkan-drivers from Mesa 22.3 or later (run scripts/deps)", info.device));
+  if (mediump_as_fp16 && !have12.shaderFloat16)
+    throw BackendError(fmt::format("lavapipe: mediump as fp16 needs the shaderFloat16 feature, which {} ({}) "
+                                   "lacks", info.device, info.driver));
+  info.mediump_fp16 = mediump_as_fp16;
+}
+
+// The first graphics queue family; it must have timestamps (draw times).
+void Device::pick_queue_family() {
+  uint32_t families = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(physical, &families, nullptr);
+  std::vector<VkQueueFamilyProperties> family(families);
+  vkGetPhysicalDeviceQueueFamilyProperties(physical, &families, family.data());
+  bool found = false;
+  for (uint32_t i = 0; i < families && !found; ++i)
+    if (family[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) {
+      queue_family = i;
+      found = true;
+    }
+  if (!found) throw BackendError(fmt::format("lavapipe: {} has no graphics queue", info.device));
+  uint32_t bits = family[queue_family].timestampValidBits;
+  if (bits == 0 || !properties.limits.timestampComputeAndGraphics)
+    throw BackendError(fmt::format("lavapipe: {} has no timestamp queries (draw times need them)", info.device));
+  timestamp_mask = bits >= 64 ? ~0ull : (1ull << bits) - 1;
+}
+
+void Device::create_device(bool mediump_as_fp16) {
+  float priority = 1.0f;
+  VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  qci.queueFamilyIndex = queue_family;
+  qci.queueCount = 1;
+  qci.pQueuePriorities = &priority;
+  // dynamicRendering must be enabled explicitly (DESIGN.md §4); synchronization2 for vkCmdPipelineBarrier2.
+  VkPhysicalDeviceVulkan13Features want13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  want13.dynamicRendering = VK_TRUE;
+  want13.synchronization2 = VK_TRUE;
+  // Modules rewritten to fp16 declare the Float16 capability, which the device must enable.
+  VkPhysicalDeviceVulkan12Features want12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  want12.shaderFloat16 = mediump_as_fp16 ? VK_TRUE : VK_FALSE;
+  want13.pNext = &want12;
+  VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+  dci.pNext = &want13;
+  dci.queueCreateInfoCount = 1;
+  dci.pQueueCreateInfos = &qci;
+  check(vkCreateDevice(physical, &dci, nullptr, &device), "vkCreateDevice");
+  vkGetDeviceQueue(device, queue_family, 0, &queue);
 }
 
 Device::~Device() { release(); }

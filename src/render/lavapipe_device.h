@@ -11,6 +11,7 @@
 #include <vulkan/vulkan.h>
 
 #include "render/backend.h"
+#include "shadergen/bindings.h"
 
 namespace aovar::render::lvp {
 
@@ -38,9 +39,10 @@ struct Image {
   VkImageView level_view(int level) const { return level_views.empty() ? view : level_views.at(level); }
 };
 
-// Every binding of the one descriptor set layout (docs/template-contract.md): 0 AOFrame, 1 AOParams,
-// 2..7 samplers.
-inline constexpr uint32_t kFrameBinding = 0, kParamsBinding = 1, kFirstSampler = 2, kBindingCount = 8;
+// The one descriptor set layout is the template contract's (shadergen/bindings.h): uniform blocks below
+// kFirstSampler, combined image samplers from it on. Unsigned, as Vulkan counts bindings.
+inline constexpr uint32_t kBindingCount = shadergen::binding::kCount;
+inline constexpr uint32_t kFirstSampler = shadergen::binding::kFirstSampler;
 
 class Device {
  public:
@@ -86,6 +88,13 @@ class Device {
 
  private:
   uint32_t memory_type(uint32_t bits, VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred) const;
+  // The steps of the constructor, in order; each throws BackendError with what to install.
+  void create_instance(bool validation);
+  void create_messenger();
+  void pick_physical_device();
+  void check_features(bool mediump_as_fp16);
+  void pick_queue_family();
+  void create_device(bool mediump_as_fp16);
   void create_shared_objects();
   void release();
 

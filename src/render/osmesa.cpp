@@ -17,6 +17,7 @@
 #include "render/backend.h"
 #include "render/osmesa_gl.h"
 #include "render/osmesa_internal.h"
+#include "shadergen/bindings.h"
 
 namespace aovar::render {
 namespace osmesa {
@@ -39,9 +40,10 @@ std::size_t GlNames::size() const {
 
 namespace {
 
-constexpr int kFirstTextureUnit = 2;  // AO_BINDING 2..7 (docs/template-contract.md)
-constexpr int kTextureUnits = 6;
-constexpr GLuint kFrameBinding = 0, kParamsBinding = 1;
+// GL binds by the template contract's numbers (shadergen/bindings.h): uniform block bindings for the two
+// blocks, texture units for the samplers.
+constexpr int kFirstTextureUnit = shadergen::binding::kFirstSampler;
+constexpr int kTextureUnits = shadergen::binding::kSamplerCount;
 
 // llvmpipe reads LP_NUM_THREADS once per process, when OSMesa creates its only screen, and that happens
 // on the first context request even if the request fails (measured). Later contexts keep those threads.
@@ -153,7 +155,7 @@ struct GlDraw {
   GLuint params = 0;                                  // AOParams UBO, 0 = the draw has no block
   std::size_t param_count = 0;                        // floats in the block (set_params must match)
   std::array<GLuint, 2> fbo{};                        // by frame parity (the same FBO twice if it has none)
-  std::array<std::array<GLuint, kTextureUnits>, 2> units{};  // texture per unit 2..7, by frame parity
+  std::array<std::array<GLuint, kTextureUnits>, 2> units{};  // texture per sampler unit, by frame parity
   struct Clear {
     GLint location = 0;
     std::array<float, 4> raw{}, value{};  // raw may hold kClearFar / kClearNegFar; value is this frame's
@@ -321,6 +323,23 @@ class OsmesaBackend final : public Backend {
     return *p;
   }
 
+  // Each shader compiled once, each (vertex, fragment) pair linked once, per prepare().
+  struct Programs {
+    std::map<int, GLuint> shaders;
+    std::map<std::pair<int, int>, GLuint> linked;
+  };
+
+  // The steps of prepare(), in order; the GL objects go into the pipeline's names as they are created.
+  void create_textures(const PipelinePlan& plan, OsmesaPipeline& p);
+  std::vector<GLuint> create_depth_buffers(const PipelinePlan& plan, OsmesaPipeline& p);
+  GlDraw gl_draw(const PipelinePlan& plan, const Draw& d, OsmesaPipeline& p, Programs& programs,
+                 const std::vector<GLuint>& depth_buffers, std::vector<bool>& written);
+  GLuint program(const PipelinePlan& plan, const Draw& d, OsmesaPipeline& p, Programs& programs);
+  void upload_params(const Draw& d, OsmesaPipeline& p, GlDraw& g);
+  void bind_inputs(const PipelinePlan& plan, const Draw& d, OsmesaPipeline& p, GlDraw& g);
+  void create_framebuffers(const PipelinePlan& plan, const Draw& d, const std::vector<GLuint>& depth_buffers,
+                           OsmesaPipeline& p, GlDraw& g);
+
   GLuint compile(OsmesaPipeline& p, const Shader& s) {
     GlFunctions& gl = c_->gl;
     GLuint shader = gl.CreateShader(s.stage == variants::StageKind::vertex ? GL_VERTEX_SHADER : GL_FRAGMENT_SHADER);
@@ -359,22 +378,41 @@ std::unique_ptr<PreparedPipeline> OsmesaBackend::prepare(const PipelinePlan& ful
   c_->check("before prepare");
   if (size.width <= 0 || size.height <= 0)
     throw BackendError(fmt::format("osmesa: invalid output size {}x{}", size.width, size.height));
+  validate_plan(plan, "osmesa");
   // Built inside the pipeline object so that a throw part-way deletes what was already created.
   auto p = std::make_unique<OsmesaPipeline>(c_, plan.variant);
   p->size_ = size;
   p->ao_ = ao_extent(size, plan.resolution);
-  if (plan.result < 0 || plan.result >= int(plan.textures.size()))
-    throw BackendError(fmt::format("osmesa: {}: plan has no result texture", plan.variant));
   p->result_ = plan.result;
 
-  // Textures: double-buffered ones start open (1.0) so that frame 0 reads a defined history.
+  create_textures(plan, *p);
+  const std::vector<GLuint> depth_buffers = create_depth_buffers(plan, *p);
+  // AOFrame, filled by render.
+  gl.CreateBuffers(1, &p->frame_ubo_);
+  p->names_.buffers.push_back(p->frame_ubo_);
+  gl.NamedBufferStorage(p->frame_ubo_, sizeof(FrameBlock), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  Programs programs;
+  std::vector<bool> written(plan.textures.size(), false);  // by a draw before this one
+  for (const Draw& d : plan.draws) p->draws_.push_back(gl_draw(plan, d, *p, programs, depth_buffers, written));
+
+  // Shaders are owned by their programs once linked.
+  for (GLuint s : p->live_shaders_) gl.DeleteShader(s);
+  p->live_shaders_.clear();
+  c_->check("while preparing {}", plan.variant);
+  p->create_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return p;
+}
+
+// Textures: double-buffered ones start open (1.0) so that frame 0 reads a defined history.
+void OsmesaBackend::create_textures(const PipelinePlan& plan, OsmesaPipeline& p) {
+  GlFunctions& gl = c_->gl;
   for (const Texture& t : plan.textures) {
-    Extent e = t.full_resolution ? size : p->ao_;
+    Extent e = t.full_resolution ? p.size_ : p.ao_;
     std::array<GLuint, 2> copies{};
     int n = t.double_buffered ? 2 : 1;
     gl.CreateTextures(GL_TEXTURE_2D, n, copies.data());
     for (int i = 0; i < n; ++i) {
-      p->names_.textures.push_back(copies[i]);
+      p.names_.textures.push_back(copies[i]);
       gl.TextureStorage2D(copies[i], std::max(t.levels, 1), internal_format(t.format), e.width, e.height);
       // Every read is a texelFetch; a mipmapped filter keeps levels > 0 inside the texture's level range.
       gl.TextureParameteri(copies[i], GL_TEXTURE_MIN_FILTER, t.levels > 1 ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST);
@@ -387,150 +425,135 @@ std::unique_ptr<PreparedPipeline> OsmesaBackend::prepare(const PipelinePlan& ful
       }
     }
     if (n == 1) copies[1] = copies[0];
-    p->tex_.push_back(copies);
-    p->tex_size_.push_back(e);
+    p.tex_.push_back(copies);
+    p.tex_size_.push_back(e);
   }
+}
 
-  // Depth buffers: the G-buffer's, the background mask (plan.h).
-  std::vector<GLuint> depth_rbs;
+// Depth buffers: the G-buffer's, the background mask (plan.h).
+std::vector<GLuint> OsmesaBackend::create_depth_buffers(const PipelinePlan& plan, OsmesaPipeline& p) {
+  GlFunctions& gl = c_->gl;
+  std::vector<GLuint> buffers;
   for (const DepthBuffer& b : plan.depth_buffers) {
     GLuint rb = 0;
     gl.CreateRenderbuffers(1, &rb);
-    p->names_.renderbuffers.push_back(rb);
-    const Extent e = b.full_resolution ? size : p->ao_;
+    p.names_.renderbuffers.push_back(rb);
+    const Extent e = b.full_resolution ? p.size_ : p.ao_;
     gl.NamedRenderbufferStorage(rb, GL_DEPTH_COMPONENT32F, e.width, e.height);
-    depth_rbs.push_back(rb);
+    buffers.push_back(rb);
   }
+  return buffers;
+}
 
-  // AOFrame, filled by render.
-  gl.CreateBuffers(1, &p->frame_ubo_);
-  p->names_.buffers.push_back(p->frame_ubo_);
-  gl.NamedBufferStorage(p->frame_ubo_, sizeof(FrameBlock), nullptr, GL_DYNAMIC_STORAGE_BIT);
+// Draw `d` with every GL name it needs. `written` marks the textures earlier draws wrote: the first draw
+// to write a texture clears it when the texture asks for a clear.
+GlDraw OsmesaBackend::gl_draw(const PipelinePlan& plan, const Draw& d, OsmesaPipeline& p, Programs& programs,
+                              const std::vector<GLuint>& depth_buffers, std::vector<bool>& written) {
+  GlDraw g;
+  g.name = d.name;
+  g.geometry = d.geometry;
+  g.depth = d.depth;
+  g.viewport = d.full_resolution ? p.size_ : p.ao_;
+  g.viewport.width = std::max(1, g.viewport.width >> d.level);
+  g.viewport.height = std::max(1, g.viewport.height >> d.level);
+  g.program = program(plan, d, p, programs);
+  upload_params(d, p, g);
+  bind_inputs(plan, d, p, g);
+  create_framebuffers(plan, d, depth_buffers, p, g);
+  for (std::size_t loc = 0; loc < d.outputs.size(); ++loc) {
+    int t = d.outputs[loc].texture;
+    if (t < 0 || written[t]) continue;
+    written[t] = true;
+    if (plan.textures[t].cleared) g.clears.push_back({GLint(loc), plan.textures[t].clear, plan.textures[t].clear});
+  }
+  return g;
+}
 
-  // Programs: each shader compiled once, each (vertex, fragment) pair linked once.
-  std::map<int, GLuint> shaders;
-  std::map<std::pair<int, int>, GLuint> programs;
+GLuint OsmesaBackend::program(const PipelinePlan& plan, const Draw& d, OsmesaPipeline& p, Programs& programs) {
+  auto key = std::make_pair(d.vertex, d.fragment);
+  if (auto it = programs.linked.find(key); it != programs.linked.end()) return it->second;
   auto shader = [&](int index) {
-    if (index < 0 || index >= int(plan.shaders.size()))
-      throw BackendError(fmt::format("osmesa: {}: draw names shader {} of {}", plan.variant, index, plan.shaders.size()));
-    auto it = shaders.find(index);
-    if (it == shaders.end()) it = shaders.emplace(index, compile(*p, plan.shaders[index])).first;
+    auto it = programs.shaders.find(index);
+    if (it == programs.shaders.end()) it = programs.shaders.emplace(index, compile(p, plan.shaders[index])).first;
     return it->second;
   };
-  auto program = [&](const Draw& d) {
-    auto key = std::make_pair(d.vertex, d.fragment);
-    if (auto it = programs.find(key); it != programs.end()) return it->second;
-    GLuint vs = shader(d.vertex), fs = shader(d.fragment);
-    GLuint prog = gl.CreateProgram();
-    p->names_.programs.push_back(prog);
-    gl.AttachShader(prog, vs);
-    gl.AttachShader(prog, fs);
-    gl.LinkProgram(prog);
-    gl.DetachShader(prog, vs);
-    gl.DetachShader(prog, fs);
-    GLint ok = GL_FALSE;
-    gl.GetProgramiv(prog, GL_LINK_STATUS, &ok);
-    if (!ok) {
-      std::string log(4096, '\0');
-      GLsizei n = 0;
-      gl.GetProgramInfoLog(prog, GLsizei(log.size()), &n, log.data());
-      log.resize(std::max<GLsizei>(n, 0));
-      throw BackendError(fmt::format("osmesa: {} + {} ({}): GLSL link failed: {}", plan.shaders[d.vertex].program_key,
-                                     plan.shaders[d.fragment].program_key, plan.variant, one_line(log)));
-    }
-    programs.emplace(key, prog);
-    return prog;
-  };
-
-  // Which draw writes each texture first: that draw clears it when the texture asks for a clear.
-  std::vector<bool> written(plan.textures.size(), false);
-  auto texture_index = [&](const TextureRef& r, const std::string& draw) {
-    if (r.texture < 0 || r.texture >= int(plan.textures.size()))
-      throw BackendError(fmt::format("osmesa: {}: draw {} names texture {} of {}", plan.variant, draw, r.texture,
-                                     plan.textures.size()));
-    return r.texture;
-  };
-
-  for (const Draw& d : plan.draws) {
-    GlDraw g;
-    g.name = d.name;
-    g.geometry = d.geometry;
-    g.depth = d.depth;
-    if ((d.depth != DepthUse::none) != (d.depth_buffer >= 0) || d.depth_buffer >= int(depth_rbs.size()))
-      throw BackendError(fmt::format("osmesa: {}: draw {} uses depth buffer {} of {}", plan.variant, d.name,
-                                     d.depth_buffer, depth_rbs.size()));
-    g.viewport = d.full_resolution ? size : p->ao_;
-    g.viewport.width = std::max(1, g.viewport.width >> d.level);
-    g.viewport.height = std::max(1, g.viewport.height >> d.level);
-    g.program = program(d);
-
-    if (!d.params.empty()) {
-      // std140: consecutive floats at 4 * i; the block's size rounds up to a vec4.
-      std::vector<float> block((d.params.size() + 3) / 4 * 4, 0.0f);
-      std::copy(d.params.begin(), d.params.end(), block.begin());
-      gl.CreateBuffers(1, &g.params);
-      p->names_.buffers.push_back(g.params);
-      gl.NamedBufferStorage(g.params, GLsizeiptr(block.size() * sizeof(float)), block.data(), GL_DYNAMIC_STORAGE_BIT);
-      g.param_count = d.params.size();
-    }
-
-    // Inputs by parity: at parity q the current copy of a double-buffered texture is q, the previous 1 - q.
-    for (const auto& [binding, ref] : d.inputs) {
-      int unit = binding - kFirstTextureUnit;
-      if (unit < 0 || unit >= kTextureUnits)
-        throw BackendError(fmt::format("osmesa: {}: draw {} binds a texture at {} (textures use 2..6)",
-                                       plan.variant, d.name, binding));
-      int t = texture_index(ref, d.name);
-      for (int q = 0; q < 2; ++q) {
-        GLuint tex = p->tex_[t][ref.previous ? 1 - q : q];
-        g.units[q][unit] = ref.level < 0 ? tex : p->level_view(tex, ref.level, internal_format(plan.textures[t].format));
-      }
-    }
-
-    // Framebuffers: location i -> GL_COLOR_ATTACHMENTi (GL_NONE where the plan leaves a location unused).
-    bool parity_dependent = false;
-    for (const TextureRef& r : d.outputs) {
-      if (r.texture < 0) continue;
-      if (r.previous) throw BackendError(fmt::format("osmesa: {}: draw {} writes a previous copy", plan.variant, d.name));
-      parity_dependent |= plan.textures[texture_index(r, d.name)].double_buffered;
-    }
-    std::vector<GLenum> buffers(d.outputs.size(), GL_NONE);
-    for (int q = 0; q < (parity_dependent ? 2 : 1); ++q) {
-      GLuint fbo = 0;
-      gl.CreateFramebuffers(1, &fbo);
-      p->names_.framebuffers.push_back(fbo);
-      for (std::size_t loc = 0; loc < d.outputs.size(); ++loc) {
-        const TextureRef& r = d.outputs[loc];
-        if (r.texture < 0) continue;
-        gl.NamedFramebufferTexture(fbo, GLenum(GL_COLOR_ATTACHMENT0 + loc), p->tex_[r.texture][q], std::max(r.level, 0));
-        buffers[loc] = GLenum(GL_COLOR_ATTACHMENT0 + loc);
-      }
-      if (d.depth_buffer >= 0)
-        gl.NamedFramebufferRenderbuffer(fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rbs[d.depth_buffer]);
-      gl.NamedFramebufferDrawBuffers(fbo, GLsizei(buffers.size()), buffers.data());
-      GLenum status = gl.CheckNamedFramebufferStatus(fbo, GL_DRAW_FRAMEBUFFER);
-      if (status != GL_FRAMEBUFFER_COMPLETE)
-        throw BackendError(fmt::format("osmesa: {}: framebuffer of draw {} is incomplete (status 0x{:04x})",
-                                       plan.variant, d.name, status));
-      g.fbo[q] = fbo;
-    }
-    if (!parity_dependent) g.fbo[1] = g.fbo[0];
-
-    for (std::size_t loc = 0; loc < d.outputs.size(); ++loc) {
-      int t = d.outputs[loc].texture;
-      if (t < 0 || written[t]) continue;
-      written[t] = true;
-      if (plan.textures[t].cleared) g.clears.push_back({GLint(loc), plan.textures[t].clear, plan.textures[t].clear});
-    }
-    p->draws_.push_back(std::move(g));
+  GlFunctions& gl = c_->gl;
+  GLuint vs = shader(d.vertex), fs = shader(d.fragment);
+  GLuint prog = gl.CreateProgram();
+  p.names_.programs.push_back(prog);
+  gl.AttachShader(prog, vs);
+  gl.AttachShader(prog, fs);
+  gl.LinkProgram(prog);
+  gl.DetachShader(prog, vs);
+  gl.DetachShader(prog, fs);
+  GLint ok = GL_FALSE;
+  gl.GetProgramiv(prog, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    std::string log(4096, '\0');
+    GLsizei n = 0;
+    gl.GetProgramInfoLog(prog, GLsizei(log.size()), &n, log.data());
+    log.resize(std::max<GLsizei>(n, 0));
+    throw BackendError(fmt::format("osmesa: {} + {} ({}): GLSL link failed: {}", plan.shaders[d.vertex].program_key,
+                                   plan.shaders[d.fragment].program_key, plan.variant, one_line(log)));
   }
+  programs.linked.emplace(key, prog);
+  return prog;
+}
 
-  // Shaders are owned by their programs once linked.
-  for (GLuint s : p->live_shaders_) gl.DeleteShader(s);
-  p->live_shaders_.clear();
-  c_->check("while preparing {}", plan.variant);
-  p->create_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  return p;
+// The draw's AOParams block, when it has one. std140: consecutive floats at 4 * i; the block's size
+// rounds up to a vec4.
+void OsmesaBackend::upload_params(const Draw& d, OsmesaPipeline& p, GlDraw& g) {
+  if (d.params.empty()) return;
+  GlFunctions& gl = c_->gl;
+  std::vector<float> block((d.params.size() + 3) / 4 * 4, 0.0f);
+  std::copy(d.params.begin(), d.params.end(), block.begin());
+  gl.CreateBuffers(1, &g.params);
+  p.names_.buffers.push_back(g.params);
+  gl.NamedBufferStorage(g.params, GLsizeiptr(block.size() * sizeof(float)), block.data(), GL_DYNAMIC_STORAGE_BIT);
+  g.param_count = d.params.size();
+}
+
+// Inputs by parity: at parity q the current copy of a double-buffered texture is q, the previous 1 - q.
+void OsmesaBackend::bind_inputs(const PipelinePlan& plan, const Draw& d, OsmesaPipeline& p, GlDraw& g) {
+  for (const auto& [binding, ref] : d.inputs) {
+    const int unit = binding - kFirstTextureUnit;
+    for (int q = 0; q < 2; ++q) {
+      GLuint tex = p.tex_[ref.texture][ref.previous ? 1 - q : q];
+      g.units[q][unit] =
+          ref.level < 0 ? tex : p.level_view(tex, ref.level, internal_format(plan.textures[ref.texture].format));
+    }
+  }
+}
+
+// Framebuffers: location i -> GL_COLOR_ATTACHMENTi (GL_NONE where the plan leaves a location unused); one
+// per parity when the draw writes a double-buffered texture.
+void OsmesaBackend::create_framebuffers(const PipelinePlan& plan, const Draw& d,
+                                        const std::vector<GLuint>& depth_buffers, OsmesaPipeline& p, GlDraw& g) {
+  GlFunctions& gl = c_->gl;
+  bool parity_dependent = false;
+  for (const TextureRef& r : d.outputs)
+    if (r.texture >= 0) parity_dependent |= plan.textures[r.texture].double_buffered;
+  std::vector<GLenum> buffers(d.outputs.size(), GL_NONE);
+  for (int q = 0; q < (parity_dependent ? 2 : 1); ++q) {
+    GLuint fbo = 0;
+    gl.CreateFramebuffers(1, &fbo);
+    p.names_.framebuffers.push_back(fbo);
+    for (std::size_t loc = 0; loc < d.outputs.size(); ++loc) {
+      const TextureRef& r = d.outputs[loc];
+      if (r.texture < 0) continue;
+      gl.NamedFramebufferTexture(fbo, GLenum(GL_COLOR_ATTACHMENT0 + loc), p.tex_[r.texture][q], std::max(r.level, 0));
+      buffers[loc] = GLenum(GL_COLOR_ATTACHMENT0 + loc);
+    }
+    if (d.depth_buffer >= 0)
+      gl.NamedFramebufferRenderbuffer(fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_buffers[d.depth_buffer]);
+    gl.NamedFramebufferDrawBuffers(fbo, GLsizei(buffers.size()), buffers.data());
+    GLenum status = gl.CheckNamedFramebufferStatus(fbo, GL_DRAW_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+      throw BackendError(fmt::format("osmesa: {}: framebuffer of draw {} is incomplete (status 0x{:04x})",
+                                     plan.variant, d.name, status));
+    g.fbo[q] = fbo;
+  }
+  if (!parity_dependent) g.fbo[1] = g.fbo[0];
 }
 
 std::vector<double> OsmesaBackend::render(PreparedPipeline& pipeline, const FrameSetup& frame) {
@@ -543,7 +566,7 @@ std::vector<double> OsmesaBackend::render(PreparedPipeline& pipeline, const Fram
 
   FrameBlock block = make_frame_block(frame, p.size_, p.ao_, ClipDepth::minus_one_to_one);
   gl.NamedBufferSubData(p.frame_ubo_, 0, sizeof block, &block);
-  gl.BindBufferBase(GL_UNIFORM_BUFFER, kFrameBinding, p.frame_ubo_);
+  gl.BindBufferBase(GL_UNIFORM_BUFFER, shadergen::binding::kFrame, p.frame_ubo_);
   for (GlDraw& d : p.draws_)
     for (GlDraw::Clear& c : d.clears)
       for (int i = 0; i < 4; ++i) c.value[i] = resolve_clear(c.raw[i], background_depth(frame.view->far_plane));
@@ -578,8 +601,8 @@ std::vector<double> OsmesaBackend::render(PreparedPipeline& pipeline, const Fram
     }
     for (const GlDraw::Clear& c : d.clears) gl.ClearBufferfv(GL_COLOR, c.location, c.value.data());
     gl.UseProgram(d.program);
-    if (d.params) gl.BindBufferBase(GL_UNIFORM_BUFFER, kParamsBinding, d.params);
-    // Every unit 2..6 at once; zeros unbind, so no stale texture can form a feedback loop with an attachment.
+    if (d.params) gl.BindBufferBase(GL_UNIFORM_BUFFER, shadergen::binding::kParams, d.params);
+    // Every sampler unit at once; zeros unbind, so no stale texture can form a feedback loop with an attachment.
     gl.BindTextures(kFirstTextureUnit, kTextureUnits, d.units[parity].data());
     if (d.geometry) {
       gl.BindVertexArray(scene_vao_);

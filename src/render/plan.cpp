@@ -6,8 +6,11 @@
 
 #include <fmt/format.h>
 
+#include "render/backend.h"
+
 namespace aovar::render {
 using variants::Axis;
+using namespace shadergen::binding;  // kDepth, kNormal, ...: the sampler each input is bound at
 
 const char* format_name(Format f) {
   switch (f) {
@@ -166,7 +169,7 @@ class PlanBuilder {
     d.vertex = shader((*mask)[0]);
     d.fragment = shader((*mask)[1]);
     d.params = params("background_mask", (*mask)[1]);
-    d.inputs = {{2, TextureRef{depth}}};
+    d.inputs = {{kDepth, TextureRef{depth}}};
     d.full_resolution = false;
     d.depth = DepthUse::write_mask;
     d.depth_buffer = buffer;
@@ -187,13 +190,13 @@ class PlanBuilder {
     }
   }
 
-  // Method-specific inputs of the AO pass (plan.h): the texture bound at kPrefilterBinding, or -1.
+  // Method-specific inputs of the AO pass (plan.h): the texture bound at kPrefilter, or -1.
   int prefilter(int depth, bool full_ao) {
     if (const auto* blur = pass("unsharp_blur")) {
       // The depth Gaussian in two 1-D draws; r32f because the AO pass subtracts it from depth.
-      int h = fullscreen("depth_blur.h", "prefilter", *blur, {{2, TextureRef{depth}}}, full_ao, {{"axis", 0.0f}},
+      int h = fullscreen("depth_blur.h", "prefilter", *blur, {{kDepth, TextureRef{depth}}}, full_ao, {{"axis", 0.0f}},
                          false, Format::r32f, "unsharp_blur");
-      return fullscreen("depth_blur", "prefilter", *blur, {{2, TextureRef{depth}}, {kPrefilterBinding, TextureRef{h}}},
+      return fullscreen("depth_blur", "prefilter", *blur, {{kDepth, TextureRef{depth}}, {kPrefilter, TextureRef{h}}},
                         full_ao, {{"axis", 1.0f}}, false, Format::r32f, "unsharp_blur");
     }
     if (const auto* zmip = pass("zmip")) {
@@ -202,8 +205,8 @@ class PlanBuilder {
       t.levels = kZmipLevels;
       int z = texture(t);
       for (int level = 0; level < kZmipLevels; ++level) {
-        std::vector<std::pair<int, TextureRef>> inputs = {{2, TextureRef{depth}}};
-        if (level > 0) inputs.push_back({kPrefilterBinding, TextureRef{z, false, level - 1}});
+        std::vector<std::pair<int, TextureRef>> inputs = {{kDepth, TextureRef{depth}}};
+        if (level > 0) inputs.push_back({kPrefilter, TextureRef{z, false, level - 1}});
         draw_into(fmt::format("zmip.{}", level), "prefilter", "zmip", *zmip, inputs, z, full_ao,
                   {{"level", float(level)}}, level);
       }
@@ -245,11 +248,11 @@ class PlanBuilder {
     // AO at its resolution; progressive variants keep both halves (double-buffered by frame parity).
     const auto* ao = pass("ao");
     if (!ao) throw std::runtime_error(plan_.variant + ": the manifest has no ao pass");
-    std::vector<std::pair<int, TextureRef>> gbuffer_inputs = {{2, TextureRef{depth}}};
-    if (normal >= 0) gbuffer_inputs.push_back({3, TextureRef{normal}});
-    if (position >= 0) gbuffer_inputs.push_back({4, TextureRef{position}});
+    std::vector<std::pair<int, TextureRef>> gbuffer_inputs = {{kDepth, TextureRef{depth}}};
+    if (normal >= 0) gbuffer_inputs.push_back({kNormal, TextureRef{normal}});
+    if (position >= 0) gbuffer_inputs.push_back({kPosition, TextureRef{position}});
     int pre = prefilter(depth, full_ao);
-    if (pre >= 0) gbuffer_inputs.push_back({kPrefilterBinding, TextureRef{pre}});
+    if (pre >= 0) gbuffer_inputs.push_back({kPrefilter, TextureRef{pre}});
     // Methods that pack a depth key next to AO (SAO) blur with blur_keyed and carry the key in rgba8.
     const auto* keyed = pass("blur_keyed");
     Format ao_format = keyed ? Format::rgba8 : Format::r16f;
@@ -260,23 +263,28 @@ class PlanBuilder {
       const auto* prog = pass("progressive");
       if (!prog) throw std::runtime_error(plan_.variant + ": progressive variant but no progressive pass");
       current = fullscreen("progressive", "progressive", *prog,
-                           {{5, TextureRef{current}}, {6, TextureRef{current, true}}}, full_ao, {}, false, ao_format);
+                           {{kInput, TextureRef{current}}, {kHistory, TextureRef{current, true}}}, full_ao, {}, false,
+                           ao_format);
       skip_background(ao_skip);
     }
 
+    // The passes after AO read depth and the AO chain so far.
+    auto depth_and = [&](int input) {
+      return std::vector<std::pair<int, TextureRef>>{{kDepth, TextureRef{depth}}, {kInput, TextureRef{input}}};
+    };
     const char* blur_pass = keyed ? "blur_keyed" : "blur";
     // The keyed blurs take background from the key and write it back: their output there is not a constant.
     const int blur_skip = keyed ? -1 : ao_skip;
     if (const auto* blur = keyed ? keyed : pass("blur")) {
       if (axis(Axis::blur) == "separable") {
-        current = fullscreen("blur.h", "blur", *blur, {{2, TextureRef{depth}}, {5, TextureRef{current}}}, full_ao,
+        current = fullscreen("blur.h", "blur", *blur, depth_and(current), full_ao,
                              {{"axis", 0.0f}}, false, ao_format, blur_pass);
         skip_background(blur_skip);
-        current = fullscreen("blur.v", "blur", *blur, {{2, TextureRef{depth}}, {5, TextureRef{current}}}, full_ao,
+        current = fullscreen("blur.v", "blur", *blur, depth_and(current), full_ao,
                              {{"axis", 1.0f}}, false, ao_format, blur_pass);
         skip_background(blur_skip);
       } else {
-        current = fullscreen("blur", "blur", *blur, {{2, TextureRef{depth}}, {5, TextureRef{current}}}, full_ao, {},
+        current = fullscreen("blur", "blur", *blur, depth_and(current), full_ao, {},
                              false, ao_format, blur_pass);
         skip_background(blur_skip);
       }
@@ -285,7 +293,7 @@ class PlanBuilder {
     if (!full_ao) {
       const auto* up = pass("upsample");
       if (!up) throw std::runtime_error(plan_.variant + ": reduced resolution but no upsample pass");
-      current = fullscreen("upsample", "upsample", *up, {{2, TextureRef{depth}}, {5, TextureRef{current}}}, true);
+      current = fullscreen("upsample", "upsample", *up, depth_and(current), true);
       skip_background(zbuffer);
     }
 
@@ -340,6 +348,60 @@ PipelinePlan plan_prefix(const PipelinePlan& plan, const std::string& last_draw)
   return cut;
 }
 
+namespace {
+
+// The checks of validate_plan on one draw; `bad` throws.
+template <class Bad>
+void validate_draw(const PipelinePlan& plan, const Draw& d, const Bad& bad) {
+  const int nt = static_cast<int>(plan.textures.size()), ns = static_cast<int>(plan.shaders.size());
+  const int nz = static_cast<int>(plan.depth_buffers.size());
+  if (d.vertex < 0 || d.vertex >= ns || d.fragment < 0 || d.fragment >= ns)
+    bad(fmt::format("draw {} names no shader", d.name));
+  if (d.outputs.empty() && d.depth != DepthUse::write_mask) bad(fmt::format("draw {} has no outputs", d.name));
+  if ((d.depth != DepthUse::none) != (d.depth_buffer >= 0) || d.depth_buffer >= nz)
+    bad(fmt::format("draw {} uses depth {} with depth buffer {} of {}", d.name, depth_use_name(d.depth),
+                    d.depth_buffer, nz));
+  if (d.geometry && d.depth != DepthUse::geometry) bad(fmt::format("geometry draw {} has no depth test", d.name));
+  if (d.depth_buffer >= 0 && (plan.depth_buffers[d.depth_buffer].full_resolution != d.full_resolution || d.level != 0))
+    bad(fmt::format("draw {} tests a depth buffer of another size", d.name));
+  for (const TextureRef& o : d.outputs) {
+    if (o.texture >= nt) bad(fmt::format("draw {} writes texture {}", d.name, o.texture));
+    if (o.texture < 0) continue;  // location unused
+    const Texture& t = plan.textures[o.texture];
+    if (o.previous) bad(fmt::format("draw {} writes the previous copy of {}", d.name, t.name));
+    if (t.full_resolution != d.full_resolution)
+      bad(fmt::format("draw {} writes {} at another resolution", d.name, t.name));
+    if (std::max(o.level, 0) != d.level || d.level >= t.levels)
+      bad(fmt::format("draw {} writes level {} of {} ({} levels) at viewport level {}", d.name, o.level, t.name,
+                      t.levels, d.level));
+    // Reading another MIP level of the texture being written is fine: the views do not overlap.
+    for (const auto& [binding, in] : d.inputs)
+      if (in.texture == o.texture && !in.previous && (in.level < 0 || in.level == d.level))
+        bad(fmt::format("draw {} reads the texture it writes", d.name));
+  }
+  for (const auto& [binding, in] : d.inputs) {
+    if (!is_sampler(binding))
+      bad(fmt::format("draw {} binds a texture at binding {} ({}..{} only)", d.name, binding, kFirstSampler,
+                      kCount - 1));
+    if (in.texture < 0 || in.texture >= nt) bad(fmt::format("draw {} reads texture {}", d.name, in.texture));
+    if (in.level >= plan.textures[in.texture].levels)
+      bad(fmt::format("draw {} reads level {} of {}", d.name, in.level, plan.textures[in.texture].name));
+  }
+}
+
+}  // namespace
+
+void validate_plan(const PipelinePlan& plan, std::string_view backend) {
+  auto bad = [&](const std::string& what) {
+    throw BackendError(fmt::format("{}: plan of {} is malformed: {}", backend, plan.variant, what));
+  };
+  if (plan.draws.empty()) bad("no draws");
+  if (plan.result < 0 || plan.result >= static_cast<int>(plan.textures.size())) bad("no result texture");
+  // Full resolution normally; a plan_prefix cut may end at AO resolution (read back at that size).
+  if (plan.textures[plan.result].format != Format::r32f) bad("the result is not an r32f texture");
+  for (const Draw& d : plan.draws) validate_draw(plan, d, bad);
+}
+
 PipelinePlan plan_for_size(const PipelinePlan& plan, Extent size) {
   PipelinePlan fit = plan;
   const Extent ao = ao_extent(size, plan.resolution);
@@ -388,9 +450,9 @@ PipelinePlan plan_single_frame(const PipelinePlan& plan) {
     if (d.name != "progressive") continue;
     TextureRef current{};
     for (const auto& [binding, ref] : d.inputs)
-      if (binding == 5) current = ref;
+      if (binding == kInput) current = ref;
     for (auto& [binding, ref] : d.inputs)
-      if (binding == 6) ref = current;
+      if (binding == kHistory) ref = current;
   }
   return one;
 }

@@ -4,7 +4,7 @@
 // All the knowledge of what a variant's axes mean for rendering lives here, not in the backends.
 //
 //   gbuffer (scene geometry, depth test) -> depth [+ normal] [+ position]        full resolution
-//   prefilter   method-specific inputs of the AO pass, read at binding 7:       AO resolution
+//   prefilter   method-specific inputs of the AO pass, read at binding::kPrefilter: AO resolution
 //                 unsharp: depth Gaussian, 2 draws (axis 0, 1) -> depth_blur (r32f)
 //                 sao: camera-space z pyramid, one draw per MIP level -> zmip (r32f, kZmipLevels levels)
 //   ao          fullscreen -> ao_half[parity]                                    AO resolution
@@ -28,10 +28,12 @@
 #include <array>
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "compile/generate.h"
 #include "render/frame.h"
+#include "shadergen/bindings.h"
 
 namespace aovar::render {
 
@@ -84,7 +86,7 @@ struct Draw {
   bool geometry = false;  // draw the scene's triangles with a depth test; else a fullscreen triangle
   int vertex = -1, fragment = -1;   // indices into PipelinePlan::shaders
   std::vector<float> params;        // AOParams contents (std140: consecutive floats), empty = no block
-  std::vector<std::pair<int, TextureRef>> inputs;  // (binding, texture) for bindings 2..6
+  std::vector<std::pair<int, TextureRef>> inputs;  // (sampler binding, texture): shadergen/bindings.h
   std::vector<TextureRef> outputs;  // colour attachment per location (texture -1 = location unused)
   bool full_resolution = true;      // viewport: full output or AO extent
   int level = 0;                    // MIP level every output is written at (viewport shrinks with it)
@@ -93,7 +95,6 @@ struct Draw {
 };
 
 inline constexpr int kZmipLevels = 6;  // SAO's z pyramid: levels 0..5 (seed 003 §3: MAX_MIP_LEVEL 5)
-inline constexpr int kPrefilterBinding = 7;  // the AO pass's method-specific input (depth_blur, zmip)
 
 struct PipelinePlan {
   std::string variant;  // key
@@ -126,6 +127,11 @@ std::vector<std::string> parameter_keys(const compile::CompiledSpace& compiled, 
 // R32F): for reading intermediate passes, e.g. one progressive half, in tests and stress checks.
 // Throws std::runtime_error when the plan has no such draw.
 PipelinePlan plan_prefix(const PipelinePlan& plan, const std::string& last_draw);
+
+// Throws BackendError (render/backend.h) "<backend>: plan of <variant> is malformed: <what>" for a plan no
+// backend can execute: a bug in the planner or a hand-built test plan, not user input. Both backends call
+// it on the plan_for_size plan they prepare.
+void validate_plan(const PipelinePlan& plan, std::string_view backend);
 
 // The plan at one frame size: a MIP chain cannot have more levels than its texture's extent allows
 // (floor(log2(max(w, h))) + 1; SAO's 6-level z pyramid at 24x14, quarter resolution of 96x54, has 5), so
