@@ -1,5 +1,5 @@
 // aovar analyze: static counts of small hand-written shaders with known answers, and the AO methods'
-// fetch counts against shader_src/README.md's table (and, printed beside them, seed 000 table 5.7).
+// fetch counts against shader_src/README.md's table (and, printed beside them, Sunet 2018, table 5.7).
 #include <gtest/gtest.h>
 #include <fmt/format.h>
 
@@ -160,7 +160,7 @@ TEST(Analyze, AoMethodFetchesMatchDocumentedCounts) {
   for (std::size_t p = 0; p < c.manifest.passes.size(); ++p)
     if (c.manifest.passes[p].name == "ao") ao_pass = static_cast<int>(p);
   ASSERT_GE(ao_pass, 0);
-  // method -> documented (depth or position, normal, prefilter) as functions of N; seed 000 table 5.7 text.
+  // method -> documented (depth or position, normal, prefilter) as functions of N; Sunet 2018, table 5.7 text.
   struct Doc { int depth_plus, normal_per_n, normal_plus, prefilter_per_n, prefilter_plus; bool depth_per_n; const char* seed; };
   const std::map<std::string, Doc> doc = {
       {"alchemy", {1, 0, 1, 0, 0, true, "N+1 depth / 1 normal"}},
@@ -174,7 +174,7 @@ TEST(Analyze, AoMethodFetchesMatchDocumentedCounts) {
       {"sao", {0, 0, 0, 1, 1, false, "-"}},  // README: N + 1 z-pyramid texels (binding 7), no depth read
   };
   std::string table = fmt::format("{:<10} {:>3} {:>12} {:>12} {:>12} {:>6} {:>7}  {}\n", "method", "N", "depth+pos",
-                                  "normal", "prefilter", "unproj", "loops", "seed 000 table 5.7");
+                                  "normal", "prefilter", "unproj", "loops", "Sunet 2018, table 5.7");
   int checked = 0;
   for (std::size_t v = 0; v < c.space.variants.size(); ++v) {
     const auto& var = c.space.variants[v];

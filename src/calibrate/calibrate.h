@@ -1,5 +1,5 @@
 #pragma once
-// Calibration (DESIGN.md §5): SSAO methods carry artistic parameters (intensity, contrast, bias, falloff...);
+// Calibration (docs/architecture.md, "Ground truth and error"): SSAO methods carry artistic parameters (intensity, contrast, bias, falloff...);
 // before methods are compared, each method's parameters marked `fit = true` in the manifest are fitted to
 // minimise the mean squared error against ray-traced references on training views, and the error before
 // and after is reported on views not used for fitting (what XeGTAO's auto-tune does). The fitted values

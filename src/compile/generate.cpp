@@ -12,6 +12,7 @@
 
 #include "compile/cache.h"
 #include "shadergen/expand.h"
+#include "util/clock.h"
 #include "util/fs.h"
 #include "util/hash.h"
 
@@ -100,7 +101,7 @@ CompiledSpace plan_space(const fs::path& manifest_path, const CompileOptions& op
       b.hash = program_hash(b.source, programs[p].stage, c.targets[t]);
     }
 
-  c.seconds_compile = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  c.seconds_compile = util::seconds_since(start);
   return c;
 }
 
@@ -218,7 +219,7 @@ void build_programs(CompiledSpace& c, const CompileOptions& options) {
     if (!fresh) c.variant_same_as[v] = it->second;
   }
   c.dedup = seen.size();
-  c.seconds_compile += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  c.seconds_compile += util::seconds_since(start);
 }
 
 CompiledSpace compile_space(const fs::path& manifest_path, const CompileOptions& options) {

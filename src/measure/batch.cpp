@@ -7,14 +7,15 @@
 
 #include "image/image.h"
 #include "shadergen/expand.h"
+#include "util/clock.h"
 
 namespace aovar::measure {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
-using Clock = std::chrono::steady_clock;
+using util::Clock;
+using util::seconds_since;
 
 namespace {
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 std::string size_text(render::Extent e) { return fmt::format("{}x{}", e.width, e.height); }
 }  // namespace
 

@@ -16,7 +16,7 @@
 #include "measure/contact_sheets.h"
 #include "measure/inputs.h"
 #include "measure/rows_json.h"
-#include "shadergen/expand.h"
+#include "util/clock.h"
 #include "util/fs.h"
 #include "util/glob.h"
 #include "util/hash.h"
@@ -24,11 +24,10 @@
 namespace aovar::measure {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
-using Clock = std::chrono::steady_clock;
+using util::Clock;
+using util::seconds_since;
 
 namespace {
-
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 void check_options(const MeasureOptions& o) {
   if (o.reps < 1) throw std::runtime_error("--reps must be at least 1");

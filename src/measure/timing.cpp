@@ -5,12 +5,12 @@
 
 #include <fmt/format.h>
 
+#include "util/clock.h"
+
 namespace aovar::measure {
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
+using util::seconds_since;
 
 render::FrameSetup setup(const scene::View& view, int frame, const TimingOptions& o) {
   render::FrameSetup s;

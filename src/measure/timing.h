@@ -1,5 +1,5 @@
 #pragma once
-// Round-robin timing of prepared pipelines on one backend and view (DESIGN.md §4): each pipeline's first
+// Round-robin timing of prepared pipelines on one backend and view (docs/architecture.md, "Rendering and timing"): each pipeline's first
 // frame (JIT) is timed on its own, warm-up frames are discarded, then every round renders each pipeline
 // once, in an order rotated per round, so drift on a noisy machine spreads over all of them. The
 // reference pipeline is part of every round, so each result can be given relative to it.

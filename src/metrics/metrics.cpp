@@ -1,4 +1,4 @@
-// Error statistics of an AO image against its reference (DESIGN.md §5). Every average runs over the
+// Error statistics of an AO image against its reference (docs/architecture.md, "Ground truth and error"). Every average runs over the
 // compared pixels (not background) where both images are finite; the image's NaN, Inf and out-of-[0, 1]
 // values are counted in Health instead. SSIM follows Wang et al. 2004 (11x11 Gaussian, sigma 1.5,
 // C1 = 0.01^2, C2 = 0.03^2) with masked windows: each window's weights are renormalised over the pixels

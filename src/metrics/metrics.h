@@ -1,5 +1,5 @@
 #pragma once
-// Error of an AO image against a reference over the non-background pixels (DESIGN.md §5): RMSE, MAE,
+// Error of an AO image against a reference over the non-background pixels (docs/architecture.md, "Ground truth and error"): RMSE, MAE,
 // PSNR (peak 1), SSIM, mean bias, max error, share of pixels off by more than 0.1, and the NaN, Inf and
 // out-of-[0, 1] counts. Non-finite pixels are counted, never averaged in.
 #include <cstdint>
@@ -42,7 +42,7 @@ void write_error_heatmap(const std::filesystem::path& path, const image::FloatIm
                          const image::FloatImage& reference, const std::vector<std::uint8_t>& background = {},
                          double scale = 0.25);
 
-// Progressive variants (DESIGN.md §5): the error of one frame, of the average of two consecutive frames
+// Progressive variants (docs/architecture.md, "Ground truth and error"): the error of one frame, of the average of two consecutive frames
 // (the two halves on a static camera), and flicker = mean |AO_t - AO_{t-1}| over compared finite pixels
 // along a sequence of frames (a camera path): the differences of all consecutive pairs pooled into one
 // mean. std::invalid_argument for fewer than 2 frames or mismatched sizes; NaN when no pixel pair is

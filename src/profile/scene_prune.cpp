@@ -9,6 +9,7 @@
 
 #include "compile/generate.h"
 #include "shadergen/expand.h"
+#include "util/clock.h"
 #include "util/fs.h"
 #include "util/glob.h"
 #include "util/hash.h"
@@ -57,7 +58,7 @@ ScenePruning prune_scene(const PruneOptions& o, const scene::Scene& sc, const st
   // Globs that select nothing are the caller's error to report (after compiling, as without pruning).
   if (std::none_of(space.variants.begin(), space.variants.end(),
                    [&](const variants::VariantEntry& e) { return util::glob_any(globs, e.key); })) {
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.seconds = util::seconds_since(start);
     return out;
   }
 
@@ -115,7 +116,7 @@ ScenePruning prune_scene(const PruneOptions& o, const scene::Scene& sc, const st
   std::sort(out.kept.begin(), out.kept.end());
   std::sort(out.dropped.begin(), out.dropped.end(),
             [](const PrunedVariant& a, const PrunedVariant& b) { return a.variant < b.variant; });
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.seconds = util::seconds_since(start);
   return out;
 }
 

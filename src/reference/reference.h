@@ -1,5 +1,5 @@
 #pragma once
-// Ray-traced ground truth for screen-space AO (DESIGN.md §5): per pixel the primary ray through the pixel
+// Ray-traced ground truth for screen-space AO (docs/architecture.md, "Ground truth and error"): per pixel the primary ray through the pixel
 // centre with the rasteriser's camera (render::make_frame_block), then cosine-weighted hemisphere rays
 // from a low-discrepancy sequence, at most `radius` long, offset along the geometric normal. Embree 3 + TBB.
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Embree scene, camera rays and hemisphere integration of the reference (see reference.h and DESIGN.md §5).
+// Embree scene, camera rays and hemisphere integration of the reference (see reference.h and docs/architecture.md, "Ground truth and error").
 #include <algorithm>
 #include <atomic>
 #include <chrono>

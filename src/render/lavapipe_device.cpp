@@ -266,7 +266,7 @@ void Device::create_device(bool mediump_as_fp16) {
   qci.queueFamilyIndex = queue_family;
   qci.queueCount = 1;
   qci.pQueuePriorities = &priority;
-  // dynamicRendering must be enabled explicitly (DESIGN.md §4); synchronization2 for vkCmdPipelineBarrier2.
+  // dynamicRendering must be enabled explicitly (docs/architecture.md, "Rendering and timing"); synchronization2 for vkCmdPipelineBarrier2.
   VkPhysicalDeviceVulkan13Features want13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   want13.dynamicRendering = VK_TRUE;
   want13.synchronization2 = VK_TRUE;

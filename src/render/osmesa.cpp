@@ -1,6 +1,6 @@
 // The "osmesa" backend: OpenGL 4.5 core on llvmpipe through OSMesa, rendering a PipelinePlan into FBOs.
 // Draws are timed with a wall clock around state setup + draw + glFinish: GL timer queries do not see
-// llvmpipe's rasteriser threads (DESIGN.md §4).
+// llvmpipe's rasteriser threads (docs/architecture.md, "Rendering and timing").
 #include <algorithm>
 #include <array>
 #include <chrono>

@@ -200,7 +200,7 @@ class PlanBuilder {
                         full_ao, {{"axis", 1.0f}}, false, Format::r32f, "unsharp_blur");
     }
     if (const auto* zmip = pass("zmip")) {
-      // Level 0 converts depth to camera-space z; level l + 1 subsamples level l (seed 003 §2.2, table 1).
+      // Level 0 converts depth to camera-space z; level l + 1 subsamples level l (McGuire et al. 2012, §2.2, table 1).
       Texture t{"zmip", Format::r32f, full_ao, false, false, {}};
       t.levels = kZmipLevels;
       int z = texture(t);

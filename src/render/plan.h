@@ -94,7 +94,7 @@ struct Draw {
   int depth_buffer = -1;            // index into PipelinePlan::depth_buffers (with depth != none)
 };
 
-inline constexpr int kZmipLevels = 6;  // SAO's z pyramid: levels 0..5 (seed 003 §3: MAX_MIP_LEVEL 5)
+inline constexpr int kZmipLevels = 6;  // SAO's z pyramid: levels 0..5 (McGuire et al. 2012, §3: MAX_MIP_LEVEL 5)
 
 struct PipelinePlan {
   std::string variant;  // key

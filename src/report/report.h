@@ -1,8 +1,8 @@
 #pragma once
-// Reports a person reads (DESIGN.md §6): report.md and a self-contained report.html (no network: inline
+// Reports a person reads (docs/cli.md, "File formats"): report.md and a self-contained report.html (no network: inline
 // SVG charts, images embedded as data URIs) from a cost table — the Pareto front per scene/view/backend,
 // Pareto scatter coloured by algorithm, time per variant, static cost against measured time, an image grid
-// (variant, reference, error heat map) for the front, and the seed 000 pairs measured on these scenes.
+// (variant, reference, error heat map) for the front, and the Sunet 2018 pairs measured on these scenes.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -11,7 +11,7 @@
 
 namespace aovar::report {
 
-// One of the pairs seed 000 studied (RG vs RGB normals, depth vs position buffer, ...), measured on the
+// One of the pairs Sunet 2018 studied (RG vs RGB normals, depth vs position buffer, ...), measured on the
 // table's rows that differ only in that axis (same scene, view, backend and every other axis).
 struct PairFinding {
   std::string title, axis, a, b;      // e.g. "RG vs RGB normals", "normals", "rgb8", "rg8"

@@ -21,6 +21,7 @@
 #include "stress/partners.h"
 #include "stress/report.h"
 #include "stress/slices.h"
+#include "util/clock.h"
 #include "util/fs.h"
 #include "util/glob.h"
 
@@ -160,7 +161,7 @@ Result run_stress(const Options& o, const Progress& progress) {
     detail::render_pending(run, backend, schedule(run, groups, partners, previous, backend, res, tally), res, tally,
                            checkpoints);
   detail::summarize(res, keys, ship);
-  res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  res.wall_s = util::seconds_since(start);
   if (!o.out.empty()) {
     util::write_atomic(o.out / "stress.json", to_json(res, o).dump(1) + "\n");
     util::write_atomic(o.out / "stress.md", to_markdown(res, o));

@@ -18,6 +18,7 @@
 #include "sweep/cost_models.h"
 #include "sweep/prune_dominated.h"
 #include "sweep/static_costs.h"
+#include "util/clock.h"
 #include "util/fs.h"
 #include "util/hash.h"
 
@@ -204,7 +205,7 @@ SweepResult run_sweep(const SweepOptions& o, const Progress& progress) {
   res.table.meta = table_meta(o, res, scenes, gm.models, profile_pruned, dominated);
   table::write_table_files(res.table, o.out);
   report::write_reports(res.table, o.out);
-  res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  res.wall_s = util::seconds_since(start);
   return res;
 }
 

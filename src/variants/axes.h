@@ -1,5 +1,5 @@
 #pragma once
-// The fixed set of variant axes (DESIGN.md §2), their allowed values and their key spelling.
+// The fixed set of variant axes (docs/manifest.md, "[axes]"), their allowed values and their key spelling.
 //
 // A variant key is the axis tokens in the order below joined by '-', for example
 //   alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp
