@@ -1,6 +1,5 @@
 // aovar generate: templates -> per-target sources, SPIR-V, variants.json and the C++ embedding; --check
 // writes nothing and exits 1 when an output would change.
-#include <chrono>
 #include <iostream>
 #include <memory>
 #include <stdexcept>
@@ -8,6 +7,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "compile/text.h"
+#include "util/clock.h"
 
 namespace aovar::cli {
 namespace {
@@ -36,19 +36,15 @@ unsigned parse_emit(const std::string& emit) {
   return bits;
 }
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 int generate(const CommonOptions& common, const compile::OutputOptions& out) {
-  auto start = std::chrono::steady_clock::now();
+  auto start = util::Clock::now();
   auto options = compile_options(common);
   auto c = compile::plan_space(common.manifest, options);
   std::string print = compile::fingerprint(c, options, out);
   if (!out.check) {
     if (auto summary = compile::fresh_outputs(c, print, out)) {
       compile::finish_outputs(c, out);
-      std::cout << compile::up_to_date_text(*summary, out.out, seconds_since(start));
+      std::cout << compile::up_to_date_text(*summary, out.out, util::seconds_since(start));
       return 0;
     }
   }
@@ -63,7 +59,7 @@ int generate(const CommonOptions& common, const compile::OutputOptions& out) {
   }
   std::string summary = compile::summary_table(c);
   compile::record_outputs(out, print, summary, r.files);
-  std::cout << summary << compile::written_line(r, out.out, seconds_since(start));
+  std::cout << summary << compile::written_line(r, out.out, util::seconds_since(start));
   return 0;
 }
 
