@@ -1,0 +1,68 @@
+// aovar calibrate: fit each method's artistic parameters to ray-traced references, write a calibration file.
+#include <fmt/format.h>
+
+#include <iostream>
+#include <memory>
+
+#include "calibrate/calibrate.h"
+#include "cli/commands.h"
+#include "cli/options.h"
+#include "util/fs.h"
+
+namespace aovar::cli {
+namespace {
+
+struct CalibrateArgs {
+  calibrate::CalibrateOptions options;
+  std::string manifest = default_manifest, cache_dir, size = "320x180", mode = default_reference_mode, out;
+};
+
+// The fits (train and validation error before -> after, fitted values with the defaults) and the closing line.
+// (Formatting of a calibrate result: to move into src/calibrate with its rewrite.)
+std::string calibration_text(const calibrate::Calibration& c, const std::string& out) {
+  std::string s = fmt::format("{:<10} {:>6} {:>17} {:>19}  {}\n", "algorithm", "evals", "train rmse", "validation rmse",
+                              "fitted (default)");
+  for (const auto& f : c.fits) {
+    std::string values;
+    for (const auto& [key, value] : f.fitted) values += fmt::format("{} {:.4g} ({:.4g})  ", key, value, f.defaults.at(key));
+    s += fmt::format("{:<10} {:>6} {:>7.4f} -> {:>6.4f} {:>8.4f} -> {:>6.4f}  {}\n", f.algorithm, f.evaluations,
+                     f.train_rmse_before, f.train_rmse_after, f.validation_rmse_before, f.validation_rmse_after, values);
+  }
+  return s + fmt::format("# {} at {}x{}, references {} rays ({}); -> {}\n", c.backend, c.size.width, c.size.height,
+                         c.rays, reference::mode_name(c.mode), util::display_path(out));
+}
+
+int run_calibrate(const CalibrateArgs& a) {
+  calibrate::CalibrateOptions o = a.options;
+  o.manifest = a.manifest;
+  o.size = parse_size(a.size);
+  o.mode = reference::parse_mode(a.mode);
+  o.compile_cache = o.reference_cache = cache_dir(a.cache_dir, false);
+  auto c = with_status([&](const auto& progress) { return calibrate::calibrate(o, progress); });
+  calibrate::write_calibration(a.out, c);
+  std::cout << calibration_text(c, a.out);
+  return 0;
+}
+
+}  // namespace
+
+Command add_calibrate(CLI::App& app) {
+  auto a = std::make_shared<CalibrateArgs>();
+  auto& cal = a->options;
+  auto* cmd = app.add_subcommand("calibrate",
+                                 "fit each method's artistic parameters to ray-traced references (training views), "
+                                 "report the error on other views, write a calibration file");
+  add_manifest(cmd, a->manifest);
+  cmd->add_option("--algorithms", cal.algorithms, "algorithms to fit (comma-separated; default: all)")->delimiter(',');
+  cmd->add_option("--backend,-b", cal.backend, "lavapipe or osmesa")->capture_default_str();
+  cmd->add_option("--size", a->size, "render and reference size WxH")->capture_default_str();
+  cmd->add_option("--rays", cal.rays, "reference rays per pixel")->capture_default_str();
+  cmd->add_option("--mode", a->mode, "reference mode: occlusion or obscurance")->capture_default_str();
+  cmd->add_option("--evaluations", cal.max_evaluations, "objective evaluations per algorithm")->capture_default_str();
+  cmd->add_option("--threads", cal.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
+  cmd->add_option("--out,-o", a->out, "calibration file to write (e.g. shader_src/calibration.json)")->required();
+  add_cache_dir(cmd, a->cache_dir, "compile and reference cache");
+  return {cmd, [a] { return run_calibrate(*a); }};
+}
+
+}  // namespace aovar::cli

@@ -1,0 +1,32 @@
+// aovar diff: per-variant deltas between two cost tables (helped / hurt).
+#include <iostream>
+#include <memory>
+
+#include "cli/commands.h"
+#include "table/compare.h"
+#include "table/table.h"
+
+namespace aovar::cli {
+namespace {
+
+struct DiffArgs {
+  std::string a, b;
+};
+
+int run_diff(const DiffArgs& args) {
+  auto d = table::diff_tables(table::read_table(args.a), table::read_table(args.b));
+  std::cout << table::format_diff(d, args.a, args.b);
+  return 0;
+}
+
+}  // namespace
+
+Command add_diff(CLI::App& app) {
+  auto a = std::make_shared<DiffArgs>();
+  auto* cmd = app.add_subcommand("diff", "per-variant deltas between two cost tables (helped / hurt)");
+  cmd->add_option("A", a->a, "the old cost_table.json")->required();
+  cmd->add_option("B", a->b, "the new cost_table.json")->required();
+  return {cmd, [a] { return run_diff(*a); }};
+}
+
+}  // namespace aovar::cli

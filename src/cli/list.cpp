@@ -1,0 +1,57 @@
+// aovar list: the variants after rules and the counts; with --scene only those the scene's profile keeps.
+#include <fmt/format.h>
+
+#include <iostream>
+#include <memory>
+
+#include "cli/commands.h"
+#include "cli/options.h"
+#include "cli/scene_profile.h"
+#include "compile/text.h"
+
+namespace aovar::cli {
+namespace {
+
+struct ListArgs {
+  CommonOptions common;
+  bool show_pruned = false;
+  ProfileArgs profile;  // with --scene
+};
+
+int run_list(const ListArgs& a) {
+  auto c = compile::compile_space(a.common.manifest, compile_options(a.common));
+  if (!report_diagnostics(c)) return 1;
+  std::cout << compile::list_text(c, a.show_pruned);
+  return 0;
+}
+
+// --scene: the variants the scene's profile keeps; --pruned adds every dropped one with its reason.
+int run_list_scene(const ListArgs& a) {
+  const auto o = a.profile.resolve(a.common.manifest);
+  const auto s = run_scene_profile(o);
+  auto pruned = profile::prune(s.manifest, s.space, s.profile, a.common.globs);
+  for (const auto& k : pruned.kept) std::cout << k << "\n";
+  if (a.show_pruned) {
+    std::cout << compile::rule_drops_text(s.manifest, s.space);
+    for (const auto& [k, why] : pruned.dropped) std::cout << k << "  dropped for " << o.scene << ": " << why << "\n";
+  }
+  std::cout << fmt::format("# space {} / rules {} / selected {} / scene {} keeps {} ({} dropped, with reasons: --pruned)\n",
+                           s.space.space, s.space.collapsed, pruned.kept.size() + pruned.dropped.size(), o.scene,
+                           pruned.kept.size(), pruned.dropped.size());
+  return 0;
+}
+
+}  // namespace
+
+Command add_list(CLI::App& app) {
+  auto a = std::make_shared<ListArgs>();
+  auto* cmd = app.add_subcommand("list", "print the variants after rules (one key a line) and the counts");
+  add_common(cmd, a->common);
+  cmd->add_flag("--pruned", a->show_pruned, "also print every dropped variant with the rule's reason");
+  cmd->add_option("--scene,-s", a->profile.options.scene,
+                  "keep only what this scene needs (aovar profile); --pruned prints each drop's reason");
+  cmd->add_option("--size", a->profile.size, "frame size the scene is profiled at")->capture_default_str();
+  return {cmd, [a, cmd] { return cmd->count("--scene") ? run_list_scene(*a) : run_list(*a); }};
+}
+
+}  // namespace aovar::cli

@@ -1,0 +1,111 @@
+#include "cli/options.h"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <iostream>
+#include <stdexcept>
+#include <unistd.h>
+
+#include "compile/cache.h"
+#include "compile/text.h"
+
+namespace aovar::cli {
+
+void add_manifest(CLI::App* cmd, std::string& manifest) {
+  cmd->add_option("--manifest,-m", manifest, "manifest file")->capture_default_str();
+}
+
+void add_cache_dir(CLI::App* cmd, std::string& dir, const std::string& holds) {
+  cmd->add_option("--cache-dir", dir, holds + " " + cache_dir_default_help);
+}
+
+std::filesystem::path cache_dir(const std::string& option, bool no_cache) {
+  if (no_cache) return {};
+  return option.empty() ? compile::CompileCache::default_dir() : std::filesystem::path(option);
+}
+
+void add_common(CLI::App* cmd, CommonOptions& o) {
+  add_manifest(cmd, o.manifest);
+  cmd->add_option("--variants", o.globs, "only variants whose key matches this glob (repeatable)");
+  cmd->add_option("--targets", o.targets, "vulkan,gl45,gles30 (default: the manifest's)")->delimiter(',');
+  cmd->add_option("--jobs,-j", o.jobs, "compile threads (default: cores)");
+  cmd->add_flag("--werror", o.werror, "treat glslang warnings as errors");
+  add_cache_dir(cmd, o.cache_dir, "compile cache");
+  cmd->add_flag("--no-cache", o.no_cache, "compile everything, read and write no cache");
+}
+
+compile::CompileOptions compile_options(const CommonOptions& o) {
+  compile::CompileOptions c;
+  for (const auto& t : o.targets) {
+    auto target = variants::parse_target(t);
+    if (!target) throw std::runtime_error("--targets: unknown target '" + t + "' (use vulkan, gl45, gles30)");
+    c.targets.push_back(*target);
+  }
+  c.jobs = o.jobs;
+  c.werror = o.werror;
+  c.globs = o.globs;
+  c.cache_dir = o.cache();
+  return c;
+}
+
+bool report_diagnostics(const compile::CompiledSpace& c) {
+  for (const auto& d : c.diagnostics) std::cerr << d << "\n";
+  if (c.ok()) return true;
+  std::cerr << compile::failure_line(c);
+  return false;
+}
+
+std::filesystem::path CalibrationOption::resolve(const std::string& manifest) const {
+  if (none) return {};
+  if (!file.empty()) return file;
+  auto next_to = std::filesystem::path(manifest).parent_path() / "calibration.json";
+  return std::filesystem::exists(next_to) ? next_to : std::filesystem::path();
+}
+
+void add_calibration(CLI::App* cmd, CalibrationOption& o, const std::string& help) {
+  cmd->add_option("--calibration", o.file, help);
+  cmd->add_flag("--no-calibration", o.none, "use the manifest's default parameters");
+}
+
+render::Extent parse_size(const std::string& text) {
+  render::Extent e;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &e.width, &x, &e.height, &extra) != 3 || (x != 'x' && x != 'X') ||
+      e.width < 1 || e.height < 1 || e.width > 16384 || e.height > 16384)
+    throw std::runtime_error("--size: expected WxH such as 640x360 (1 to 16384 each), got '" + text + "'");
+  return e;
+}
+
+std::pair<int, int> parse_shard(const std::string& text) {
+  int k = 0, n = 0;
+  char slash = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d", &k, &slash, &n) != 3 || slash != '/' || n < 1 || k < 1 || k > n)
+    throw std::runtime_error("--shard: expected k/n with 1 <= k <= n (e.g. 2/4), got '" + text + "'");
+  return {k - 1, n};
+}
+
+TerminalStatus::TerminalStatus() : tty(isatty(fileno(stderr))) {}
+
+void TerminalStatus::show(const std::string& line) const {
+  if (tty) std::cerr << "\r\033[K" << line << std::flush;
+}
+
+void TerminalStatus::keep(const std::string& line) const {
+  std::cerr << (tty ? "\r\033[K" : "") << line << "\n";
+}
+
+void TerminalStatus::clear() const {
+  if (tty) std::cerr << "\r\033[K";
+}
+
+int run_guarded(const std::function<int()>& run) {
+  try {
+    return run();
+  } catch (const std::exception& e) {
+    std::cerr << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace aovar::cli

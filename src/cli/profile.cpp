@@ -1,0 +1,64 @@
+// aovar profile: what a scene needs, with evidence, and the variants it can drop; profile.json with --out.
+#include <fmt/format.h>
+
+#include <iostream>
+#include <memory>
+
+#include "cli/commands.h"
+#include "cli/options.h"
+#include "cli/scene_profile.h"
+#include "util/fs.h"
+
+namespace aovar::cli {
+namespace {
+
+struct ProfileCommandArgs {
+  ProfileArgs profile;
+  std::string manifest = default_manifest;
+};
+
+// The line after profile::to_text: how many variants the scene keeps and drops.
+// (Formatting of a profile result: to move into src/profile with its rewrite.)
+std::string prune_line(std::size_t variants, const profile::Pruned& pruned, const std::string& scene) {
+  return fmt::format("# {} variants after rules; the scene keeps {} and drops {} (aovar list --scene {} --pruned)\n",
+                     variants, pruned.kept.size(), pruned.dropped.size(), scene);
+}
+
+int run_profile(const ProfileCommandArgs& a) {
+  const auto o = a.profile.resolve(a.manifest);
+  const auto s = run_scene_profile(o);
+  std::cout << profile::to_text(s.profile);
+  auto pruned = profile::prune(s.manifest, s.space, s.profile);
+  std::cout << prune_line(s.space.variants.size(), pruned, o.scene);
+  if (!a.profile.out.empty()) {
+    auto j = profile::to_json(s.profile);
+    j["kept"] = pruned.kept.size();
+    j["dropped"] = pruned.dropped.size();
+    util::write_atomic(std::filesystem::path(a.profile.out) / "profile.json", j.dump(1) + "\n");
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command add_profile(CLI::App& app) {
+  auto a = std::make_shared<ProfileCommandArgs>();
+  auto& p = a->profile;
+  auto* cmd = app.add_subcommand("profile", "what a scene needs (depth range, r16f error, radius in pixels, background, "
+                                            "flicker, the renderer's buffers) and the variants it can drop");
+  add_manifest(cmd, a->manifest);
+  cmd->add_option("--scene,-s", p.options.scene, "builtin:atrium|spheres|stairs|cornell|... or a mesh file")
+      ->capture_default_str();
+  cmd->add_option("--view", p.options.views, "only these views (repeatable; default: every view)");
+  cmd->add_option("--size", p.size, "frame size the variants will run at")->capture_default_str();
+  cmd->add_option("--radius", p.options.radius, "AO radius in scene units (0: the scene's)")->capture_default_str();
+  cmd->add_option("--r16f-tolerance", p.options.r16f_tolerance,
+                  "keep r16f while its p99 position error is under this share of the radius")->capture_default_str();
+  cmd->add_option("--threads", p.options.threads, "threads (Embree, lavapipe)")->capture_default_str();
+  cmd->add_flag("--no-flicker", p.no_flicker, "do not render the progressive pair along the camera paths");
+  cmd->add_flag("--no-cache", p.no_cache, "compile the flicker pair without the cache");
+  cmd->add_option("--out,-o", p.out, "folder for profile.json");
+  return {cmd, [a] { return run_profile(*a); }};
+}
+
+}  // namespace aovar::cli

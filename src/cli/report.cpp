@@ -1,0 +1,47 @@
+// aovar report: report.md and a self-contained report.html from a cost table (a sweep's, a merged one, an
+// edited one).
+#include <fmt/format.h>
+
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+#include <system_error>
+
+#include "cli/commands.h"
+#include "report/report.h"
+#include "table/table.h"
+#include "util/fs.h"
+
+namespace aovar::cli {
+namespace {
+
+struct ReportArgs {
+  std::string table, out;
+};
+
+int run_report(const ReportArgs& a) {
+  auto t = table::read_table(a.table);
+  std::filesystem::path images = std::filesystem::path(a.table).parent_path();
+  std::filesystem::path dir = a.out.empty() ? images : std::filesystem::path(a.out);
+  if (images.empty()) images = ".";
+  if (dir.empty()) dir = ".";
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw std::runtime_error(util::display_path(dir) + ": error: cannot create the output folder: " + ec.message());
+  report::write_reports(t, dir, images);
+  std::cout << fmt::format("{} rows -> {} and {}\n", t.rows.size(), util::display_path(dir / "report.md"),
+                           util::display_path(dir / "report.html"));
+  return 0;
+}
+
+}  // namespace
+
+Command add_report(CLI::App& app) {
+  auto a = std::make_shared<ReportArgs>();
+  auto* cmd = app.add_subcommand("report", "report.md and a self-contained report.html from a cost table");
+  cmd->add_option("--table,-t", a->table, "cost_table.json (image paths are relative to its folder)")->required();
+  cmd->add_option("--out,-o", a->out, "output folder (default: the table's folder)");
+  return {cmd, [a] { return run_report(*a); }};
+}
+
+}  // namespace aovar::cli

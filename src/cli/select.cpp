@@ -1,0 +1,45 @@
+// aovar select: the variant to ship under a time budget or an error target, with the reason, the
+// runners-up and the margin; exit 1 when nothing satisfies.
+#include <iostream>
+#include <memory>
+
+#include "cli/commands.h"
+#include "table/select.h"
+#include "table/table.h"
+
+namespace aovar::cli {
+namespace {
+
+struct SelectArgs {
+  std::string table;
+  table::SelectQuery query;
+};
+
+int run_select(const SelectArgs& a) {
+  auto sel = table::select(table::read_table(a.table), a.query);
+  (sel.ok ? std::cout : std::cerr) << sel.text;
+  return sel.ok ? 0 : 1;
+}
+
+}  // namespace
+
+Command add_select(CLI::App& app) {
+  auto a = std::make_shared<SelectArgs>();
+  auto& q = a->query;
+  auto* cmd = app.add_subcommand("select", "the variant to ship under a time budget or an error target, with the "
+                                           "reason, the runners-up and the margin");
+  cmd->add_option("--table,-t", a->table, "cost_table.json")->required();
+  auto* budget = cmd->add_option("--budget-ms", q.budget_ms, "lowest error with time (time_ms.paired, else min) <= this");
+  cmd->add_option("--max-error", q.max_error, "cheapest variant with error.rmse <= this")->excludes(budget);
+  cmd->add_option("--tolerance", q.tolerance,
+                  "name a variant >= 5% cheaper (budget) or with >= 5% less error (max-error) that gives up at most "
+                  "this share of the other criterion")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--scene,-s", q.scene, "only this scene (default: all; worst over them)");
+  cmd->add_option("--view", q.view, "only this view (default: each variant's worst view)");
+  cmd->add_option("--backend,-b", q.backend, "only this backend (default: each separately)");
+  return {cmd, [a] { return run_select(*a); }};
+}
+
+}  // namespace aovar::cli

@@ -1,0 +1,111 @@
+// aovar sweep: measure variants on scenes against the ray-traced reference -> cost_table.{json,csv,md}.
+#include <fmt/format.h>
+
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+#include <tuple>
+
+#include "calibrate/calibrate.h"
+#include "cli/commands.h"
+#include "cli/options.h"
+#include "sweep/sweep.h"
+#include "table/table.h"
+#include "util/fs.h"
+
+namespace aovar::cli {
+namespace {
+
+struct SweepArgs {
+  CommonOptions common;
+  sweep::SweepOptions options;
+  std::string size = default_size, out, shard;
+  bool no_prune = false;
+  CalibrationOption calibration;
+};
+
+// The "# ..." lines after the cost table: cost models, pruning, profiles, counts and the report.
+// (Formatting of a sweep result: to move into src/sweep with its rewrite.)
+std::string sweep_notes(const sweep::SweepResult& r, const sweep::SweepOptions& o, const std::filesystem::path& cal_file) {
+  std::string s;
+  for (const auto& m : r.table.meta.value("cost_models", nlohmann::json::array()))
+    s += fmt::format("# cost model {} {} {}: {} rows, cross-validated R2 {:.3f}, Spearman {:.3f} (against time_ms.min "
+                     "{:.3f}; {} features){}\n",
+                     m.at("scene").get<std::string>(), m.at("view").get<std::string>(),
+                     m.at("backend").get<std::string>(), m.at("rows").get<int>(), m.at("cv_r2").get<double>(),
+                     m.at("cv_spearman").get<double>(), m.value("cv_spearman_min", 0.0),
+                     m.value("features", "static + axes"), m.value("predicts", false) ? ", predicts" : "");
+  if (o.prune_dominated)
+    s += fmt::format("# prune: {} variants skipped as predicted dominated; {} more measured anyway as a check, "
+                     "{} of them on the Pareto front (cost_table.json meta.prune)\n",
+                     r.variants_skipped, r.variants_checked, r.checked_on_front);
+  if (o.measure.prune_by_profile)
+    s += fmt::format("# scene profiles: {} ({} reused) in {:.2f} s; each dropped variant with its reason: "
+                     "cost_table.json meta.pruned (--no-prune measures them)\n",
+                     o.scenes.size(), r.profiles_reused, r.profile_s);
+  s += fmt::format("# {} rows ({} measured, {} reused, {} predicted) in {:.1f} s{} -> {}\n", r.table.rows.size(),
+                   r.rows_measured, r.rows_reused, r.rows_predicted, r.wall_s,
+                   cal_file.empty() ? "" : ", calibrated by " + util::display_path(cal_file),
+                   util::display_path(o.out / "cost_table.json"));
+  return s + "# report: " + util::display_path(o.out / "report.html") + " (and report.md)\n";
+}
+
+int run_sweep(const SweepArgs& a) {
+  sweep::SweepOptions o = a.options;
+  o.out = a.out;
+  measure::MeasureOptions& m = o.measure;
+  m.prune_by_profile = !a.no_prune;
+  m.manifest = a.common.manifest;
+  m.globs = a.common.globs;
+  m.jobs = a.common.jobs;
+  m.size = parse_size(a.size);
+  if (!a.shard.empty()) std::tie(m.shard_index, m.shard_count) = parse_shard(a.shard);
+  if (m.reference_rays < 1) throw std::runtime_error("--rays must be at least 1");
+  m.cache_dir = m.reference_cache = a.common.cache();
+  const auto cal_file = a.calibration.resolve(a.common.manifest);
+  if (!cal_file.empty()) m.calibration = calibrate::load_calibration(cal_file);
+  auto r = with_status([&](const auto& progress) { return sweep::run_sweep(o, progress); });
+  std::cout << table::to_markdown(r.table) << sweep_notes(r, o, cal_file);
+  return 0;
+}
+
+}  // namespace
+
+Command add_sweep(CLI::App& app) {
+  auto a = std::make_shared<SweepArgs>();
+  auto& so = a->options;
+  auto* cmd = app.add_subcommand("sweep", "measure variants on scenes against the ray-traced reference: cost_table.{json,csv,md}");
+  add_common(cmd, a->common);
+  cmd->add_option("--scene,-s", so.scenes, "scenes (repeatable): builtin:atrium|spheres|stairs|cornell or a mesh file")
+      ->capture_default_str();
+  cmd->add_option("--view", so.measure.views, "view name (repeatable; default: every view of each scene)");
+  cmd->add_option("--backend,-b", so.measure.backends, "lavapipe, osmesa (repeatable or comma-separated)")
+      ->delimiter(',')->capture_default_str();
+  cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
+  cmd->add_option("--reps", so.measure.reps, "timed rounds (min-of-N)")->capture_default_str();
+  cmd->add_option("--threads", so.measure.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
+  cmd->add_option("--rays", so.measure.reference_rays, "reference rays per pixel")->capture_default_str();
+  cmd->add_option("--batch", so.measure.batch, "pipelines prepared and interleaved at once (rows are saved per batch)")
+      ->capture_default_str();
+  cmd->add_option("--predict", so.predict,
+                  "variants (globs, repeatable) to predict from the cost model instead of measuring: rows marked predicted");
+  cmd->add_option("--shard", a->shard, "k/n: measure only the k-th of n shards of the variants (join with aovar merge)");
+  add_calibration(cmd, a->calibration, calibration_help);
+  cmd->add_option("--views-file", so.measure.views_file, "views side file (TOML or JSON) for the scene(s)");
+  cmd->add_option("--warmup", so.measure.warmup, "discarded frames after the first (JIT) frame")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_flag("--prune-dominated", so.prune_dominated,
+                "measure a first share, then skip the variants the cost model predicts to be dominated");
+  cmd->add_option("--prune-check", so.prune_check,
+                  "with --prune-dominated: measure max(N, a tenth) of the skipped ones anyway, report if any reach the front")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_flag("--no-prune", a->no_prune,
+                "measure every selected variant on every scene (default: drop, before compiling, what each scene's "
+                "profile drops)");
+  cmd->add_option("--out,-o", a->out, "output folder: cost_table.{json,csv,md}, measure/<scene>/")->required();
+  return {cmd, [a] { return run_sweep(*a); }};
+}
+
+}  // namespace aovar::cli
