@@ -137,3 +137,154 @@ TEST(CliText, ReferenceTableHasEachViewItsFiguresAndTheScene) {
 }
 
 }  // namespace
+
+// ---- the results of measure, sweep, stress, calibrate and profile ----
+#include "calibrate/text.h"
+#include "measure/text.h"
+#include "profile/pruned_text.h"
+#include "stress/text.h"
+#include "sweep/text.h"
+
+namespace {
+
+measure::MeasureRow measured_row(const char* variant, double min_ms, bool baseline) {
+  measure::MeasureRow r;
+  r.variant = variant;
+  r.backend = "lavapipe";
+  r.view = "overview";
+  r.time_ms = {min_ms, min_ms + 1, min_ms + 2, 10};
+  r.rel_time = min_ms / 2;
+  r.passes = {{"gbuffer", {0.5, 0.6, 0.7, 10}}, {"ao", {min_ms - 0.5, 0, 0, 10}}};
+  r.is_baseline = baseline;
+  return r;
+}
+
+TEST(CliText, MeasureTableListsEveryRowWithItsTimesAndErrorColumnsOnlyWithAReference) {
+  measure::MeasureResult r;
+  r.rows = {measured_row("alchemy-s08-x", 2.0, true), measured_row("alchemy-s16-x", 3.25, false)};
+  std::string plain = measure::to_text(r);
+  EXPECT_EQ(count_lines(plain), 3);
+  EXPECT_EQ(plain.find("rmse"), std::string::npos);
+  EXPECT_NE(plain.find("alchemy-s16-x"), std::string::npos);
+  EXPECT_NE(plain.find("3.25"), std::string::npos);
+  EXPECT_NE(plain.find("ao 2.75"), std::string::npos) << plain;
+  EXPECT_NE(plain.find("(baseline)"), std::string::npos);
+  metrics::ErrorStats e;
+  e.rmse = 0.0625;
+  e.ssim = 0.875;
+  r.rows[1].error = e;
+  std::string truth = measure::to_text(r);
+  EXPECT_NE(truth.find("rmse"), std::string::npos);
+  EXPECT_NE(truth.find("0.0625  0.8750"), std::string::npos) << truth;
+  EXPECT_NE(truth.find("             -"), std::string::npos) << "the row without an error gets a dash";
+}
+
+TEST(CliText, MeasureNotesNameTheSceneTheCountsAndWhereTheyWentOnlyWithAnOutputFolder) {
+  measure::MeasureResult r;
+  r.scene = "builtin:atrium";
+  r.triangles = 1234;
+  r.radius = 0.5f;
+  r.counts = "space 8 / rules 3";
+  r.rows = {measured_row("a", 1, false)};
+  r.devices = {{"lavapipe", "llvmpipe", "Vulkan 1.3", "Mesa", 2, false}};
+  measure::MeasureOptions o;
+  o.size = {64, 36};
+  std::string no_out = measure::notes_text(r, o, {});
+  EXPECT_NE(no_out.find("# lavapipe: llvmpipe, Vulkan 1.3, 2 threads"), std::string::npos) << no_out;
+  EXPECT_NE(no_out.find("scene builtin:atrium (1234 triangles), radius 0.5"), std::string::npos) << no_out;
+  EXPECT_NE(no_out.find("at 64x36"), std::string::npos);
+  EXPECT_EQ(no_out.find("->"), std::string::npos);
+  EXPECT_EQ(no_out.find("calibrated"), std::string::npos);
+  o.out = "/tmp/somewhere";
+  o.calibration["alchemy"]["ao.intensity"] = 1.5;
+  std::string with_out = measure::notes_text(r, o, "shader_src/calibration.json");
+  EXPECT_NE(with_out.find("-> /tmp/somewhere/measure.json"), std::string::npos) << with_out;
+  EXPECT_NE(with_out.find("# calibrated parameters: shader_src/calibration.json"), std::string::npos) << with_out;
+}
+
+TEST(CliText, SweepNotesReportTheCostModelsTheCountsAndTheReport) {
+  sweep::SweepResult r;
+  r.table.meta["cost_models"] = {{{"scene", "s"}, {"view", "v"}, {"backend", "lavapipe"}, {"rows", 9}, {"cv_r2", 0.5},
+                                  {"cv_spearman", 0.75}, {"cv_spearman_min", 0.625}, {"features", "compact static"},
+                                  {"predicts", true}}};
+  r.rows_measured = 9;
+  sweep::SweepOptions o;
+  o.out = "/tmp/sw";
+  std::string s = sweep::notes_text(r, o, {});
+  EXPECT_NE(s.find("# cost model s v lavapipe: 9 rows, cross-validated R2 0.500, Spearman 0.750 (against time_ms.min "
+                   "0.625; compact static features), predicts"),
+            std::string::npos)
+      << s;
+  EXPECT_NE(s.find("(9 measured, 0 reused, 0 predicted)"), std::string::npos) << s;
+  EXPECT_NE(s.find("# report: /tmp/sw/report.html"), std::string::npos) << s;
+  EXPECT_EQ(s.find("calibrated by"), std::string::npos);
+  EXPECT_NE(sweep::notes_text(r, o, "cal.json").find(", calibrated by cal.json"), std::string::npos);
+}
+
+TEST(CliText, StressTextListsOnlyFailedVariantsWithTheirReproducers) {
+  stress::Result r;
+  stress::Check ok, bad;
+  ok.variant = bad.variant = "alchemy-s08-x";
+  ok.case_name = "open-plane";
+  bad.case_name = "grazing";
+  ok.backend = bad.backend = "lavapipe";
+  bad.failure = "12 NaN";
+  r.checks = {ok, bad};
+  stress::VariantReport failed, passed;
+  failed.variant = "alchemy-s08-x";
+  failed.shipped = true;
+  failed.failures = {1};
+  passed.variant = "sao-s08-x";
+  r.variants = {failed, passed};
+  r.failed = r.shipped_failed = 1;
+  stress::Options o;
+  o.backends = {"lavapipe"};
+  auto cases = stress::default_cases();
+  std::string s = stress::to_text(r, o, cases);
+  EXPECT_NE(s.find("FAIL alchemy-s08-x (shipped)\n  grazing (lavapipe): 12 NaN\n    reproduce: aovar stress"), std::string::npos) << s;
+  EXPECT_EQ(s.find("sao-s08-x"), std::string::npos) << "a variant that passed is not listed";
+  EXPECT_NE(s.find(fmt::format("# 2 variants x {} cases x 1 backends: 2 checks", cases.size())), std::string::npos) << s;
+  std::string list = stress::cases_text(cases);
+  EXPECT_EQ(count_lines(list), static_cast<int>(cases.size()));
+  EXPECT_NE(list.find(cases.front().name), std::string::npos);
+}
+
+TEST(CliText, CalibrationTextShowsEachFitBeforeAndAfter) {
+  calibrate::Calibration c;
+  c.backend = "lavapipe";
+  c.size = {320, 180};
+  c.rays = 64;
+  calibrate::AlgorithmFit f;
+  f.algorithm = "alchemy";
+  f.evaluations = 42;
+  f.train_rmse_before = 0.25;
+  f.train_rmse_after = 0.125;
+  f.validation_rmse_before = 0.5;
+  f.validation_rmse_after = 0.375;
+  f.fitted = {{"ao.intensity", 1.5}};
+  f.defaults = {{"ao.intensity", 1.0}};
+  c.fits = {f};
+  std::string s = calibrate::to_text(c, "out/calibration.json");
+  EXPECT_NE(s.find("alchemy        42  0.2500 -> 0.1250   0.5000 -> 0.3750  ao.intensity 1.5 (1)"), std::string::npos) << s;
+  EXPECT_NE(s.find("# lavapipe at 320x180, references 64 rays"), std::string::npos) << s;
+  EXPECT_NE(s.find("-> out/calibration.json"), std::string::npos) << s;
+}
+
+TEST(CliText, SceneListingKeepsKeysAndGivesReasonsOnlyWhenAsked) {
+  variants::Manifest m;
+  variants::VariantSpace space;
+  space.space = 10;
+  space.collapsed = 4;
+  profile::Pruned p;
+  p.kept = {"k1", "k2"};
+  p.dropped = {{"d1", "depth_format r16f: 12 % of R"}};
+  p.rules = {"depth_format r16f"};
+  std::string short_list = profile::list_text(m, space, p, "builtin:far", false);
+  EXPECT_EQ(short_list, "k1\nk2\n# space 10 / rules 4 / selected 3 / scene builtin:far keeps 2 (1 dropped, with reasons: --pruned)\n");
+  std::string long_list = profile::list_text(m, space, p, "builtin:far", true);
+  EXPECT_NE(long_list.find("d1  dropped for builtin:far: depth_format r16f: 12 % of R\n"), std::string::npos) << long_list;
+  EXPECT_EQ(profile::prune_line(7, p, "builtin:far"),
+            "# 7 variants after rules; the scene keeps 2 and drops 1 (aovar list --scene builtin:far --pruned)\n");
+}
+
+}  // namespace

@@ -281,8 +281,9 @@ TEST(Stress, DefaultCasesSeeWhatTheyClaim) {
       continue;
     }
     EXPECT_LT(stats.background_share, 0.9) << c.name << ": the camera sees (almost) nothing";
-    if (c.name != "radius-1e4")  // a 1e4 hemisphere holds the whole scene: dark by design
+    if (c.name != "radius-1e4") {  // a 1e4 hemisphere holds the whole scene: dark by design
       EXPECT_GT(stats.mean_visibility, 0.5) << c.name << ": occluded everywhere (camera inside geometry?)";
+    }
   }
   auto custom = stress::custom_case("builtin:atrium", {0, 1, 5}, {0, 1, 0}, 60, 0.1f, std::numeric_limits<float>::infinity(), 0);
   EXPECT_EQ(stress::case_arguments(custom),

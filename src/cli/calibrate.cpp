@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "calibrate/calibrate.h"
+#include "calibrate/text.h"
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "util/fs.h"
@@ -17,21 +18,6 @@ struct CalibrateArgs {
   std::string manifest = default_manifest, cache_dir, size = "320x180", mode = default_reference_mode, out;
 };
 
-// The fits (train and validation error before -> after, fitted values with the defaults) and the closing line.
-// (Formatting of a calibrate result: to move into src/calibrate with its rewrite.)
-std::string calibration_text(const calibrate::Calibration& c, const std::string& out) {
-  std::string s = fmt::format("{:<10} {:>6} {:>17} {:>19}  {}\n", "algorithm", "evals", "train rmse", "validation rmse",
-                              "fitted (default)");
-  for (const auto& f : c.fits) {
-    std::string values;
-    for (const auto& [key, value] : f.fitted) values += fmt::format("{} {:.4g} ({:.4g})  ", key, value, f.defaults.at(key));
-    s += fmt::format("{:<10} {:>6} {:>7.4f} -> {:>6.4f} {:>8.4f} -> {:>6.4f}  {}\n", f.algorithm, f.evaluations,
-                     f.train_rmse_before, f.train_rmse_after, f.validation_rmse_before, f.validation_rmse_after, values);
-  }
-  return s + fmt::format("# {} at {}x{}, references {} rays ({}); -> {}\n", c.backend, c.size.width, c.size.height,
-                         c.rays, reference::mode_name(c.mode), util::display_path(out));
-}
-
 int run_calibrate(const CalibrateArgs& a) {
   calibrate::CalibrateOptions o = a.options;
   o.manifest = a.manifest;
@@ -40,7 +26,7 @@ int run_calibrate(const CalibrateArgs& a) {
   o.compile_cache = o.reference_cache = cache_dir(a.cache_dir, false);
   auto c = with_status([&](const auto& progress) { return calibrate::calibrate(o, progress); });
   calibrate::write_calibration(a.out, c);
-  std::cout << calibration_text(c, a.out);
+  std::cout << calibrate::to_text(c, a.out);
   return 0;
 }
 

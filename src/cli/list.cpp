@@ -7,6 +7,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/scene_profile.h"
+#include "profile/pruned_text.h"
 #include "compile/text.h"
 
 namespace aovar::cli {
@@ -30,14 +31,7 @@ int run_list_scene(const ListArgs& a) {
   const auto o = a.profile.resolve(a.common.manifest);
   const auto s = run_scene_profile(o);
   auto pruned = profile::prune(s.manifest, s.space, s.profile, a.common.globs);
-  for (const auto& k : pruned.kept) std::cout << k << "\n";
-  if (a.show_pruned) {
-    std::cout << compile::rule_drops_text(s.manifest, s.space);
-    for (const auto& [k, why] : pruned.dropped) std::cout << k << "  dropped for " << o.scene << ": " << why << "\n";
-  }
-  std::cout << fmt::format("# space {} / rules {} / selected {} / scene {} keeps {} ({} dropped, with reasons: --pruned)\n",
-                           s.space.space, s.space.collapsed, pruned.kept.size() + pruned.dropped.size(), o.scene,
-                           pruned.kept.size(), pruned.dropped.size());
+  std::cout << profile::list_text(s.manifest, s.space, pruned, o.scene, a.show_pruned);
   return 0;
 }
 

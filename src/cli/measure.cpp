@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "measure/measure.h"
+#include "measure/text.h"
 #include "profile/scene_prune.h"
 #include "util/fs.h"
 
@@ -44,48 +45,6 @@ render::ParamOverrides parse_params(const std::vector<std::string>& items) {
   return out;
 }
 
-// The measured rows as a table: one line per variant, view and backend.
-// (Formatting of a measure result: to move into src/measure with its rewrite.)
-std::string measure_table(const measure::MeasureResult& r) {
-  bool truth = std::any_of(r.rows.begin(), r.rows.end(), [](const auto& row) { return row.error.has_value(); });
-  std::string s = fmt::format("{:<46} {:<9} {:<10} {:>8} {:>8} {:>8} {:>6} {}  {}\n", "variant", "backend", "view",
-                              "min ms", "median", "p90", "rel", truth ? "  rmse    ssim" : "", "passes (min ms)");
-  for (const auto& row : r.rows) {
-    std::string passes;
-    for (const auto& [name, st] : row.passes) passes += fmt::format("{} {:.2f}  ", name, st.min);
-    std::string error = !truth ? "" : row.error ? fmt::format("{:>6.4f} {:>7.4f}", row.error->rmse, row.error->ssim)
-                                                : fmt::format("{:>14}", "-");
-    s += fmt::format("{:<46} {:<9} {:<10} {:>8.2f} {:>8.2f} {:>8.2f} {:>6.2f} {}  {}{}\n", row.variant, row.backend,
-                     row.view, row.time_ms.min, row.time_ms.median, row.time_ms.p90, row.rel_time, error, passes,
-                     row.is_baseline ? "(baseline)" : row.reused ? "(reused)" : "");
-  }
-  return s;
-}
-
-// The "# ..." lines after the table: devices, scene and counts, pruning, calibration, contact sheets.
-// (Formatting of a measure result: to move into src/measure with its rewrite.)
-std::string measure_notes(const measure::MeasureResult& r, const measure::MeasureOptions& o, const MeasureArgs& a,
-                          const std::filesystem::path& cal_file) {
-  std::string s;
-  for (const auto& d : r.devices) s += fmt::format("# {}: {}, {}, {} threads\n", d.backend, d.device, d.api_version, d.threads);
-  const std::string json = a.out.empty() ? "" : util::display_path(std::filesystem::path(a.out) / "measure.json");
-  s += fmt::format("# scene {} ({} triangles), radius {:.3g}, {} at {}, {} reps after {} warm-up; {}; "
-                   "{} rows ({} reused) in {:.1f} s{}\n",
-                   r.scene, r.triangles, r.radius, o.baseline, a.size, o.reps, o.warmup, r.counts, r.rows.size(),
-                   r.reused, r.wall_s, a.out.empty() ? "" : " -> " + json);
-  if (r.pruning)
-    s += fmt::format("# pruned by the scene's profile: {} ({}){}\n", r.pruning->summary(o.globs),
-                     r.pruning->reused ? fmt::format("profile reused in {:.2f} s", r.pruning->seconds)
-                                       : fmt::format("profiled in {:.1f} s", r.pruning->seconds),
-                     a.out.empty() ? std::string()
-                                   : "; each with its reason in " + json + " \"pruned\" (--no-prune measures them)");
-  if (!o.calibration.empty())
-    s += "# calibrated parameters: " + util::display_path(cal_file) + " (--no-calibration: the manifest's defaults)\n";
-  for (const auto& sheet : r.contact_sheets)
-    s += "# contact sheet: " + util::display_path(std::filesystem::path(a.out) / sheet) + "\n";
-  return s;
-}
-
 int run_measure(const MeasureArgs& a) {
   measure::MeasureOptions o = a.options;
   o.scene = a.scene;
@@ -106,7 +65,7 @@ int run_measure(const MeasureArgs& a) {
   o.out = a.out;
   o.cache_dir = a.common.cache();
   auto r = with_status([&](const auto& progress) { return measure::run_measure(o, progress); });
-  std::cout << measure_table(r) << measure_notes(r, o, a, cal_file);
+  std::cout << measure::to_text(r) << measure::notes_text(r, o, cal_file);
   return 0;
 }
 

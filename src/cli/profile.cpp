@@ -7,6 +7,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/scene_profile.h"
+#include "profile/pruned_text.h"
 #include "util/fs.h"
 
 namespace aovar::cli {
@@ -17,19 +18,12 @@ struct ProfileCommandArgs {
   std::string manifest = default_manifest;
 };
 
-// The line after profile::to_text: how many variants the scene keeps and drops.
-// (Formatting of a profile result: to move into src/profile with its rewrite.)
-std::string prune_line(std::size_t variants, const profile::Pruned& pruned, const std::string& scene) {
-  return fmt::format("# {} variants after rules; the scene keeps {} and drops {} (aovar list --scene {} --pruned)\n",
-                     variants, pruned.kept.size(), pruned.dropped.size(), scene);
-}
-
 int run_profile(const ProfileCommandArgs& a) {
   const auto o = a.profile.resolve(a.manifest);
   const auto s = run_scene_profile(o);
   std::cout << profile::to_text(s.profile);
   auto pruned = profile::prune(s.manifest, s.space, s.profile);
-  std::cout << prune_line(s.space.variants.size(), pruned, o.scene);
+  std::cout << profile::prune_line(s.space.variants.size(), pruned, o.scene);
   if (!a.profile.out.empty()) {
     auto j = profile::to_json(s.profile);
     j["kept"] = pruned.kept.size();

@@ -12,6 +12,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "stress/stress.h"
+#include "stress/text.h"
 #include "util/fs.h"
 
 namespace aovar::cli {
@@ -80,44 +81,16 @@ stress::Options stress_options(const StressArgs& a) {
   return o;
 }
 
-// --list-cases: name, scene and what each default case tests.
-// (Formatting of stress cases: to move into src/stress with its rewrite.)
-std::string cases_text(const std::vector<stress::Case>& cases) {
-  std::string s;
-  for (const auto& c : cases) s += fmt::format("{:<20} {:<18} {}\n", c.name, c.scene, c.what);
-  return s;
-}
-
-// Each failed variant with its failing checks and their reproducers, then the counts.
-// (Formatting of a stress result: to move into src/stress with its rewrite.)
-std::string stress_text(const stress::Result& r, const stress::Options& o, const std::vector<stress::Case>& cases) {
-  std::string s;
-  for (const auto& v : r.variants) {
-    if (v.failures.empty()) continue;
-    s += fmt::format("FAIL {}{}\n", v.variant, v.shipped ? " (shipped)" : "");
-    for (std::size_t i : v.failures) {
-      const auto& c = r.checks[i];
-      s += fmt::format("  {} ({}): {}\n    reproduce: {}\n", c.case_name, c.backend, c.failure,
-                       stress::reproducer(o, c, cases));
-    }
-  }
-  return s + fmt::format("# {} variants x {} cases x {} backends: {} checks ({} reused), {} variants failed, {} of them "
-                         "shipped, in {:.1f} s{}\n",
-                         r.variants.size(), cases.size(), o.backends.size(), r.checks.size(), r.reused, r.failed,
-                         r.shipped_failed, r.wall_s,
-                         o.out.empty() ? "" : " -> " + util::display_path(o.out / "stress.md") + " and stress.json");
-}
-
 // Per-variant pass/fail over the stress cases; exit 1 when a shipped variant fails.
 int run_stress(const StressArgs& a) {
   if (a.list_cases) {
-    std::cout << cases_text(stress::default_cases());
+    std::cout << stress::cases_text(stress::default_cases());
     return 0;
   }
   const auto o = stress_options(a);
   auto r = with_status([&](const auto& progress) { return stress::run_stress(o, progress); });
   const auto cases = o.cases.empty() ? stress::default_cases() : o.cases;
-  std::cout << stress_text(r, o, cases);
+  std::cout << stress::to_text(r, o, cases);
   return r.shipped_failed > 0 ? 1 : 0;
 }
 

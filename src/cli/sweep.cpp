@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "sweep/sweep.h"
+#include "sweep/text.h"
 #include "table/table.h"
 #include "util/fs.h"
 
@@ -23,32 +24,6 @@ struct SweepArgs {
   bool no_prune = false;
   CalibrationOption calibration;
 };
-
-// The "# ..." lines after the cost table: cost models, pruning, profiles, counts and the report.
-// (Formatting of a sweep result: to move into src/sweep with its rewrite.)
-std::string sweep_notes(const sweep::SweepResult& r, const sweep::SweepOptions& o, const std::filesystem::path& cal_file) {
-  std::string s;
-  for (const auto& m : r.table.meta.value("cost_models", nlohmann::json::array()))
-    s += fmt::format("# cost model {} {} {}: {} rows, cross-validated R2 {:.3f}, Spearman {:.3f} (against time_ms.min "
-                     "{:.3f}; {} features){}\n",
-                     m.at("scene").get<std::string>(), m.at("view").get<std::string>(),
-                     m.at("backend").get<std::string>(), m.at("rows").get<int>(), m.at("cv_r2").get<double>(),
-                     m.at("cv_spearman").get<double>(), m.value("cv_spearman_min", 0.0),
-                     m.value("features", "static + axes"), m.value("predicts", false) ? ", predicts" : "");
-  if (o.prune_dominated)
-    s += fmt::format("# prune: {} variants skipped as predicted dominated; {} more measured anyway as a check, "
-                     "{} of them on the Pareto front (cost_table.json meta.prune)\n",
-                     r.variants_skipped, r.variants_checked, r.checked_on_front);
-  if (o.measure.prune_by_profile)
-    s += fmt::format("# scene profiles: {} ({} reused) in {:.2f} s; each dropped variant with its reason: "
-                     "cost_table.json meta.pruned (--no-prune measures them)\n",
-                     o.scenes.size(), r.profiles_reused, r.profile_s);
-  s += fmt::format("# {} rows ({} measured, {} reused, {} predicted) in {:.1f} s{} -> {}\n", r.table.rows.size(),
-                   r.rows_measured, r.rows_reused, r.rows_predicted, r.wall_s,
-                   cal_file.empty() ? "" : ", calibrated by " + util::display_path(cal_file),
-                   util::display_path(o.out / "cost_table.json"));
-  return s + "# report: " + util::display_path(o.out / "report.html") + " (and report.md)\n";
-}
 
 int run_sweep(const SweepArgs& a) {
   sweep::SweepOptions o = a.options;
@@ -65,7 +40,7 @@ int run_sweep(const SweepArgs& a) {
   const auto cal_file = a.calibration.resolve(a.common.manifest);
   if (!cal_file.empty()) m.calibration = calibrate::load_calibration(cal_file);
   auto r = with_status([&](const auto& progress) { return sweep::run_sweep(o, progress); });
-  std::cout << table::to_markdown(r.table) << sweep_notes(r, o, cal_file);
+  std::cout << table::to_markdown(r.table) << sweep::notes_text(r, o, cal_file);
   return 0;
 }
 

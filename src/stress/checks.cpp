@@ -83,23 +83,22 @@ bool compare_with_partner(Check& ch, const image::FloatImage& img, const image::
 
 std::string failure_text(const Check& c, const Options& o, bool pair_failed) {
   std::vector<std::string> parts;
-  if (c.nan) parts.push_back(fmt::format("{} NaN", c.nan));
-  if (c.inf) parts.push_back(fmt::format("{} Inf", c.inf));
-  if (c.out_of_range) parts.push_back(fmt::format("{} outside [0, 1]", c.out_of_range));
+  if (c.health.nan) parts.push_back(fmt::format("{} NaN", c.health.nan));
+  if (c.health.inf) parts.push_back(fmt::format("{} Inf", c.health.inf));
+  if (c.health.out_of_range) parts.push_back(fmt::format("{} outside [0, 1]", c.health.out_of_range));
   if (pair_failed)
     parts.push_back(fmt::format("{:.1f}% of pixels differ from {} by more than {} (max {:.3f})", 100.0 * c.pair_share,
                                 c.partner, o.pair_tolerance, c.pair_max));
   std::string s;
   for (const auto& p : parts) s += (s.empty() ? "" : ", ") + p;
-  return s.empty() ? s : s + fmt::format(" of {} pixels", c.pixels);
+  return s.empty() ? s : s + fmt::format(" of {} pixels", c.health.pixels);
 }
 
 // The checks of one rendered image: health, the partner comparison, the reference error, the probe.
 void check_image(const Run& run, std::size_t ci, const runner::Still& still, const Images& images,
                  const std::string& probe_failure, Check& ch) {
   const image::FloatImage& img = still.image;
-  ch.pixels = still.health.pixels;
-  ch.nan = still.health.nan, ch.inf = still.health.inf, ch.out_of_range = still.health.out_of_range;
+  ch.health = still.health;
   bool pair_failed = false;
   if (!ch.partner.empty()) {
     auto p = images.find(ch.partner + "|" + ch.case_name);

@@ -16,15 +16,16 @@ namespace detail {
 using json = nlohmann::json;
 
 json check_json(const Check& c) {
-  return {{"variant", c.variant}, {"case", c.case_name}, {"backend", c.backend}, {"nan", c.nan}, {"inf", c.inf},
-          {"out_of_range", c.out_of_range}, {"pixels", c.pixels}, {"partner", c.partner}, {"pair_max", c.pair_max},
+  return {{"variant", c.variant}, {"case", c.case_name}, {"backend", c.backend}, {"nan", c.health.nan}, {"inf", c.health.inf},
+          {"out_of_range", c.health.out_of_range}, {"pixels", c.health.pixels}, {"partner", c.partner}, {"pair_max", c.pair_max},
           {"pair_share", c.pair_share}, {"rmse", c.rmse}, {"failure", c.failure}, {"inputs_hash", c.inputs_hash}};
 }
 
 Check check_from_json(const json& r) {
   Check c;
   c.variant = r.at("variant"), c.case_name = r.at("case"), c.backend = r.at("backend");
-  c.nan = r.at("nan"), c.inf = r.at("inf"), c.out_of_range = r.at("out_of_range"), c.pixels = r.at("pixels");
+  c.health.nan = r.at("nan"), c.health.inf = r.at("inf"), c.health.out_of_range = r.at("out_of_range");
+  c.health.pixels = r.at("pixels");
   c.partner = r.at("partner"), c.pair_max = r.at("pair_max"), c.pair_share = r.at("pair_share");
   c.failure = r.at("failure"), c.inputs_hash = r.at("inputs_hash");
   c.rmse = r.value("rmse", -1.0);

@@ -21,6 +21,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "image/health.h"
 #include "render/frame.h"
 #include "render/plan.h"
 #include "scene/scene.h"
@@ -76,7 +77,7 @@ struct Options {
 
 struct Check {  // one variant x case x backend
   std::string variant, case_name, backend;
-  long nan = 0, inf = 0, out_of_range = 0, pixels = 0;
+  image::Health health;         // NaN, Inf and out-of-[0, 1] pixels of the image, of `pixels`
   std::string partner;          // the highp / r32f variant compared with (empty: none)
   double pair_max = 0, pair_share = 0;  // max |difference| and share of pixels beyond the tolerance
   double rmse = -1;             // against the ray-traced reference of the case (-1: not compared)

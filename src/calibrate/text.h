@@ -1,0 +1,14 @@
+#pragma once
+// A calibration for people: per algorithm the train and validation error before -> after and the fitted
+// values with their defaults, then the closing line. What `aovar calibrate` prints.
+#include <filesystem>
+#include <string>
+
+#include "calibrate/calibrate.h"
+
+namespace aovar::calibrate {
+
+// `out`: where the calibration file was written.
+std::string to_text(const Calibration& calibration, const std::filesystem::path& out);
+
+}  // namespace aovar::calibrate

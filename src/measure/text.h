@@ -1,0 +1,18 @@
+#pragma once
+// A measurement for people: the rows as a table, then the "# ..." notes (devices, scene and counts, pruning,
+// calibration, contact sheets). What `aovar measure` prints.
+#include <filesystem>
+#include <string>
+
+#include "measure/measure.h"
+
+namespace aovar::measure {
+
+// One line per variant, view and backend: times, rel, error (with --reference) and per-pass minima.
+std::string to_text(const MeasureResult& result);
+
+// `calibration_file`: the calibration applied (empty: none).
+std::string notes_text(const MeasureResult& result, const MeasureOptions& options,
+                       const std::filesystem::path& calibration_file);
+
+}  // namespace aovar::measure

@@ -1,0 +1,35 @@
+#include "sweep/text.h"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "util/fs.h"
+
+namespace aovar::sweep {
+namespace fs = std::filesystem;
+
+std::string notes_text(const SweepResult& r, const SweepOptions& o, const fs::path& cal_file) {
+  std::string s;
+  for (const auto& m : r.table.meta.value("cost_models", nlohmann::json::array()))
+    s += fmt::format("# cost model {} {} {}: {} rows, cross-validated R2 {:.3f}, Spearman {:.3f} (against time_ms.min "
+                     "{:.3f}; {} features){}\n",
+                     m.at("scene").get<std::string>(), m.at("view").get<std::string>(),
+                     m.at("backend").get<std::string>(), m.at("rows").get<int>(), m.at("cv_r2").get<double>(),
+                     m.at("cv_spearman").get<double>(), m.value("cv_spearman_min", 0.0),
+                     m.value("features", "static + axes"), m.value("predicts", false) ? ", predicts" : "");
+  if (o.prune_dominated)
+    s += fmt::format("# prune: {} variants skipped as predicted dominated; {} more measured anyway as a check, "
+                     "{} of them on the Pareto front (cost_table.json meta.prune)\n",
+                     r.variants_skipped, r.variants_checked, r.checked_on_front);
+  if (o.measure.prune_by_profile)
+    s += fmt::format("# scene profiles: {} ({} reused) in {:.2f} s; each dropped variant with its reason: "
+                     "cost_table.json meta.pruned (--no-prune measures them)\n",
+                     o.scenes.size(), r.profiles_reused, r.profile_s);
+  s += fmt::format("# {} rows ({} measured, {} reused, {} predicted) in {:.1f} s{} -> {}\n", r.table.rows.size(),
+                   r.rows_measured, r.rows_reused, r.rows_predicted, r.wall_s,
+                   cal_file.empty() ? "" : ", calibrated by " + util::display_path(cal_file),
+                   util::display_path(o.out / "cost_table.json"));
+  return s + "# report: " + util::display_path(o.out / "report.html") + " (and report.md)\n";
+}
+
+}  // namespace aovar::sweep
