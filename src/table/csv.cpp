@@ -1,0 +1,197 @@
+// The cost table as CSV (RFC 4180): one row per line, columns flattened.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <set>
+#include <stdexcept>
+
+#include "table/detail.h"
+#include "table/table.h"
+
+namespace aovar::table {
+namespace {
+using json = nlohmann::json;
+using detail::error_field;
+using detail::kErrorFields;
+
+std::string text(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  return fmt::format("{}", v);
+}
+
+double parse_double(const std::string& s, const std::string& column) {
+  if (s == "inf") return std::numeric_limits<double>::infinity();
+  if (s == "-inf") return -std::numeric_limits<double>::infinity();
+  if (s == "nan") return std::numeric_limits<double>::quiet_NaN();
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != s.size()) throw std::runtime_error("column '" + column + "': not a number: '" + s + "'");
+  return v;
+}
+
+}  // namespace
+
+std::string csv_field(const std::string& f) {
+  if (f.find_first_of(",\"\r\n") == std::string::npos) return f;
+  std::string out = "\"";
+  for (char c : f) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::vector<std::vector<std::string>> parse_csv(const std::string& s) {
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> row;
+  std::string field;
+  bool quoted = false, any = false;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    char c = s[i];
+    if (quoted) {
+      if (c == '"') {
+        if (i + 1 < s.size() && s[i + 1] == '"') {
+          field += '"';
+          ++i;
+        } else {
+          quoted = false;
+        }
+      } else {
+        field += c;
+      }
+      continue;
+    }
+    any = true;
+    if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      row.push_back(std::move(field));
+      field.clear();
+    } else if (c == '\r' || c == '\n') {
+      if (c == '\r' && i + 1 < s.size() && s[i + 1] == '\n') ++i;
+      row.push_back(std::move(field));
+      field.clear();
+      rows.push_back(std::move(row));
+      row.clear();
+      any = false;
+    } else {
+      field += c;
+    }
+  }
+  if (quoted) throw std::runtime_error("CSV: unterminated quoted field");
+  if (any) {
+    row.push_back(std::move(field));
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+namespace {
+const std::vector<std::string> kFixedHead = {"variant"};
+const std::vector<std::string> kFixedTail = {
+    "spirv_hash", "scene", "view", "backend", "size", "threads", "time_ms.min", "time_ms.median", "time_ms.p90",
+    "time_ms.n", "time_ms.paired", "rel_time", "rel_time_median", "error.rmse", "error.mae", "error.psnr", "error.ssim", "error.bias", "error.max",
+    "health.nan", "health.inf", "health.out_of_range", "pareto", "predicted", "flicker", "images", "static"};
+}  // namespace
+
+std::string to_csv(const CostTable& t) {
+  std::set<std::string> axis_names;
+  for (const auto& r : t.rows)
+    for (const auto& [k, v] : r.axes) axis_names.insert(k);
+  std::vector<std::string> header = kFixedHead;
+  for (const auto& a : axis_names) header.push_back("axes." + a);
+  header.insert(header.end(), kFixedTail.begin(), kFixedTail.end());
+  std::string out;
+  auto line = [&](const std::vector<std::string>& fields) {
+    for (std::size_t i = 0; i < fields.size(); ++i) out += (i ? "," : "") + csv_field(fields[i]);
+    out += "\r\n";  // RFC 4180 line break
+  };
+  line(header);
+  for (const auto& r : t.rows) {
+    std::vector<std::string> f = {r.variant};
+    for (const auto& a : axis_names) {
+      auto it = r.axes.find(a);
+      f.push_back(it == r.axes.end() ? "" : it->second);
+    }
+    std::string images;
+    for (std::size_t i = 0; i < r.images.size(); ++i) images += (i ? ";" : "") + r.images[i];
+    auto e = [&](int i) {
+      if (!r.error) return std::string();
+      metrics::ErrorStats copy = *r.error;
+      return text(error_field(copy, i));
+    };
+    std::vector<std::string> tail = {r.spirv_hash, r.scene, r.view, r.backend, r.size, std::to_string(r.threads),
+                                     text(r.time_ms.min), text(r.time_ms.median), text(r.time_ms.p90),
+                                     std::to_string(r.time_ms.n), text(r.time_ms.paired), text(r.rel_time), text(r.rel_time_median), e(0), e(1), e(2), e(3), e(4), e(5),
+                                     std::to_string(r.health.nan), std::to_string(r.health.inf),
+                                     std::to_string(r.health.out_of_range), r.pareto ? "true" : "false",
+                                     r.predicted ? "true" : "false", r.flicker ? text(*r.flicker) : "", images,
+                                     r.static_cost ? to_json(r.static_cost).dump() : std::string("{}")};
+    f.insert(f.end(), tail.begin(), tail.end());
+    line(f);
+  }
+  return out;
+}
+
+CostTable from_csv(const std::string& s) {
+  auto rows = parse_csv(s);
+  if (rows.empty()) throw std::runtime_error("CSV: no header line");
+  const auto& header = rows[0];
+  CostTable t;
+  for (std::size_t l = 1; l < rows.size(); ++l) {
+    const auto& f = rows[l];
+    if (f.size() != header.size())
+      throw std::runtime_error(fmt::format("CSV line {}: {} fields, the header has {}", l + 1, f.size(), header.size()));
+    std::map<std::string, std::string> c;
+    for (std::size_t i = 0; i < f.size(); ++i) c[header[i]] = f[i];
+    CostRow r;
+    r.variant = c["variant"];
+    for (const auto& h : header)
+      if (h.rfind("axes.", 0) == 0 && !c[h].empty()) r.axes[h.substr(5)] = c[h];
+    r.spirv_hash = c["spirv_hash"];
+    r.scene = c["scene"];
+    r.view = c["view"];
+    r.backend = c["backend"];
+    r.size = c["size"];
+    r.threads = static_cast<int>(parse_double(c["threads"], "threads"));
+    r.time_ms = {parse_double(c["time_ms.min"], "time_ms.min"), parse_double(c["time_ms.median"], "time_ms.median"),
+                 parse_double(c["time_ms.p90"], "time_ms.p90"),
+                 static_cast<int>(parse_double(c["time_ms.n"], "time_ms.n"))};
+    if (c.count("time_ms.paired")) r.time_ms.paired = parse_double(c["time_ms.paired"], "time_ms.paired");
+    r.rel_time = parse_double(c["rel_time"], "rel_time");
+    if (c.count("rel_time_median")) r.rel_time_median = parse_double(c["rel_time_median"], "rel_time_median");
+    if (!c["error.rmse"].empty()) {
+      metrics::ErrorStats e;
+      for (int i = 0; i < 6; ++i) {
+        std::string col = std::string("error.") + kErrorFields[i];
+        error_field(e, i) = parse_double(c[col], col);
+      }
+      r.error = e;
+    }
+    r.health.nan = static_cast<long>(parse_double(c["health.nan"], "health.nan"));
+    r.health.inf = static_cast<long>(parse_double(c["health.inf"], "health.inf"));
+    r.health.out_of_range = static_cast<long>(parse_double(c["health.out_of_range"], "health.out_of_range"));
+    r.pareto = c["pareto"] == "true";
+    r.predicted = c["predicted"] == "true";
+    if (!c["flicker"].empty()) r.flicker = parse_double(c["flicker"], "flicker");
+    const std::string& im = c["images"];
+    for (std::size_t start = 0; !im.empty() && start <= im.size();) {
+      std::size_t end = im.find(';', start);
+      r.images.push_back(im.substr(start, end == std::string::npos ? std::string::npos : end - start));
+      if (end == std::string::npos) break;
+      start = end + 1;
+    }
+    r.static_cost = c["static"].empty() ? std::nullopt : static_cost_from_json(json::parse(c["static"]));
+    t.rows.push_back(std::move(r));
+  }
+  return t;
+}
+
+}  // namespace aovar::table

@@ -1,0 +1,85 @@
+// The Pareto front of time against error per scene, view and backend, and the worst view of each scene.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <tuple>
+
+#include "table/table.h"
+
+namespace aovar::table {
+
+void mark_pareto(std::vector<CostRow>& rows) {
+  std::map<std::tuple<std::string, std::string, std::string>, std::vector<CostRow*>> groups;
+  for (auto& r : rows) {
+    r.pareto = false;
+    if (r.error && !std::isnan(r.error->rmse)) groups[{r.scene, r.view, r.backend}].push_back(&r);
+  }
+  for (auto& [g, members] : groups) {
+    std::sort(members.begin(), members.end(), [](const CostRow* a, const CostRow* b) {
+      double ta = a->time_ms.decision(), tb = b->time_ms.decision();
+      return std::tie(ta, a->error->rmse, a->variant) < std::tie(tb, b->error->rmse, b->variant);
+    });
+    // Sweep in time order: a row is dominated by an earlier one (time <= its time) with lower error, or
+    // with equal error and strictly lower time. min_t is the lowest time reaching min_e (the first in order).
+    double min_e = std::numeric_limits<double>::infinity(), min_t = 0;
+    for (CostRow* r : members) {
+      double e = r->error->rmse, t = r->time_ms.decision();
+      bool dominated = min_e < e || (min_e == e && min_t < t);
+      r->pareto = !dominated;
+      if (e < min_e) {
+        min_e = e;
+        min_t = t;
+      }
+    }
+  }
+}
+
+std::vector<CostRow> worst_view(const std::vector<CostRow>& rows) {
+  std::map<std::tuple<std::string, std::string, std::string, std::string, int>, std::vector<const CostRow*>> groups;
+  for (const auto& r : rows)
+    if (r.error) groups[{r.scene, r.variant, r.backend, r.size, r.threads}].push_back(&r);
+  std::vector<CostRow> out;
+  for (const auto& [g, members] : groups) {
+    std::vector<const CostRow*> sorted = members;
+    std::sort(sorted.begin(), sorted.end(), [](const CostRow* a, const CostRow* b) { return a->view < b->view; });
+    const CostRow* worst = sorted[0];
+    CostRow agg = *worst;
+    std::string views;
+    for (const CostRow* r : sorted) {
+      if (r->error->rmse > worst->error->rmse) worst = r;
+      agg.time_ms.min = std::max(agg.time_ms.min, r->time_ms.min);
+      agg.time_ms.median = std::max(agg.time_ms.median, r->time_ms.median);
+      agg.time_ms.p90 = std::max(agg.time_ms.p90, r->time_ms.p90);
+      agg.time_ms.n = std::min(agg.time_ms.n, r->time_ms.n);
+      agg.time_ms.paired = std::max(agg.time_ms.paired, r->time_ms.paired);
+      agg.rel_time = std::max(agg.rel_time, r->rel_time);
+      agg.predicted = agg.predicted || r->predicted;
+      agg.health.nan += r == sorted[0] ? 0 : r->health.nan;
+      agg.health.inf += r == sorted[0] ? 0 : r->health.inf;
+      agg.health.out_of_range += r == sorted[0] ? 0 : r->health.out_of_range;
+      if (r->flicker) agg.flicker = std::max(agg.flicker.value_or(0.0), *r->flicker);
+      views += (views.empty() ? "" : ",") + r->view;
+    }
+    agg.error = worst->error;
+    agg.view = "worst(" + views + ")";
+    agg.images.clear();
+    out.push_back(std::move(agg));
+  }
+  // Front per (scene, backend): the aggregated rows' view names differ only by which views were present.
+  std::map<std::pair<std::string, std::string>, std::vector<CostRow>> by;
+  for (auto& r : out) by[{r.scene, r.backend}].push_back(r);
+  out.clear();
+  for (auto& [k, group] : by) {
+    std::vector<std::string> views;
+    for (auto& r : group) views.push_back(std::exchange(r.view, "worst"));
+    mark_pareto(group);
+    for (std::size_t i = 0; i < group.size(); ++i) {
+      group[i].view = views[i];
+      out.push_back(std::move(group[i]));
+    }
+  }
+  return out;
+}
+
+}  // namespace aovar::table
