@@ -204,9 +204,17 @@ TEST(CliText, MeasureNotesNameTheSceneTheCountsAndWhereTheyWentOnlyWithAnOutputF
 
 TEST(CliText, SweepNotesReportTheCostModelsTheCountsAndTheReport) {
   sweep::SweepResult r;
-  r.table.meta["cost_models"] = {{{"scene", "s"}, {"view", "v"}, {"backend", "lavapipe"}, {"rows", 9}, {"cv_r2", 0.5},
-                                  {"cv_spearman", 0.75}, {"cv_spearman_min", 0.625}, {"features", "compact static"},
-                                  {"predicts", true}}};
+  sweep::ModelFit fit;
+  fit.scene = "s";
+  fit.view = "v";
+  fit.backend = "lavapipe";
+  fit.rows = 9;
+  fit.cv_r2 = 0.5;
+  fit.cv_spearman = 0.75;
+  fit.cv_spearman_min = 0.625;
+  fit.features = "compact static";
+  fit.predicts = true;
+  r.cost_models = {fit};
   r.rows_measured = 9;
   sweep::SweepOptions o;
   o.out = "/tmp/sw";

@@ -30,29 +30,52 @@ GroupModels fit_group_models(const std::vector<table::CostRow>& rows) {
     if (rows.size() >= 4 * full.names.size()) specs.push_back({"static + axes", full, 1e-2});
     for (const auto& sp : specs) {
       auto model = table::fit_cost_model(rows, sp.features, sp.lambda);
-      gm.models.push_back({{"scene", std::get<0>(g)}, {"view", std::get<1>(g)}, {"backend", std::get<2>(g)},
-                           {"rows", model.n}, {"cv_r2", model.cv.r2}, {"cv_spearman", model.cv.spearman},
-                           {"cv_spearman_min", table::spearman(raw, model.cv.held_out)}, {"target", "time_ms.paired"},
-                           {"folds", model.cv.k}, {"features", sp.name},
-                           {"lambda", sp.lambda}});
+      ModelFit fit;
+      std::tie(fit.scene, fit.view, fit.backend) = g;
+      fit.features = sp.name;
+      fit.lambda = sp.lambda;
+      fit.rows = model.n;
+      fit.folds = model.cv.k;
+      fit.cv_r2 = model.cv.r2;
+      fit.cv_spearman = model.cv.spearman;
+      fit.cv_spearman_min = table::spearman(raw, model.cv.held_out);
+      gm.models.push_back(std::move(fit));
       auto it = gm.best.find(g);
       if (it == gm.best.end() || model.cv.spearman > it->second.second.cv.spearman) gm.best[g] = {sp.name, model};
     }
   }
   for (auto& m : gm.models) {
-    Group g{m["scene"], m["view"], m["backend"]};
+    const Group g{m.scene, m.view, m.backend};
     auto it = gm.best.find(g);
-    m["predicts"] = it != gm.best.end() && it->second.first == m["features"].get<std::string>();
-    if (!m["predicts"]) continue;
+    m.predicts = it != gm.best.end() && it->second.first == m.features;
+    if (!m.predicts) continue;
     // The predicting model's held-out predictions, for the report's predicted-against-measured chart.
-    json held = json::array();
     const auto& rows = gm.groups.at(g);
     for (std::size_t i = 0; i < rows.size(); ++i)
-      held.push_back({{"variant", rows[i].variant}, {"measured", rows[i].time_ms.decision()}, {"measured_min", rows[i].time_ms.min},
-                      {"predicted", it->second.second.cv.held_out[i]}});
-    m["held_out"] = held;
+      m.held_out.push_back({rows[i].variant, rows[i].time_ms.decision(), rows[i].time_ms.min,
+                            it->second.second.cv.held_out[i]});
   }
   return gm;
+}
+
+json to_json(const std::vector<ModelFit>& fits) {
+  json out = json::array();
+  for (const auto& m : fits) {
+    json j = {{"scene", m.scene},   {"view", m.view},         {"backend", m.backend},
+              {"rows", m.rows},     {"cv_r2", m.cv_r2},       {"cv_spearman", m.cv_spearman},
+              {"cv_spearman_min", m.cv_spearman_min},         {"target", "time_ms.paired"},
+              {"folds", m.folds},   {"features", m.features}, {"lambda", m.lambda},
+              {"predicts", m.predicts}};
+    if (m.predicts) {
+      json held = json::array();
+      for (const auto& h : m.held_out)
+        held.push_back({{"variant", h.variant}, {"measured", h.measured}, {"measured_min", h.measured_min},
+                        {"predicted", h.predicted}});
+      j["held_out"] = held;
+    }
+    out.push_back(std::move(j));
+  }
+  return out;
 }
 
 }  // namespace aovar::sweep

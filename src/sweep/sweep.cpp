@@ -202,7 +202,8 @@ SweepResult run_sweep(const SweepOptions& o, const Progress& progress) {
     for (auto& r : predicted) res.table.rows.push_back(std::move(r));
   }
   table::mark_pareto(res.table);
-  res.table.meta = table_meta(o, res, scenes, gm.models, profile_pruned, dominated);
+  res.cost_models = gm.models;
+  res.table.meta = table_meta(o, res, scenes, to_json(gm.models), profile_pruned, dominated);
   table::write_table_files(res.table, o.out);
   report::write_reports(res.table, o.out);
   res.wall_s = util::seconds_since(start);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "measure/measure.h"
+#include "sweep/cost_models.h"
 #include "table/table.h"
 
 namespace aovar::sweep {
@@ -32,6 +33,7 @@ struct SweepOptions {
 
 struct SweepResult {
   table::CostTable table;
+  std::vector<ModelFit> cost_models;  // per scene, view and backend (meta.cost_models in the table's JSON)
   int rows_measured = 0, rows_reused = 0, rows_predicted = 0;
   int variants_skipped = 0, variants_checked = 0, checked_on_front = 0;  // --prune-dominated, over all scenes
   double profile_s = 0;     // scene profiles (measure.prune_by_profile): profiling or reading back, and pruning

@@ -1,7 +1,6 @@
 #include "sweep/text.h"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include "util/fs.h"
 
@@ -10,13 +9,11 @@ namespace fs = std::filesystem;
 
 std::string notes_text(const SweepResult& r, const SweepOptions& o, const fs::path& cal_file) {
   std::string s;
-  for (const auto& m : r.table.meta.value("cost_models", nlohmann::json::array()))
+  for (const auto& m : r.cost_models)
     s += fmt::format("# cost model {} {} {}: {} rows, cross-validated R2 {:.3f}, Spearman {:.3f} (against time_ms.min "
                      "{:.3f}; {} features){}\n",
-                     m.at("scene").get<std::string>(), m.at("view").get<std::string>(),
-                     m.at("backend").get<std::string>(), m.at("rows").get<int>(), m.at("cv_r2").get<double>(),
-                     m.at("cv_spearman").get<double>(), m.value("cv_spearman_min", 0.0),
-                     m.value("features", "static + axes"), m.value("predicts", false) ? ", predicts" : "");
+                     m.scene, m.view, m.backend, m.rows, m.cv_r2, m.cv_spearman, m.cv_spearman_min, m.features,
+                     m.predicts ? ", predicts" : "");
   if (o.prune_dominated)
     s += fmt::format("# prune: {} variants skipped as predicted dominated; {} more measured anyway as a check, "
                      "{} of them on the Pareto front (cost_table.json meta.prune)\n",
