@@ -5,6 +5,9 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -30,6 +33,11 @@ std::string trimmed_lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   return s;
 }
+
+struct Known {
+  std::vector<std::string> names;
+  std::string driver;  // "Mesa 22.3.6"
+};
 
 }  // namespace
 
@@ -65,33 +73,47 @@ std::vector<std::string> parse_families(const std::string& list) {
   return out;
 }
 
-// One child for all candidates: each line is "k <name>" or "d <driver>"; a crash keeps what came before.
-std::vector<std::string> known_families(const std::filesystem::path& icd, const std::vector<std::string>& candidates) {
-  const std::vector<std::string>& names = candidates.empty() ? kMesaFamilyNames : candidates;
-  std::vector<std::string> known;
-  util::run_isolated(
-      [&](util::LineWriter& out) {
-        for (const std::string& name : names) {
-          try {
-            NullDevice device(name, icd);
-            out.line("k " + name);
-          } catch (const std::exception&) {  // unknown, or no device for another reason: not usable either way
+// Children probe the names in order, one line each ("k <name>\t<driver>" or "u <name>"), with stderr
+// silenced (RADV prints "Unknown family" and a conformance warning per instance). A child that dies (RADV
+// 22.3 can, after an unknown family) is replaced by one that starts after the name it died on.
+static Known probe_families(const std::filesystem::path& icd, const std::vector<std::string>& names) {
+  Known known;
+  std::size_t next = 0;
+  while (next < names.size()) {
+    const std::size_t first = next;
+    const auto how = util::run_isolated(
+        [&](util::LineWriter& out) {
+          if (int null = open("/dev/null", O_WRONLY); null >= 0) dup2(null, STDERR_FILENO);
+          for (std::size_t i = first; i < names.size(); ++i) {
+            const auto driver = probe_family(names[i], icd);
+            out.line(driver ? "k " + names[i] + "\t" + *driver : "u " + names[i]);
           }
-        }
-        return 0;
-      },
-      [&](const std::string& line) {
-        if (line.rfind("k ", 0) == 0) known.push_back(line.substr(2));
-      });
+          return 0;
+        },
+        [&](const std::string& line) {
+          ++next;
+          const std::size_t tab = line.find('\t');
+          if (line.rfind("k ", 0) == 0 && tab != std::string::npos) {
+            known.names.push_back(line.substr(2, tab - 2));
+            known.driver = line.substr(tab + 1);
+          }
+        });
+    if (!how.ok()) ++next;  // skip the name the child died on
+  }
   return known;
+}
+
+std::vector<std::string> known_families(const std::filesystem::path& icd, const std::vector<std::string>& candidates) {
+  return probe_families(icd, candidates.empty() ? kMesaFamilyNames : candidates).names;
 }
 
 void check_families(const std::filesystem::path& icd, const std::vector<std::string>& families) {
   const std::vector<std::string> found = known_families(icd, families);
   for (const std::string& f : families) {
     if (std::find(found.begin(), found.end(), f) != found.end()) continue;
-    throw std::runtime_error(fmt::format("unknown GPU family '{}': this RADV ({}) knows {}", f, icd.string(),
-                                         fmt::join(known_families(icd), ", ")));
+    const Known all = probe_families(icd, kMesaFamilyNames);
+    throw std::runtime_error(fmt::format("unknown GPU family '{}': this RADV ({}) knows {}", f,
+                                         all.driver.empty() ? icd.string() : all.driver, fmt::join(all.names, ", ")));
   }
 }
 

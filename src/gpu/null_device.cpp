@@ -39,13 +39,40 @@ VkPipelineDepthStencilStateCreateInfo depth_state(render::DepthUse use) {  // as
   return ds;
 }
 
-}  // namespace
-
-NullDevice::NullDevice(const std::string& family, const std::filesystem::path& icd) : family_(family) {
-  // Process-wide, hence a child process: only the radeon ICD, in null-hardware mode for this family.
+void use_radv_null(const std::string& family, const std::filesystem::path& icd) {
   setenv("VK_ICD_FILENAMES", icd.c_str(), 1);
   setenv("VK_DRIVER_FILES", icd.c_str(), 1);  // newer loaders prefer it over VK_ICD_FILENAMES
   setenv("RADV_FORCE_FAMILY", family.c_str(), 1);
+}
+
+}  // namespace
+
+std::optional<std::string> probe_family(const std::string& family, const std::filesystem::path& icd) {
+  use_radv_null(family, icd);
+  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  app.apiVersion = VK_API_VERSION_1_3;
+  VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  ici.pApplicationInfo = &app;
+  VkInstance instance = VK_NULL_HANDLE;
+  if (vkCreateInstance(&ici, nullptr, &instance) != VK_SUCCESS) return std::nullopt;
+  uint32_t n = 1;
+  VkPhysicalDevice physical = VK_NULL_HANDLE;
+  const VkResult r = vkEnumeratePhysicalDevices(instance, &n, &physical);
+  std::optional<std::string> driver;
+  if ((r == VK_SUCCESS || r == VK_INCOMPLETE) && n > 0) {
+    VkPhysicalDeviceDriverProperties d{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+    VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    props.pNext = &d;
+    vkGetPhysicalDeviceProperties2(physical, &props);
+    driver = d.driverInfo;
+  }
+  vkDestroyInstance(instance, nullptr);
+  return driver;
+}
+
+NullDevice::NullDevice(const std::string& family, const std::filesystem::path& icd) : family_(family) {
+  // Process-wide, hence a child process: only the radeon ICD, in null-hardware mode for this family.
+  use_radv_null(family, icd);
   try {
     create_instance();
     create_device();

@@ -8,6 +8,7 @@
 // (navi24 and rembrandt SIGFPE on Mesa 22.3).
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -34,6 +35,10 @@ struct PipelineShape {
   render::DepthUse depth = render::DepthUse::none;
   bool geometry = false;                 // vertex inputs: position and normal (the G-buffer draw)
 };
+
+// Whether RADV enumerates a null device for `family` (instance only: no device, no compiler): the driver
+// version ("Mesa 22.3.6") when it does. Sets the same process-wide variables: call it in a child process.
+std::optional<std::string> probe_family(const std::string& family, const std::filesystem::path& icd);
 
 class NullDevice {
  public:
