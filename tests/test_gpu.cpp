@@ -2,6 +2,7 @@
 // taps, runs repeat, unknown families and a missing driver give one-line errors, a crash costs one family.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 
@@ -59,6 +60,20 @@ TEST(Gpu, UnrollHintsSetOnEveryLoopMerge) {
   EXPECT_EQ(r.words[8], 0x1u);
   EXPECT_EQ(r.words[12], 0x1u);
   EXPECT_THROW(gpu::with_unroll_hints({1, 2, 3}), std::runtime_error);
+}
+
+TEST(Gpu, CombineSumsCountsAndKeepsTheWorstRegistersAndOccupancy) {
+  const auto a = gpu::ShaderStats::from_values({{"VGPRs", 24}, {"Subgroups per SIMD", 32}, {"Instructions", 100},
+                                                {"VMEM Clause", 3}, {"Hash", 7}});
+  const auto b = gpu::ShaderStats::from_values({{"VGPRs", 40}, {"Subgroups per SIMD", 16}, {"Instructions", 50},
+                                                {"VMEM Clause", 1}, {"Hash", 9}});
+  const auto t = gpu::combine({&a, &b});
+  EXPECT_EQ(t.vgprs, 40);
+  EXPECT_EQ(t.subgroups_per_simd, 16);
+  EXPECT_EQ(t.instructions, 150);
+  EXPECT_EQ(t.vmem_clauses, 4);
+  EXPECT_EQ(t.values.count("Hash"), 0u);  // hashes identify one pipeline: no total
+  EXPECT_TRUE(std::isnan(t.latency));     // not reported: NaN, never 0
 }
 
 TEST(Gpu, UnrolledInstructionsGrowWithSampleCount) {

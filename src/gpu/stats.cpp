@@ -58,6 +58,7 @@ ShaderStats combine(const std::vector<const ShaderStats*>& passes) {
   std::map<std::string, double> values;
   for (const ShaderStats* p : passes)
     for (const auto& [name, value] : p->values) {
+      if (lower(name).find("hash") != std::string::npos) continue;  // "Hash", "Driver pipeline hash": per pass only
       auto how = Field::sum;
       for (const Field& f : kFields)
         if (matches(name, f)) how = f.how;
