@@ -5,7 +5,7 @@
 //
 // Construct it only in a child process (gpu::analyze_gpu does, over util::run_isolated): it sets
 // VK_ICD_FILENAMES / RADV_FORCE_FAMILY for the whole process, and the compiler crashes on some families
-// (navi24 and rembrandt SIGFPE on Mesa 22.3).
+// (navi24, rembrandt and gfx1036 SIGFPE on Mesa 22.3).
 #include <cstdint>
 #include <filesystem>
 #include <optional>
