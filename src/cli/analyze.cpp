@@ -1,14 +1,28 @@
-// aovar analyze: static cost per program and variant of a generated folder (SPIR-V) -> analysis.json.
+// aovar analyze: static cost per program and variant of a generated folder (SPIR-V) -> analysis.json;
+// with --gpu, AMD ISA statistics per GPU family from RADV's null device -> gpu.json.
 #include <iostream>
 #include <memory>
+
+#include <fmt/format.h>
 
 #include "analyze/analyze.h"
 #include "analyze/text.h"
 #include "cli/commands.h"
+#include "cli/options.h"
+#include "gpu/families.h"
+#include "gpu/gpu.h"
+#include "gpu/text.h"
 #include "util/fs.h"
 
 namespace aovar::cli {
 namespace {
+
+struct AnalyzeArgs {
+  std::string in;
+  std::string gpu;  // --gpu FAMILY[,FAMILY...]
+  std::string out;  // --gpu: folder for gpu.json
+  CommonOptions common;
+};
 
 int run_analyze(const std::string& dir) {
   auto a = analyze::analyze_folder(dir);
@@ -19,13 +33,52 @@ int run_analyze(const std::string& dir) {
   return 0;
 }
 
+// Exit 1 when a family failed (its error is in the table and gpu.json); the other families' results stand.
+int run_analyze_gpu(const AnalyzeArgs& a) {
+  gpu::GpuOptions options;
+  options.families = gpu::parse_families(a.gpu);
+  options.icd = gpu::find_radeon_icd();  // before compiling: a missing driver is the first thing to say
+  compile::CompileOptions co = compile_options(a.common);
+  co.targets = {variants::Target::vulkan};
+  const auto compiled = compile::compile_space(a.common.manifest, co);
+  if (!report_diagnostics(compiled)) return 1;
+  std::vector<int> variants(compiled.space.variants.size());
+  for (std::size_t i = 0; i < variants.size(); ++i) variants[i] = static_cast<int>(i);
+  const gpu::GpuAnalysis result = gpu::analyze_gpu(compiled, variants, options);
+  std::cout << gpu::to_text(result);
+  if (!a.out.empty()) {
+    const auto path = std::filesystem::path(a.out) / "gpu.json";
+    std::filesystem::create_directories(a.out);
+    util::write_atomic(path, gpu::to_json(result));
+    std::cout << fmt::format("wrote {}\n", path.string());
+  }
+  for (const auto& f : result.families)
+    if (!f.ok()) return 1;
+  return 0;
+}
+
 }  // namespace
 
 Command add_analyze(CLI::App& app) {
-  auto in = std::make_shared<std::string>();
-  auto* cmd = app.add_subcommand("analyze", "static cost per program and variant of a generated folder (SPIR-V)");
-  cmd->add_option("--in", *in, "folder written by `aovar generate --emit index,spirv`")->required();
-  return {cmd, [in] { return run_analyze(*in); }};
+  auto a = std::make_shared<AnalyzeArgs>();
+  auto* cmd = app.add_subcommand(
+      "analyze", "static cost per program and variant: of a generated folder (SPIR-V), or on AMD GPUs (--gpu)");
+  auto* in = cmd->add_option("--in", a->in, "folder written by `aovar generate --emit index,spirv`");
+  auto* gpu = cmd->add_option("--gpu", a->gpu,
+                              "AMD GPU families (e.g. navi21,vangogh,polaris10): compile every pass on RADV's null "
+                              "device and print ACO's statistics; variants from the manifest");
+  cmd->add_option("--out", a->out, "with --gpu: write gpu.json to this folder")->needs(gpu);
+  add_manifest(cmd, a->common.manifest);
+  cmd->add_option("--variants", a->common.globs, "with --gpu: only variants whose key matches this glob (repeatable)");
+  cmd->add_option("--jobs,-j", a->common.jobs, "compile threads (default: cores)");
+  add_cache_dir(cmd, a->common.cache_dir, "compile cache");
+  cmd->add_flag("--no-cache", a->common.no_cache, "compile everything, read and write no cache");
+  in->excludes(gpu);
+  return {cmd, [a, cmd] {
+            if (cmd->count("--gpu")) return run_analyze_gpu(*a);
+            if (a->in.empty()) throw std::runtime_error("analyze: give --in DIR (a generated folder) or --gpu FAMILY");
+            return run_analyze(a->in);
+          }};
 }
 
 }  // namespace aovar::cli

@@ -1,0 +1,204 @@
+#include "gpu/gpu.h"
+
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <optional>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "gpu/families.h"
+#include "gpu/null_device.h"
+#include "gpu/spirv_unroll.h"
+#include "render/plan.h"
+#include "util/clock.h"
+#include "util/isolated.h"
+
+namespace aovar::gpu {
+namespace {
+
+VkFormat vk_format(render::Format f) {  // as the lavapipe backend's
+  switch (f) {
+    case render::Format::r16f: return VK_FORMAT_R16_SFLOAT;
+    case render::Format::r32f: return VK_FORMAT_R32_SFLOAT;
+    case render::Format::rgba8: return VK_FORMAT_R8G8B8A8_UNORM;
+    case render::Format::rg8: return VK_FORMAT_R8G8_UNORM;
+    case render::Format::rgba32f: return VK_FORMAT_R32G32B32A32_SFLOAT;
+  }
+  return VK_FORMAT_UNDEFINED;
+}
+
+struct Program {
+  std::vector<std::uint32_t> shipped, unrolled;
+  int loops_unrolled = 0;
+};
+
+// A pipeline shared by every variant that draws the same programs into the same formats: compiled once.
+struct UniquePipeline {
+  PipelineShape shipped, unrolled;
+  int loops_unrolled = 0;
+};
+
+struct PassRef {
+  std::string pass, vertex, fragment;
+  int pipeline = -1;
+};
+
+// The work, made in the parent before any fork (children inherit it): distinct pipelines, and per variant
+// its passes pointing at them.
+struct Work {
+  std::map<std::string, Program> programs;  // by key; map nodes stay put, so shapes may point into them
+  std::vector<UniquePipeline> pipelines;
+  std::map<std::string, int> by_signature;
+  std::vector<std::pair<std::string, std::vector<PassRef>>> variants;
+};
+
+const Program& program(Work& w, const render::Shader& shader) {
+  auto [it, fresh] = w.programs.try_emplace(shader.program_key);
+  if (fresh) {
+    UnrollRewrite r = with_unroll_hints(shader.spirv);
+    it->second = {shader.spirv, std::move(r.words), r.loops_changed};
+  }
+  return it->second;
+}
+
+int pipeline_of(Work& w, const render::PipelinePlan& plan, const render::Draw& draw) {
+  const Program& vs = program(w, plan.shaders[draw.vertex]);
+  const Program& fs = program(w, plan.shaders[draw.fragment]);
+  std::vector<VkFormat> formats;
+  std::string signature = plan.shaders[draw.vertex].program_key + "|" + plan.shaders[draw.fragment].program_key;
+  for (const render::TextureRef& out : draw.outputs) {
+    formats.push_back(out.texture >= 0 ? vk_format(plan.textures[out.texture].format) : VK_FORMAT_UNDEFINED);
+    signature += fmt::format("|{}", static_cast<int>(formats.back()));
+  }
+  signature += fmt::format("|{}|{}", static_cast<int>(draw.depth), draw.geometry);
+  auto [it, fresh] = w.by_signature.try_emplace(signature, static_cast<int>(w.pipelines.size()));
+  if (fresh) {
+    UniquePipeline p;
+    p.shipped = {&vs.shipped, &fs.shipped, formats, draw.depth, draw.geometry};
+    p.unrolled = {&vs.unrolled, &fs.unrolled, formats, draw.depth, draw.geometry};
+    p.loops_unrolled = fs.loops_unrolled;
+    w.pipelines.push_back(std::move(p));
+  }
+  return it->second;
+}
+
+Work plan_work(const compile::CompiledSpace& compiled, const std::vector<int>& variants) {
+  Work w;
+  for (int v : variants) {
+    const render::PipelinePlan plan = render::plan_pipeline(compiled, v, variants::Target::vulkan);
+    std::vector<PassRef> passes;
+    for (const render::Draw& draw : plan.draws) {
+      bool seen = false;
+      for (const PassRef& p : passes) seen = seen || p.pass == draw.pass;
+      if (seen) continue;  // the separable blur's second draw, SAO's pyramid levels: the same pipeline
+      passes.push_back({draw.pass, plan.shaders[draw.vertex].program_key, plan.shaders[draw.fragment].program_key,
+                        pipeline_of(w, plan, draw)});
+    }
+    w.variants.emplace_back(plan.variant, std::move(passes));
+  }
+  return w;
+}
+
+// The child's side: "d {device, driver}", then "p <pipeline> {u, s}" per pipeline; an exception is "e <what>".
+int compile_family(const Work& w, const std::string& family, const std::filesystem::path& icd,
+                   util::LineWriter& out) {
+  try {
+    NullDevice device(family, icd);
+    out.line("d " + nlohmann::json{{"device", device.device_name()}, {"driver", device.driver()}}.dump());
+    // Test hook: a compiler crash in this family must cost this family only (tests/test_gpu.cpp).
+    if (const char* crash = std::getenv("AOVAR_GPU_TEST_CRASH"); crash && family == crash) std::raise(SIGSEGV);
+    for (std::size_t i = 0; i < w.pipelines.size(); ++i) {
+      const UniquePipeline& p = w.pipelines[i];
+      const ShaderStats unrolled = device.fragment_stats(p.unrolled);
+      const ShaderStats shipped = p.loops_unrolled ? device.fragment_stats(p.shipped) : unrolled;
+      out.line(fmt::format("p {} {}", i, nlohmann::json{{"u", to_json(unrolled)}, {"s", to_json(shipped)}}.dump()));
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    out.line(std::string("e ") + e.what());
+    return 2;
+  }
+}
+
+std::string ending(const util::ChildOutcome& how, const std::string& error, std::size_t done, std::size_t total) {
+  if (!error.empty()) return error;
+  if (how.signal != 0)
+    return fmt::format("the RADV compiler crashed (signal {}, {}) after {} of {} pipelines", how.signal,
+                       strsignal(how.signal), done, total);
+  if (how.cut_off || how.exit_code != 0)
+    return fmt::format("the compiling child stopped (exit status {}) after {} of {} pipelines", how.exit_code, done,
+                       total);
+  return "";
+}
+
+FamilyStats run_family(const Work& w, const std::string& family, const std::filesystem::path& icd) {
+  FamilyStats f;
+  f.family = family;
+  std::vector<std::optional<std::pair<ShaderStats, ShaderStats>>> results(w.pipelines.size());
+  std::size_t done = 0;
+  std::string error;
+  const auto how = util::run_isolated(
+      [&](util::LineWriter& out) { return compile_family(w, family, icd, out); },
+      [&](const std::string& line) {
+        if (line.size() < 2) return;
+        const std::string rest(line, 2);
+        if (line[0] == 'd') {
+          const auto j = nlohmann::json::parse(rest);
+          f.device = j.at("device").get<std::string>();
+          f.driver = j.at("driver").get<std::string>();
+        } else if (line[0] == 'p') {
+          const std::size_t space = rest.find(' ');
+          const auto j = nlohmann::json::parse(rest.substr(space + 1));
+          results.at(std::stoul(rest.substr(0, space))) = {stats_from_json(j.at("u")), stats_from_json(j.at("s"))};
+          ++done;
+        } else if (line[0] == 'e') {
+          error = rest;
+        }
+      });
+  f.error = ending(how, error, done, w.pipelines.size());
+  for (const auto& [key, refs] : w.variants) {
+    VariantStats v{key, {}};
+    bool complete = true;
+    for (const PassRef& r : refs) {
+      if (!results[r.pipeline]) complete = false;
+      else v.passes.push_back({r.pass, r.vertex, r.fragment, w.pipelines[r.pipeline].loops_unrolled,
+                               results[r.pipeline]->first, results[r.pipeline]->second});
+    }
+    if (complete) f.variants.push_back(std::move(v));
+  }
+  return f;
+}
+
+}  // namespace
+
+const PassStats* VariantStats::pass(const std::string& name) const {
+  for (const PassStats& p : passes)
+    if (p.pass == name) return &p;
+  return nullptr;
+}
+
+ShaderStats VariantStats::total(bool unrolled) const {
+  std::vector<const ShaderStats*> all;
+  for (const PassStats& p : passes) all.push_back(unrolled ? &p.unrolled : &p.shipped);
+  return combine(all);
+}
+
+GpuAnalysis analyze_gpu(const compile::CompiledSpace& compiled, const std::vector<int>& variants,
+                        const GpuOptions& options) {
+  const auto start = util::Clock::now();
+  const std::filesystem::path icd = options.icd.empty() ? find_radeon_icd() : options.icd;
+  if (options.families.empty()) throw std::runtime_error("gpu: no family given (write e.g. --gpu navi21)");
+  check_families(icd, options.families);
+  const Work work = plan_work(compiled, variants);
+  GpuAnalysis a;
+  a.pipelines = static_cast<int>(work.pipelines.size());
+  for (const std::string& family : options.families) a.families.push_back(run_family(work, family, icd));
+  a.seconds = util::seconds_since(start);
+  return a;
+}
+
+}  // namespace aovar::gpu
