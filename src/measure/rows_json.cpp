@@ -48,7 +48,7 @@ json row_to_json(const MeasureRow& r, const MeasureResult& res) {
   json passes = json::object();
   for (const auto& [k, s] : r.passes) passes[k] = stats_json(s);
   return {{"variant", r.variant}, {"axes", axes}, {"duplicates", r.duplicates}, {"scene", r.scene},
-          {"view", r.view}, {"backend", r.backend}, {"size", r.size}, {"threads", r.threads},
+          {"view", r.view}, {"backend", r.backend}, {"device", r.device}, {"driver", r.driver}, {"size", r.size}, {"threads", r.threads},
           {"radius", res.radius}, {"spirv_hash", r.spirv_hash}, {"inputs_hash", r.inputs_hash},
           {"time_ms", stats_json(r.time_ms)}, {"passes", passes}, {"rel_time", r.rel_time},
           {"rel_time_median", r.rel_time_median}, {"baseline", r.baseline}, {"is_baseline", r.is_baseline},
@@ -58,6 +58,7 @@ json row_to_json(const MeasureRow& r, const MeasureResult& res) {
           {"mean_visibility", r.mean_visibility}, {"error", r.error ? error_json(*r.error) : json(nullptr)},
           {"error_one_frame", r.error_one_frame ? error_json(*r.error_one_frame) : json(nullptr)},
           {"flicker", r.flicker ? json(*r.flicker) : json(nullptr)},
+          {"gpu", table::to_json(r.gpu)},
           {"image", r.image}, {"preview", r.preview}, {"error_map", r.error_map}};
 }
 
@@ -68,6 +69,8 @@ MeasureRow row_from_json(const json& j) {
   r.duplicates = j.at("duplicates").get<std::vector<std::string>>();
   r.scene = j.at("scene");
   r.backend = j.at("backend");
+  r.device = j.value("device", "");
+  r.driver = j.value("driver", "");
   r.view = j.at("view");
   r.size = j.at("size");
   r.threads = j.at("threads");
@@ -91,6 +94,7 @@ MeasureRow row_from_json(const json& j) {
   if (!j.at("error").is_null()) r.error = error_from(j.at("error"));
   if (!j.at("error_one_frame").is_null()) r.error_one_frame = error_from(j.at("error_one_frame"));
   if (!j.at("flicker").is_null()) r.flicker = j.at("flicker").get<double>();
+  if (j.contains("gpu")) r.gpu = table::gpu_costs_from_json(j.at("gpu"));
   r.image = j.at("image");
   r.preview = j.at("preview");
   r.error_map = j.at("error_map");

@@ -96,9 +96,11 @@ std::vector<std::vector<std::string>> parse_csv(const std::string& s) {
 namespace {
 const std::vector<std::string> kFixedHead = {"variant"};
 const std::vector<std::string> kFixedTail = {
-    "spirv_hash", "scene", "view", "backend", "size", "threads", "time_ms.min", "time_ms.median", "time_ms.p90",
+    "spirv_hash", "scene", "view", "backend", "device", "driver", "size", "threads", "time_ms.min", "time_ms.median", "time_ms.p90",
     "time_ms.n", "time_ms.paired", "rel_time", "rel_time_median", "error.rmse", "error.mae", "error.psnr", "error.ssim", "error.bias", "error.max",
-    "health.nan", "health.inf", "health.out_of_range", "pareto", "predicted", "flicker", "images", "static"};
+    "health.nan", "health.inf", "health.out_of_range", "pareto", "predicted", "flicker", "images", "static", "gpu"};
+// Readable per-family columns after the fixed ones (the "gpu" column's JSON is what from_csv reads back).
+const std::vector<std::string> kGpuColumns = {"est_ms", "bound", "vgprs", "waves"};
 }  // namespace
 
 std::string to_csv(const CostTable& t) {
@@ -108,6 +110,11 @@ std::string to_csv(const CostTable& t) {
   std::vector<std::string> header = kFixedHead;
   for (const auto& a : axis_names) header.push_back("axes." + a);
   header.insert(header.end(), kFixedTail.begin(), kFixedTail.end());
+  std::set<std::string> families;
+  for (const auto& r : t.rows)
+    for (const auto& [f, c] : r.gpu) families.insert(f);
+  for (const auto& f : families)
+    for (const auto& c : kGpuColumns) header.push_back("gpu." + f + "." + c);
   std::string out;
   auto line = [&](const std::vector<std::string>& fields) {
     for (std::size_t i = 0; i < fields.size(); ++i) out += (i ? "," : "") + csv_field(fields[i]);
@@ -127,14 +134,27 @@ std::string to_csv(const CostTable& t) {
       metrics::ErrorStats copy = *r.error;
       return text(error_field(copy, i));
     };
-    std::vector<std::string> tail = {r.spirv_hash, r.scene, r.view, r.backend, r.size, std::to_string(r.threads),
+    std::vector<std::string> tail = {r.spirv_hash, r.scene, r.view, r.backend, r.device, r.driver, r.size, std::to_string(r.threads),
                                      text(r.time_ms.min), text(r.time_ms.median), text(r.time_ms.p90),
                                      std::to_string(r.time_ms.n), text(r.time_ms.paired), text(r.rel_time), text(r.rel_time_median), e(0), e(1), e(2), e(3), e(4), e(5),
                                      std::to_string(r.health.nan), std::to_string(r.health.inf),
                                      std::to_string(r.health.out_of_range), r.pareto ? "true" : "false",
                                      r.predicted ? "true" : "false", r.flicker ? text(*r.flicker) : "", images,
-                                     r.static_cost ? to_json(r.static_cost).dump() : std::string("{}")};
+                                     r.static_cost ? to_json(r.static_cost).dump() : std::string("{}"),
+                                     r.gpu.empty() ? std::string("{}") : to_json(r.gpu).dump()};
     f.insert(f.end(), tail.begin(), tail.end());
+    for (const auto& family : families) {
+      auto it = r.gpu.find(family);
+      if (it == r.gpu.end()) {
+        f.insert(f.end(), kGpuColumns.size(), "");
+        continue;
+      }
+      const GpuCost& g = it->second;
+      const GpuPassCost* slowest = g.slowest();
+      auto number = [](double v) { return std::isnan(v) ? std::string() : text(v); };
+      f.insert(f.end(), {number(g.est_ms), slowest ? slowest->pass + ":" + slowest->bound : "", number(g.max_vgprs()),
+                         number(g.min_waves())});
+    }
     line(f);
   }
   return out;
@@ -159,6 +179,8 @@ CostTable from_csv(const std::string& s) {
     r.scene = c["scene"];
     r.view = c["view"];
     r.backend = c["backend"];
+    r.device = c["device"];
+    r.driver = c["driver"];
     r.size = c["size"];
     r.threads = static_cast<int>(parse_double(c["threads"], "threads"));
     r.time_ms = {parse_double(c["time_ms.min"], "time_ms.min"), parse_double(c["time_ms.median"], "time_ms.median"),
@@ -189,6 +211,7 @@ CostTable from_csv(const std::string& s) {
       start = end + 1;
     }
     r.static_cost = c["static"].empty() ? std::nullopt : static_cost_from_json(json::parse(c["static"]));
+    if (!c["gpu"].empty()) r.gpu = gpu_costs_from_json(json::parse(c["gpu"]));
     t.rows.push_back(std::move(r));
   }
   return t;

@@ -39,9 +39,12 @@ json to_json(const CostRow& r) {
           {"scene", r.scene},
           {"view", r.view},
           {"backend", r.backend},
+          {"device", r.device},
+          {"driver", r.driver},
           {"size", r.size},
           {"threads", r.threads},
           {"static", to_json(r.static_cost)},
+          {"gpu", to_json(r.gpu)},
           {"time_ms", {{"min", r.time_ms.min}, {"median", r.time_ms.median}, {"p90", r.time_ms.p90}, {"n", r.time_ms.n},
                        {"paired", r.time_ms.paired}}},
           {"rel_time", r.rel_time},
@@ -69,12 +72,18 @@ CostRow row_from_json(const json& j) {
     r.view = j.at("view").get<std::string>();
     field = "backend";
     r.backend = j.at("backend").get<std::string>();
+    field = "device";
+    r.device = j.value("device", "");
+    field = "driver";
+    r.driver = j.value("driver", "");
     field = "size";
     r.size = j.value("size", "");
     field = "threads";
     r.threads = j.value("threads", 0);
     field = "static";
     if (j.contains("static")) r.static_cost = static_cost_from_json(j.at("static"));
+    field = "gpu";
+    if (j.contains("gpu")) r.gpu = gpu_costs_from_json(j.at("gpu"));
     field = "time_ms";
     const json& t = j.at("time_ms");
     r.time_ms = {t.at("min").get<double>(), t.value("median", 0.0), t.value("p90", 0.0), t.value("n", 0),

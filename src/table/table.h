@@ -13,6 +13,7 @@
 
 #include "image/health.h"
 #include "metrics/metrics.h"
+#include "table/gpu_cost.h"
 #include "table/static_cost.h"
 #include "util/stats.h"
 
@@ -22,9 +23,11 @@ struct CostRow {
   std::string variant;                       // key
   std::map<std::string, std::string> axes;   // axis name -> canonical value text
   std::string spirv_hash, scene, view, backend;
+  std::string device, driver;                // what timed it ("llvmpipe (LLVM 15.0.6, 256 bits)", "Mesa 22.3.6")
   std::string size;                          // "WxH"
   int threads = 0;
   std::optional<StaticCost> static_cost;    // "static": from the SPIR-V (sweep); nullopt when not analysed
+  GpuCosts gpu;                              // "gpu": per AMD family (--gpu); empty when not analysed
   util::TimeStats time_ms;                   // paired: the decision time (util/stats.h)
   double rel_time = 0;           // time_ms.min / the baseline's min in the same batch
   // Median over rounds of this row's frame time / the baseline's in the same round: a paired ratio that

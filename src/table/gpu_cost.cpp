@@ -1,0 +1,138 @@
+#include "table/gpu_cost.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <tuple>
+
+namespace aovar::table {
+namespace {
+using json = nlohmann::json;
+
+bool same(double a, double b) { return (std::isnan(a) && std::isnan(b)) || a == b; }
+
+// NaN ("not reported") is written as null, the JSON way, and read back as NaN.
+json number(double v) { return std::isnan(v) ? json(nullptr) : json(v); }
+double number_from(const json& j, const char* name) {
+  if (!j.contains(name) || j.at(name).is_null()) return NAN;
+  if (!j.at(name).is_number()) throw std::runtime_error(std::string("gpu cost: '") + name + "' is not a number");
+  return j.at(name).get<double>();
+}
+
+// The statistics by name, so that JSON and equality walk the same list.
+template <typename Pass>  // GpuPassCost or const GpuPassCost
+auto stats_of(Pass& p) {
+  return std::tie(p.draws, p.pixel_share, p.vgprs, p.sgprs, p.spill_vgprs, p.spill_sgprs, p.waves_per_simd,
+                  p.instructions, p.shipped_instructions, p.valu, p.salu, p.vmem, p.smem, p.latency,
+                  p.inverse_throughput, p.code_size, p.fetches, p.bytes_per_pixel, p.alu_ms, p.texture_ms,
+                  p.bandwidth_ms, p.est_ms);
+}
+constexpr const char* kStatNames[] = {"draws", "pixel_share", "vgprs", "sgprs", "spill_vgprs", "spill_sgprs",
+                                      "waves_per_simd", "instructions", "shipped_instructions", "valu", "salu",
+                                      "vmem", "smem", "latency", "inverse_throughput", "code_size", "fetches",
+                                      "bytes_per_pixel", "alu_ms", "texture_ms", "bandwidth_ms", "est_ms"};
+
+template <typename Tuple, typename F>
+void each_stat(Tuple&& t, F&& f) {
+  std::apply([&](auto&... v) {
+    std::size_t i = 0;
+    (f(kStatNames[i++], v), ...);
+  }, t);
+}
+
+json pass_json(const GpuPassCost& p) {
+  json j = {{"pass", p.pass}, {"bound", p.bound}};
+  each_stat(stats_of(p), [&](const char* name, const double& v) { j[name] = number(v); });
+  return j;
+}
+
+GpuPassCost pass_from(const json& j) {
+  GpuPassCost p;
+  p.pass = j.at("pass").get<std::string>();
+  p.bound = j.value("bound", "");
+  each_stat(stats_of(p), [&](const char* name, double& v) { v = number_from(j, name); });
+  return p;
+}
+
+}  // namespace
+
+bool GpuPassCost::operator==(const GpuPassCost& o) const {
+  if (pass != o.pass || bound != o.bound) return false;
+  bool equal = true;
+  auto a = stats_of(*this);
+  auto b = stats_of(o);
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    ((equal = equal && same(std::get<I>(a), std::get<I>(b))), ...);
+  }(std::make_index_sequence<std::tuple_size_v<decltype(a)>>{});
+  return equal;
+}
+
+bool GpuCost::operator==(const GpuCost& o) const {
+  return product == o.product && mesa == o.mesa && frame == o.frame && same(est_ms, o.est_ms) && passes == o.passes;
+}
+
+const GpuPassCost* GpuCost::pass(const std::string& name) const {
+  for (const auto& p : passes)
+    if (p.pass == name) return &p;
+  return nullptr;
+}
+
+const GpuPassCost* GpuCost::slowest() const {
+  const GpuPassCost* s = nullptr;
+  for (const auto& p : passes)
+    if (!std::isnan(p.est_ms) && (!s || p.est_ms > s->est_ms)) s = &p;
+  return s;
+}
+
+double GpuCost::max_vgprs() const {
+  double m = NAN;
+  for (const auto& p : passes)
+    if (!std::isnan(p.vgprs)) m = std::isnan(m) ? p.vgprs : std::max(m, p.vgprs);
+  return m;
+}
+
+double GpuCost::min_waves() const {
+  double m = NAN;
+  for (const auto& p : passes)
+    if (!std::isnan(p.waves_per_simd)) m = std::isnan(m) ? p.waves_per_simd : std::min(m, p.waves_per_simd);
+  return m;
+}
+
+json to_json(const GpuCost& c) {
+  json passes = json::array();
+  for (const auto& p : c.passes) passes.push_back(pass_json(p));
+  return {{"product", c.product}, {"mesa", c.mesa}, {"frame", c.frame}, {"est_ms", number(c.est_ms)},
+          {"passes", passes}};
+}
+
+GpuCost gpu_cost_from_json(const json& j) {
+  if (!j.is_object()) throw std::runtime_error("gpu cost: not an object");
+  GpuCost c;
+  c.product = j.value("product", "");
+  c.mesa = j.value("mesa", "");
+  c.frame = j.value("frame", "");
+  c.est_ms = number_from(j, "est_ms");
+  if (j.contains("passes"))
+    for (const auto& p : j.at("passes")) c.passes.push_back(pass_from(p));
+  return c;
+}
+
+json to_json(const GpuCosts& costs) {
+  json j = json::object();
+  for (const auto& [family, c] : costs) j[family] = to_json(c);
+  return j;
+}
+
+GpuCosts gpu_costs_from_json(const json& j) {
+  if (!j.is_object()) throw std::runtime_error("'gpu' is not an object of GPU families");
+  GpuCosts costs;
+  for (const auto& [family, c] : j.items()) {
+    try {
+      costs[family] = gpu_cost_from_json(c);
+    } catch (const std::exception& e) {
+      throw std::runtime_error("gpu." + family + ": " + e.what());
+    }
+  }
+  return costs;
+}
+
+}  // namespace aovar::table

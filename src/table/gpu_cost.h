@@ -1,0 +1,52 @@
+#pragma once
+// A variant's cost on one AMD GPU family (a cost-table row's "gpu.<family>" object, issue 17): the ISA
+// statistics RADV's compiler reports for each pass (gpu/null_device.h, the unrolled analysis copy) and a
+// roofline frame estimate for one named product at a stated frame size (gpu/roofline.h). An estimate, not a
+// measurement: docs/gpu-cost.md says what it models and what it does not.
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace aovar::table {
+
+struct GpuPassCost {
+  std::string pass;                 // manifest pass ("ao", "blur", ...); the G-buffer is not estimated
+  double draws = 1, pixel_share = 1;  // draws per frame, share of the output's pixels each draw covers
+  // ACO's statistics of the fragment program with every loop unrolled (NaN: this Mesa does not report it).
+  double vgprs = NAN, sgprs = NAN, spill_vgprs = NAN, spill_sgprs = NAN;
+  double waves_per_simd = NAN;                 // occupancy the registers allow ("Subgroups per SIMD")
+  double instructions = NAN, shipped_instructions = NAN;  // unrolled / as shipped
+  double valu = NAN, salu = NAN, vmem = NAN, smem = NAN;  // unweighted counts (Mesa 25 and later)
+  double latency = NAN, inverse_throughput = NAN, code_size = NAN;
+  double fetches = 0, bytes_per_pixel = 0;     // texture reads and bytes per pixel per draw (SPIR-V analyser)
+  // The roofline: each bound's time for all of this pass's draws, the largest of them, and which it is.
+  double alu_ms = NAN, texture_ms = NAN, bandwidth_ms = NAN, est_ms = NAN;
+  std::string bound;                           // "alu", "texture" or "bandwidth"
+  bool operator==(const GpuPassCost&) const;   // NaN equals NaN: "not reported" on both sides
+};
+
+struct GpuCost {
+  std::string product;  // the family's product the estimate is for ("Radeon RX 6800 XT")
+  std::string mesa;     // the RADV that compiled it ("Mesa 25.0.7-2~bpo12+1")
+  std::string frame;    // "1920x1080"
+  double est_ms = NAN;  // sum of the passes' est_ms
+  std::vector<GpuPassCost> passes;  // draw order
+  const GpuPassCost* pass(const std::string& name) const;
+  const GpuPassCost* slowest() const;  // the pass with the largest est_ms (nullptr when none)
+  double max_vgprs() const;            // over the passes
+  double min_waves() const;            // over the passes
+  bool operator==(const GpuCost&) const;
+};
+
+// family -> cost; written as the row's "gpu" object ({} when not analysed).
+using GpuCosts = std::map<std::string, GpuCost>;
+
+nlohmann::json to_json(const GpuCost& cost);
+GpuCost gpu_cost_from_json(const nlohmann::json& j);  // throws std::runtime_error naming the member
+nlohmann::json to_json(const GpuCosts& costs);
+GpuCosts gpu_costs_from_json(const nlohmann::json& j);
+
+}  // namespace aovar::table
