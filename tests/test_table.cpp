@@ -65,6 +65,16 @@ CostTable sample_table() {
   a.flicker = 0.0125;
   a.images = {"images/a,b.pfm", "images/a \"q\".png"};
   a.error->psnr = std::numeric_limits<double>::infinity();
+  a.device = "llvmpipe (LLVM 15.0.6, 256 bits)";
+  a.driver = "Mesa 22.3.6";
+  GpuPassCost ao;  // NaN: a statistic this Mesa does not report; written as null, read back as NaN
+  ao.pass = "ao";
+  ao.vgprs = 24;
+  ao.waves_per_simd = 16;
+  ao.alu_ms = 0.25;
+  ao.est_ms = 0.25;
+  ao.bound = "alu";
+  a.gpu["navi21"] = {"Radeon RX 6800 XT", "Mesa 25.0.7", "1920x1080", 0.25, {ao}};
   CostRow b = row("hbao-s16", 0.1 + 0.2, std::nullopt, "view, \"two\"\nnext");
   b.predicted = true;
   b.pareto = true;
@@ -79,6 +89,9 @@ TEST(Table, JsonRoundTrip) {
   EXPECT_EQ(back.meta, t.meta);
   EXPECT_TRUE(to_json(t)["rows"][0]["error"]["psnr"].is_null());  // +inf is written as null
   EXPECT_TRUE(to_json(t)["rows"][1]["error"].is_null());
+  EXPECT_TRUE(to_json(t)["rows"][0]["gpu"]["navi21"]["passes"][0]["valu"].is_null());
+  EXPECT_TRUE(std::isnan(back.rows[0].gpu.at("navi21").passes[0].valu));
+  EXPECT_EQ(back.rows[0].device, "llvmpipe (LLVM 15.0.6, 256 bits)");
   test::TempDir dir;
   write_table_files(t, dir.path());
   EXPECT_EQ(read_table(dir / "cost_table.json").rows, t.rows);
@@ -101,6 +114,8 @@ TEST(Table, CsvRoundTripAndQuoting) {
   EXPECT_EQ(csv.rfind("variant,axes.algorithm,axes.samples,spirv_hash,", 0), 0u) << csv;
   auto lines = parse_csv(csv);
   ASSERT_EQ(lines.size(), 3u);  // header + one record per row, multi-line fields quoted
+  EXPECT_NE(lines[0].end(), std::find(lines[0].begin(), lines[0].end(), "gpu.navi21.est_ms"));
+  EXPECT_NE(csv.find(",ao:alu,24,16"), std::string::npos) << "est_ms, bound, max VGPRs, min waves: " << csv;
   CostTable back = from_csv(csv);
   EXPECT_EQ(back.rows, t.rows);
 }

@@ -39,6 +39,9 @@ Command add_select(CLI::App& app) {
   cmd->add_option("--scene,-s", q.scene, "only this scene (default: all; worst over them)");
   cmd->add_option("--view", q.view, "only this view (default: each variant's worst view)");
   cmd->add_option("--backend,-b", q.backend, "only this backend (default: each separately)");
+  cmd->add_option("--target", q.target,
+                  "an AMD GPU family (sweep --gpu): decide by the roofline estimate on it (gpu.<family>.est_ms) "
+                  "instead of the time measured here; errors still from the reference");
   return {cmd, [a] { return run_select(*a); }};
 }
 

@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "report/gpu_section.h"
+#include "report/grid.h"
 #include "util/fs.h"
 
 namespace aovar::report {
@@ -45,17 +47,7 @@ std::string colour(const std::string& algorithm) {
   return it != c.end() ? it->second : "#7f7f7f";
 }
 
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char ch : s) {
-    if (ch == '<') out += "&lt;";
-    else if (ch == '>') out += "&gt;";
-    else if (ch == '&') out += "&amp;";
-    else if (ch == '"') out += "&quot;";
-    else out += ch;
-  }
-  return out;
-}
+std::string escape(const std::string& s) { return html_escape(s); }
 
 std::string base64(const std::string& bytes) {
   static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -168,7 +160,9 @@ std::string image_tag(const fs::path& file, const std::string& caption) {
 
 }  // namespace
 
-std::vector<PairFinding> seed_pairs(const CostTable& t) {
+double measured_time(const CostRow& r) { return r.predicted ? NAN : r.time_ms.decision(); }
+
+std::vector<PairFinding> seed_pairs(const CostTable& t, const TimeOf& time_of) {
   struct Spec {
     const char *title, *axis, *a, *b, *seed;
   };
@@ -185,6 +179,8 @@ std::vector<PairFinding> seed_pairs(const CostTable& t) {
        "Sunet 2018, §5.9: progressive significantly faster for every method, despite a ~1.1 ms averaging pass"},
       {"bilateral vs separable blur", "blur", "separable", "bilateral",
        "Sunet 2018, §5.7: quality difference negligible; the separable blur is faster"},
+      {"8 vs 16 samples", "samples", "8", "16",
+       "McGuire et al. 2012, §4: vary the sample and blur taps to trade run time against spatial and temporal noise"},
   };
   std::vector<PairFinding> out;
   for (const auto& sp : specs) {
@@ -203,8 +199,9 @@ std::vector<PairFinding> seed_pairs(const CostTable& t) {
     for (const auto& [rest, m] : by_rest) {
       if (!m.count(sp.a) || !m.count(sp.b)) continue;
       const CostRow &ra = *m.at(sp.a), &rb = *m.at(sp.b);
-      if (ra.predicted || rb.predicted || ra.time_ms.decision() <= 0) continue;
-      dt.push_back(100.0 * (rb.time_ms.decision() - ra.time_ms.decision()) / ra.time_ms.decision());
+      double ta = time_of(ra), tb = time_of(rb);
+      if (!(ta > 0) || !(tb > 0)) continue;
+      dt.push_back(100.0 * (tb - ta) / ta);
       if (ra.error && rb.error) de.push_back(rb.error->rmse - ra.error->rmse);
       ++f.pairs;
     }
@@ -274,7 +271,8 @@ std::string markdown_report(const CostTable& t) {
     md << fmt::format("| {} ({} → {}) | {} | {} | {} | {} |\n", f.title, f.a, f.b, f.pairs,
                       f.pairs ? fmt::format("{:+.1f} %", f.time_delta_pct) : "–",
                       f.pairs ? fmt::format("{:+.4f}", f.rmse_delta) : "–", f.seed);
-  md << "\nThe full table: cost_table.md / cost_table.csv / cost_table.json.\n";
+  md << "\n" << gpu_markdown(t);
+  md << "The full table: cost_table.md / cost_table.csv / cost_table.json.\n";
   return md.str();
 }
 
@@ -379,7 +377,7 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
     h << fmt::format("<tr><td>{} ({} → {})</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>", escape(f.title),
                      escape(f.a), escape(f.b), f.pairs, f.pairs ? fmt::format("{:+.1f} %", f.time_delta_pct) : "–",
                      f.pairs ? fmt::format("{:+.4f}", f.rmse_delta) : "–", escape(f.seed));
-  h << "</table></body></html>\n";
+  h << "</table>" << gpu_html(t) << "</body></html>\n";
   return h.str();
 }
 

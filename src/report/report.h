@@ -4,6 +4,7 @@
 // Pareto scatter coloured by algorithm, time per variant, static cost against measured time, an image grid
 // (variant, reference, error heat map) for the front, and the Sunet 2018 pairs measured on these scenes.
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,10 @@ struct PairFinding {
   double time_delta_pct = 0;          // median of (time_b - time_a) / time_a, percent
   double rmse_delta = 0;              // median of rmse_b - rmse_a
 };
-std::vector<PairFinding> seed_pairs(const table::CostTable& table);
+// A row's time for a comparison; NaN or <= 0 leaves the row out. The default: the measured decision time.
+using TimeOf = std::function<double(const table::CostRow&)>;
+double measured_time(const table::CostRow& row);  // time_ms.decision(); NaN for predicted rows
+std::vector<PairFinding> seed_pairs(const table::CostTable& table, const TimeOf& time_of = measured_time);
 
 std::string markdown_report(const table::CostTable& table);
 // `dir`: the folder the table's image paths are relative to (the sweep's output folder).

@@ -3,15 +3,41 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 namespace aovar::table {
+
+namespace {
+
+// The time a query decides by: measured (paired, else min), or the estimate on the target GPU (NaN: none).
+double time_of(const CostRow& r, const SelectQuery& q) {
+  if (q.target.empty()) return r.time_ms.decision();
+  auto it = r.gpu.find(q.target);
+  return it == r.gpu.end() ? NAN : it->second.est_ms;
+}
+
+// The families any row has an estimate for, for the error that names them.
+std::string families_of(const CostTable& table) {
+  std::set<std::string> f;
+  for (const auto& r : table.rows)
+    for (const auto& [family, cost] : r.gpu)
+      if (std::isfinite(cost.est_ms)) f.insert(family);
+  std::string out;
+  for (const auto& name : f) out += (out.empty() ? "" : ", ") + name;
+  return out.empty() ? "none" : out;
+}
+
+}  // namespace
 
 std::vector<Candidate> candidates(const CostTable& table, const SelectQuery& q) {
   std::map<std::pair<std::string, std::string>, Candidate> by;
   for (const auto& r : table.rows) {
     if (!r.error || r.predicted) continue;
+    const double time = time_of(r, q);
+    if (!std::isfinite(time)) continue;
     if (!q.scene.empty() && r.scene != q.scene) continue;
     if (!q.view.empty() && r.view != q.view) continue;
     if (!q.backend.empty() && r.backend != q.backend) continue;
@@ -19,15 +45,15 @@ std::vector<Candidate> candidates(const CostTable& table, const SelectQuery& q) 
     auto [it, fresh] = by.try_emplace({r.variant, r.backend});
     Candidate& c = it->second;
     if (fresh) {
-      c = {r.variant, r.backend, r.time_ms.decision(), r.error->rmse, r.error->ssim, {}, where, where};
+      c = {r.variant, r.backend, time, r.error->rmse, r.error->ssim, {}, where, where};
     } else {
       if (r.error->rmse > c.rmse) {
         c.rmse = r.error->rmse;
         c.ssim = r.error->ssim;
         c.worst_error_view = where;
       }
-      if (r.time_ms.decision() > c.time_ms) {
-        c.time_ms = r.time_ms.decision();
+      if (time > c.time_ms) {
+        c.time_ms = time;
         c.worst_time_view = where;
       }
     }
@@ -40,8 +66,9 @@ std::vector<Candidate> candidates(const CostTable& table, const SelectQuery& q) 
 
 namespace {
 
-std::string describe(const Candidate& c) {
-  return fmt::format("{} [{}]  {:.3f} ms  rmse {:.5f}  ssim {:.4f}", c.variant, c.backend, c.time_ms, c.rmse, c.ssim);
+std::string describe(const Candidate& c, const SelectQuery& q) {
+  return fmt::format("{} [{}]  {:.3f} ms{}  rmse {:.5f}  ssim {:.4f}", c.variant, c.backend, c.time_ms,
+                     q.target.empty() ? "" : " est. on " + q.target, c.rmse, c.ssim);
 }
 
 std::string pct(double delta, double base) {
@@ -62,6 +89,11 @@ Selection select(const CostTable& table, const SelectQuery& q) {
   if (q.budget_ms.has_value() == q.max_error.has_value())
     throw std::runtime_error("select: give exactly one of --budget-ms and --max-error");
   std::vector<Candidate> all = candidates(table, q);
+  if (all.empty() && !q.target.empty())
+    throw std::runtime_error(fmt::format(
+        "select: no row with an error has an estimate for GPU '{}' (this table has estimates for: {}; run aovar sweep "
+        "--gpu {})",
+        q.target, families_of(table), q.target));
   if (all.empty())
     throw std::runtime_error(fmt::format(
         "select: no measured row with an error matches scene '{}' view '{}' backend '{}' (omit a filter, or "
@@ -76,25 +108,27 @@ Selection select(const CostTable& table, const SelectQuery& q) {
   Selection s;
   std::string scope = q.view.empty() ? "worst view of each variant (max rmse, max time over its views)"
                                      : "view " + q.view;
+  if (!q.target.empty()) scope += "; time: the roofline estimate on " + q.target;
   if (ok.empty()) {
     std::vector<Candidate> sorted = all;
     std::sort(sorted.begin(), sorted.end(), budget ? by_time : by_error);
     s.nearest = sorted.front();
     s.text = budget ? fmt::format("no variant fits the budget of {:.3f} ms ({} candidates, {}); the fastest is {}\n",
-                                  *q.budget_ms, all.size(), scope, describe(*s.nearest))
+                                  *q.budget_ms, all.size(), scope, describe(*s.nearest, q))
                     : fmt::format("no variant reaches rmse <= {:.5f} ({} candidates, {}); the lowest error is {}\n",
-                                  *q.max_error, all.size(), scope, describe(*s.nearest));
+                                  *q.max_error, all.size(), scope, describe(*s.nearest, q));
     return s;
   }
   s.ok = true;
   s.choice = ok.front();
   for (std::size_t i = 1; i < ok.size() && i <= 3; ++i) s.runners_up.push_back(ok[i]);
   const Candidate& c = *s.choice;
-  s.text = "choice: " + describe(c) + "\n";
+  s.text = "choice: " + describe(c, q) + "\n";
   s.text += budget ? fmt::format("reason: lowest rmse of the {} of {} candidates within {:.3f} ms ({})\n", ok.size(),
                                  all.size(), *q.budget_ms, scope)
-                   : fmt::format("reason: cheapest (paired time) of the {} of {} candidates with rmse <= {:.5f} ({})\n",
-                                 ok.size(), all.size(), *q.max_error, scope);
+                   : fmt::format("reason: cheapest ({}) of the {} of {} candidates with rmse <= {:.5f} ({})\n",
+                                 q.target.empty() ? "paired time" : "roofline estimate on " + q.target, ok.size(),
+                                 all.size(), *q.max_error, scope);
   if (c.views.size() > 1)
     s.text += fmt::format("worst views: rmse {}, time {}\n", c.worst_error_view, c.worst_time_view);
   // Differences of 1-2 % are within what these machines reproduce; a much cheaper (or much better)
@@ -122,7 +156,7 @@ Selection select(const CostTable& table, const SelectQuery& q) {
                    : fmt::format("margin: the runner-up costs {:+.3f} ms ({}) with rmse {:+.5f} ({})\n", dt,
                                  pct(dt, c.time_ms), de, pct(de, c.rmse));
   s.text += "runners-up:\n";
-  for (std::size_t i = 0; i < s.runners_up.size(); ++i) s.text += fmt::format("  {}. {}\n", i + 2, describe(s.runners_up[i]));
+  for (std::size_t i = 0; i < s.runners_up.size(); ++i) s.text += fmt::format("  {}. {}\n", i + 2, describe(s.runners_up[i], q));
   return s;
 }
 

@@ -13,6 +13,9 @@ struct SelectQuery {
   std::optional<double> budget_ms;   // lowest error with time_ms.decision() (paired, else min) <= budget
   std::optional<double> max_error;   // cheapest with error.rmse <= max_error
   std::string scene, view, backend;  // empty: all
+  // An AMD family ("navi21"): time is the row's roofline estimate on it (gpu.<family>.est_ms, sweep --gpu)
+  // instead of the time measured here; errors still come from the reference. Empty: the measured time.
+  std::string target;
   // An alternative is worth a line when it gives up at most this share (0.02 = 2 %) of the criterion the
   // query did not fix: a variant much faster for nearly the same error (budget), or one with much less
   // error for nearly the same time (max-error).
@@ -39,11 +42,12 @@ struct Selection {
   std::string text;                   // what `aovar select` prints
 };
 
-// Candidates of the query (measured rows with an error only), sorted by variant then backend.
+// Candidates of the query (measured rows with an error only; with a target, those with an estimate on it),
+// sorted by variant then backend.
 std::vector<Candidate> candidates(const CostTable& table, const SelectQuery& q);
 
-// Throws std::runtime_error when the query is malformed (neither or both criteria) or no row matches the
-// scene/view/backend filter.
+// Throws std::runtime_error when the query is malformed (neither or both criteria), no row matches the
+// scene/view/backend filter, or no row has an estimate for the target (naming the families the table has).
 Selection select(const CostTable& table, const SelectQuery& q);
 
 }  // namespace aovar::table
