@@ -119,10 +119,7 @@ json dominated_everywhere(const Candidates& c, const std::string& g, const Group
     const Bound& bound = bounds.at(group);
     auto best = bound.best_rmse.find(vs.axes.at("algorithm"));
     if (best == bound.best_rmse.end()) return nullptr;
-    table::CostRow r = grows.front();  // scene, view, backend, size, threads
-    r.variant = c.members.at(g).front();
-    r.axes = vs.axes;
-    r.static_cost = vs.cost;
+    const table::CostRow r = unmeasured_row(grows.front(), c.members.at(g).front(), vs);
     const double predicted = model->second.second.predict(r), error_bound = best->second;
     const table::CostRow* dominator = nullptr;
     for (const auto& m : grows)

@@ -35,6 +35,20 @@ table::ClassCounts class_counts(const analyze::ProgramCost& k) {
 
 }  // namespace
 
+table::CostRow unmeasured_row(const table::CostRow& like, const std::string& key, const VariantStatic& vs) {
+  table::CostRow r;
+  r.variant = key;
+  r.axes = vs.axes;
+  r.scene = like.scene;
+  r.view = like.view;
+  r.backend = like.backend;
+  r.size = like.size;
+  r.threads = like.threads;
+  r.spirv_hash = r.backend == "lavapipe" ? vs.vulkan_programs : std::string();
+  r.static_cost = vs.cost;
+  return r;
+}
+
 std::map<std::string, VariantStatic> static_costs(const measure::MeasureOptions& mo, const std::vector<std::string>& globs,
                                                   const std::set<std::string>& exclude) {
   compile::CompileOptions co;

@@ -8,6 +8,7 @@
 
 #include "measure/measure.h"
 #include "table/static_cost.h"
+#include "table/table.h"
 
 namespace aovar::sweep {
 
@@ -17,6 +18,10 @@ struct VariantStatic {
   std::string vulkan_programs;  // equal to the lavapipe rows' spirv_hash: variants with the same programs
   std::string same_as;          // the first variant with identical programs and pipeline (itself when none)
 };
+
+// A row for variant `key` where `like` was measured (its scene, view, backend, size, threads), with the
+// variant's axes, static cost and (lavapipe) programs hash: nothing measured, for the cost model to predict.
+table::CostRow unmeasured_row(const table::CostRow& like, const std::string& key, const VariantStatic& vs);
 
 // Of the variants `globs` select (exact keys are globs too), but `exclude`; compiled with the measurement's
 // manifest, cache and jobs. Throws std::runtime_error when a program fails to compile.

@@ -102,17 +102,7 @@ std::vector<table::CostRow> predicted_rows(const SweepOptions& o, const std::vec
     for (const auto& [g, model] : gm.best) {
       const table::CostRow& like = gm.groups.at(g).front();  // scene, view, backend, size, threads
       if (auto p = plans.pruning.find(like.scene); p != plans.pruning.end() && p->second->drops(key)) continue;
-      table::CostRow r;
-      r.variant = key;
-      r.axes = vs.axes;
-      r.scene = like.scene;
-      r.view = like.view;
-      r.backend = like.backend;
-      r.size = like.size;
-      r.threads = like.threads;
-      r.spirv_hash = r.backend == "lavapipe" ? vs.vulkan_programs : std::string();
-      r.static_cost = vs.cost;
-      predicted.push_back(std::move(table::predict_rows(model.second, {r}).front()));
+      predicted.push_back(std::move(table::predict_rows(model.second, {unmeasured_row(like, key, vs)}).front()));
     }
   }
   return predicted;
