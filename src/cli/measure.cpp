@@ -24,6 +24,7 @@ struct MeasureArgs {
   std::vector<std::string> params;
   bool no_prune = false;
   CalibrationOption calibration;
+  GpuOption gpu;
 };
 
 // "PASS.NAME=NUMBER" items -> overrides; throws std::runtime_error naming --param.
@@ -64,6 +65,8 @@ int run_measure(const MeasureArgs& a) {
   o.params = parse_params(a.params);
   o.out = a.out;
   o.cache_dir = a.common.cache();
+  o.gpu_families = a.gpu.family_list();
+  o.gpu_frame = a.gpu.frame_size();
   auto r = with_status([&](const auto& progress) { return measure::run_measure(o, progress); });
   std::cout << measure::to_text(r) << measure::notes_text(r, o, cal_file);
   return 0;
@@ -87,6 +90,7 @@ Command add_measure(CLI::App& app) {
   cmd->add_option("--warmup", mo.warmup, "discarded frames after the first (JIT) frame")->capture_default_str();
   cmd->add_option("--threads", mo.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
   cmd->add_option("--batch", mo.batch, "pipelines prepared and interleaved at once")->capture_default_str();
+  add_gpu(cmd, a->gpu);
   cmd->add_option("--baseline", mo.baseline, "variant timed in every round (rel_time = 1)")->capture_default_str();
   cmd->add_option("--radius", mo.radius, "AO radius in world units (default: the scene's)");
   cmd->add_option("--param", a->params, "override a parameter of the variants that take it: PASS.NAME=VALUE (repeatable)");

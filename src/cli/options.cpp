@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "compile/cache.h"
+#include "gpu/families.h"
 #include "compile/text.h"
 
 namespace aovar::cli {
@@ -75,6 +76,25 @@ render::Extent parse_size(const std::string& text) {
       e.width < 1 || e.height < 1 || e.width > 16384 || e.height > 16384)
     throw std::runtime_error("--size: expected WxH such as 640x360 (1 to 16384 each), got '" + text + "'");
   return e;
+}
+
+std::vector<std::string> GpuOption::family_list() const {
+  return families.empty() ? std::vector<std::string>{} : gpu::parse_families(families);
+}
+
+render::Extent GpuOption::frame_size() const {
+  try {
+    return parse_size(frame);
+  } catch (const std::runtime_error&) {
+    throw std::runtime_error("--gpu-size: expected WxH such as 1920x1080 (1 to 16384 each), got '" + frame + "'");
+  }
+}
+
+void add_gpu(CLI::App* cmd, GpuOption& o) {
+  auto* families = cmd->add_option("--gpu", o.families,
+                                   "AMD GPU families (e.g. navi21,vangogh,polaris10): every row's variant compiled on "
+                                   "RADV's null device and estimated (gpu.<family> columns; docs/gpu-cost.md)");
+  cmd->add_option("--gpu-size", o.frame, "frame size the --gpu estimate is for")->capture_default_str()->needs(families);
 }
 
 std::pair<int, int> parse_shard(const std::string& text) {

@@ -59,6 +59,17 @@ struct CalibrationOption {
 void add_calibration(CLI::App* cmd, CalibrationOption& o, const std::string& help);
 inline constexpr const char* calibration_help = "calibration file (default: calibration.json next to the manifest)";
 
+// --gpu FAMILY[,FAMILY...] and --gpu-size WxH (measure, sweep): the AMD families to estimate every row's
+// variant on (gpu/by_key.h) and the frame the estimate is for.
+struct GpuOption {
+  std::string families;
+  std::string frame = "1920x1080";
+  // The families (empty without --gpu) and the frame; throws std::runtime_error naming the option.
+  std::vector<std::string> family_list() const;
+  render::Extent frame_size() const;
+};
+void add_gpu(CLI::App* cmd, GpuOption& o);
+
 // "WxH" (1 to 16384 each) -> extent; throws std::runtime_error naming --size.
 render::Extent parse_size(const std::string& text);
 // "k/n" (1 <= k <= n) -> 0-based shard index and count; throws std::runtime_error naming --shard.

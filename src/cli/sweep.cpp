@@ -23,6 +23,7 @@ struct SweepArgs {
   std::string size = default_size, out, shard;
   bool no_prune = false;
   CalibrationOption calibration;
+  GpuOption gpu;
 };
 
 int run_sweep(const SweepArgs& a) {
@@ -37,6 +38,8 @@ int run_sweep(const SweepArgs& a) {
   if (!a.shard.empty()) std::tie(m.shard_index, m.shard_count) = parse_shard(a.shard);
   if (m.reference_rays < 1) throw std::runtime_error("--rays must be at least 1");
   m.cache_dir = m.reference_cache = a.common.cache();
+  m.gpu_families = a.gpu.family_list();
+  m.gpu_frame = a.gpu.frame_size();
   const auto cal_file = a.calibration.resolve(a.common.manifest);
   if (!cal_file.empty()) m.calibration = calibrate::load_calibration(cal_file);
   auto r = with_status([&](const auto& progress) { return sweep::run_sweep(o, progress); });
@@ -70,6 +73,7 @@ Command add_sweep(CLI::App& app) {
   cmd->add_option("--warmup", so.measure.warmup, "discarded frames after the first (JIT) frame")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  add_gpu(cmd, a->gpu);
   cmd->add_flag("--prune-dominated", so.prune_dominated,
                 "measure a first share, then skip the variants the cost model predicts to be dominated");
   cmd->add_option("--prune-check", so.prune_check,

@@ -15,6 +15,7 @@
 #include "measure/batch.h"
 #include "measure/contact_sheets.h"
 #include "measure/inputs.h"
+#include "gpu/by_key.h"
 #include "measure/rows_json.h"
 #include "util/clock.h"
 #include "util/fs.h"
@@ -112,6 +113,7 @@ class MeasureRun {
   void say(const std::string& s) const { if (progress_) progress_(s); }
   bool prune(const std::vector<const scene::View*>& views, compile::CompileOptions& co);
   void finish();
+  void add_gpu_costs();
   void write() const {
     if (!o_.out.empty()) util::write_atomic(o_.out / "measure.json", to_json(res_, o_).dump(1) + "\n");
   }
@@ -211,6 +213,7 @@ void MeasureRun::finish() {
     return std::tie(a.backend, a.view, a.variant) < std::tie(b.backend, b.view, b.variant);
   });
   pair_times(res_.rows);
+  if (!o_.gpu_families.empty()) add_gpu_costs();
   // Composing the sheets reads every image again: not when the sheets on disk already show these rows.
   const std::string shown = rows_fingerprint(res_.rows);
   bool current = !earlier_.contact_sheets.empty() && earlier_.contact_sheets_rows == shown &&
@@ -225,6 +228,18 @@ void MeasureRun::finish() {
   }
   res_.wall_s = seconds_since(start_);
   write();
+}
+
+void MeasureRun::add_gpu_costs() {
+  gpu::CostRequest request{o_.gpu_families, o_.gpu_frame, o_.manifest, o_.cache_dir, o_.jobs};
+  std::set<std::string> keys;
+  for (const auto& r : res_.rows) keys.insert(r.variant);
+  say(fmt::format("analysing {} variants on RADV's null device ({})", keys.size(), fmt::join(o_.gpu_families, ", ")));
+  auto costs = gpu::costs_by_key(request, keys);
+  for (auto& r : res_.rows)
+    if (auto it = costs.by_variant.find(r.variant); it != costs.by_variant.end()) r.gpu = it->second;
+  for (const auto& e : costs.errors) say("note: --gpu " + e);
+  res_.gpu_errors = std::move(costs.errors);
 }
 
 // The scene profile's pruning: every selected variant it drops with its rule and reason (null: not pruned).
@@ -280,6 +295,7 @@ std::vector<table::CostRow> cost_rows(const MeasureResult& result, const fs::pat
 }
 
 MeasureResult run_measure(const MeasureOptions& options, const Progress& progress) {
+  gpu::check_request({options.gpu_families, options.gpu_frame});
   return MeasureRun(options, progress).run();
 }
 
@@ -314,7 +330,9 @@ json to_json(const MeasureResult& res, const MeasureOptions& o) {
           {"reused", res.reused},
           {"rows", rows},
           {"kept_rows", res.kept_rows.is_null() ? json::array() : res.kept_rows},  // null: returned before selecting
-          {"pruned", pruned_json(res, o)}};
+          {"pruned", pruned_json(res, o)},
+          {"gpu", {{"families", o.gpu_families}, {"frame", fmt::format("{}x{}", o.gpu_frame.width, o.gpu_frame.height)},
+                   {"errors", res.gpu_errors}}}};
 }
 
 }  // namespace aovar::measure

@@ -69,6 +69,10 @@ struct MeasureOptions {
   // `pruning`: computed by the caller (sweep, over all its scenes' selections); else run_measure computes it.
   bool prune_by_profile = false;
   std::shared_ptr<const ScenePruning> pruning;
+  // --gpu: every row's variant analysed and estimated on these AMD families (gpu/by_key.h; manifest, cache
+  // and jobs are this measurement's). Not part of a row's inputs: the estimate does not change the timing.
+  std::vector<std::string> gpu_families;
+  render::Extent gpu_frame{1920, 1080};
 };
 
 // The scene-profile pruning options of a measurement: its manifest, scene, size, radius, threads and compile
@@ -120,6 +124,7 @@ struct MeasureResult {
   double wall_s = 0, compile_s = 0;
   int reused = 0;
   std::shared_ptr<const ScenePruning> pruning;  // with prune_by_profile
+  std::vector<std::string> gpu_errors;          // --gpu: one line per family that failed
 };
 
 // The table's rows of a measurement (every row but the baseline's timing-only one), images relative to

@@ -10,8 +10,10 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
+#include "gpu/by_key.h"
 #include "profile/scene_prune.h"
 #include "report/report.h"
 #include "scene/scene.h"
@@ -60,6 +62,7 @@ ScenePlans plan_scenes(const SweepOptions& o, SweepResult& res, const std::funct
     mo.scene = o.scenes[i];
     mo.ground_truth = true;
     mo.out = o.out / "measure" / scene_folder(o.scenes[i]);
+    mo.gpu_families.clear();  // the sweep estimates every variant once, over all scenes (add_gpu_costs)
     if (mo.views.empty() || mo.prune_by_profile) {
       scene::LoadOptions lo;
       lo.views_file = mo.views_file;
@@ -108,6 +111,22 @@ std::vector<table::CostRow> predicted_rows(const SweepOptions& o, const std::vec
   return predicted;
 }
 
+// --gpu: every row's variant (measured or predicted) analysed on RADV's null device per family and
+// estimated, once for all scenes: the estimate depends on the variant and the frame, not on the scene.
+json add_gpu_costs(const SweepOptions& o, std::vector<table::CostRow>& rows, const Progress& progress) {
+  const measure::MeasureOptions& m = o.measure;
+  std::set<std::string> keys;
+  for (const auto& r : rows) keys.insert(r.variant);
+  if (progress) progress(fmt::format("analysing {} variants on RADV's null device ({})", keys.size(), fmt::join(m.gpu_families, ", ")));
+  auto costs = gpu::costs_by_key({m.gpu_families, m.gpu_frame, m.manifest, m.cache_dir, m.jobs}, keys);
+  for (auto& r : rows)
+    if (auto it = costs.by_variant.find(r.variant); it != costs.by_variant.end()) r.gpu = it->second;
+  for (const auto& e : costs.errors)
+    if (progress) progress("note: --gpu " + e);
+  return {{"families", m.gpu_families}, {"frame", fmt::format("{}x{}", m.gpu_frame.width, m.gpu_frame.height)},
+          {"mesa", costs.mesa}, {"pipelines", costs.pipelines}, {"seconds", costs.seconds}, {"errors", costs.errors}};
+}
+
 json table_meta(const SweepOptions& o, const SweepResult& res, const json& scenes, const json& models,
                 const json& profile_pruned, const json& dominated) {
   json meta = {{"tool", "aovar sweep"},
@@ -134,6 +153,7 @@ SweepResult run_sweep(const SweepOptions& o, const Progress& progress) {
   auto start = std::chrono::steady_clock::now();
   if (o.out.empty()) throw std::runtime_error("sweep: --out is required");
   if (o.scenes.empty()) throw std::runtime_error("sweep: give at least one --scene");
+  gpu::check_request({o.measure.gpu_families, o.measure.gpu_frame});
   SweepResult res;
   json scenes = json::array(), dominated = json::array(), profile_pruned = json::array();
   auto say_for = [&](std::size_t i) -> measure::Progress {
@@ -191,9 +211,11 @@ SweepResult run_sweep(const SweepOptions& o, const Progress& progress) {
     res.rows_predicted = static_cast<int>(predicted.size());
     for (auto& r : predicted) res.table.rows.push_back(std::move(r));
   }
+  json gpu = o.measure.gpu_families.empty() ? json(nullptr) : add_gpu_costs(o, res.table.rows, progress);
   table::mark_pareto(res.table);
   res.cost_models = gm.models;
   res.table.meta = table_meta(o, res, scenes, to_json(gm.models), profile_pruned, dominated);
+  if (!gpu.is_null()) res.table.meta["gpu"] = gpu;
   table::write_table_files(res.table, o.out);
   report::write_reports(res.table, o.out);
   res.wall_s = util::seconds_since(start);

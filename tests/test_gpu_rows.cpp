@@ -1,0 +1,86 @@
+// `sweep --gpu` and `measure --gpu` (issue 17): every row carries its variant's cost per AMD family, the
+// table and report show it, `select --target` decides by it, and a bad family fails before anything is
+// measured.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "gpu/families.h"
+#include "table/table.h"
+#include "test_support.h"
+#include "util/fs.h"
+
+namespace aovar::test {
+namespace {
+
+#define REQUIRE_RADV()                                    \
+  do {                                                    \
+    try {                                                 \
+      gpu::find_radeon_icd();                             \
+    } catch (const std::exception& e) {                   \
+      GTEST_SKIP() << "RADV not installed: " << e.what(); \
+    }                                                     \
+  } while (0)
+
+const std::string kVariants =
+    " --size 96x54 --reps 2 --rays 32 --batch 4 --no-prune --variants 'alchemy-s0[48]-p0-nrgb8-zdep-rst-d32-bsep-x1-hp'"
+    " --variants 'gtao-s08-p0-nrgb8-zdep-rst-d32-bsep-x1-hp'";
+
+TEST(GpuRows, SweepCarriesEstimatesIntoTableReportAndSelect) {
+  REQUIRE_RADV();
+  TempDir dir;
+  auto r = run_aovar("sweep --scene builtin:stairs --view overview --gpu navi21 --gpu-size 1280x720" + kVariants +
+                     " --out " + dir.path().string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  auto t = table::read_table(dir / "cost_table.json");
+  ASSERT_EQ(t.rows.size(), 3u);
+  for (const auto& row : t.rows) {
+    ASSERT_TRUE(row.gpu.count("navi21")) << row.variant;
+    const auto& c = row.gpu.at("navi21");
+    EXPECT_EQ(c.frame, "1280x720");
+    EXPECT_NE(c.mesa.find("Mesa"), std::string::npos) << c.mesa;
+    EXPECT_GT(c.est_ms, 0) << row.variant;
+    ASSERT_NE(c.pass("ao"), nullptr);
+    EXPECT_GT(c.pass("ao")->instructions, 0);
+    EXPECT_FALSE(c.pass("ao")->bound.empty());
+    EXPECT_EQ(c.pass("gbuffer"), nullptr) << "the G-buffer is the scene's, not estimated";
+    EXPECT_FALSE(row.device.empty()) << "the timing device is recorded";
+  }
+  EXPECT_EQ(t.meta.at("gpu").at("families"), nlohmann::json::array({"navi21"}));
+  auto md = util::read_file(dir / "report.md").value();
+  EXPECT_NE(md.find("## GPU estimate: navi21"), std::string::npos) << md;
+  EXPECT_NE(util::read_file(dir / "cost_table.csv").value().find("gpu.navi21.est_ms"), std::string::npos);
+
+  // s04 is cheaper than s08 for alchemy on the estimate; select by it.
+  auto pick = run_aovar("select --table " + (dir / "cost_table.json").string() + " --max-error 1 --target navi21");
+  ASSERT_EQ(pick.status, 0) << pick.output;
+  EXPECT_NE(pick.output.find("est. on navi21"), std::string::npos) << pick.output;
+  auto other = run_aovar("select --table " + (dir / "cost_table.json").string() + " --max-error 1 --target polaris10");
+  EXPECT_EQ(other.status, 1);
+  EXPECT_NE(other.output.find("estimates for: navi21"), std::string::npos) << other.output;
+}
+
+TEST(GpuRows, MeasureWritesGpuIntoMeasureJson) {
+  REQUIRE_RADV();
+  TempDir dir;
+  auto r = run_aovar("measure --scene builtin:stairs --gpu navi21 --size 96x54 --reps 2 --no-prune "
+                     "--variants 'alchemy-s08-p0-nrgb8-zdep-rst-d32-bsep-x1-hp' --out " + dir.path().string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  auto j = nlohmann::json::parse(util::read_file(dir / "measure.json").value());
+  for (const auto& row : j.at("rows")) {
+    ASSERT_TRUE(row.at("gpu").contains("navi21")) << row.dump();
+    EXPECT_GT(row.at("gpu").at("navi21").at("est_ms").get<double>(), 0);
+  }
+}
+
+TEST(GpuRows, UnknownFamilyFailsBeforeMeasuring) {
+  REQUIRE_RADV();
+  TempDir dir;
+  auto r = run_aovar("sweep --scene builtin:stairs --view overview --gpu navi99" + kVariants + " --out " + dir.path().string());
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("unknown GPU family 'navi99'"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "measure")) << "nothing measured";
+}
+
+}  // namespace
+}  // namespace aovar::test
