@@ -1,5 +1,6 @@
-// lavapipe backend: executes a PipelinePlan with Vulkan 1.3 dynamic rendering on Mesa's CPU driver and times
-// every draw with timestamp queries.
+// lavapipe backend: executes a PipelinePlan with Vulkan 1.3 dynamic rendering on Mesa's CPU driver (or the
+// Vulkan device BackendOptions::device selects) and times every draw with timestamp queries where the device
+// has valid ones, else each frame with a wall clock.
 //
 // Per prepared pipeline: every plan texture (two images when double-buffered) and depth buffer, one graphics
 // pipeline per draw, descriptor sets per draw and frame parity, the frame and parameter uniform buffers, a
@@ -218,7 +219,10 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
     // The start stamp goes before the barrier: lavapipe executes a barrier by flushing and waiting for the
     // rasteriser, so the stamp lands in a scene of its own, taken when the previous draw has finished, and
     // not among this draw's tiles (llvmpipe stamps per tile and keeps the latest).
-    if (queries) vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, queries, static_cast<uint32_t>(2 * i));
+    // A GPU writes a TOP_OF_PIPE stamp as soon as the command is reached, while the previous draw may still
+    // run: there the start stamp waits for all earlier work (Device::start_stamp_stage), so the draws' times
+    // sum to the frame's without counting an overlap twice. Not measured on a GPU here (none was lent).
+    if (queries) vkCmdWriteTimestamp2(cmd, dev->start_stamp_stage, queries, static_cast<uint32_t>(2 * i));
 
     barriers.clear();
     attachments.clear();

@@ -268,6 +268,7 @@ void Device::pick_queue_family() {
   uint32_t bits = family[queue_family].timestampValidBits;
   timestamps = bits > 0 && properties.limits.timestampComputeAndGraphics && properties.limits.timestampPeriod > 0;
   timestamp_mask = bits >= 64 ? ~0ull : bits == 0 ? 0 : (1ull << bits) - 1;
+  if (properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU) start_stamp_stage = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
   info.timing = timestamps ? "timestamp queries"
                            : "wall clock per frame (the device has no valid timestamp queries; each draw gets an "
                              "even share of the frame's time)";

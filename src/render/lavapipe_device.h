@@ -61,6 +61,9 @@ class Device {
   VkPhysicalDeviceMemoryProperties memory{};
   uint64_t timestamp_mask = ~0ull;  // timestampValidBits of the queue family
   bool timestamps = true;  // valid timestamp queries on the queue; false: render() times frames by wall clock
+  // Stage of each draw's start stamp: TOP_OF_PIPE on a CPU device (lavapipe.cpp, record_frame, says why),
+  // ALL_COMMANDS elsewhere (written once the previous draw has finished).
+  VkPipelineStageFlags2 start_stamp_stage = VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT;
 
   // Shared by all prepared pipelines.
   VkCommandPool pool = VK_NULL_HANDLE;  // resettable command buffers, single-threaded use
