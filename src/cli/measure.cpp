@@ -89,6 +89,7 @@ Command add_measure(CLI::App& app) {
   cmd->add_option("--reps", mo.reps, "timed rounds (min-of-N)")->capture_default_str();
   cmd->add_option("--warmup", mo.warmup, "discarded frames after the first (JIT) frame")->capture_default_str();
   cmd->add_option("--threads", mo.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
+  cmd->add_option("--device", mo.device, "lavapipe backend: Vulkan device by name substring or index (default: lavapipe)");
   cmd->add_option("--batch", mo.batch, "pipelines prepared and interleaved at once")->capture_default_str();
   add_gpu(cmd, a->gpu);
   cmd->add_option("--baseline", mo.baseline, "variant timed in every round (rel_time = 1)")->capture_default_str();

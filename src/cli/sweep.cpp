@@ -62,6 +62,7 @@ Command add_sweep(CLI::App& app) {
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
   cmd->add_option("--reps", so.measure.reps, "timed rounds (min-of-N)")->capture_default_str();
   cmd->add_option("--threads", so.measure.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
+  cmd->add_option("--device", so.measure.device, "lavapipe backend: Vulkan device by name substring or index (default: lavapipe)");
   cmd->add_option("--rays", so.measure.reference_rays, "reference rays per pixel")->capture_default_str();
   cmd->add_option("--batch", so.measure.batch, "pipelines prepared and interleaved at once (rows are saved per batch)")
       ->capture_default_str();

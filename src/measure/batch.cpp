@@ -84,7 +84,8 @@ void BatchMeasurer::store_references(const std::vector<const scene::View*>& view
 
 // Every input of a row but the variant's own (programs, key, plan: variant_inputs). The selection and --batch
 // are not inputs: the paired time (ratio to the baseline in the same rounds) cancels the drift between runs,
-// so rows measured in different runs, or a sweep's pruning phases, combine.
+// so rows measured in different runs, or a sweep's pruning phases, combine. The device and driver are
+// inputs: a row timed on one device (--device) is never reused for another.
 std::string BatchMeasurer::context(const runner::VariantRunner& runner, const scene::View& view) const {
   const auto& info = runner.device();
   std::string context = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", shadergen::generator_version(),
@@ -102,13 +103,15 @@ BatchMeasurer::Candidate BatchMeasurer::candidate(runner::VariantRunner& runner,
   return cand;
 }
 
-MeasureRow BatchMeasurer::new_row(const Candidate& cand, const std::string& backend, const std::string& view) const {
+MeasureRow BatchMeasurer::new_row(const Candidate& cand, const render::DeviceInfo& device, const std::string& view) const {
   MeasureRow row;
   row.variant = cand.plan.variant;
   row.axes = cand.plan.axes;
   if (auto d = sel_.duplicates.find(cand.variant); d != sel_.duplicates.end()) row.duplicates = d->second;
   row.scene = res_.scene;
-  row.backend = backend;
+  row.backend = device.backend;
+  row.device = device.device;
+  row.driver = device.driver;
   row.view = view;
   row.size = size_text(o_.size);
   row.threads = o_.threads;
@@ -121,11 +124,13 @@ MeasureRow BatchMeasurer::new_row(const Candidate& cand, const std::string& back
 // A row whose inputs are unchanged comes from the earlier run. What belongs to this run rather than to the
 // measurement (another selection lists other duplicates, and the baseline's row is timing-only when no glob
 // selects it) is taken from this run.
-bool BatchMeasurer::reuse(const Candidate& cand, const std::string& backend, const std::string& view) {
+bool BatchMeasurer::reuse(const Candidate& cand, const render::DeviceInfo& device, const std::string& view) {
   auto it = earlier_.rows.find(cand.inputs.inputs_hash);
   if (it == earlier_.rows.end()) return false;
   MeasureRow row = it->second;
-  row.duplicates = new_row(cand, backend, view).duplicates;
+  row.duplicates = new_row(cand, device, view).duplicates;
+  row.device = device.device;  // the inputs hash holds device and driver: the same ones, also for rows
+  row.driver = device.driver;  // written before rows carried them
   row.is_baseline = cand.variant == sel_.baseline && !sel_.baseline_selected;
   res_.rows.push_back(std::move(row));
   ++res_.reused;
@@ -139,6 +144,7 @@ void BatchMeasurer::measure_all(const std::vector<const scene::View*>& views, co
     runner::RunnerOptions ro;
     ro.backend = backend_name;
     ro.device.threads = o_.threads;
+    ro.device.device = o_.device;
     ro.size = o_.size;
     ro.calibration = o_.calibration;
     runner::VariantRunner runner(c_, ro);
@@ -152,16 +158,17 @@ void BatchMeasurer::measure_all(const std::vector<const scene::View*>& views, co
 // re-measured whenever anything else is (rel_time needs it in the same rounds).
 void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::View& view,
                                  const std::function<void()>& after_batch) {
-  const std::string& backend = runner.device().backend;
+  const render::DeviceInfo& device = runner.device();
+  const std::string& backend = device.backend;
   const std::string ctx = context(runner, view);
   std::vector<Candidate> todo;
   for (int v : sel_.measured) {
     if (v == sel_.baseline) continue;
     Candidate cand = candidate(runner, v, ctx);
-    if (!reuse(cand, backend, view.name)) todo.push_back(std::move(cand));
+    if (!reuse(cand, device, view.name)) todo.push_back(std::move(cand));
   }
   Candidate ref = candidate(runner, sel_.baseline, ctx);
-  if (todo.empty() && reuse(ref, backend, view.name)) return;
+  if (todo.empty() && reuse(ref, device, view.name)) return;
   if (o_.ground_truth) ground_truth(view);  // before the timing, which it would disturb
 
   const std::string where = fmt::format("{} {}", backend, view.name);
@@ -199,7 +206,7 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
     auto read_start = Clock::now();
     for (std::size_t i = lo; i < hi; ++i) {
       const PipelineTiming& timing = timed.pipelines[i - lo + 1];
-      MeasureRow row = new_row(todo[i], backend, view.name);
+      MeasureRow row = new_row(todo[i], device, view.name);
       finish_row(row, runner, todo[i], *prepared[i - lo], timing, view);
       row.rel_time = ref_min > 0 ? row.time_ms.min / ref_min : 0;
       row.rel_time_median = median_ratio(timing, batch_ref);
@@ -207,7 +214,7 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
       ++rows_measured_;
     }
     if (b == batches - 1) {  // the baseline's own row, from every round of every batch
-      MeasureRow row = new_row(ref, backend, view.name);
+      MeasureRow row = new_row(ref, device, view.name);
       row.is_baseline = !sel_.baseline_selected;
       ref_timing.first_frame_ms = ref_first_ms;
       finish_row(row, runner, ref, *ref_pipeline, ref_timing, view);

@@ -49,8 +49,9 @@ class BatchMeasurer {
   };
   void measure_view(runner::VariantRunner& runner, const scene::View& view, const std::function<void()>& after_batch);
   Candidate candidate(runner::VariantRunner& runner, int variant, const std::string& context) const;
-  MeasureRow new_row(const Candidate& cand, const std::string& backend, const std::string& view) const;
-  bool reuse(const Candidate& cand, const std::string& backend, const std::string& view);
+  // `device`: the runner's (backend, device and driver go into the row).
+  MeasureRow new_row(const Candidate& cand, const render::DeviceInfo& device, const std::string& view) const;
+  bool reuse(const Candidate& cand, const render::DeviceInfo& device, const std::string& view);
   void finish_row(MeasureRow& row, runner::VariantRunner& runner, const Candidate& cand, render::PreparedPipeline& p,
                   const PipelineTiming& timing, const scene::View& view);
   void temporal_errors(MeasureRow& row, runner::VariantRunner& runner, const render::PipelinePlan& plan,

@@ -40,6 +40,7 @@ struct MeasureOptions {
   int reps = 10;
   int warmup = 2;
   int threads = 2;
+  std::string device;                      // lavapipe backend: --device NAME|INDEX (render::BackendOptions::device)
   int batch = 24;                          // pipelines prepared and interleaved at once (memory bound)
   float radius = 0;                        // world units; 0 = the scene's default
   render::ParamOverrides params;           // "<pass>.<name>" -> value

@@ -27,7 +27,9 @@ std::string to_text(const MeasureResult& r) {
 
 std::string notes_text(const MeasureResult& r, const MeasureOptions& o, const fs::path& cal_file) {
   std::string s;
-  for (const auto& d : r.devices) s += fmt::format("# {}: {}, {}, {} threads\n", d.backend, d.device, d.api_version, d.threads);
+  for (const auto& d : r.devices)
+    s += fmt::format("# {}: {}, {}, {} threads{}\n", d.backend, d.device, d.api_version, d.threads,
+                     d.timing.empty() || d.timing == "timestamp queries" ? "" : "; timing: " + d.timing);
   const std::string json = o.out.empty() ? "" : util::display_path(o.out / "measure.json");
   s += fmt::format("# scene {} ({} triangles), radius {:.3g}, {} at {}x{}, {} reps after {} warm-up; {}; "
                    "{} rows ({} reused) in {:.1f} s{}\n",

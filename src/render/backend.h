@@ -29,6 +29,10 @@ struct BackendOptions {
   // fp32 (compile/relaxed_fp16.h); needs shaderFloat16. osmesa rejects it (its GLSL has no such rewrite).
   // For images only: llvmpipe converts around every fp16 op, so mediump draws get 2-7x slower, not faster.
   bool mediump_as_fp16 = false;
+  // lavapipe (the Vulkan backend): which physical device to render on, "--device NAME|INDEX" (device_select.h):
+  // empty = the CPU device lavapipe; a number = its index in vkEnumeratePhysicalDevices order; otherwise a
+  // case-insensitive substring of its name ("llvmpipe", "radeon"). osmesa ignores it.
+  std::string device;
 };
 
 struct DeviceInfo {
@@ -38,6 +42,9 @@ struct DeviceInfo {
   std::string driver;       // "Mesa 22.3.6"
   int threads = 0;          // LP_NUM_THREADS in effect
   bool mediump_fp16 = false;  // mediump arithmetic runs in fp16 (BackendOptions::mediump_as_fp16)
+  // How draws are timed: "timestamp queries", or for a device without valid ones "wall clock per frame ..."
+  // (render() then splits each frame's time evenly over its draws).
+  std::string timing;
 };
 
 // A prepared variant: its textures, pipelines and per-frame state (progressive history) on one backend.
@@ -61,7 +68,7 @@ class Backend {
   virtual std::unique_ptr<PreparedPipeline> prepare(const PipelinePlan& plan, Extent size) = 0;
 
   // Renders one frame and waits for it. Returns the time of each draw in ms, in plan.draws order:
-  // lavapipe from timestamp queries, osmesa from a wall clock around each draw plus glFinish.
+  // lavapipe from timestamp queries (a wall clock per frame where the device has none: DeviceInfo::timing), osmesa from a wall clock around each draw plus glFinish.
   virtual std::vector<double> render(PreparedPipeline& pipeline, const FrameSetup& frame) = 0;
 
   // The result texture of the last rendered frame, as floats, row 0 = bottom of the view.

@@ -1,5 +1,6 @@
-// lavapipe backend: executes a PipelinePlan with Vulkan 1.3 dynamic rendering on Mesa's CPU driver and times
-// every draw with timestamp queries.
+// lavapipe backend: executes a PipelinePlan with Vulkan 1.3 dynamic rendering on Mesa's CPU driver (or the
+// Vulkan device BackendOptions::device selects) and times every draw with timestamp queries where the device
+// has valid ones, else each frame with a wall clock.
 //
 // Per prepared pipeline: every plan texture (two images when double-buffered) and depth buffer, one graphics
 // pipeline per draw, descriptor sets per draw and frame parity, the frame and parameter uniform buffers, a
@@ -207,7 +208,7 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
   VkCommandBuffer cmd = frame_cmd[p];
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
-  vkCmdResetQueryPool(cmd, queries, 0, static_cast<uint32_t>(2 * draws.size()));
+  if (queries) vkCmdResetQueryPool(cmd, queries, 0, static_cast<uint32_t>(2 * draws.size()));
 
   std::vector<VkImageMemoryBarrier2> barriers;
   std::vector<VkRenderingAttachmentInfo> attachments;
@@ -218,7 +219,10 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
     // The start stamp goes before the barrier: lavapipe executes a barrier by flushing and waiting for the
     // rasteriser, so the stamp lands in a scene of its own, taken when the previous draw has finished, and
     // not among this draw's tiles (llvmpipe stamps per tile and keeps the latest).
-    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, queries, static_cast<uint32_t>(2 * i));
+    // A GPU writes a TOP_OF_PIPE stamp as soon as the command is reached, while the previous draw may still
+    // run: there the start stamp waits for all earlier work (Device::start_stamp_stage), so the draws' times
+    // sum to the frame's without counting an overlap twice. Not measured on a GPU here (none was lent).
+    if (queries) vkCmdWriteTimestamp2(cmd, dev->start_stamp_stage, queries, static_cast<uint32_t>(2 * i));
 
     barriers.clear();
     attachments.clear();
@@ -247,7 +251,8 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
     }
     vkCmdEndRendering(cmd);
     // The end stamp flushes the draw first (any stage but TOP_OF_PIPE does on lavapipe).
-    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT, queries, static_cast<uint32_t>(2 * i + 1));
+    if (queries)
+      vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT, queries, static_cast<uint32_t>(2 * i + 1));
 
     barriers.clear();
     for (const TextureRef& out : d.outputs) {
@@ -298,6 +303,7 @@ class LavapipeBackend final : public Backend {
   }
   // The steps of prepare(), in order.
   void create_images(const PipelinePlan& plan, LavapipePipeline& pp);
+  void read_draw_times(LavapipePipeline& pp) const;
   void create_uniform_buffers(const PipelinePlan& plan, LavapipePipeline& pp);
   void create_descriptor_sets(const PipelinePlan& plan, LavapipePipeline& pp);
   void write_descriptor_set(const Draw& draw, LavapipePipeline& pp, DrawState& s, int parity);
@@ -640,10 +646,12 @@ void LavapipeBackend::write_descriptor_set(const Draw& dr, LavapipePipeline& pp,
 // Timestamps, command buffers (one per parity and one for the read-back), fence, read-back buffer.
 void LavapipeBackend::create_frame_objects(const PipelinePlan& plan, LavapipePipeline& pp) {
   VkDevice d = dev_->device;
-  VkQueryPoolCreateInfo qci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
-  qci.queryType = VK_QUERY_TYPE_TIMESTAMP;
-  qci.queryCount = static_cast<uint32_t>(2 * plan.draws.size());
-  check(vkCreateQueryPool(d, &qci, nullptr, &pp.queries), "vkCreateQueryPool");
+  if (dev_->timestamps) {  // else no pool: frames are timed by wall clock (render)
+    VkQueryPoolCreateInfo qci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    qci.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    qci.queryCount = static_cast<uint32_t>(2 * plan.draws.size());
+    check(vkCreateQueryPool(d, &qci, nullptr, &pp.queries), "vkCreateQueryPool");
+  }
   VkCommandBuffer cmds[3]{};
   VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   cai.commandPool = dev_->pool;
@@ -661,6 +669,19 @@ void LavapipeBackend::create_frame_objects(const PipelinePlan& plan, LavapipePip
   pp.times.resize(plan.draws.size());
 }
 
+// Each draw's time from its pair of timestamps (the frame's fence has been waited for).
+void LavapipeBackend::read_draw_times(LavapipePipeline& pp) const {
+  uint32_t n = static_cast<uint32_t>(pp.stamps.size());
+  check(vkGetQueryPoolResults(dev_->device, pp.queries, 0, n, n * sizeof(std::uint64_t), pp.stamps.data(),
+                              sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+        "vkGetQueryPoolResults");
+  double ns_per_tick = dev_->properties.limits.timestampPeriod;
+  for (std::size_t i = 0; i < pp.times.size(); ++i) {
+    std::uint64_t ticks = (pp.stamps[2 * i + 1] - pp.stamps[2 * i]) & dev_->timestamp_mask;
+    pp.times[i] = double(ticks) * ns_per_tick * 1e-6;
+  }
+}
+
 std::vector<double> LavapipeBackend::render(PreparedPipeline& pipeline, const FrameSetup& frame) {
   LavapipePipeline& pp = ours(pipeline);
   if (!frame.view) throw BackendError("lavapipe: render() needs a view");
@@ -676,17 +697,14 @@ std::vector<double> LavapipeBackend::render(PreparedPipeline& pipeline, const Fr
     pp.recorded[p].valid = false;
     pp.record_frame(p, far_plane, scene_);
   }
+  const auto submitted = std::chrono::steady_clock::now();
   dev_->submit_and_wait(pp.frame_cmd[p], pp.fence);
   pp.last_parity = p;
-
-  uint32_t n = static_cast<uint32_t>(pp.stamps.size());
-  check(vkGetQueryPoolResults(dev_->device, pp.queries, 0, n, n * sizeof(std::uint64_t), pp.stamps.data(),
-                              sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
-        "vkGetQueryPoolResults");
-  double ns_per_tick = dev_->properties.limits.timestampPeriod;
-  for (std::size_t i = 0; i < pp.times.size(); ++i) {
-    std::uint64_t ticks = (pp.stamps[2 * i + 1] - pp.stamps[2 * i]) & dev_->timestamp_mask;
-    pp.times[i] = double(ticks) * ns_per_tick * 1e-6;
+  if (pp.queries) {
+    read_draw_times(pp);
+  } else {
+    const double frame_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - submitted).count();
+    std::fill(pp.times.begin(), pp.times.end(), frame_ms / static_cast<double>(std::max<std::size_t>(1, pp.times.size())));
   }
   if (dev_->validation_failed()) dev_->check_validation(fmt::format("frame {}", frame.frame));
   return pp.times;

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "render/device_select.h"
 #include "render/lavapipe.h"
 
 // Vulkan structs are written `VkFoo foo{VK_STRUCTURE_TYPE_FOO};`: the rest zero-initialised on purpose.
@@ -100,6 +101,25 @@ VkDebugUtilsMessengerCreateInfoEXT messenger_info(Device* device) {
   return info;
 }
 
+std::vector<VkPhysicalDevice> physical_devices(VkInstance instance) {
+  uint32_t n = 0;
+  check(vkEnumeratePhysicalDevices(instance, &n, nullptr), "vkEnumeratePhysicalDevices");
+  std::vector<VkPhysicalDevice> devices(n);
+  if (n) check(vkEnumeratePhysicalDevices(instance, &n, devices.data()), "vkEnumeratePhysicalDevices");
+  devices.resize(n);
+  return devices;
+}
+
+std::vector<DeviceCandidate> candidates_of(const std::vector<VkPhysicalDevice>& devices) {
+  std::vector<DeviceCandidate> candidates;
+  for (VkPhysicalDevice d : devices) {
+    VkPhysicalDeviceProperties p;
+    vkGetPhysicalDeviceProperties(d, &p);
+    candidates.push_back({p.deviceName, p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU});
+  }
+  return candidates;
+}
+
 }  // namespace
 
 Device::Device(const BackendOptions& options) {
@@ -112,7 +132,7 @@ Device::Device(const BackendOptions& options) {
   create_instance(options.validation);
   try {
     if (options.validation) create_messenger();
-    pick_physical_device();
+    pick_physical_device(options.device);
     check_features(options.mediump_as_fp16);
     pick_queue_family();
     create_device(options.mediump_as_fp16);
@@ -190,29 +210,14 @@ void Device::create_messenger() {
   check(create(instance, &messenger, nullptr, &messenger_), "vkCreateDebugUtilsMessengerEXT");
 }
 
-// The CPU device: lavapipe. Other ICDs (intel, radeon) may be installed without their hardware.
-void Device::pick_physical_device() {
-  uint32_t n = 0;
-  check(vkEnumeratePhysicalDevices(instance, &n, nullptr), "vkEnumeratePhysicalDevices");
-  std::vector<VkPhysicalDevice> devices(n);
-  if (n) check(vkEnumeratePhysicalDevices(instance, &n, devices.data()), "vkEnumeratePhysicalDevices");
-  std::string too_old;
-  for (VkPhysicalDevice d : devices) {
-    VkPhysicalDeviceProperties p;
-    vkGetPhysicalDeviceProperties(d, &p);
-    if (p.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU) continue;
-    if (p.apiVersion < VK_API_VERSION_1_3) {
-      too_old = fmt::format("{} (Vulkan {})", p.deviceName, version_text(p.apiVersion));
-      continue;
-    }
-    physical = d;
-    break;
-  }
-  if (!physical && !too_old.empty())
-    throw BackendError(fmt::format("lavapipe: the Vulkan CPU device {} is older than Vulkan 1.3: install "
-                                   "mesa-vulkan-drivers from Mesa 22.3 or later (run scripts/deps)", too_old));
-  if (!physical)
-    throw BackendError(fmt::format("lavapipe: no Vulkan CPU device (lavapipe) found: {}", kInstallDriver));
+// The device BackendOptions::device selects (device_select.h): by default the CPU device lavapipe. With a GPU
+// the loader enumerates it too (and ICDs may be installed without their hardware), so the choice is explicit.
+void Device::pick_physical_device(const std::string& selector) {
+  std::vector<VkPhysicalDevice> devices = physical_devices(instance);
+  std::vector<DeviceCandidate> candidates = candidates_of(devices);
+  if (candidates.empty())
+    throw BackendError(fmt::format("lavapipe: no Vulkan device found: {}", kInstallDriver));
+  physical = devices[select_device(candidates, selector)];
 
   VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
   VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
@@ -223,6 +228,10 @@ void Device::pick_physical_device() {
   info.device = properties.deviceName;
   info.api_version = "Vulkan " + version_text(properties.apiVersion);
   info.driver = driver.driverInfo;
+  if (properties.apiVersion < VK_API_VERSION_1_3)
+    throw BackendError(fmt::format("lavapipe: the Vulkan device {} supports only Vulkan {} (1.3 needed): pick "
+                                   "another with --device, or install mesa-vulkan-drivers from Mesa 22.3 or later "
+                                   "(run scripts/deps)", info.device, version_text(properties.apiVersion)));
 }
 
 void Device::check_features(bool mediump_as_fp16) {
@@ -241,7 +250,9 @@ void Device::check_features(bool mediump_as_fp16) {
   info.mediump_fp16 = mediump_as_fp16;
 }
 
-// The first graphics queue family; it must have timestamps (draw times).
+// The first graphics queue family. Draws are timed with its timestamp queries where they are valid; a device
+// without them still renders and scores, timed by a wall clock around each frame's submission (coarser: it
+// includes the submission and fence wait, and gives no per-draw split), said in DeviceInfo::timing.
 void Device::pick_queue_family() {
   uint32_t families = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(physical, &families, nullptr);
@@ -255,9 +266,12 @@ void Device::pick_queue_family() {
     }
   if (!found) throw BackendError(fmt::format("lavapipe: {} has no graphics queue", info.device));
   uint32_t bits = family[queue_family].timestampValidBits;
-  if (bits == 0 || !properties.limits.timestampComputeAndGraphics)
-    throw BackendError(fmt::format("lavapipe: {} has no timestamp queries (draw times need them)", info.device));
-  timestamp_mask = bits >= 64 ? ~0ull : (1ull << bits) - 1;
+  timestamps = bits > 0 && properties.limits.timestampComputeAndGraphics && properties.limits.timestampPeriod > 0;
+  timestamp_mask = bits >= 64 ? ~0ull : bits == 0 ? 0 : (1ull << bits) - 1;
+  if (properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU) start_stamp_stage = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+  info.timing = timestamps ? "timestamp queries"
+                           : "wall clock per frame (the device has no valid timestamp queries; each draw gets an "
+                             "even share of the frame's time)";
 }
 
 void Device::create_device(bool mediump_as_fp16) {
@@ -536,4 +550,22 @@ void pipeline_barrier(VkCommandBuffer cmd, const VkImageMemoryBarrier2* images, 
 }
 
 }  // namespace lvp
+
+std::vector<DeviceCandidate> vulkan_devices() {
+  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  app.apiVersion = VK_API_VERSION_1_3;
+  VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  ici.pApplicationInfo = &app;
+  VkInstance instance = VK_NULL_HANDLE;
+  if (vkCreateInstance(&ici, nullptr, &instance) != VK_SUCCESS) return {};
+  std::vector<DeviceCandidate> list;
+  try {
+    list = lvp::candidates_of(lvp::physical_devices(instance));
+  } catch (const BackendError&) {
+    list.clear();
+  }
+  vkDestroyInstance(instance, nullptr);
+  return list;
+}
+
 }  // namespace aovar::render

@@ -1,5 +1,6 @@
 #pragma once
-// The lavapipe backend's Vulkan device: instance, CPU physical device, queue, validation messenger, memory
+// The lavapipe backend's Vulkan device: instance, physical device (lavapipe unless BackendOptions::device
+// names another), queue, validation messenger, memory
 // helpers and the objects every prepared pipeline shares (sampler, layouts, command pool, dummy texture).
 // Shared (std::shared_ptr) by the backend and its prepared pipelines, so either may be destroyed first.
 #include <atomic>
@@ -59,6 +60,10 @@ class Device {
   VkPhysicalDeviceProperties properties{};
   VkPhysicalDeviceMemoryProperties memory{};
   uint64_t timestamp_mask = ~0ull;  // timestampValidBits of the queue family
+  bool timestamps = true;  // valid timestamp queries on the queue; false: render() times frames by wall clock
+  // Stage of each draw's start stamp: TOP_OF_PIPE on a CPU device (lavapipe.cpp, record_frame, says why),
+  // ALL_COMMANDS elsewhere (written once the previous draw has finished).
+  VkPipelineStageFlags2 start_stamp_stage = VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT;
 
   // Shared by all prepared pipelines.
   VkCommandPool pool = VK_NULL_HANDLE;  // resettable command buffers, single-threaded use
@@ -69,7 +74,10 @@ class Device {
 
   DeviceInfo info;
 
-  // Memory helpers. Buffers are host-visible and mapped (lavapipe memory is all host memory anyway).
+  // Memory helpers. Buffers are host-visible, coherent and mapped: every device offers such a type for buffers
+  // (Vulkan spec, vkGetBufferMemoryRequirements), on a discrete GPU system memory read over PCIe, which suits
+  // the small uniform and vertex buffers and the read-back copy. Images prefer device-local memory and take any
+  // type the image allows otherwise; they are never mapped (uploads and reads go through transfers).
   Buffer create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool readback = false);
   Image create_image(VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect,
                      uint32_t levels = 1);
@@ -91,7 +99,7 @@ class Device {
   // The steps of the constructor, in order; each throws BackendError with what to install.
   void create_instance(bool validation);
   void create_messenger();
-  void pick_physical_device();
+  void pick_physical_device(const std::string& selector);
   void check_features(bool mediump_as_fp16);
   void pick_queue_family();
   void create_device(bool mediump_as_fp16);
