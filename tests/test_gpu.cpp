@@ -12,6 +12,7 @@
 #include "gpu/gpu.h"
 #include "gpu/spirv_unroll.h"
 #include "gpu/text.h"
+#include "radv_support.h"
 #include "render_support.h"
 #include "test_support.h"
 
@@ -22,15 +23,6 @@ const std::vector<std::string> kSamples = {"alchemy-s08-p0-nrgb8-zdep-rst-d32-bs
                                            "alchemy-s16-p0-nrgb8-zdep-rst-d32-bsep-x1-hp",
                                            "alchemy-s32-p0-nrgb8-zdep-rst-d32-bsep-x1-hp"};
 
-// Skips the test (with the reason) only where the radeon ICD is not installed.
-#define REQUIRE_RADV()                                                            \
-  do {                                                                            \
-    try {                                                                         \
-      gpu::find_radeon_icd();                                                     \
-    } catch (const std::exception& e) {                                           \
-      GTEST_SKIP() << "RADV not installed: " << e.what();                         \
-    }                                                                             \
-  } while (0)
 
 const compile::CompiledSpace& samples_space() {
   static const compile::CompiledSpace c = test::compile_variants(kSamples);

@@ -9,6 +9,7 @@
 #include "analyze/text.h"
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "gpu/costs.h"
 #include "gpu/families.h"
 #include "gpu/gpu.h"
 #include "gpu/text.h"
@@ -21,6 +22,7 @@ struct AnalyzeArgs {
   std::string in;
   std::string gpu;  // --gpu FAMILY[,FAMILY...]
   std::string out;  // --gpu: folder for gpu.json
+  std::string size = "1920x1080";  // --gpu: frame the roofline estimate is for
   CommonOptions common;
 };
 
@@ -38,6 +40,7 @@ int run_analyze_gpu(const AnalyzeArgs& a) {
   gpu::GpuOptions options;
   options.families = gpu::parse_families(a.gpu);
   options.icd = gpu::find_radeon_icd();  // before compiling: a missing driver is the first thing to say
+  const gpu::Frame frame = gpu::parse_frame(a.size);
   compile::CompileOptions co = compile_options(a.common);
   co.targets = {variants::Target::vulkan};
   const auto compiled = compile::compile_space(a.common.manifest, co);
@@ -45,11 +48,12 @@ int run_analyze_gpu(const AnalyzeArgs& a) {
   std::vector<int> variants(compiled.space.variants.size());
   for (std::size_t i = 0; i < variants.size(); ++i) variants[i] = static_cast<int>(i);
   const gpu::GpuAnalysis result = gpu::analyze_gpu(compiled, variants, options);
-  std::cout << gpu::to_text(result);
+  const gpu::VariantCosts costs = gpu::costs_of(result, gpu::variant_loads(compiled, variants), frame);
+  std::cout << gpu::to_text(result, &costs);
   if (!a.out.empty()) {
     const auto path = std::filesystem::path(a.out) / "gpu.json";
     std::filesystem::create_directories(a.out);
-    util::write_atomic(path, gpu::to_json(result));
+    util::write_atomic(path, gpu::to_json(result, &costs));
     std::cout << fmt::format("wrote {}\n", path.string());
   }
   for (const auto& f : result.families)
@@ -68,6 +72,9 @@ Command add_analyze(CLI::App& app) {
                               "AMD GPU families (e.g. navi21,vangogh,polaris10): compile every pass on RADV's null "
                               "device and print ACO's statistics; variants from the manifest");
   cmd->add_option("--out", a->out, "with --gpu: write gpu.json to this folder")->needs(gpu);
+  cmd->add_option("--size", a->size,
+                  "with --gpu: frame WIDTHxHEIGHT of the roofline estimate on each family's product "
+                  "(default 1920x1080)")->needs(gpu);
   add_manifest(cmd, a->common.manifest);
   cmd->add_option("--variants", a->common.globs, "with --gpu: only variants whose key matches this glob (repeatable)");
   cmd->add_option("--jobs,-j", a->common.jobs, "compile threads (default: cores)");

@@ -47,6 +47,8 @@ std::filesystem::path find_radeon_icd() {
     throw std::runtime_error(fmt::format("gpu: AOVAR_RADV_ICD names {}, which does not exist: install "
                                          "mesa-vulkan-drivers (run scripts/deps) or unset AOVAR_RADV_ICD", env));
   }
+  // The pinned Mesa 25 scripts/radv unpacks (docs/gpu-cost.md says why), when present.
+  if (std::filesystem::exists(AOVAR_PINNED_RADV_ICD)) return AOVAR_PINNED_RADV_ICD;
   for (const char* dir : {"/usr/share/vulkan/icd.d", "/etc/vulkan/icd.d", "/usr/local/share/vulkan/icd.d"}) {
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {

@@ -7,6 +7,7 @@
 namespace aovar::gpu {
 
 // The radeon Vulkan ICD json: $AOVAR_RADV_ICD when set (a private Mesa, or a missing file in tests), else
+// the pinned private RADV scripts/radv unpacks (CMake cache variable AOVAR_PINNED_RADV_ICD), else
 // radeon_icd.<arch>.json under /usr/share/vulkan/icd.d or /etc/vulkan/icd.d. Throws std::runtime_error
 // naming the package (mesa-vulkan-drivers) when there is none.
 std::filesystem::path find_radeon_icd();

@@ -1,0 +1,42 @@
+#include "gpu/costs.h"
+
+#include "gpu/family_specs.h"
+#include "gpu/pass_loads.h"
+#include "render/plan.h"
+
+namespace aovar::gpu {
+
+std::map<std::string, std::vector<PassLoad>> variant_loads(const compile::CompiledSpace& compiled,
+                                                           const std::vector<int>& variants) {
+  std::map<std::string, std::vector<PassLoad>> loads;
+  for (int v : variants) {
+    const render::PipelinePlan plan = render::plan_pipeline(compiled, v, variants::Target::vulkan);
+    loads[plan.variant] = pass_loads(plan);
+  }
+  return loads;
+}
+
+std::map<std::string, table::GpuCosts> costs_of(const GpuAnalysis& analysis,
+                                                const std::map<std::string, std::vector<PassLoad>>& loads,
+                                                Frame frame, std::vector<std::string>* errors) {
+  std::map<std::string, table::GpuCosts> out;
+  for (const FamilyStats& f : analysis.families) {
+    if (!f.ok() && errors) errors->push_back(f.family + ": " + f.error);
+    const FamilySpec* spec = family_spec(f.family);
+    for (const VariantStats& v : f.variants) {
+      auto it = loads.find(v.key);
+      if (it == loads.end()) continue;
+      out[v.key][f.family] = estimate(v, it->second, spec, frame, f.driver);
+    }
+  }
+  return out;
+}
+
+std::map<std::string, table::GpuCosts> gpu_costs(const compile::CompiledSpace& compiled,
+                                                 const std::vector<int>& variants, const GpuOptions& options,
+                                                 Frame frame, std::vector<std::string>* errors) {
+  const GpuAnalysis analysis = analyze_gpu(compiled, variants, options);
+  return costs_of(analysis, variant_loads(compiled, variants), frame, errors);
+}
+
+}  // namespace aovar::gpu

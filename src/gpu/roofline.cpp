@@ -1,0 +1,94 @@
+#include "gpu/roofline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace aovar::gpu {
+namespace {
+
+double stat(const ShaderStats& s, const char* name) {  // Mesa 25's unweighted counts; NaN before
+  auto it = s.values.find(name);
+  return it == s.values.end() ? NAN : it->second;
+}
+
+}  // namespace
+
+std::string Frame::text() const { return fmt::format("{}x{}", width, height); }
+
+Frame parse_frame(const std::string& text) {
+  Frame f;
+  char x = 0, rest = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &f.width, &x, &f.height, &rest) != 3 || (x != 'x' && x != 'X') ||
+      f.width <= 0 || f.height <= 0)
+    throw std::runtime_error(fmt::format("--size '{}': write WIDTHxHEIGHT, e.g. 1920x1080", text));
+  return f;
+}
+
+table::GpuPassCost pass_statistics(const PassStats& p) {
+  const ShaderStats& s = p.unrolled;
+  table::GpuPassCost c;
+  c.pass = p.pass;
+  c.vgprs = s.vgprs;
+  c.sgprs = s.sgprs;
+  c.spill_vgprs = s.spill_vgprs;
+  c.spill_sgprs = s.spill_sgprs;
+  c.waves_per_simd = s.subgroups_per_simd;
+  c.instructions = s.instructions;
+  c.shipped_instructions = p.shipped.instructions;
+  c.valu = stat(s, "VALU");
+  c.salu = stat(s, "SALU");
+  c.vmem = stat(s, "VMEM");
+  c.smem = stat(s, "SMEM");
+  c.latency = s.latency;
+  c.inverse_throughput = s.inverse_throughput;
+  c.code_size = s.code_size;
+  return c;
+}
+
+void apply_roofline(table::GpuPassCost& c, const PassLoad& load, const FamilySpec& spec, Frame frame) {
+  c.draws = load.draws;
+  c.pixel_share = load.pixel_share;
+  c.fetches = load.fetches;
+  c.bytes_per_pixel = load.bytes_per_pixel;
+  const double pixels = double(frame.width) * frame.height * load.pixel_share * load.draws;
+  const double clock_hz = spec.clock_mhz * 1e6;
+  c.alu_ms = 1e3 * c.inverse_throughput * (pixels / 64.0) / (double(spec.cus) * spec.simds_per_cu * clock_hz);
+  c.texture_ms = 1e3 * load.fetches * pixels / (spec.tmus * clock_hz);
+  c.bandwidth_ms = 1e3 * load.bytes_per_pixel * pixels / (spec.bandwidth_gbs * 1e9);
+  if (std::isnan(c.alu_ms)) {
+    c.est_ms = NAN;
+    c.bound.clear();
+    return;
+  }
+  c.est_ms = std::max({c.alu_ms, c.texture_ms, c.bandwidth_ms});
+  c.bound = c.est_ms == c.alu_ms ? "alu" : c.est_ms == c.texture_ms ? "texture" : "bandwidth";
+}
+
+table::GpuCost estimate(const VariantStats& stats, const std::vector<PassLoad>& loads, const FamilySpec* spec,
+                        Frame frame, const std::string& mesa) {
+  table::GpuCost cost;
+  cost.product = spec ? spec->product : "";
+  cost.mesa = mesa;
+  cost.frame = frame.text();
+  double total = spec ? 0.0 : NAN;
+  for (const PassLoad& load : loads) {
+    const PassStats* p = stats.pass(load.pass);
+    if (!p || load.pass == "gbuffer") continue;
+    table::GpuPassCost c = pass_statistics(*p);
+    if (spec) apply_roofline(c, load, *spec, frame);
+    else {
+      c.draws = load.draws, c.pixel_share = load.pixel_share;
+      c.fetches = load.fetches, c.bytes_per_pixel = load.bytes_per_pixel;
+    }
+    total += c.est_ms;
+    cost.passes.push_back(std::move(c));
+  }
+  cost.est_ms = total;
+  return cost;
+}
+
+}  // namespace aovar::gpu

@@ -1,0 +1,46 @@
+#pragma once
+// The roofline frame estimate of a variant on one family's product (issue 17): per pass, the time of its
+// draws if ALU issue, texture-unit issue or memory bandwidth alone limited it; the pass takes the largest.
+// An estimate from compiler statistics and public specs, not a measurement (docs/gpu-cost.md: its limits).
+#include <string>
+#include <vector>
+
+#include "gpu/family_specs.h"
+#include "gpu/gpu.h"
+#include "table/gpu_cost.h"
+
+namespace aovar::gpu {
+
+struct Frame {
+  int width = 1920, height = 1080;
+  std::string text() const;  // "1920x1080"
+};
+// "1920x1080" -> Frame; throws std::runtime_error "--size 'x': write WIDTHxHEIGHT, e.g. 1920x1080".
+Frame parse_frame(const std::string& text);
+
+// What one pass asks of the GPU per frame, independent of the family (gpu/pass_loads.h makes them).
+struct PassLoad {
+  std::string pass;
+  double draws = 1;           // draws per frame
+  double pixel_share = 1;     // mean share of the output's pixels one draw shades
+  double fetches = 0;         // texture reads per shaded pixel (SPIR-V analyser, loops counted)
+  double bytes_per_pixel = 0; // bytes read (fetches x texel size) plus render-target bytes written
+};
+
+// One pass on one product: fills draws, pixel_share, fetches, bytes_per_pixel, the three bounds, est_ms and
+// bound of `cost` (its statistics already set). ALU: ACO's inverse throughput is busy SIMD cycles per 64
+// invocations (aco_statistics.cpp scales by wave_size / 64), so cycles = inv_thr x pixels / 64 spread over
+// CUs x SIMDs per CU at the boost clock. Texture: fetches x pixels / (TMUs x clock). Bandwidth: bytes x
+// pixels / bandwidth. A statistic this Mesa does not report makes alu_ms and est_ms NaN.
+void apply_roofline(table::GpuPassCost& cost, const PassLoad& load, const FamilySpec& spec, Frame frame);
+
+// The pass's statistics (the unrolled analysis copy; shipped instructions alongside) as the table's type.
+table::GpuPassCost pass_statistics(const PassStats& p);
+
+// Every pass of `loads` the variant has statistics for (the G-buffer excluded: its cost is the scene's
+// geometry, not the variant's), estimated on `spec` when given (nullptr: statistics only, est_ms NaN).
+// est_ms sums the passes.
+table::GpuCost estimate(const VariantStats& stats, const std::vector<PassLoad>& loads, const FamilySpec* spec,
+                        Frame frame, const std::string& mesa);
+
+}  // namespace aovar::gpu
