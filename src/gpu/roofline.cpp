@@ -79,11 +79,11 @@ table::GpuCost estimate(const VariantStats& stats, const std::vector<PassLoad>& 
     const PassStats* p = stats.pass(load.pass);
     if (!p || load.pass == "gbuffer") continue;
     table::GpuPassCost c = pass_statistics(*p);
+    c.draws = load.draws;
+    c.pixel_share = load.pixel_share;
+    c.fetches = load.fetches;
+    c.bytes_per_pixel = load.bytes_per_pixel;
     if (spec) apply_roofline(c, load, *spec, frame);
-    else {
-      c.draws = load.draws, c.pixel_share = load.pixel_share;
-      c.fetches = load.fetches, c.bytes_per_pixel = load.bytes_per_pixel;
-    }
     total += c.est_ms;
     cost.passes.push_back(std::move(c));
   }

@@ -97,7 +97,8 @@ std::string to_json(const GpuAnalysis& a, const VariantCosts* costs) {
   nlohmann::json j{{"source", "RADV null device, fragment executable, VK_KHR_pipeline_executable_properties"},
                    {"pipelines", a.pipelines},
                    {"families", families}};
-  if (costs && !costs->empty()) j["frame"] = costs->begin()->second.empty() ? "" : costs->begin()->second.begin()->second.frame;
+  if (costs && !costs->empty() && !costs->begin()->second.empty())  // one frame for the whole run
+    j["frame"] = costs->begin()->second.begin()->second.frame;
   return j.dump(1) + "\n";
 }
 
