@@ -186,7 +186,7 @@ TEST(CliText, MeasureNotesNameTheSceneTheCountsAndWhereTheyWentOnlyWithAnOutputF
   r.radius = 0.5f;
   r.counts = "space 8 / rules 3";
   r.rows = {measured_row("a", 1, false)};
-  r.devices = {{"lavapipe", "llvmpipe", "Vulkan 1.3", "Mesa", 2, false}};
+  r.devices = {{"lavapipe", "llvmpipe", "Vulkan 1.3", "Mesa", 2, false, "timestamp queries"}};
   measure::MeasureOptions o;
   o.size = {64, 36};
   std::string no_out = measure::notes_text(r, o, {});

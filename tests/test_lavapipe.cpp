@@ -18,6 +18,14 @@
 namespace aovar::test {
 namespace {
 
+render::BackendOptions backend_options(int threads, bool validation, bool mediump_as_fp16 = false) {
+  render::BackendOptions o;
+  o.threads = threads;
+  o.validation = validation;
+  o.mediump_as_fp16 = mediump_as_fp16;
+  return o;
+}
+
 // Baseline, then separable / bilateral blur, half and quarter resolution, r16f depth, mediump, every normal
 // encoding, the position buffer, and progressive.
 const std::vector<std::string> kKeys = {
@@ -104,7 +112,7 @@ void expect_box_occlusion(const image::FloatImage& img, render::Extent size, con
 }
 
 TEST(Lavapipe, ReportsTheCpuDevice) {
-  auto backend = render::make_lavapipe_backend({3, false});
+  auto backend = render::make_lavapipe_backend(backend_options(3, false));
   const auto& info = backend->info();
   EXPECT_EQ(info.backend, "lavapipe");
   EXPECT_NE(info.device.find("llvmpipe"), std::string::npos) << info.device;
@@ -125,11 +133,11 @@ int process_threads() {
 TEST(Lavapipe, ThreadCountTakesEffectPerBackend) {
   int one = 0, four = 0;
   {
-    auto backend = render::make_lavapipe_backend({1, false});
+    auto backend = render::make_lavapipe_backend(backend_options(1, false));
     one = process_threads();
   }
   {
-    auto backend = render::make_lavapipe_backend({4, false});
+    auto backend = render::make_lavapipe_backend(backend_options(4, false));
     four = process_threads();
   }
   EXPECT_GE(four, one + 3);
@@ -142,7 +150,7 @@ TEST(Lavapipe, VariantsRenderAoCleanUnderValidation) {
   const render::Extent size{160, 90};
   scene::View view = box_view();
   {
-    auto backend = render::make_lavapipe_backend({2, true});
+    auto backend = render::make_lavapipe_backend(backend_options(2, true));
     backend->set_scene(box_scene());
     for (const auto& key : kKeys) {
       auto plan = plan_of(key);
@@ -164,7 +172,7 @@ TEST(Lavapipe, VariantsRenderAoCleanUnderValidation) {
 TEST(Lavapipe, ProgressiveFramesAlternateAndSettle) {
   const render::Extent size{160, 90};
   scene::View view = box_view();
-  auto backend = render::make_lavapipe_backend({2, false});
+  auto backend = render::make_lavapipe_backend(backend_options(2, false));
   backend->set_scene(box_scene());
   const std::string key = "alchemy-s08-p1-nrg8-zdep-rst-d32-bsep-x1-hp";
   auto pipeline = backend->prepare(plan_of(key), size);
@@ -196,7 +204,7 @@ TEST(Lavapipe, ProgressiveFramesAlternateAndSettle) {
 // the read-back is the bottom of the view (the floor in front of the camera is nearer than the top rows).
 TEST(Lavapipe, DepthClearFollowsFarPlaneAndRowZeroIsTheBottom) {
   const render::Extent size{160, 90};
-  auto backend = render::make_lavapipe_backend({2, false});
+  auto backend = render::make_lavapipe_backend(backend_options(2, false));
   // The floor alone, looked at from above: the top rows look past its far edge into the background.
   scene::View near_view = box_view(40.0f), far_view = box_view(80.0f);
   backend->set_scene(quad_scene({kFloor}, near_view, kRadius));
@@ -214,7 +222,7 @@ TEST(Lavapipe, DepthClearFollowsFarPlaneAndRowZeroIsTheBottom) {
 TEST(Lavapipe, TimestampsTimeEachDrawWithinTheFrame) {
   const render::Extent size{320, 180};
   scene::View view = box_view();
-  auto backend = render::make_lavapipe_backend({2, false});
+  auto backend = render::make_lavapipe_backend(backend_options(2, false));
   backend->set_scene(box_scene());
   auto plan = plan_of("alchemy-s08-p0-nrgb8-zdep-rip-d32-bsep-x2-hp");
   auto pipeline = backend->prepare(plan, size);
@@ -240,7 +248,7 @@ TEST(Lavapipe, TimestampsTimeEachDrawWithinTheFrame) {
 TEST(Lavapipe, SetSceneReplacesTheGeometryOfPreparedPipelines) {
   const render::Extent size{160, 90};
   scene::View view = box_view();
-  auto backend = render::make_lavapipe_backend({2, false});
+  auto backend = render::make_lavapipe_backend(backend_options(2, false));
   backend->set_scene(box_scene());
   auto pipeline = backend->prepare(plan_of(kKeys[0]), size);
   backend->render(*pipeline, frame_setup(view, 0));
@@ -257,7 +265,7 @@ TEST(Lavapipe, PipelinesMayOutliveTheirBackend) {
   int errors_before = render::lavapipe_validation_error_count();
   std::unique_ptr<render::PreparedPipeline> pipeline;
   {
-    auto backend = render::make_lavapipe_backend({2, true});
+    auto backend = render::make_lavapipe_backend(backend_options(2, true));
     backend->set_scene(box_scene());
     pipeline = backend->prepare(plan_of(kKeys[0]), {64, 36});
     backend->render(*pipeline, frame_setup(box_view(), 0));
@@ -267,8 +275,8 @@ TEST(Lavapipe, PipelinesMayOutliveTheirBackend) {
 }
 
 TEST(Lavapipe, MisuseThrowsBackendError) {
-  auto backend = render::make_lavapipe_backend({2, false});
-  auto other = render::make_lavapipe_backend({2, false});
+  auto backend = render::make_lavapipe_backend(backend_options(2, false));
+  auto other = render::make_lavapipe_backend(backend_options(2, false));
   auto plan = plan_of(kKeys[0]);
   scene::View view = box_view();
   auto pipeline = backend->prepare(plan, {32, 18});
@@ -285,7 +293,7 @@ TEST(Lavapipe, MisuseThrowsBackendError) {
 }
 
 TEST(Lavapipe, RejectedShaderNamesItsProgramAndLeavesTheBackendUsable) {
-  auto backend = render::make_lavapipe_backend({2, false});
+  auto backend = render::make_lavapipe_backend(backend_options(2, false));
   backend->set_scene(box_scene());
   auto plan = plan_of(kKeys[0]);
   const render::Shader& ao = plan.shaders[plan.draws[1].fragment];
@@ -327,7 +335,7 @@ TEST(Lavapipe, MissingDriverOrLayerGivesAOneLineHint) {
     env.set("VK_ICD_FILENAMES", "/nonexistent/aovar_lvp_icd.json");
     env.set("VK_DRIVER_FILES", "/nonexistent/aovar_lvp_icd.json");
     try {
-      render::make_lavapipe_backend({2, false});
+      render::make_lavapipe_backend(backend_options(2, false));
       FAIL() << "expected BackendError";
     } catch (const render::BackendError& e) {
       std::string m = e.what();
@@ -341,7 +349,7 @@ TEST(Lavapipe, MissingDriverOrLayerGivesAOneLineHint) {
     env.set("VK_LAYER_PATH", "/nonexistent/aovar_layers");
     env.set("VK_ADD_LAYER_PATH", "/nonexistent/aovar_layers");
     try {
-      render::make_lavapipe_backend({2, true});
+      render::make_lavapipe_backend(backend_options(2, true));
       FAIL() << "expected BackendError";
     } catch (const render::BackendError& e) {
       std::string m = e.what();
@@ -350,7 +358,7 @@ TEST(Lavapipe, MissingDriverOrLayerGivesAOneLineHint) {
     }
   }
   // Restored: the driver and the layer are found again.
-  EXPECT_NO_THROW(render::make_lavapipe_backend({2, true}));
+  EXPECT_NO_THROW(render::make_lavapipe_backend(backend_options(2, true)));
 }
 
 }  // namespace

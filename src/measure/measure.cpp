@@ -295,7 +295,9 @@ std::vector<table::CostRow> cost_rows(const MeasureResult& result, const fs::pat
 }
 
 MeasureResult run_measure(const MeasureOptions& options, const Progress& progress) {
-  gpu::check_request({options.gpu_families, options.gpu_frame});
+  gpu::CostRequest gpu_request;  // only the families: checked before anything is measured
+  gpu_request.families = options.gpu_families;
+  gpu::check_request(gpu_request);
   return MeasureRun(options, progress).run();
 }
 

@@ -153,7 +153,9 @@ SweepResult run_sweep(const SweepOptions& o, const Progress& progress) {
   auto start = std::chrono::steady_clock::now();
   if (o.out.empty()) throw std::runtime_error("sweep: --out is required");
   if (o.scenes.empty()) throw std::runtime_error("sweep: give at least one --scene");
-  gpu::check_request({o.measure.gpu_families, o.measure.gpu_frame});
+  gpu::CostRequest gpu_request;  // only the families: checked before anything is measured
+  gpu_request.families = o.measure.gpu_families;
+  gpu::check_request(gpu_request);
   SweepResult res;
   json scenes = json::array(), dominated = json::array(), profile_pruned = json::array();
   auto say_for = [&](std::size_t i) -> measure::Progress {
