@@ -136,6 +136,18 @@ TEST(GpuReport, SeedPairsUseTheEstimate) {
   EXPECT_NEAR(find(report::gpu_seed_pairs(t, "navi21")).time_delta_pct, 80.0, 1e-9);  // estimate: 1.0 -> 1.8 ms
   EXPECT_EQ(find(report::gpu_seed_pairs(t, "polaris10")).pairs, 0);          // no estimate there
   EXPECT_TRUE(report::gpu_markdown(CostTable{}).empty());
+
+  // SAO's z pyramid is its prefilter pass: its share of the estimated frame is reported.
+  CostTable sao;
+  sao.rows = {row("sao-s8", {{"algorithm", "sao"}, {"samples", "8"}}, 10, 0.05, {{"navi21", 1.0}})};
+  GpuPassCost pyramid;
+  pyramid.pass = "prefilter";
+  pyramid.est_ms = 0.25;
+  pyramid.bound = "bandwidth";
+  sao.rows[0].gpu["navi21"].passes.insert(sao.rows[0].gpu["navi21"].passes.begin(), pyramid);
+  sao.rows[0].gpu["navi21"].est_ms = 1.25;
+  EXPECT_NE(report::gpu_markdown(sao).find("the MIP pass is 20.0 % of the estimated SAO frame"), std::string::npos)
+      << report::gpu_markdown(sao);
 }
 
 }  // namespace

@@ -198,8 +198,9 @@ Grid pairs_grid(const std::vector<PairFinding>& pairs) {
 std::string pyramid_text(const CostTable& t, const std::string& family) {
   std::vector<double> share;
   for (const auto& [key, v] : variants_on(t, family)) {
-    const auto *zmip = v.cost->pass("zmip"), *ao = v.cost->pass("ao");
-    if (zmip && ao && v.cost->est_ms > 0) share.push_back(zmip->est_ms / v.cost->est_ms);
+    // The renderer draws SAO's MIP chain as its "prefilter" pass (render/plan.h).
+    const auto* pyramid = axis(*v.row, "algorithm") == "sao" ? v.cost->pass("prefilter") : nullptr;
+    if (pyramid && v.cost->est_ms > 0) share.push_back(pyramid->est_ms / v.cost->est_ms);
   }
   if (share.empty()) return "";
   std::sort(share.begin(), share.end());
