@@ -11,6 +11,21 @@
 
 namespace aovar::test {
 
+measure::MeasureOptions tiny_measure(const std::filesystem::path& dir, std::vector<std::string> globs,
+                                     const std::string& baseline) {
+  measure::MeasureOptions o;
+  o.manifest = source_dir() / "shader_src" / "aovar.toml";
+  o.scene = "builtin:stairs";
+  o.globs = std::move(globs);
+  o.baseline = baseline;
+  o.size = {64, 36};
+  o.reps = 1;
+  o.warmup = 0;
+  o.cache_dir = o.reference_cache = dir / "cache";
+  o.out = dir / "m";
+  return o;
+}
+
 compile::CompiledSpace compile_variants(const std::vector<std::string>& keys) {
   compile::CompileOptions o;
   o.targets = {variants::Target::vulkan, variants::Target::gl45};

@@ -6,6 +6,7 @@
 
 #include "compile/generate.h"
 #include "image/image.h"
+#include "measure/measure.h"
 #include "render/backend.h"
 #include "scene/scene.h"
 
@@ -13,6 +14,11 @@ namespace aovar::test {
 
 // The default manifest compiled for vulkan and gl45, restricted to `keys` (exact keys or globs).
 compile::CompiledSpace compile_variants(const std::vector<std::string>& keys);
+
+// Tiny and fast measure options: builtin:stairs at 64x36, one timed round, no warm-up, compile and
+// reference caches in `dir`, output in dir/m; `globs` selected, `baseline` timed in every round.
+measure::MeasureOptions tiny_measure(const std::filesystem::path& dir, std::vector<std::string> globs,
+                                     const std::string& baseline);
 int variant_index(const compile::CompiledSpace& c, const std::string& key);  // throws when absent
 
 variants::Target target_of(const std::string& backend);

@@ -9,6 +9,7 @@
 #include "measure/measure.h"
 #include "render/backend.h"
 #include "render/device_select.h"
+#include "render_support.h"
 #include "test_support.h"
 
 namespace aovar::test {
@@ -35,7 +36,7 @@ TEST(DeviceSelect, DefaultIsTheCpuDeviceNameIsCaseInsensitiveIndexIsEnumerationO
 }
 
 TEST(DeviceSelect, UnknownAmbiguousOrOutOfRangeIsOneLineListingTheDevices) {
-  for (const std::string& selector : {"nvidia", "radeon", "3", "99999999999"}) {
+  for (const std::string selector : {"nvidia", "radeon", "3", "99999999999"}) {
     const std::string e = error_of(kMachine, selector);
     EXPECT_NE(e.find("0: AMD Radeon RX 6800 (RADV NAVI21), 1: llvmpipe (LLVM 15.0.6, 256 bits), 2: AMD Radeon Pro"),
               std::string::npos) << selector << ": " << e;
@@ -73,19 +74,7 @@ TEST(DeviceSelect, UnknownNameThroughTheBackendListsTheRealDevices) {
   }
 }
 
-measure::MeasureOptions tiny(const TempDir& dir) {
-  measure::MeasureOptions o;
-  o.manifest = source_dir() / "shader_src" / "aovar.toml";
-  o.scene = "builtin:stairs";
-  o.globs = {kBase, "gtao-s08-*"};
-  o.baseline = kBase;
-  o.size = {64, 36};
-  o.reps = 1;
-  o.warmup = 0;
-  o.cache_dir = o.reference_cache = dir / "cache";
-  o.out = dir / "m";
-  return o;
-}
+measure::MeasureOptions tiny(const TempDir& dir) { return tiny_measure(dir.path(), {kBase, "gtao-s08-*"}, kBase); }
 
 TEST(DeviceSelect, RowsCarryTheDeviceAndDriverThroughMeasureJson) {
   TempDir dir;

@@ -13,6 +13,7 @@
 
 #include "measure/measure.h"
 #include "table/table.h"
+#include "render_support.h"
 #include "test_support.h"
 #include "util/fs.h"
 
@@ -49,20 +50,7 @@ void write_views(const fs::path& file, const std::string& eye_a) {
                            "[[view]]\nname = \"b\"\neye = [2.6, 0.8, 3.6]\ntarget = [0.9, 0.15, 2.3]\n");
 }
 
-// Tiny and fast: 64x36, one timed round, no warm-up, compile and reference caches in the test's folder.
-measure::MeasureOptions tiny(const TempDir& dir) {
-  measure::MeasureOptions o;
-  o.manifest = source_dir() / "shader_src" / "aovar.toml";
-  o.scene = "builtin:stairs";
-  o.globs = {kBase, kAlchemy8, kGtao};
-  o.baseline = kBase;
-  o.size = {64, 36};
-  o.reps = 1;
-  o.warmup = 0;
-  o.cache_dir = o.reference_cache = dir / "cache";
-  o.out = dir / "m";
-  return o;
-}
+measure::MeasureOptions tiny(const TempDir& dir) { return tiny_measure(dir.path(), {kBase, kAlchemy8, kGtao}, kBase); }
 
 TEST(Reuse, SelectionViewCalibrationAndReferenceReMeasureOnlyTheirRows) {
   TempDir dir;

@@ -207,7 +207,9 @@ TEST(RooflineRadv, UnrolledCountsAndEstimateGrowWithSamples) {
       EXPECT_GT(c32.est_ms, c08.est_ms) << f;
       EXPECT_EQ(c08.pass("gbuffer"), nullptr);
       // Mesa 25's unweighted VMEM count against the SPIR-V analyser's fetches: every tap is one image load.
-      if (!std::isnan(s08.vmem)) EXPECT_EQ(s08.vmem, s08.fetches) << f;
+      if (!std::isnan(s08.vmem)) {
+        EXPECT_EQ(s08.vmem, s08.fetches) << f;
+      }
     }
   }
 }
