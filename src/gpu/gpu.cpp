@@ -14,22 +14,12 @@
 #include "gpu/null_device.h"
 #include "gpu/spirv_unroll.h"
 #include "render/plan.h"
+#include "render/vk_pipeline.h"
 #include "util/clock.h"
 #include "util/isolated.h"
 
 namespace aovar::gpu {
 namespace {
-
-VkFormat vk_format(render::Format f) {  // as the lavapipe backend's
-  switch (f) {
-    case render::Format::r16f: return VK_FORMAT_R16_SFLOAT;
-    case render::Format::r32f: return VK_FORMAT_R32_SFLOAT;
-    case render::Format::rgba8: return VK_FORMAT_R8G8B8A8_UNORM;
-    case render::Format::rg8: return VK_FORMAT_R8G8_UNORM;
-    case render::Format::rgba32f: return VK_FORMAT_R32G32B32A32_SFLOAT;
-  }
-  return VK_FORMAT_UNDEFINED;
-}
 
 struct Program {
   std::vector<std::uint32_t> shipped, unrolled;
@@ -71,7 +61,7 @@ int pipeline_of(Work& w, const render::PipelinePlan& plan, const render::Draw& d
   std::vector<VkFormat> formats;
   std::string signature = plan.shaders[draw.vertex].program_key + "|" + plan.shaders[draw.fragment].program_key;
   for (const render::TextureRef& out : draw.outputs) {
-    formats.push_back(out.texture >= 0 ? vk_format(plan.textures[out.texture].format) : VK_FORMAT_UNDEFINED);
+    formats.push_back(out.texture >= 0 ? render::vk::format_of(plan.textures[out.texture].format) : VK_FORMAT_UNDEFINED);
     signature += fmt::format("|{}", static_cast<int>(formats.back()));
   }
   signature += fmt::format("|{}|{}", static_cast<int>(draw.depth), draw.geometry);

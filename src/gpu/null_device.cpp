@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "render/vk_pipeline.h"
 #include "shadergen/bindings.h"
 
 // Vulkan structs are written `VkFoo foo{VK_STRUCTURE_TYPE_FOO};`: the rest zero-initialised on purpose.
@@ -26,17 +27,6 @@ double statistic_value(const VkPipelineExecutableStatisticKHR& s) {
     case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_FLOAT64_KHR: return s.value.f64;
     default: return 0.0;
   }
-}
-
-VkPipelineDepthStencilStateCreateInfo depth_state(render::DepthUse use) {  // as the lavapipe backend's
-  using render::DepthUse;
-  VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-  ds.depthTestEnable = use != DepthUse::none;
-  ds.depthWriteEnable = use == DepthUse::geometry || use == DepthUse::write_mask;
-  ds.depthCompareOp = use == DepthUse::write_mask        ? VK_COMPARE_OP_ALWAYS
-                      : use == DepthUse::skip_background ? VK_COMPARE_OP_NOT_EQUAL
-                                                         : VK_COMPARE_OP_LESS;
-  return ds;
 }
 
 void use_radv_null(const std::string& family, const std::filesystem::path& icd) {
@@ -202,60 +192,20 @@ ShaderStats NullDevice::fragment_stats(const PipelineShape& shape) {
   }
 }
 
+// The renderer's pipeline for the draw (render/vk_pipeline.h), with statistics captured; the frame size
+// does not change the code.
 VkPipeline NullDevice::create_pipeline(const PipelineShape& shape, VkShaderModule vs, VkShaderModule fs) {
-  VkPipelineShaderStageCreateInfo stages[2]{};
-  stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, vs, "main"};
-  stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, fs, "main"};
-  // The G-buffer draw reads positions (location 0) and normals (location 1), one buffer each.
-  VkVertexInputBindingDescription vb[2] = {{0, 12, VK_VERTEX_INPUT_RATE_VERTEX}, {1, 12, VK_VERTEX_INPUT_RATE_VERTEX}};
-  VkVertexInputAttributeDescription va[2] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 1, VK_FORMAT_R32G32B32_SFLOAT, 0}};
-  VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-  if (shape.geometry) {
-    vi.vertexBindingDescriptionCount = vi.vertexAttributeDescriptionCount = 2;
-    vi.pVertexBindingDescriptions = vb;
-    vi.pVertexAttributeDescriptions = va;
-  }
-  VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-  ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-  VkViewport viewport{0, 0, 1920, 1080, 0, 1};
-  VkRect2D scissor{{0, 0}, {1920, 1080}};
-  VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-  vp.viewportCount = vp.scissorCount = 1;
-  vp.pViewports = &viewport;
-  vp.pScissors = &scissor;
-  VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-  rs.polygonMode = VK_POLYGON_MODE_FILL;
-  rs.cullMode = VK_CULL_MODE_NONE;
-  rs.lineWidth = 1.0f;
-  VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-  ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-  const VkPipelineDepthStencilStateCreateInfo ds = depth_state(shape.depth);
-  std::vector<VkPipelineColorBlendAttachmentState> blend(shape.colour_formats.size());
-  for (auto& b : blend) b.colorWriteMask = 0xf;
-  VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  cb.attachmentCount = static_cast<uint32_t>(blend.size());
-  cb.pAttachments = blend.data();
-  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-  rendering.colorAttachmentCount = static_cast<uint32_t>(shape.colour_formats.size());
-  rendering.pColorAttachmentFormats = shape.colour_formats.data();
-  rendering.depthAttachmentFormat = shape.depth != render::DepthUse::none ? VK_FORMAT_D32_SFLOAT : VK_FORMAT_UNDEFINED;
-
-  VkGraphicsPipelineCreateInfo gci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-  gci.pNext = &rendering;
-  gci.flags = VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
-  gci.stageCount = 2;
-  gci.pStages = stages;
-  gci.pVertexInputState = &vi;
-  gci.pInputAssemblyState = &ia;
-  gci.pViewportState = &vp;
-  gci.pRasterizationState = &rs;
-  gci.pMultisampleState = &ms;
-  gci.pDepthStencilState = &ds;
-  gci.pColorBlendState = &cb;
-  gci.layout = layout_;
+  render::vk::PipelineDesc desc;
+  desc.vertex = vs;
+  desc.fragment = fs;
+  desc.geometry = shape.geometry;
+  desc.colour_formats = shape.colour_formats;
+  desc.depth = shape.depth;
+  desc.extent = {1920, 1080};
+  desc.layout = layout_;
+  desc.flags = VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
   VkPipeline pipeline = VK_NULL_HANDLE;
-  check(vkCreateGraphicsPipelines(device_, VK_NULL_HANDLE, 1, &gci, nullptr, &pipeline), family_,
-        "vkCreateGraphicsPipelines");
+  check(render::vk::create_graphics_pipeline(device_, desc, &pipeline), family_, "vkCreateGraphicsPipelines");
   return pipeline;
 }
 

@@ -18,6 +18,7 @@
 #include "compile/relaxed_fp16.h"
 #include "render/backend.h"
 #include "render/lavapipe_device.h"
+#include "render/vk_pipeline.h"
 
 // Vulkan structs are written `VkFoo foo{VK_STRUCTURE_TYPE_FOO};`: the rest zero-initialised on purpose.
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
@@ -26,18 +27,7 @@ namespace aovar::render {
 namespace {
 using namespace lvp;
 
-VkFormat vk_format(Format f) {
-  switch (f) {
-    case Format::r16f: return VK_FORMAT_R16_SFLOAT;
-    case Format::r32f: return VK_FORMAT_R32_SFLOAT;
-    case Format::rgba8: return VK_FORMAT_R8G8B8A8_UNORM;
-    case Format::rg8: return VK_FORMAT_R8G8_UNORM;
-    case Format::rgba32f: return VK_FORMAT_R32G32B32A32_SFLOAT;
-  }
-  return VK_FORMAT_UNDEFINED;
-}
-
-constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+using vk::kDepthFormat;
 
 VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize a) { return a > 1 ? (v + a - 1) / a * a : v; }
 
@@ -365,16 +355,6 @@ std::vector<std::uint32_t> fp16_code(const Shader& sh) {
   }
 }
 
-VkPipelineDepthStencilStateCreateInfo depth_state(DepthUse use) {
-  VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-  ds.depthTestEnable = use != DepthUse::none;
-  ds.depthWriteEnable = use == DepthUse::geometry || use == DepthUse::write_mask;
-  ds.depthCompareOp = use == DepthUse::write_mask        ? VK_COMPARE_OP_ALWAYS
-                      : use == DepthUse::skip_background ? VK_COMPARE_OP_NOT_EQUAL
-                                                         : VK_COMPARE_OP_LESS;
-  return ds;
-}
-
 void LavapipeBackend::create_pipelines(const PipelinePlan& plan, LavapipePipeline& pp) {
   ShaderModules shaders{dev_->device, std::vector<VkShaderModule>(plan.shaders.size(), VK_NULL_HANDLE)};
   for (std::size_t i = 0; i < plan.shaders.size(); ++i) {
@@ -404,80 +384,22 @@ void LavapipeBackend::create_pipelines(const PipelinePlan& plan, LavapipePipelin
 
 VkPipeline LavapipeBackend::create_pipeline(const PipelinePlan& plan, const Draw& dr, VkExtent2D extent,
                                             const std::vector<VkShaderModule>& modules) {
-  const Shader& vs = plan.shaders[dr.vertex];
-  const Shader& fs = plan.shaders[dr.fragment];
-  VkPipelineShaderStageCreateInfo stages[2]{};
-  stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-  stages[0].module = modules[dr.vertex];
-  stages[0].pName = "main";
-  stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-  stages[1].module = modules[dr.fragment];
-  stages[1].pName = "main";
-
-  // Geometry draws read positions (location 0) and normals (location 1), one buffer each.
-  VkVertexInputBindingDescription vb[2] = {{0, sizeof(glm::vec3), VK_VERTEX_INPUT_RATE_VERTEX},
-                                           {1, sizeof(glm::vec3), VK_VERTEX_INPUT_RATE_VERTEX}};
-  VkVertexInputAttributeDescription va[2] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
-                                             {1, 1, VK_FORMAT_R32G32B32_SFLOAT, 0}};
-  VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-  if (dr.geometry) {
-    vi.vertexBindingDescriptionCount = 2;
-    vi.pVertexBindingDescriptions = vb;
-    vi.vertexAttributeDescriptionCount = 2;
-    vi.pVertexAttributeDescriptions = va;
-  }
-  VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-  ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-  VkViewport viewport{0, 0, float(extent.width), float(extent.height), 0.0f, 1.0f};
-  VkRect2D scissor{{0, 0}, extent};
-  VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-  vp.viewportCount = 1;
-  vp.pViewports = &viewport;
-  vp.scissorCount = 1;
-  vp.pScissors = &scissor;
-  VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-  rs.polygonMode = VK_POLYGON_MODE_FILL;
-  rs.cullMode = VK_CULL_MODE_NONE;  // the fullscreen triangle's winding flips with the API's y direction
-  rs.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-  rs.lineWidth = 1.0f;
-  VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-  ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-  const VkPipelineDepthStencilStateCreateInfo ds = depth_state(dr.depth);
-  std::vector<VkPipelineColorBlendAttachmentState> blend(dr.outputs.size());
-  std::vector<VkFormat> formats(dr.outputs.size(), VK_FORMAT_UNDEFINED);
-  for (std::size_t o = 0; o < dr.outputs.size(); ++o) {
-    blend[o].colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
-                              VK_COLOR_COMPONENT_A_BIT;
-    if (dr.outputs[o].texture >= 0) formats[o] = vk_format(plan.textures[dr.outputs[o].texture].format);
-  }
-  VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  cb.attachmentCount = static_cast<uint32_t>(blend.size());
-  cb.pAttachments = blend.data();
-  // Locations keep their numbers: an unused one is VK_FORMAT_UNDEFINED (no attachment).
-  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-  rendering.colorAttachmentCount = static_cast<uint32_t>(formats.size());
-  rendering.pColorAttachmentFormats = formats.data();
-  rendering.depthAttachmentFormat = dr.depth != DepthUse::none ? kDepthFormat : VK_FORMAT_UNDEFINED;
-
-  VkGraphicsPipelineCreateInfo gci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-  gci.pNext = &rendering;
-  gci.stageCount = 2;
-  gci.pStages = stages;
-  gci.pVertexInputState = &vi;
-  gci.pInputAssemblyState = &ia;
-  gci.pViewportState = &vp;
-  gci.pRasterizationState = &rs;
-  gci.pMultisampleState = &ms;
-  gci.pDepthStencilState = &ds;
-  gci.pColorBlendState = &cb;
-  gci.layout = dev_->pipeline_layout;
+  vk::PipelineDesc desc;
+  desc.vertex = modules[dr.vertex];
+  desc.fragment = modules[dr.fragment];
+  desc.geometry = dr.geometry;
+  desc.colour_formats.assign(dr.outputs.size(), VK_FORMAT_UNDEFINED);
+  for (std::size_t o = 0; o < dr.outputs.size(); ++o)
+    if (dr.outputs[o].texture >= 0) desc.colour_formats[o] = vk::format_of(plan.textures[dr.outputs[o].texture].format);
+  desc.depth = dr.depth;
+  desc.extent = extent;
+  desc.layout = dev_->pipeline_layout;
   VkPipeline pipeline = VK_NULL_HANDLE;
-  VkResult r = vkCreateGraphicsPipelines(dev_->device, VK_NULL_HANDLE, 1, &gci, nullptr, &pipeline);
+  VkResult r = vk::create_graphics_pipeline(dev_->device, desc, &pipeline);
   if (r != VK_SUCCESS)
     throw BackendError(fmt::format("lavapipe: the driver rejected the pipeline of draw {} ({} + {}): {}", dr.name,
-                                   vs.program_key, fs.program_key, result_name(r)));
+                                   plan.shaders[dr.vertex].program_key, plan.shaders[dr.fragment].program_key,
+                                   result_name(r)));
   return pipeline;
 }
 
@@ -554,7 +476,7 @@ void LavapipeBackend::create_images(const PipelinePlan& plan, LavapipePipeline& 
   pp.images.resize(plan.textures.size());
   for (std::size_t i = 0; i < plan.textures.size(); ++i) {
     const Texture& t = plan.textures[i];
-    VkFormat f = vk_format(t.format);
+    VkFormat f = vk::format_of(t.format);
     VkFormatProperties fp;
     vkGetPhysicalDeviceFormatProperties(dev_->physical, f, &fp);
     if ((fp.optimalTilingFeatures & needed) != needed)
