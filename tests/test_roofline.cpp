@@ -14,6 +14,7 @@
 #include "render/plan.h"
 #include "radv_support.h"
 #include "render_support.h"
+#include "test_support.h"
 
 namespace aovar {
 namespace {
@@ -98,11 +99,12 @@ TEST(Roofline, VariantSumsItsPassesWithoutTheGBuffer) {
   EXPECT_EQ(statistics_only.passes[0].instructions, 10);
 }
 
-TEST(Roofline, FrameParsesAndRejectsJunk) {
-  EXPECT_EQ(gpu::parse_frame("1920x1080").text(), "1920x1080");
-  EXPECT_EQ(gpu::parse_frame("1280X720").height, 720);
-  for (const char* bad : {"1920", "1920x", "x1080", "0x10", "1920x1080x2", "ax b"})
-    EXPECT_THROW(gpu::parse_frame(bad), std::runtime_error) << bad;
+TEST(Roofline, AnalyzeSizeRejectsJunk) {
+  for (const char* bad : {"1920", "1920x", "x1080", "0x10", "1920x1080x2", "ax b"}) {
+    auto r = test::run_aovar(std::string("analyze --gpu navi21 --variants nothing --size '") + bad + "'");
+    EXPECT_NE(r.status, 0) << bad;
+    EXPECT_NE(r.output.find("--size"), std::string::npos) << bad << ": " << r.output;
+  }
 }
 
 TEST(RooflineData, EveryFamilyHasASourceAndPositiveFigures) {
@@ -180,7 +182,7 @@ const std::map<std::string, table::GpuCosts>& ladder_costs() {
     std::vector<int> all(c.space.variants.size());
     for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
     std::vector<std::string> errors;
-    auto out = gpu::gpu_costs(c, all, {kFamilies, {}}, {}, &errors);
+    auto out = gpu::gpu_costs(c, all, {kFamilies, {}}, gpu::kDefaultFrame, &errors);
     for (const auto& e : errors) ADD_FAILURE() << e;
     return out;
   }();

@@ -37,10 +37,10 @@ int run_analyze(const std::string& dir) {
 
 // Exit 1 when a family failed (its error is in the table and gpu.json); the other families' results stand.
 int run_analyze_gpu(const AnalyzeArgs& a) {
+  const gpu::Frame frame = parse_size(a.size);
   gpu::GpuOptions options;
   options.families = gpu::parse_families(a.gpu);
   options.icd = gpu::find_radeon_icd();  // before compiling: a missing driver is the first thing to say
-  const gpu::Frame frame = gpu::parse_frame(a.size);
   compile::CompileOptions co = compile_options(a.common);
   co.targets = {variants::Target::vulkan};
   const auto compiled = compile::compile_space(a.common.manifest, co);

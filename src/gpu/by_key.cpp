@@ -33,7 +33,7 @@ KeyedCosts costs_by_key(const CostRequest& request, const std::set<std::string>&
   options.families = request.families;
   options.icd = find_radeon_icd();
   const GpuAnalysis analysis = analyze_gpu(compiled, selected, options);
-  out.by_variant = costs_of(analysis, variant_loads(compiled, selected), Frame{request.frame.width, request.frame.height},
+  out.by_variant = costs_of(analysis, variant_loads(compiled, selected), request.frame,
                             &out.errors);
   for (const auto& f : analysis.families)
     if (out.mesa.empty() && !f.driver.empty()) out.mesa = f.driver;

@@ -27,6 +27,6 @@ std::map<std::string, table::GpuCosts> costs_of(const GpuAnalysis& analysis,
 // Throws like analyze_gpu (missing driver, unknown family) before any work.
 std::map<std::string, table::GpuCosts> gpu_costs(const compile::CompiledSpace& compiled,
                                                  const std::vector<int>& variants, const GpuOptions& options,
-                                                 Frame frame = {}, std::vector<std::string>* errors = nullptr);
+                                                 Frame frame = kDefaultFrame, std::vector<std::string>* errors = nullptr);
 
 }  // namespace aovar::gpu

@@ -17,16 +17,6 @@ double stat(const ShaderStats& s, const char* name) {  // Mesa 25's unweighted c
 
 }  // namespace
 
-std::string Frame::text() const { return fmt::format("{}x{}", width, height); }
-
-Frame parse_frame(const std::string& text) {
-  Frame f;
-  char x = 0, rest = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &f.width, &x, &f.height, &rest) != 3 || (x != 'x' && x != 'X') ||
-      f.width <= 0 || f.height <= 0)
-    throw std::runtime_error(fmt::format("--size '{}': write WIDTHxHEIGHT, e.g. 1920x1080", text));
-  return f;
-}
 
 table::GpuPassCost pass_statistics(const PassStats& p) {
   const ShaderStats& s = p.unrolled;
@@ -73,7 +63,7 @@ table::GpuCost estimate(const VariantStats& stats, const std::vector<PassLoad>& 
   table::GpuCost cost;
   cost.product = spec ? spec->product : "";
   cost.mesa = mesa;
-  cost.frame = frame.text();
+  cost.frame = fmt::format("{}x{}", frame.width, frame.height);
   double total = spec ? 0.0 : NAN;
   for (const PassLoad& load : loads) {
     const PassStats* p = stats.pass(load.pass);

@@ -7,16 +7,14 @@
 
 #include "gpu/family_specs.h"
 #include "gpu/gpu.h"
+#include "render/frame.h"
 #include "table/gpu_cost.h"
 
 namespace aovar::gpu {
 
-struct Frame {
-  int width = 1920, height = 1080;
-  std::string text() const;  // "1920x1080"
-};
-// "1920x1080" -> Frame; throws std::runtime_error "--size 'x': write WIDTHxHEIGHT, e.g. 1920x1080".
-Frame parse_frame(const std::string& text);
+// The frame the estimate is for (the renderer's extent type); the CLI's default is 1920x1080.
+using Frame = render::Extent;
+inline constexpr Frame kDefaultFrame{1920, 1080};
 
 // What one pass asks of the GPU per frame, independent of the family (gpu/pass_loads.h makes them).
 struct PassLoad {
