@@ -141,9 +141,10 @@ const std::vector<std::string> kPlanned = {"alchemy-s08-p0-nrgb8-zdep-rst-d32-bs
 
 std::vector<gpu::PassLoad> planned_loads(int i) {
   static const compile::CompiledSpace c = test::compile_variants(kPlanned);
+  static std::map<std::string, analyze::ProgramCost> analysed;
   for (std::size_t v = 0; v < c.space.variants.size(); ++v)
     if (c.space.variants[v].key == kPlanned[i])
-      return gpu::pass_loads(render::plan_pipeline(c, static_cast<int>(v), variants::Target::vulkan));
+      return gpu::pass_loads(render::plan_pipeline(c, static_cast<int>(v), variants::Target::vulkan), analysed);
   ADD_FAILURE() << "not compiled: " << kPlanned[i];
   return {};
 }
@@ -182,7 +183,7 @@ const std::map<std::string, table::GpuCosts>& ladder_costs() {
     std::vector<int> all(c.space.variants.size());
     for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
     std::vector<std::string> errors;
-    auto out = gpu::gpu_costs(c, all, {kFamilies, {}}, gpu::kDefaultFrame, &errors);
+    auto out = gpu::costs_of(gpu::analyze_gpu(c, all, {kFamilies, {}}), gpu::variant_loads(c, all), gpu::kDefaultFrame, &errors);
     for (const auto& e : errors) ADD_FAILURE() << e;
     return out;
   }();

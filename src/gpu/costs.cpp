@@ -9,9 +9,10 @@ namespace aovar::gpu {
 std::map<std::string, std::vector<PassLoad>> variant_loads(const compile::CompiledSpace& compiled,
                                                            const std::vector<int>& variants) {
   std::map<std::string, std::vector<PassLoad>> loads;
+  std::map<std::string, analyze::ProgramCost> analysed;
   for (int v : variants) {
     const render::PipelinePlan plan = render::plan_pipeline(compiled, v, variants::Target::vulkan);
-    loads[plan.variant] = pass_loads(plan);
+    loads[plan.variant] = pass_loads(plan, analysed);
   }
   return loads;
 }
@@ -30,13 +31,6 @@ std::map<std::string, table::GpuCosts> costs_of(const GpuAnalysis& analysis,
     }
   }
   return out;
-}
-
-std::map<std::string, table::GpuCosts> gpu_costs(const compile::CompiledSpace& compiled,
-                                                 const std::vector<int>& variants, const GpuOptions& options,
-                                                 Frame frame, std::vector<std::string>* errors) {
-  const GpuAnalysis analysis = analyze_gpu(compiled, variants, options);
-  return costs_of(analysis, variant_loads(compiled, variants), frame, errors);
 }
 
 }  // namespace aovar::gpu

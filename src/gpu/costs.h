@@ -1,7 +1,8 @@
 #pragma once
 // Per variant, its cost on every analysed AMD family (table::GpuCosts, a cost-table row's "gpu" object):
 // ACO's statistics from RADV's null device (gpu/gpu.h) and, for families with a product in the data file
-// (gpu/family_specs.h), the roofline estimate (gpu/roofline.h). The one call sweep / measure --gpu use.
+// (gpu/family_specs.h), the roofline estimate (gpu/roofline.h). Sweep and measure --gpu reach it through
+// gpu/by_key.h (compile by key, analyse, estimate); analyze --gpu calls it on its own analysis.
 #include <map>
 #include <string>
 #include <vector>
@@ -22,11 +23,5 @@ std::map<std::string, std::vector<PassLoad>> variant_loads(const compile::Compil
 std::map<std::string, table::GpuCosts> costs_of(const GpuAnalysis& analysis,
                                                 const std::map<std::string, std::vector<PassLoad>>& loads,
                                                 Frame frame, std::vector<std::string>* errors = nullptr);
-
-// analyze_gpu over `variants` (indices into compiled.space.variants) on options.families, then costs_of.
-// Throws like analyze_gpu (missing driver, unknown family) before any work.
-std::map<std::string, table::GpuCosts> gpu_costs(const compile::CompiledSpace& compiled,
-                                                 const std::vector<int>& variants, const GpuOptions& options,
-                                                 Frame frame = kDefaultFrame, std::vector<std::string>* errors = nullptr);
 
 }  // namespace aovar::gpu

@@ -28,18 +28,17 @@ std::string axis(const render::PipelinePlan& plan, const char* name) {
 
 }  // namespace
 
-std::vector<PassLoad> pass_loads(const render::PipelinePlan& plan) {
+std::vector<PassLoad> pass_loads(const render::PipelinePlan& plan, std::map<std::string, analyze::ProgramCost>& analysed) {
   const auto texel_bytes = analyze::binding_bytes(axis(plan, "depth_format"), axis(plan, "normals"));
-  std::map<int, analyze::ProgramCost> by_fragment;  // a pass's draws share their program
   std::vector<PassLoad> loads;
   for (const std::string& pass : plan.passes()) {
     PassLoad load{pass, 0, 0, 0, 0};
     double share_sum = 0;
     for (const render::Draw& d : plan.draws) {
       if (d.pass != pass) continue;
-      auto it = by_fragment.find(d.fragment);
-      if (it == by_fragment.end())
-        it = by_fragment.emplace(d.fragment, analyze::analyze_spirv(plan.shaders[d.fragment].spirv)).first;
+      const render::Shader& fragment = plan.shaders[d.fragment];
+      auto it = analysed.find(fragment.program_key);
+      if (it == analysed.end()) it = analysed.emplace(fragment.program_key, analyze::analyze_spirv(fragment.spirv)).first;
       const double share = draw_share(plan, d);
       load.draws += 1;
       share_sum += share;
