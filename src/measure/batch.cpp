@@ -8,6 +8,7 @@
 #include "image/image.h"
 #include "shadergen/expand.h"
 #include "util/clock.h"
+#include "util/hash.h"
 
 namespace aovar::measure {
 namespace fs = std::filesystem;
@@ -17,6 +18,23 @@ using util::seconds_since;
 
 namespace {
 std::string size_text(render::Extent e) { return fmt::format("{}x{}", e.width, e.height); }
+
+// Per round: the pipeline's frame time over the baseline's in the same round (table::Rounds).
+std::vector<double> round_ratios(const PipelineTiming& t, const PipelineTiming& baseline) {
+  std::vector<double> ratios;
+  for (std::size_t i = 0; i < t.total_ms.size() && i < baseline.total_ms.size(); ++i)
+    if (baseline.total_ms[i] > 0 && t.total_ms[i] > 0) ratios.push_back(t.total_ms[i] / baseline.total_ms[i]);
+  return ratios;
+}
+
+// An id no other batch shares, in this run or an earlier one whose rows are reused next to these: rows with
+// the same id are paired round by round (table/time_compare.h).
+std::string batch_id(const std::string& where, int batch) {
+  util::Hasher h;
+  h.add(where).add(std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()))
+      .add(std::to_string(std::chrono::system_clock::now().time_since_epoch().count()));
+  return fmt::format("{}/{}", h.hex().substr(0, 12), batch);
+}
 }  // namespace
 
 BatchMeasurer::BatchMeasurer(const MeasureOptions& options, const compile::CompiledSpace& compiled,
@@ -118,6 +136,8 @@ MeasureRow BatchMeasurer::new_row(const Candidate& cand, const render::DeviceInf
   row.spirv_hash = cand.inputs.spirv_hash;
   row.inputs_hash = cand.inputs.inputs_hash;
   row.baseline = c_.space.variants[sel_.baseline].key;
+  row.rounds.scale = fmt::format("{}@{}/{}/{}/{}/{}/{}", row.baseline, row.scene, row.view, row.backend, row.device,
+                                 row.size, row.threads);
   return row;
 }
 
@@ -198,6 +218,7 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
     run.timed_wall_s = timed.wall_timed_s;
     run.timed_sum_s = timed.sum_timed_s;
     const PipelineTiming& batch_ref = timed.pipelines[0];
+    const std::string id = batch_id(where, b);
     if (b == 0) ref_first_ms = batch_ref.first_frame_ms;
     const double ref_min = util::summarize(batch_ref.total_ms).min;
     ref_timing.total_ms.insert(ref_timing.total_ms.end(), batch_ref.total_ms.begin(), batch_ref.total_ms.end());
@@ -210,6 +231,8 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
       finish_row(row, runner, todo[i], *prepared[i - lo], timing, view);
       row.rel_time = ref_min > 0 ? row.time_ms.min / ref_min : 0;
       row.rel_time_median = median_ratio(timing, batch_ref);
+      row.rounds.id = id;
+      row.rounds.ratios = round_ratios(timing, batch_ref);
       res_.rows.push_back(std::move(row));
       ++rows_measured_;
     }
@@ -219,6 +242,8 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
       ref_timing.first_frame_ms = ref_first_ms;
       finish_row(row, runner, ref, *ref_pipeline, ref_timing, view);
       row.rel_time = row.rel_time_median = 1.0;
+      row.rounds.id = table::Rounds::kAll;
+      row.rounds.ratios.assign(ref_timing.total_ms.size(), 1.0);
       res_.rows.push_back(std::move(row));
       ++rows_measured_;
     }

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "table/time_compare.h"
 #include "util/fs.h"
 
 namespace aovar::measure {
@@ -51,7 +52,8 @@ json row_to_json(const MeasureRow& r, const MeasureResult& res) {
           {"view", r.view}, {"backend", r.backend}, {"device", r.device}, {"driver", r.driver}, {"size", r.size}, {"threads", r.threads},
           {"radius", res.radius}, {"spirv_hash", r.spirv_hash}, {"inputs_hash", r.inputs_hash},
           {"time_ms", stats_json(r.time_ms)}, {"passes", passes}, {"rel_time", r.rel_time},
-          {"rel_time_median", r.rel_time_median}, {"baseline", r.baseline}, {"is_baseline", r.is_baseline},
+          {"rel_time_median", r.rel_time_median}, {"rounds", table::to_json(r.rounds)}, {"same_code_as", r.same_code_as},
+          {"baseline", r.baseline}, {"is_baseline", r.is_baseline},
           {"create_ms", r.create_ms}, {"first_frame_ms", r.first_frame_ms}, {"jit_ms", r.jit_ms},
           {"health", {{"nan", r.health.nan}, {"inf", r.health.inf}, {"out_of_range", r.health.out_of_range},
                       {"pixels", r.health.pixels}}},
@@ -80,6 +82,8 @@ MeasureRow row_from_json(const json& j) {
   for (auto& [k, v] : j.at("passes").items()) r.passes.emplace_back(k, stats_from(v));
   r.rel_time = j.at("rel_time");
   r.rel_time_median = j.at("rel_time_median");
+  r.rounds = table::rounds_from_json(j.at("rounds"));  // rows written before rounds existed are measured again
+  r.same_code_as = j.value("same_code_as", "");
   r.baseline = j.at("baseline");
   r.is_baseline = j.at("is_baseline");
   r.create_ms = j.at("create_ms");
@@ -133,6 +137,7 @@ void pair_times(std::vector<MeasureRow>& rows) {
   for (auto& r : rows) {
     auto base = baseline_ms.find({r.view, r.backend, r.baseline});
     r.time_ms.paired = base != baseline_ms.end() && r.rel_time_median > 0 ? r.rel_time_median * base->second : 0;
+    table::set_intervals(r);
   }
 }
 

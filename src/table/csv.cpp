@@ -97,8 +97,10 @@ namespace {
 const std::vector<std::string> kFixedHead = {"variant"};
 const std::vector<std::string> kFixedTail = {
     "spirv_hash", "scene", "view", "backend", "device", "driver", "size", "threads", "time_ms.min", "time_ms.median", "time_ms.p90",
-    "time_ms.n", "time_ms.paired", "rel_time", "rel_time_median", "error.rmse", "error.mae", "error.psnr", "error.ssim", "error.bias", "error.max",
-    "health.nan", "health.inf", "health.out_of_range", "pareto", "predicted", "flicker", "images", "static", "gpu"};
+    "time_ms.n", "time_ms.paired", "time_ms.paired_lo", "time_ms.paired_hi", "rel_time", "rel_time_median", "rel_time_lo",
+    "rel_time_hi", "same_code_as", "error.rmse", "error.mae", "error.psnr", "error.ssim", "error.bias", "error.max",
+    "health.nan", "health.inf", "health.out_of_range", "pareto", "predicted", "flicker", "images", "static", "gpu",
+    "rounds"};
 // Readable per-family columns after the fixed ones (the "gpu" column's JSON is what from_csv reads back).
 const std::vector<std::string> kGpuColumns = {"est_ms", "bound", "vgprs", "waves"};
 }  // namespace
@@ -129,6 +131,7 @@ std::string to_csv(const CostTable& t) {
     }
     std::string images;
     for (std::size_t i = 0; i < r.images.size(); ++i) images += (i ? ";" : "") + r.images[i];
+    auto bound = [](double v) { return std::isnan(v) ? std::string() : text(v); };  // unknown interval: empty
     auto e = [&](int i) {
       if (!r.error) return std::string();
       metrics::ErrorStats copy = *r.error;
@@ -136,12 +139,15 @@ std::string to_csv(const CostTable& t) {
     };
     std::vector<std::string> tail = {r.spirv_hash, r.scene, r.view, r.backend, r.device, r.driver, r.size, std::to_string(r.threads),
                                      text(r.time_ms.min), text(r.time_ms.median), text(r.time_ms.p90),
-                                     std::to_string(r.time_ms.n), text(r.time_ms.paired), text(r.rel_time), text(r.rel_time_median), e(0), e(1), e(2), e(3), e(4), e(5),
+                                     std::to_string(r.time_ms.n), text(r.time_ms.paired), bound(r.time_ms.paired_ci.lo),
+                                     bound(r.time_ms.paired_ci.hi), text(r.rel_time), text(r.rel_time_median),
+                                     bound(r.rel_time_ci.lo), bound(r.rel_time_ci.hi), r.same_code_as, e(0), e(1), e(2), e(3), e(4), e(5),
                                      std::to_string(r.health.nan), std::to_string(r.health.inf),
                                      std::to_string(r.health.out_of_range), r.pareto ? "true" : "false",
                                      r.predicted ? "true" : "false", r.flicker ? text(*r.flicker) : "", images,
                                      r.static_cost ? to_json(r.static_cost).dump() : std::string("{}"),
-                                     r.gpu.empty() ? std::string("{}") : to_json(r.gpu).dump()};
+                                     r.gpu.empty() ? std::string("{}") : to_json(r.gpu).dump(),
+                                     r.rounds.ratios.empty() ? std::string() : to_json(r.rounds).dump()};
     f.insert(f.end(), tail.begin(), tail.end());
     for (const auto& family : families) {
       auto it = r.gpu.find(family);
@@ -189,6 +195,14 @@ CostTable from_csv(const std::string& s) {
     if (c.count("time_ms.paired")) r.time_ms.paired = parse_double(c["time_ms.paired"], "time_ms.paired");
     r.rel_time = parse_double(c["rel_time"], "rel_time");
     if (c.count("rel_time_median")) r.rel_time_median = parse_double(c["rel_time_median"], "rel_time_median");
+    auto interval = [&](const std::string& lo, const std::string& hi) {
+      if (c[lo].empty() || c[hi].empty()) return util::Interval{};
+      return util::Interval{parse_double(c[lo], lo), parse_double(c[hi], hi)};
+    };
+    r.time_ms.paired_ci = interval("time_ms.paired_lo", "time_ms.paired_hi");
+    r.rel_time_ci = interval("rel_time_lo", "rel_time_hi");
+    r.same_code_as = c["same_code_as"];
+    if (!c["rounds"].empty()) r.rounds = rounds_from_json(json::parse(c["rounds"]));
     if (!c["error.rmse"].empty()) {
       metrics::ErrorStats e;
       for (int i = 0; i < 6; ++i) {

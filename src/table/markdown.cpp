@@ -32,8 +32,9 @@ std::string to_markdown(const CostTable& t) {
     return std::tie(a->scene, a->view, ta, a->variant, a->backend) < std::tie(b->scene, b->view, tb, b->variant, b->backend);
   });
   std::string out =
-      "| scene | view | backend | variant | paired ms | min ms | median ms | rel | rmse | ssim | psnr | pareto |\n"
-      "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|:---:|\n";
+      "| scene | view | backend | variant | paired ms [95 % interval] | min ms | median ms | rel | rmse | ssim | psnr | "
+      "pareto | same code as |\n"
+      "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|:---:|---|\n";
   for (const CostRow* r : rows) {
     std::string err = " - | - | - ";
     if (r->error)
@@ -42,10 +43,12 @@ std::string to_markdown(const CostTable& t) {
     std::string time = r->predicted ? fmt::format("~{:.3f} (predicted)", r->time_ms.min)
                                     : fmt::format("{:.3f}", r->time_ms.min);
     std::string paired = r->predicted ? std::string("-") : r->time_ms.paired > 0 ? fmt::format("{:.3f}", r->time_ms.paired) : "-";
-    out += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.2f} |{}| {} |\n", md_cell(r->scene), md_cell(r->view),
+    if (!r->predicted && r->time_ms.paired_ci.known())
+      paired += fmt::format(" [{:.3f}, {:.3f}]", r->time_ms.paired_ci.lo, r->time_ms.paired_ci.hi);
+    out += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.2f} |{}| {} | {} |\n", md_cell(r->scene), md_cell(r->view),
                        md_cell(r->backend), md_cell(r->variant), paired, time,
                        r->predicted ? std::string("-") : fmt::format("{:.3f}", r->time_ms.median), r->rel_time, err,
-                       r->pareto ? "*" : "");
+                       r->pareto ? "*" : "", md_cell(r->same_code_as));
   }
   return out + pruned_summary(t);
 }

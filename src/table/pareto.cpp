@@ -6,31 +6,40 @@
 #include <tuple>
 
 #include "table/table.h"
+#include "table/time_compare.h"
 
 namespace aovar::table {
+
+namespace {
+
+// b is dominated by a: no more error, time lower or tied, and better in one of them beyond the noise.
+bool dominates(const CostRow& a, const CostRow& b) {
+  if (a.error->rmse > b.error->rmse) return false;
+  const TimeComparison t = compare_time(a, b);
+  if (t.verdict == TimeVerdict::slower) return false;
+  return a.error->rmse < b.error->rmse || t.verdict == TimeVerdict::faster;
+}
+
+}  // namespace
 
 void mark_pareto(std::vector<CostRow>& rows) {
   std::map<std::tuple<std::string, std::string, std::string>, std::vector<CostRow*>> groups;
   for (auto& r : rows) {
     r.pareto = false;
-    if (r.error && !std::isnan(r.error->rmse)) groups[{r.scene, r.view, r.backend}].push_back(&r);
+    if (r.error && !std::isnan(r.error->rmse) && r.same_code_as.empty()) groups[{r.scene, r.view, r.backend}].push_back(&r);
   }
   for (auto& [g, members] : groups) {
+    // In order of error: only rows before a row (error no higher) can dominate it. Ties make the relation
+    // non-transitive, so each row is checked against every earlier one, not only against the front so far.
     std::sort(members.begin(), members.end(), [](const CostRow* a, const CostRow* b) {
       double ta = a->time_ms.decision(), tb = b->time_ms.decision();
-      return std::tie(ta, a->error->rmse, a->variant) < std::tie(tb, b->error->rmse, b->variant);
+      return std::tie(a->error->rmse, ta, a->variant) < std::tie(b->error->rmse, tb, b->variant);
     });
-    // Sweep in time order: a row is dominated by an earlier one (time <= its time) with lower error, or
-    // with equal error and strictly lower time. min_t is the lowest time reaching min_e (the first in order).
-    double min_e = std::numeric_limits<double>::infinity(), min_t = 0;
-    for (CostRow* r : members) {
-      double e = r->error->rmse, t = r->time_ms.decision();
-      bool dominated = min_e < e || (min_e == e && min_t < t);
-      r->pareto = !dominated;
-      if (e < min_e) {
-        min_e = e;
-        min_t = t;
-      }
+    for (std::size_t i = 0; i < members.size(); ++i) {
+      bool dominated = false;
+      for (std::size_t j = 0; j < members.size() && members[j]->error->rmse <= members[i]->error->rmse && !dominated; ++j)
+        dominated = j != i && dominates(*members[j], *members[i]);
+      members[i]->pareto = !dominated;
     }
   }
 }
@@ -44,10 +53,12 @@ std::vector<CostRow> worst_view(const std::vector<CostRow>& rows) {
     std::vector<const CostRow*> sorted = members;
     std::sort(sorted.begin(), sorted.end(), [](const CostRow* a, const CostRow* b) { return a->view < b->view; });
     const CostRow* worst = sorted[0];
+    const CostRow* slowest = sorted[0];
     CostRow agg = *worst;
     std::string views;
     for (const CostRow* r : sorted) {
       if (r->error->rmse > worst->error->rmse) worst = r;
+      if (r->time_ms.decision() > slowest->time_ms.decision()) slowest = r;
       agg.time_ms.min = std::max(agg.time_ms.min, r->time_ms.min);
       agg.time_ms.median = std::max(agg.time_ms.median, r->time_ms.median);
       agg.time_ms.p90 = std::max(agg.time_ms.p90, r->time_ms.p90);
@@ -62,6 +73,13 @@ std::vector<CostRow> worst_view(const std::vector<CostRow>& rows) {
       views += (views.empty() ? "" : ",") + r->view;
     }
     agg.error = worst->error;
+    // The decision time is the slowest view's, with its interval and rounds (compare_time pairs those; their
+    // scale still names that view, so two worst rows from different views compare by paired time).
+    agg.time_ms.paired = slowest->time_ms.paired;
+    agg.time_ms.paired_ci = slowest->time_ms.paired_ci;
+    agg.rel_time_median = slowest->rel_time_median;
+    agg.rel_time_ci = slowest->rel_time_ci;
+    agg.rounds = slowest->rounds;
     agg.view = "worst(" + views + ")";
     agg.images.clear();
     out.push_back(std::move(agg));

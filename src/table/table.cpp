@@ -20,6 +20,23 @@ json num(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 }  // namespace
 
+json to_json(const util::Interval& i) { return i.known() ? json::array({i.lo, i.hi}) : json(nullptr); }
+
+util::Interval interval_from_json(const json& j) {
+  if (j.is_null()) return {};
+  if (!j.is_array() || j.size() != 2) throw std::runtime_error("an interval is [lo, hi] or null");
+  return {j.at(0).get<double>(), j.at(1).get<double>()};
+}
+
+json to_json(const Rounds& r) { return {{"scale", r.scale}, {"id", r.id}, {"ratios", r.ratios}}; }
+
+Rounds rounds_from_json(const json& j) {
+  Rounds r{j.at("scale").get<std::string>(), j.at("id").get<std::string>(), j.at("ratios").get<std::vector<double>>()};
+  for (double x : r.ratios)
+    if (!(x > 0) || !std::isfinite(x)) throw std::runtime_error("a round's ratio must be a positive number");
+  return r;
+}
+
 std::string CostRow::key() const {
   return fmt::format("{}|{}|{}|{}|{}|{}", variant, scene, view, backend, size, threads);
 }
@@ -46,9 +63,12 @@ json to_json(const CostRow& r) {
           {"static", to_json(r.static_cost)},
           {"gpu", to_json(r.gpu)},
           {"time_ms", {{"min", r.time_ms.min}, {"median", r.time_ms.median}, {"p90", r.time_ms.p90}, {"n", r.time_ms.n},
-                       {"paired", r.time_ms.paired}}},
+                       {"paired", r.time_ms.paired}, {"paired_ci", to_json(r.time_ms.paired_ci)}}},
           {"rel_time", r.rel_time},
           {"rel_time_median", r.rel_time_median},
+          {"rel_time_ci", to_json(r.rel_time_ci)},
+          {"rounds", r.rounds.ratios.empty() ? json(nullptr) : to_json(r.rounds)},
+          {"same_code_as", r.same_code_as},
           {"error", error},
           {"health", {{"nan", r.health.nan}, {"inf", r.health.inf}, {"out_of_range", r.health.out_of_range}}},
           {"pareto", r.pareto},
@@ -88,10 +108,17 @@ CostRow row_from_json(const json& j) {
     const json& t = j.at("time_ms");
     r.time_ms = {t.at("min").get<double>(), t.value("median", 0.0), t.value("p90", 0.0), t.value("n", 0),
                  t.value("paired", 0.0)};
+    if (t.contains("paired_ci")) r.time_ms.paired_ci = interval_from_json(t.at("paired_ci"));
     field = "rel_time";
     r.rel_time = j.value("rel_time", 0.0);
     field = "rel_time_median";
     r.rel_time_median = j.value("rel_time_median", 0.0);
+    field = "rel_time_ci";
+    if (j.contains("rel_time_ci")) r.rel_time_ci = interval_from_json(j.at("rel_time_ci"));
+    field = "rounds";
+    if (j.contains("rounds") && !j.at("rounds").is_null()) r.rounds = rounds_from_json(j.at("rounds"));
+    field = "same_code_as";
+    r.same_code_as = j.value("same_code_as", "");
     field = "error";
     if (j.contains("error") && !j.at("error").is_null()) {
       metrics::ErrorStats e;
@@ -117,7 +144,7 @@ CostRow row_from_json(const json& j) {
     if (j.contains("flicker") && !j.at("flicker").is_null()) r.flicker = j.at("flicker").get<double>();
     field = "images";
     if (j.contains("images")) r.images = j.at("images").get<std::vector<std::string>>();
-  } catch (const json::exception& e) {
+  } catch (const std::exception& e) {  // json's type errors and the checks above
     throw std::runtime_error("row '" + r.variant + "': field '" + field + "': " + e.what());
   }
   return r;

@@ -19,6 +19,21 @@
 
 namespace aovar::table {
 
+// The rounds a row was timed in (measure/timing.h): per round, its frame time over the baseline's frame
+// time in the same round. What the intervals and ties are computed from (table/time_compare.h).
+struct Rounds {
+  // Rows with the same scale hold ratios to the same baseline variant on the same scene, view, backend,
+  // device, size and threads: "<baseline>@<scene>/<view>/<backend>/<device>/<size>/<threads>".
+  std::string scale;
+  // Rows with the same id were timed in the same rounds (one batch), so round i of one pairs with round i of
+  // the other. "all": the baseline's own row, timed in every round (its ratio is 1 by definition).
+  std::string id;
+  std::vector<double> ratios;
+  bool is_baseline() const { return id == kAll; }
+  static constexpr const char* kAll = "all";
+  bool operator==(const Rounds&) const = default;
+};
+
 struct CostRow {
   std::string variant;                       // key
   std::map<std::string, std::string> axes;   // axis name -> canonical value text
@@ -33,6 +48,11 @@ struct CostRow {
   // Median over rounds of this row's frame time / the baseline's in the same round: a paired ratio that
   // cancels drift between rounds and batches (0 when unknown, e.g. predicted rows).
   double rel_time_median = 0;
+  util::Interval rel_time_ci;                // 95 % sign-test interval of rel_time_median (util/intervals.h)
+  Rounds rounds;                             // empty for predicted rows and tables written before them
+  // The variant whose measurement this row shares: both execute identical code on this backend (mediump
+  // and highp where the driver ignores RelaxedPrecision). Empty: measured itself. Never on a front.
+  std::string same_code_as;
   // Against the ray-traced reference; null when measured without --reference. cost_table.json keeps rmse, mae,
   // psnr, ssim, bias and max (measure.json all of it).
   std::optional<metrics::ErrorStats> error;
@@ -56,6 +76,12 @@ struct CostTable {
 nlohmann::json to_json(const CostRow& row);
 CostRow row_from_json(const nlohmann::json& j);
 nlohmann::json to_json(const CostTable& table);  // {"meta": ..., "rows": [...]}
+// The pieces measure.json shares: an interval as [lo, hi] (null when unknown), the rounds as
+// {"scale", "id", "ratios"}.
+nlohmann::json to_json(const util::Interval& interval);
+util::Interval interval_from_json(const nlohmann::json& j);
+nlohmann::json to_json(const Rounds& rounds);
+Rounds rounds_from_json(const nlohmann::json& j);
 CostTable table_from_json(const nlohmann::json& j);
 
 // Files. read_table throws with a one-line message naming the file; writes are atomic.
@@ -79,9 +105,11 @@ std::string pruned_summary(const CostTable& table);
 // cost_table.json, .csv and .md in `dir` (atomic each).
 void write_table_files(const CostTable& table, const std::filesystem::path& dir);
 
-// Pareto front of (time_ms.min, error.rmse), both minimised, per (scene, view, backend): sets `pareto`
-// on every row (false for rows without an error). A row is on the front when no other row is at least as
-// good in both and better in one; identical points are all on the front (deterministic).
+// Pareto front of (time, error.rmse), both minimised, per (scene, view, backend): sets `pareto` on every
+// row (false for rows without an error and for same_code_as rows). Time is compared with its interval
+// (compare_time, table/time_compare.h): a row is dominated by another whose error is no higher and whose
+// time is lower or tied (the interval of the difference holds 0), with lower error or a time lower beyond
+// the noise. Rows tied in both are all on the front (deterministic).
 void mark_pareto(std::vector<CostRow>& rows);
 inline void mark_pareto(CostTable& t) { mark_pareto(t.rows); }
 

@@ -6,6 +6,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "util/intervals.h"
+
 namespace aovar::util {
 
 // One time statistic for every timed thing: a frame, a pass, a cost-table row (in ms).
@@ -16,6 +18,9 @@ struct TimeStats {
   // median paired ratio (rel_time_median), free of the drift between batches measured at different moments
   // (5-10 % on these hosts). 0 when unknown (not paired, or tables written before it existed).
   double paired = 0;
+  // 95 % interval of `paired`: the sign-test interval of the per-round ratios (rel_time_ci) times the same
+  // baseline min (util/intervals.h). Unknown (NaN) with fewer than 6 rounds, or for predicted rows.
+  Interval paired_ci = {};
   // The time that decides (Pareto, select, the cost model, sorting): paired when known, else min.
   double decision() const { return paired > 0 ? paired : min; }
   bool operator==(const TimeStats&) const = default;
