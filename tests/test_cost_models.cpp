@@ -40,23 +40,26 @@ table::CostRow model_row(const std::string& view, int i, double work, double tim
 
 double work_of(int i) { return 20 + 7.0 * i; }
 
-// 40 rows whose time has nothing to do with their features: uniform in [1, 3] ms from a fixed seed.
-std::vector<table::CostRow> unrelated_rows(const std::string& view) {
-  std::mt19937 rng(18);
-  std::uniform_real_distribution<double> time(1.0, 3.0);
+// 40 rows of growing static work, each timed by time_of(its work, a generator seeded with `seed`).
+template <class TimeOf>
+std::vector<table::CostRow> rows_timed(const std::string& view, unsigned seed, TimeOf time_of) {
+  std::mt19937 rng(seed);
   std::vector<table::CostRow> rows;
-  for (int i = 0; i < 40; ++i) rows.push_back(model_row(view, i, work_of(i), time(rng)));
+  for (int i = 0; i < 40; ++i) rows.push_back(model_row(view, i, work_of(i), time_of(work_of(i), rng)));
   return rows;
 }
 
-// 40 rows whose time is a clean linear function of the work per pixel (plus 1 % noise).
+// Time that has nothing to do with the features: uniform in [1, 3] ms from a fixed seed.
+std::vector<table::CostRow> unrelated_rows(const std::string& view) {
+  return rows_timed(view, 18, [](double, std::mt19937& rng) { return std::uniform_real_distribution<double>(1.0, 3.0)(rng); });
+}
+
+// Time that is a clean linear function of the work per pixel (plus 1 % noise).
 double linear_time(double work) { return 0.2 + 0.01 * work; }
 std::vector<table::CostRow> linear_rows(const std::string& view) {
-  std::mt19937 rng(5);
-  std::normal_distribution<double> noise(0, 0.01);
-  std::vector<table::CostRow> rows;
-  for (int i = 0; i < 40; ++i) rows.push_back(model_row(view, i, work_of(i), linear_time(work_of(i)) * (1 + noise(rng))));
-  return rows;
+  return rows_timed(view, 5, [](double work, std::mt19937& rng) {
+    return linear_time(work) * (1 + std::normal_distribution<double>(0, 0.01)(rng));
+  });
 }
 
 std::vector<table::CostRow> both(std::vector<table::CostRow> a, const std::vector<table::CostRow>& b) {
