@@ -213,6 +213,7 @@ TEST(CliText, SweepNotesReportTheCostModelsTheCountsAndTheReport) {
   fit.cv_spearman = 0.75;
   fit.cv_spearman_min = 0.625;
   fit.features = "compact static";
+  fit.predictive = true;  // the not predictive form: test_cost_models.cpp
   fit.predicts = true;
   r.cost_models = {fit};
   r.rows_measured = 9;

@@ -68,6 +68,10 @@ Command add_sweep(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--predict", so.predict,
                   "variants (globs, repeatable) to predict from the cost model instead of measuring: rows marked predicted");
+  cmd->add_option("--min-model-spearman", so.min_model_spearman,
+                  "least held-out Spearman of a cost model that may predict (--predict, --prune-dominated)")
+      ->check(CLI::Range(-1.0, 1.0))
+      ->capture_default_str();
   cmd->add_option("--shard", a->shard, "k/n: measure only the k-th of n shards of the variants (join with aovar merge)");
   add_calibration(cmd, a->calibration, calibration_help);
   cmd->add_option("--views-file", so.measure.views_file, "views side file (TOML or JSON) for the scene(s)");

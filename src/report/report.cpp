@@ -290,12 +290,20 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
     << m.value("reps", 0) << " reps, references " << m.value("rays", 0) << " rays; "
     << (m.value("calibrated", false) ? "calibrated parameters" : "manifest defaults") << "; shard "
     << escape(m.value("shard", std::string("1/1"))) << ".</p><p>" << escape(kTimeNote) << "</p><ul>";
-  for (const auto& cm : m.value("cost_models", nlohmann::json::array()))
+  for (const auto& cm : m.value("cost_models", nlohmann::json::array())) {
+    // A not predictive model's numbers are its reason, not a result (tables older than "predictive": as before).
+    if (!cm.value("predictive", true)) {
+      h << fmt::format("<li>cost model {} / {} ({} features, {} rows): not predictive ({})</li>",
+                       escape(cm.value("scene", std::string())), escape(cm.value("view", std::string())),
+                       escape(cm.value("features", std::string())), cm.value("rows", 0), escape(cm.value("reason", std::string())));
+      continue;
+    }
     h << fmt::format("<li>cost model {} / {}: {} rows, cross-validated R² {:.3f}, Spearman ρ {:.3f} against the paired time "
                      "({:.3f} against time_ms.min; {} features{})</li>",
                      escape(cm.value("scene", std::string())), escape(cm.value("view", std::string())), cm.value("rows", 0),
                      cm.value("cv_r2", 0.0), cm.value("cv_spearman", 0.0), cm.value("cv_spearman_min", 0.0),
                      escape(cm.value("features", std::string())), cm.value("predicts", false) ? "; predicts" : "");
+  }
   h << "</ul>";
   // The scene profiles' pruning, counts only (the variants and reasons are in cost_table.json meta.pruned).
   if (t.meta.is_object() && t.meta.contains("pruned") && !t.meta.at("pruned").empty()) {

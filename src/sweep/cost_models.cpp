@@ -1,20 +1,51 @@
 #include "sweep/cost_models.h"
 
+#include <optional>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
 #include "table/cost_features.h"
 
 namespace aovar::sweep {
 using json = nlohmann::json;
 
+std::string group_name(const Group& g) { return std::get<0>(g) + "/" + std::get<1>(g) + "/" + std::get<2>(g); }
+
+// `!(x >= bound)` rather than `x < bound`: a NaN skill (a degenerate fold) is no skill.
+Verdict judge_model(double cv_r2, double cv_spearman, double min_spearman) {
+  std::string r2 = fmt::format("cross-validated R² {:.3g}", cv_r2), rho = fmt::format("held-out Spearman {:.3f}", cv_spearman);
+  std::string fails;
+  if (!(cv_r2 >= 0)) fails = r2 + " < 0";
+  if (!(cv_spearman >= min_spearman)) fails += fmt::format("{}{} < {:.2f}", fails.empty() ? "" : ", ", rho, min_spearman);
+  if (fails.empty()) return {true, fmt::format("{} >= 0, {} >= {:.2f}", r2, rho, min_spearman)};
+  return {false, fails};
+}
+
+std::string not_predictive_label(const ModelFit& fit) {
+  return fit.predictive ? std::string() : "not predictive (" + fit.reason + ")";
+}
+
+namespace {
+void judge(ModelFit& fit, double min_spearman) {
+  Verdict v = judge_model(fit.cv_r2, fit.cv_spearman, min_spearman);
+  fit.predictive = v.predictive;
+  fit.reason = v.reason;
+  fit.verdict = (v.predictive ? "predictive: " : "not predictive: ") + v.reason;
+}
+}  // namespace
+
 // The weighted-classes model: 13 features meet 30-40 rows, hence the ridge (lambda 0.3 on standardised
 // features; chosen on the Sponza and atrium sweeps, bench/README.md).
-GroupModels fit_group_models(const std::vector<table::CostRow>& rows) {
+GroupModels fit_group_models(const std::vector<table::CostRow>& rows, double min_spearman) {
   GroupModels gm;
   for (const auto& row : rows) gm.groups[{row.scene, row.view, row.backend}].push_back(row);
   for (const auto& [g, rows] : gm.groups) {
     if (rows.size() < 8) continue;  // 5 folds need more than one row each, mostly
     // Three models, all reported: six compact features (static work per pixel and the pass structure),
     // thirteen instruction classes weighted by pixels, and, with 4 rows per parameter or more, every static
-    // count plus the axis one-hots. Predictions use the one with the best cross-validated Spearman.
+    // count plus the axis one-hots. Predictions use, of the predictive ones (judge_model), the one with the
+    // best cross-validated Spearman.
     struct Spec {
       std::string name;
       table::FeatureSpec features;
@@ -28,6 +59,7 @@ GroupModels fit_group_models(const std::vector<table::CostRow>& rows) {
     auto full = table::axis_features(rows).then(table::static_features());
     std::vector<Spec> specs = {{"compact static", table::compact_features(), 1e-2}, {"weighted classes", table::weighted_class_features(), 0.3}};
     if (rows.size() >= 4 * full.names.size()) specs.push_back({"static + axes", full, 1e-2});
+    std::optional<ModelFit> best_refused;  // the not predictive one of best held-out Spearman
     for (const auto& sp : specs) {
       auto model = table::fit_cost_model(rows, sp.features, sp.lambda);
       ModelFit fit;
@@ -39,10 +71,16 @@ GroupModels fit_group_models(const std::vector<table::CostRow>& rows) {
       fit.cv_r2 = model.cv.r2;
       fit.cv_spearman = model.cv.spearman;
       fit.cv_spearman_min = table::spearman(raw, model.cv.held_out);
+      judge(fit, min_spearman);
+      if (fit.predictive) {
+        auto it = gm.best.find(g);
+        if (it == gm.best.end() || model.cv.spearman > it->second.second.cv.spearman) gm.best[g] = {sp.name, model};
+      } else if (!best_refused || fit.cv_spearman > best_refused->cv_spearman) {
+        best_refused = fit;
+      }
       gm.models.push_back(std::move(fit));
-      auto it = gm.best.find(g);
-      if (it == gm.best.end() || model.cv.spearman > it->second.second.cv.spearman) gm.best[g] = {sp.name, model};
     }
+    if (!gm.best.count(g) && best_refused) gm.unpredictable[g] = best_refused->reason;
   }
   for (auto& m : gm.models) {
     const Group g{m.scene, m.view, m.backend};
@@ -58,6 +96,14 @@ GroupModels fit_group_models(const std::vector<table::CostRow>& rows) {
   return gm;
 }
 
+const table::CostModel* predicting_model(const GroupModels& gm, const Group& g) {
+  if (auto it = gm.best.find(g); it != gm.best.end()) return &it->second.second;
+  auto refused = gm.unpredictable.find(g);
+  if (refused == gm.unpredictable.end()) return nullptr;
+  throw std::runtime_error("sweep --predict: no predictive cost model for " + group_name(g) + " (best: " + refused->second +
+                           "); measure these variants or lower --min-model-spearman");
+}
+
 json to_json(const std::vector<ModelFit>& fits) {
   json out = json::array();
   for (const auto& m : fits) {
@@ -65,6 +111,7 @@ json to_json(const std::vector<ModelFit>& fits) {
               {"rows", m.rows},     {"cv_r2", m.cv_r2},       {"cv_spearman", m.cv_spearman},
               {"cv_spearman_min", m.cv_spearman_min},         {"target", "time_ms.paired"},
               {"folds", m.folds},   {"features", m.features}, {"lambda", m.lambda},
+              {"predictive", m.predictive}, {"verdict", m.verdict}, {"reason", m.reason},
               {"predicts", m.predicts}};
     if (m.predicts) {
       json held = json::array();

@@ -2,7 +2,8 @@
 // its predicted point, time with a margin:
 //   time:  M's paired time x (1 + margin) <= the variant's time predicted by that group's predicting cost
 //          model; margin = the model's median held-out relative error (at least 5 %), so a model that
-//          predicts poorly prunes little;
+//          predicts poorly prunes little, and a group with no predictive model (judge_model in
+//          cost_models.h) prunes nothing: every variant is measured;
 //   error: M's RMSE <= the lowest RMSE measured for the variant's algorithm. The cost model predicts no
 //          error; within a method the sample count, buffers, precision, blur and resolution mostly add
 //          error to its best variant, so that best is an optimistic guess of what the variant can reach
@@ -135,6 +136,16 @@ json dominated_everywhere(const Candidates& c, const std::string& g, const Group
   return by;
 }
 
+// A variant is skipped only when it is dominated on every view and backend, so one group without a
+// predictive model leaves nothing to skip: say so (a `note:` line per such group) rather than prune silently
+// on nothing, and measure every variant.
+bool all_predictive(const GroupModels& gm, const std::string& scene, const measure::Progress& say) {
+  for (const auto& [g, reason] : gm.unpredictable)
+    say(fmt::format("note: --prune-dominated: no predictive cost model for {} ({}); measuring every variant of {}",
+                    group_name(g), reason, scene));
+  return gm.unpredictable.empty();
+}
+
 }  // namespace
 
 measure::MeasureResult measure_pruned(const SweepOptions& o, const measure::MeasureOptions& mo,
@@ -163,12 +174,13 @@ measure::MeasureResult measure_pruned(const SweepOptions& o, const measure::Meas
 
   auto rows = measure::cost_rows(first_result, std::filesystem::path("measure") / folder);
   for (auto& row : rows) row.static_cost = statics.at(row.variant).cost;
-  const GroupModels gm = fit_group_models(rows);
+  const GroupModels gm = fit_group_models(rows, o.min_model_spearman);
   const auto bounds = bounds_of(gm);
   std::vector<std::string> dominated;
   json details = json::array();
+  const bool can_prune = all_predictive(gm, mo.scene, say);
   for (const auto& g : later)
-    if (json by = dominated_everywhere(c, g, gm, bounds); !by.is_null()) {
+    if (json by = can_prune ? dominated_everywhere(c, g, gm, bounds) : json(nullptr); !by.is_null()) {
       dominated.push_back(g);
       details.push_back({{"variant", c.members.at(g).front()}, {"views", by}});
     }
@@ -184,6 +196,7 @@ measure::MeasureResult measure_pruned(const SweepOptions& o, const measure::Meas
   for (const auto& g : skipped) report["skipped_variants"].push_back(c.members.at(g).front());
   for (const auto& g : checked) report["checked"].push_back(c.members.at(g).front());
   report["dominated"] = details;
+  report["cost_models"] = to_json(gm.models);  // the seed phase's fits: the verdicts that decided the pruning
   pruning.report = report;
 
   say(fmt::format("pruning: {} of {} variants predicted dominated, {} skipped", dominated.size(), later.size(), skipped.size()));

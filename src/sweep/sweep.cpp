@@ -91,7 +91,8 @@ ScenePlans plan_scenes(const SweepOptions& o, SweepResult& res, const std::funct
 }
 
 // Predicted rows: variants the --predict globs select that were not measured (nor share a measured variant's
-// programs), timed by their group's best model; no error, never on the Pareto front.
+// programs), timed by their group's predicting model; no error, never on the Pareto front. A group whose models
+// are all not predictive refuses (predicting_model throws) rather than fill the table with guesses.
 std::vector<table::CostRow> predicted_rows(const SweepOptions& o, const std::vector<table::CostRow>& measured_rows,
                                            const std::map<std::string, VariantStatic>& statics, const GroupModels& gm,
                                            const ScenePlans& plans) {
@@ -102,10 +103,11 @@ std::vector<table::CostRow> predicted_rows(const SweepOptions& o, const std::vec
   for (const auto& [key, vs] : static_costs(o.measure, o.predict, plans.dropped_everywhere)) {
     if (measured.count(key) || measured_programs.count(vs.vulkan_programs)) continue;
     if (o.measure.shard_count > 1 && measure::shard_of(key, o.measure.shard_count) != o.measure.shard_index) continue;
-    for (const auto& [g, model] : gm.best) {
-      const table::CostRow& like = gm.groups.at(g).front();  // scene, view, backend, size, threads
+    for (const auto& [g, grows] : gm.groups) {
+      const table::CostRow& like = grows.front();  // scene, view, backend, size, threads
       if (auto p = plans.pruning.find(like.scene); p != plans.pruning.end() && p->second->drops(key)) continue;
-      predicted.push_back(std::move(table::predict_rows(model.second, {unmeasured_row(like, key, vs)}).front()));
+      if (const table::CostModel* model = predicting_model(gm, g))
+        predicted.push_back(std::move(table::predict_rows(*model, {unmeasured_row(like, key, vs)}).front()));
     }
   }
   return predicted;
@@ -206,8 +208,8 @@ SweepResult run_sweep(const SweepOptions& o, const Progress& progress) {
   }
   for (auto& row : res.table.rows)
     if (auto it = statics.find(row.variant); it != statics.end()) row.static_cost = it->second.cost;
-  auto gm = fit_group_models(res.table.rows);
-  if (!o.predict.empty() && !gm.best.empty()) {
+  auto gm = fit_group_models(res.table.rows, o.min_model_spearman);
+  if (!o.predict.empty() && (!gm.best.empty() || !gm.unpredictable.empty())) {
     if (progress) progress("predicting the time of the unmeasured variants");
     auto predicted = predicted_rows(o, res.table.rows, statics, gm, plans);
     res.rows_predicted = static_cast<int>(predicted.size());

@@ -22,8 +22,10 @@ struct SweepOptions {
   std::vector<std::string> scenes = {"builtin:atrium"};
   std::filesystem::path out;
   // Variants (globs) to predict rather than measure: each one not measured gets a row per scene, view and
-  // backend with the time of that group's best cost model, marked `predicted` (no error, not on the front).
+  // backend with the time of that group's predicting cost model, marked `predicted` (no error, not on the
+  // front); a group whose models are all not predictive (min_model_spearman) fails the sweep instead.
   std::vector<std::string> predict;
+  double min_model_spearman = kMinModelSpearman;  // --min-model-spearman: judge_model's least held-out ρ
   // --prune-dominated: measure a first share of the variants, then skip those the cost model predicts to be
   // dominated (the rule: measure_pruned in sweep.cpp); --prune-check N: of those, measure max(N, a tenth
   // rounded up) anyway and report how many would have reached the Pareto front.

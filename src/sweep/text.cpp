@@ -7,13 +7,23 @@
 namespace aovar::sweep {
 namespace fs = std::filesystem;
 
-std::string notes_text(const SweepResult& r, const SweepOptions& o, const fs::path& cal_file) {
-  std::string s;
-  for (const auto& m : r.cost_models)
-    s += fmt::format("# cost model {} {} {}: {} rows, cross-validated R2 {:.3f}, Spearman {:.3f} (against time_ms.min "
+namespace {
+// A not predictive model's numbers are its reason, not a result: no "R2 -51.7" presented as skill.
+std::string model_line(const ModelFit& m) {
+  if (!m.predictive)
+    return fmt::format("# cost model {} {} {}: {} rows, {} features: {}\n", m.scene, m.view, m.backend, m.rows,
+                       m.features, not_predictive_label(m));
+  return fmt::format("# cost model {} {} {}: {} rows, cross-validated R2 {:.3f}, Spearman {:.3f} (against time_ms.min "
                      "{:.3f}; {} features){}\n",
                      m.scene, m.view, m.backend, m.rows, m.cv_r2, m.cv_spearman, m.cv_spearman_min, m.features,
                      m.predicts ? ", predicts" : "");
+}
+}  // namespace
+
+std::string notes_text(const SweepResult& r, const SweepOptions& o, const fs::path& cal_file) {
+  std::string s;
+  for (const auto& m : r.cost_models)
+    s += model_line(m);
   if (o.prune_dominated)
     s += fmt::format("# prune: {} variants skipped as predicted dominated; {} more measured anyway as a check, "
                      "{} of them on the Pareto front (cost_table.json meta.prune)\n",
