@@ -147,13 +147,15 @@ TEST(Table, RowsOfAMeasureJson) {
                       {"error", {{"rmse", 0.1}, {"mae", 0.05}, {"psnr", nullptr}, {"ssim", 0.9}, {"bias", 0.01},
                                  {"max", 0.5}, {"share_over_0_1", 0.2}, {"pixels", 100}}},
                       {"error_one_frame", nullptr}, {"flicker", nullptr},
-                      {"image", "images/a.pfm"}, {"preview", "images/a.png"}, {"error_map", ""}};
+                      {"image", "images/a.pfm"}, {"preview", "images/a.png"}, {"error_map", ""},
+                      {"rounds", {{"scale", "base@s"}, {"id", "b/0"}, {"ratios", {0.5, 0.4, 0.3, 0.42, 0.38, 0.41, 0.39}}}}};
   nlohmann::json base = r;
   base["variant"] = "base";
   base["inputs_hash"] = "i2";
   base["is_baseline"] = true;  // measured for timing only: no row of the table
   base["time_ms"]["min"] = 2.5;
   base["rel_time"] = base["rel_time_median"] = 1.0;
+  base["rounds"] = {{"scale", "base@s"}, {"id", "all"}, {"ratios", {1, 1, 1, 1, 1, 1, 1}}};
   measure::MeasureResult m;
   m.rows = {measure::row_from_json(r), measure::row_from_json(base)};
   measure::pair_times(m.rows);
@@ -161,6 +163,10 @@ TEST(Table, RowsOfAMeasureJson) {
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_EQ(rows[0].time_ms.min, 1.0);
   EXPECT_DOUBLE_EQ(rows[0].time_ms.paired, 0.4 * 2.5) << "rel_time_median x the baseline's min";
+  // 7 rounds: the sign-test interval is the 1st to the 7th of the sorted ratios (coverage 1 - 2^-6).
+  EXPECT_EQ(rows[0].rel_time_ci, (util::Interval{0.3, 0.5}));
+  EXPECT_DOUBLE_EQ(rows[0].time_ms.paired_ci.lo, 0.3 * 2.5);
+  EXPECT_DOUBLE_EQ(rows[0].time_ms.paired_ci.hi, 0.5 * 2.5);
   ASSERT_TRUE(rows[0].error);
   EXPECT_EQ(rows[0].error->rmse, 0.1);
   EXPECT_TRUE(std::isinf(rows[0].error->psnr));
