@@ -185,15 +185,6 @@ Grid passes_grid(const CostTable& t, const std::string& family, const std::vecto
   return g;
 }
 
-Grid pairs_grid(const std::vector<PairFinding>& pairs) {
-  Grid g{{"pair", "matched", "est. time Δ (median)", "RMSE Δ (median)", "Sunet 2018 found"}, {false, true, true, true, false}, {}};
-  for (const auto& f : pairs)
-    g.rows.push_back({fmt::format("{} ({} → {})", f.title, f.a, f.b), std::to_string(f.pairs),
-                      f.pairs ? fmt::format("{:+.1f} %", f.time_delta_pct) : "–",
-                      f.pairs ? fmt::format("{:+.4f}", f.rmse_delta) : "–", f.seed});
-  return g;
-}
-
 // SAO's z pyramid (McGuire et al. 2012, §2.2): what its MIP pass costs next to the AO pass it feeds.
 std::string pyramid_text(const CostTable& t, const std::string& family) {
   std::vector<double> share;
@@ -229,7 +220,7 @@ std::vector<Block> gpu_blocks(const CostTable& t) {
       for (const auto& m : ranking) ranked.push_back(m.variant);
     }
     if (!ranked.empty()) blocks.push_back({"", "Per pass of those variants:", passes_grid(t, family, ranked)});
-    blocks.push_back({"", "The pairs Sunet 2018 compared, judged by the estimate on this GPU:", pairs_grid(gpu_seed_pairs(t, family))});
+    blocks.push_back({"", "The pairs Sunet 2018 compared, judged by the estimate on this GPU:", pairs_grid(gpu_seed_pairs(t, family), "est. time")});
   }
   Grid agree{{"estimate", "against", "Spearman ρ", "n"}, {false, false, true, true}, {}};
   for (const auto& a : family_agreement(t)) agree.rows.push_back({a.a, a.b + " (estimate)", fmt::format("{:.3f}", a.rho), std::to_string(a.n)});

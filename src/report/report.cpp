@@ -67,12 +67,6 @@ std::string base64(const std::string& bytes) {
   return out;
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
 // x-y scatter with axes, coloured points (tooltips: <title>), and an optional polyline through `line`.
 struct Point {
   double x, y;
@@ -160,59 +154,19 @@ std::string image_tag(const fs::path& file, const std::string& caption) {
 
 }  // namespace
 
-double measured_time(const CostRow& r) { return r.predicted ? NAN : r.time_ms.decision(); }
-
-std::vector<PairFinding> seed_pairs(const CostTable& t, const TimeOf& time_of) {
-  struct Spec {
-    const char *title, *axis, *a, *b, *seed;
-  };
-  const Spec specs[] = {
-      {"RG vs RGB normals", "normals", "rgb8", "rg8",
-       "Sunet 2018, §5.6: savings negligible (G-buffer 6.4 -> 6.2 ms, AO 17.5 -> 17.6 ms); RGB kept as faster overall"},
-      {"position buffer vs depth", "position", "depth", "position",
-       "Sunet 2018, §5.5: a depth buffer is slightly faster for most shaders; for StarCraft II the position buffer is faster"},
-      {"inverse projection vs similar triangles", "reconstruct", "similar_triangles", "inverse_projection",
-       "Sunet 2018, §5.4: quality difference negligible; similar triangles slightly faster (AO 17.9 vs 19.83 ms)"},
-      {"r32f vs r16f depth", "depth_format", "r16f", "r32f",
-       "Sunet 2018, §5.3: quality difference negligible; 32-bit costs a little more in G-buffer, AO and blur"},
-      {"progressive vs full", "progressive", "false", "true",
-       "Sunet 2018, §5.9: progressive significantly faster for every method, despite a ~1.1 ms averaging pass"},
-      {"bilateral vs separable blur", "blur", "separable", "bilateral",
-       "Sunet 2018, §5.7: quality difference negligible; the separable blur is faster"},
-      {"8 vs 16 samples", "samples", "8", "16",
-       "McGuire et al. 2012, §4: vary the sample and blur taps to trade run time against spatial and temporal noise"},
-  };
-  std::vector<PairFinding> out;
-  for (const auto& sp : specs) {
-    // Rows keyed by everything but the pair's axis.
-    std::map<std::string, std::map<std::string, const CostRow*>> by_rest;
-    for (const auto& r : t.rows) {
-      auto it = r.axes.find(sp.axis);
-      if (it == r.axes.end() || (it->second != sp.a && it->second != sp.b)) continue;
-      std::string rest = r.scene + "|" + r.view + "|" + r.backend;
-      for (const auto& [k, v] : r.axes)
-        if (k != sp.axis) rest += "|" + k + "=" + v;
-      by_rest[rest][it->second] = &r;
-    }
-    PairFinding f{sp.title, sp.axis, sp.a, sp.b, sp.seed, 0, 0, 0};
-    std::vector<double> dt, de;
-    for (const auto& [rest, m] : by_rest) {
-      if (!m.count(sp.a) || !m.count(sp.b)) continue;
-      const CostRow &ra = *m.at(sp.a), &rb = *m.at(sp.b);
-      double ta = time_of(ra), tb = time_of(rb);
-      if (!(ta > 0) || !(tb > 0)) continue;
-      dt.push_back(100.0 * (tb - ta) / ta);
-      if (ra.error && rb.error) de.push_back(rb.error->rmse - ra.error->rmse);
-      ++f.pairs;
-    }
-    f.time_delta_pct = median(dt);
-    f.rmse_delta = median(de);
-    out.push_back(f);
-  }
-  return out;
+namespace {
+// "12.34 [12.10, 12.61]": the decision time and its interval (rows without rounds: the time alone).
+std::string time_with_interval(const CostRow& r) {
+  const auto& ci = r.time_ms.paired_ci;
+  return ci.known() ? fmt::format("{:.2f} [{:.2f}, {:.2f}]", r.time_ms.decision(), ci.lo, ci.hi)
+                    : fmt::format("{:.2f}", r.time_ms.decision());
 }
 
-namespace {
+const char* kPairsNote =
+    "Sunet 2018, \"Ambient Occlusion on Mobile: An Empirical Comparison\" (master thesis, UPC), chapter 5, and "
+    "McGuire et al. 2012, Table 1. Each matched pair (rows equal in every other axis) is judged by its 95 % "
+    "interval: the same direction as the seed beyond the noise, the opposite, or inconclusive here. A finding is "
+    "reproduced when most of its pairs reproduce it and none refutes it (refuted: the reverse).";
 const char* kTimeNote =
     "Times are paired (time_ms.paired): each variant's median ratio to the baseline timed in the same rounds, "
     "times the baseline's fastest frame, so that batches measured minutes apart compare; time_ms.min is in the "
@@ -259,18 +213,14 @@ std::string markdown_report(const CostTable& t) {
   for (const auto& [g, rows] : groups_of(t)) {
     md << fmt::format("## {} / {} / {}\n\nPareto front (time against RMSE, fastest first):\n\n", std::get<0>(g), std::get<1>(g),
                       std::get<2>(g));
-    md << "| variant | paired ms | rmse | ssim |\n|---|---:|---:|---:|\n";
+    md << "| variant | paired ms [95 % interval] | rmse | ssim |\n|---|---:|---:|---:|\n";
     for (const CostRow* r : rows)
       if (r->pareto)
-        md << fmt::format("| {} | {:.2f} | {:.4f} | {:.3f} |\n", r->variant, r->time_ms.decision(), r->error->rmse, r->error->ssim);
+        md << fmt::format("| {} | {} | {:.4f} | {:.3f} |\n", r->variant, time_with_interval(*r), r->error->rmse, r->error->ssim);
     md << "\n";
   }
-  md << "## The pairs Sunet 2018 compared, on these scenes\n\nSunet 2018, \"Ambient Occlusion on Mobile: An Empirical Comparison\" (master thesis, UPC), chapter 5.\n\n| pair | matched | time Δ (median) | RMSE Δ (median) | Sunet 2018 found |\n"
-        "|---|---:|---:|---:|---|\n";
-  for (const auto& f : seed_pairs(t))
-    md << fmt::format("| {} ({} → {}) | {} | {} | {} | {} |\n", f.title, f.a, f.b, f.pairs,
-                      f.pairs ? fmt::format("{:+.1f} %", f.time_delta_pct) : "–",
-                      f.pairs ? fmt::format("{:+.4f}", f.rmse_delta) : "–", f.seed);
+  md << "## The pairs the seeds compared, on these scenes\n\n" << kPairsNote << "\n\n"
+     << markdown(pairs_grid(seed_pairs(t), "time"));
   md << "\n" << gpu_markdown(t);
   md << "The full table: cost_table.md / cost_table.csv / cost_table.json.\n";
   return md.str();
@@ -379,13 +329,9 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
         << image_tag(heat, "error (red: too dark, blue: too light)") << "</div>";
     }
   }
-  h << "<h2>The pairs Sunet 2018 compared, on these scenes</h2><p>Sunet 2018, “Ambient Occlusion on Mobile: An Empirical Comparison” (master thesis, UPC), chapter 5.</p><table><tr><th>pair</th><th>matched</th><th>time Δ</th><th>RMSE Δ</th>"
-       "<th>Sunet 2018 found</th></tr>";
-  for (const auto& f : seed_pairs(t))
-    h << fmt::format("<tr><td>{} ({} → {})</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>", escape(f.title),
-                     escape(f.a), escape(f.b), f.pairs, f.pairs ? fmt::format("{:+.1f} %", f.time_delta_pct) : "–",
-                     f.pairs ? fmt::format("{:+.4f}", f.rmse_delta) : "–", escape(f.seed));
-  h << "</table>" << gpu_html(t) << "</body></html>\n";
+  h << "<h2>The pairs the seeds compared, on these scenes</h2><p>" << escape(kPairsNote) << "</p>"
+    << html(pairs_grid(seed_pairs(t), "time"));
+  h << gpu_html(t) << "</body></html>\n";
   return h.str();
 }
 
