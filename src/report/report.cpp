@@ -137,6 +137,11 @@ std::string time_bars_svg(const std::string& title, const std::vector<const Cost
                      escape(r.variant), r.time_ms.decision(), r.predicted ? " (predicted)" : "");
     s += fmt::format("<text x=\"{:.1f}\" y=\"{}\">{}{:.2f}</text>", left + len + 3, y + bar - 2, r.predicted ? "~" : "",
                      r.time_ms.decision());
+    if (const auto& ci = r.time_ms.paired_ci; ci.known() && max_t > 0) {  // the 95 % interval as a whisker
+      const double x0 = left + ci.lo / max_t * (w - left - 50), x1 = left + ci.hi / max_t * (w - left - 50);
+      s += fmt::format("<line x1=\"{:.1f}\" x2=\"{:.1f}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"black\"/>", x0, x1,
+                       y + bar / 2, y + bar / 2);
+    }
   }
   return s + "</svg>";
 }
@@ -170,7 +175,9 @@ const char* kPairsNote =
 const char* kTimeNote =
     "Times are paired (time_ms.paired): each variant's median ratio to the baseline timed in the same rounds, "
     "times the baseline's fastest frame, so that batches measured minutes apart compare; time_ms.min is in the "
-    "table next to it.";
+    "table next to it. Each time's 95 % interval (in brackets, and the whiskers) comes from the per-round ratios; "
+    "times whose difference's interval holds no change are tied, and the fronts treat them as equal "
+    "(docs/confidence.md).";
 
 // The front over each scene's worst view (max error, max time over its views): the variants `aovar select`
 // chooses between when no view is given, fastest first. Scenes with a single view are skipped (their
@@ -204,10 +211,10 @@ std::string markdown_report(const CostTable& t) {
   if (auto pruned = table::pruned_summary(t); !pruned.empty()) md << "## Scene profiles\n\n" << pruned.substr(1) << "\n";
   for (const auto& [k, rows] : worst_view_fronts(t)) {
     md << fmt::format("## What to ship: {} / {}, worst view\n\nEach variant's worst view (max RMSE and max time over "
-                      "{}); `aovar select` picks from this front:\n\n| variant | worst paired ms | worst rmse | ssim |\n"
+                      "{}); `aovar select` picks from this front:\n\n| variant | worst paired ms [95 % interval] | worst rmse | ssim |\n"
                       "|---|---:|---:|---:|\n", k.first, k.second, view_list(rows.front().view));
     for (const auto& r : rows)
-      md << fmt::format("| {} | {:.2f} | {:.4f} | {:.3f} |\n", r.variant, r.time_ms.decision(), r.error->rmse, r.error->ssim);
+      md << fmt::format("| {} | {} | {:.4f} | {:.3f} |\n", r.variant, time_with_interval(r), r.error->rmse, r.error->ssim);
     md << "\n";
   }
   for (const auto& [g, rows] : groups_of(t)) {
@@ -276,10 +283,10 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
   for (const auto& [k, rows] : worst_view_fronts(t)) {
     h << "<h2>What to ship: " << escape(k.first) << " / " << escape(k.second) << ", worst view</h2><p>Each variant's "
       << "worst view (max RMSE and max time over " << escape(view_list(rows.front().view)) << "); <code>aovar select</code> picks "
-      << "from this front.</p><table><tr><th>variant</th><th>worst paired ms</th><th>worst RMSE</th><th>SSIM</th></tr>";
+      << "from this front.</p><table><tr><th>variant</th><th>worst paired ms [95 % interval]</th><th>worst RMSE</th><th>SSIM</th></tr>";
     for (const auto& r : rows)
-      h << fmt::format("<tr><td>{}</td><td>{:.2f}</td><td>{:.4f}</td><td>{:.3f}</td></tr>", escape(r.variant), r.time_ms.decision(),
-                       r.error->rmse, r.error->ssim);
+      h << fmt::format("<tr><td>{}</td><td>{}</td><td>{:.4f}</td><td>{:.3f}</td></tr>", escape(r.variant),
+                       time_with_interval(r), r.error->rmse, r.error->ssim);
     h << "</table>";
   }
   for (const auto& [g, rows] : groups_of(t)) {
