@@ -11,15 +11,19 @@ namespace fs = std::filesystem;
 
 std::string to_text(const MeasureResult& r) {
   bool truth = std::any_of(r.rows.begin(), r.rows.end(), [](const auto& row) { return row.error.has_value(); });
-  std::string s = fmt::format("{:<46} {:<9} {:<10} {:>8} {:>8} {:>8} {:>6} {}  {}\n", "variant", "backend", "view",
-                              "min ms", "median", "p90", "rel", truth ? "  rmse    ssim" : "", "passes (min ms)");
+  std::string s = fmt::format("{:<46} {:<9} {:<10} {:>8} {:>8} {:>8} {:>20} {}  {}\n", "variant", "backend", "view",
+                              "min ms", "median", "p90", "rel [95 %]", truth ? "  rmse    ssim" : "", "passes (min ms)");
   for (const auto& row : r.rows) {
     std::string passes;
     for (const auto& [name, st] : row.passes) passes += fmt::format("{} {:.2f}  ", name, st.min);
     std::string error = !truth ? "" : row.error ? fmt::format("{:>6.4f} {:>7.4f}", row.error->rmse, row.error->ssim)
                                                 : fmt::format("{:>14}", "-");
-    s += fmt::format("{:<46} {:<9} {:<10} {:>8.2f} {:>8.2f} {:>8.2f} {:>6.2f} {}  {}{}\n", row.variant, row.backend,
-                     row.view, row.time_ms.min, row.time_ms.median, row.time_ms.p90, row.rel_time, error, passes,
+    // The median ratio to the baseline in the same rounds, with its 95 % interval (docs/confidence.md).
+    const auto& ci = row.rel_time_ci;
+    std::string rel = ci.known() ? fmt::format("{:.3f} [{:.3f}, {:.3f}]", row.rel_time_median, ci.lo, ci.hi)
+                                 : fmt::format("{:.3f}", row.rel_time_median);
+    s += fmt::format("{:<46} {:<9} {:<10} {:>8.2f} {:>8.2f} {:>8.2f} {:>20} {}  {}{}\n", row.variant, row.backend,
+                     row.view, row.time_ms.min, row.time_ms.median, row.time_ms.p90, rel, error, passes,
                      row.is_baseline ? "(baseline)" : row.reused ? "(reused)" : "");
   }
   return s;
