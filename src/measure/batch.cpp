@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "image/image.h"
+#include "measure/same_code.h"
 #include "shadergen/expand.h"
 #include "util/clock.h"
 #include "util/hash.h"
@@ -146,7 +147,7 @@ MeasureRow BatchMeasurer::new_row(const Candidate& cand, const render::DeviceInf
 // selects it) is taken from this run.
 bool BatchMeasurer::reuse(const Candidate& cand, const render::DeviceInfo& device, const std::string& view) {
   auto it = earlier_.rows.find(cand.inputs.inputs_hash);
-  if (it == earlier_.rows.end()) return false;
+  if (it == earlier_.rows.end() || !it->second.same_code_as.empty()) return false;  // a copy is no measurement
   MeasureRow row = it->second;
   row.duplicates = new_row(cand, device, view).duplicates;
   row.device = device.device;  // the inputs hash holds device and driver: the same ones, also for rows
@@ -181,14 +182,18 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
   const render::DeviceInfo& device = runner.device();
   const std::string& backend = device.backend;
   const std::string ctx = context(runner, view);
+  std::map<int, Twin> twin = twins(runner, view, ctx);
   std::vector<Candidate> todo;
   for (int v : sel_.measured) {
-    if (v == sel_.baseline) continue;
+    if (v == sel_.baseline || twin.count(v)) continue;
     Candidate cand = candidate(runner, v, ctx);
     if (!reuse(cand, device, view.name)) todo.push_back(std::move(cand));
   }
   Candidate ref = candidate(runner, sel_.baseline, ctx);
-  if (todo.empty() && reuse(ref, device, view.name)) return;
+  if (todo.empty() && reuse(ref, device, view.name)) {
+    add_twin_rows(twin, device, view.name);
+    return;
+  }
   if (o_.ground_truth) ground_truth(view);  // before the timing, which it would disturb
 
   const std::string where = fmt::format("{} {}", backend, view.name);
@@ -249,8 +254,76 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
     }
     run.readback_s = seconds_since(read_start);
     res_.runs.push_back(run);
+    add_twin_rows(twin, device, view.name);
     after_batch();
     prep_start = Clock::now();
+  }
+}
+
+// Variants that run the same code as an earlier one in key order on this device (same_code.h), once this
+// backend's first twin pair rendered bit-identical images; none where it did not, or where the device
+// honours RelaxedPrecision. The baseline is grouped only when selected (its timing-only row is no table row).
+std::map<int, BatchMeasurer::Twin> BatchMeasurer::twins(runner::VariantRunner& runner, const scene::View& view,
+                                                        const std::string& ctx) {
+  const render::DeviceInfo& device = runner.device();
+  auto checked = twins_alike_.find(device.backend);
+  if (!device.ignores_relaxed_precision || (checked != twins_alike_.end() && !checked->second)) return {};
+  const int t = c_.target_index(runner.target());
+  std::vector<std::string> identities;
+  for (int v : sel_.measured)
+    identities.push_back(executable_identity(c_, t, runner.plan(v, o_.params, false), compile::relaxed_precision_only()));
+  std::map<int, int> groups = group_twins(sel_.measured, identities, sel_.baseline);
+  if (groups.empty()) return {};
+  if (checked == twins_alike_.end()) {
+    const auto& [twin, rep] = *groups.begin();
+    const bool alike = twins_render_alike(runner, view, rep, twin);
+    twins_alike_[device.backend] = alike;
+    if (!alike) return {};
+  }
+  std::map<int, Twin> out;
+  for (const auto& [v, rep] : groups) out.emplace(v, Twin{rep, candidate(runner, v, ctx)});
+  return out;
+}
+
+// The check the sharing rests on, done for real once per backend and run: one frame of a representative and
+// of its twin, compared bit for bit. A difference means the device does not run them alike after all.
+bool BatchMeasurer::twins_render_alike(runner::VariantRunner& runner, const scene::View& view, int rep, int twin) {
+  auto still = [&](int v) {
+    render::PipelinePlan plan = runner.plan(v, o_.params, false);
+    auto p = runner.prepare(plan);
+    return runner.render_still(*p, plan, view, res_.radius).image;
+  };
+  const std::string& a = c_.space.variants[rep].key, &b = c_.space.variants[twin].key;
+  render::DeviceInfo& device = res_.devices.back();  // this backend's (measure_all)
+  const bool alike = same_pixels(still(rep), still(twin));
+  if (alike) {
+    device.precision += fmt::format("; verified: {} and {} render bit-identical images", a, b);
+  } else {
+    device.ignores_relaxed_precision = false;
+    device.precision = fmt::format("mediump twins measured separately: {} and {} render different images", a, b);
+    if (progress_)
+      progress_(fmt::format("note: {}: {} and {} run the same code but for RelaxedPrecision yet render different "
+                            "images: mediump twins are measured separately on {}", device.backend, a, b,
+                            device.backend));
+  }
+  return alike;
+}
+
+void BatchMeasurer::add_twin_rows(std::map<int, Twin>& twins, const render::DeviceInfo& device,
+                                  const std::string& view) {
+  for (auto it = twins.begin(); it != twins.end();) {
+    const std::string& rep = c_.space.variants[it->second.representative].key;
+    auto row = std::find_if(res_.rows.begin(), res_.rows.end(), [&](const MeasureRow& r) {
+      return r.variant == rep && r.backend == device.backend && r.view == view;
+    });
+    if (row == res_.rows.end()) {
+      ++it;
+      continue;
+    }
+    MeasureRow copy = twin_row(*row, new_row(it->second.cand, device, view));
+    if (copy.reused) ++res_.reused;
+    res_.rows.push_back(std::move(copy));
+    it = twins.erase(it);
   }
 }
 

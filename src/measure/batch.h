@@ -47,8 +47,16 @@ class BatchMeasurer {
     render::PipelinePlan plan;
     VariantInputs inputs;
   };
+  struct Twin {  // a variant that runs its representative's code (same_code.h): not measured, copied
+    int representative;
+    Candidate cand;
+  };
   void measure_view(runner::VariantRunner& runner, const scene::View& view, const std::function<void()>& after_batch);
   Candidate candidate(runner::VariantRunner& runner, int variant, const std::string& context) const;
+  std::map<int, Twin> twins(runner::VariantRunner& runner, const scene::View& view, const std::string& context);
+  bool twins_render_alike(runner::VariantRunner& runner, const scene::View& view, int representative, int twin);
+  // Copies the rows of the twins whose representative's row now exists, and forgets those twins.
+  void add_twin_rows(std::map<int, Twin>& twins, const render::DeviceInfo& device, const std::string& view);
   // `device`: the runner's (backend, device and driver go into the row).
   MeasureRow new_row(const Candidate& cand, const render::DeviceInfo& device, const std::string& view) const;
   bool reuse(const Candidate& cand, const render::DeviceInfo& device, const std::string& view);
@@ -69,6 +77,7 @@ class BatchMeasurer {
   MeasureResult& res_;
   Progress progress_;
   std::map<std::string, reference::ReferenceImage> truth_;
+  std::map<std::string, bool> twins_alike_;  // by backend: its first twin pair rendered bit-identical images
   std::size_t rows_wanted_ = 0, rows_measured_ = 0;
   std::chrono::steady_clock::time_point measuring_start_ = std::chrono::steady_clock::now();
 };

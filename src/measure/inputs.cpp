@@ -7,9 +7,11 @@
 
 namespace aovar::measure {
 
-std::string plan_text(const render::PipelinePlan& plan) {
+std::string plan_text(const render::PipelinePlan& plan,
+                      const std::function<std::string(const render::Shader&)>& program) {
   std::string s = fmt::format("res {} prog {} result {}", plan.resolution, plan.progressive, plan.result);
-  for (const auto& sh : plan.shaders) s += fmt::format("|shader {} {}", sh.program_key, variants::stage_name(sh.stage));
+  for (const auto& sh : plan.shaders)
+    s += fmt::format("|shader {} {}", program ? program(sh) : sh.program_key, variants::stage_name(sh.stage));
   for (const auto& t : plan.textures)
     s += fmt::format("|tex {} {} {} {} {} {} {}", t.name, render::format_name(t.format), t.full_resolution,
                      t.double_buffered, t.cleared, fmt::join(t.clear, ","), t.levels);

@@ -305,7 +305,8 @@ json to_json(const MeasureResult& res, const MeasureOptions& o) {
   json devices = json::array();
   for (const auto& d : res.devices)
     devices.push_back({{"backend", d.backend}, {"device", d.device}, {"api", d.api_version}, {"driver", d.driver},
-                       {"threads", d.threads}, {"timing", d.timing}});
+                       {"threads", d.threads}, {"timing", d.timing},
+                       {"precision", d.precision}});
   json runs = json::array();
   for (const auto& r : res.runs)
     runs.push_back({{"backend", r.backend}, {"view", r.view}, {"pipelines", r.pipelines}, {"prepare_s", r.prepare_s},

@@ -42,6 +42,11 @@ struct DeviceInfo {
   std::string driver;       // "Mesa 22.3.6"
   int threads = 0;          // LP_NUM_THREADS in effect
   bool mediump_fp16 = false;  // mediump arithmetic runs in fp16 (BackendOptions::mediump_as_fp16)
+  // The device runs mediump in fp32 (it ignores SPIR-V's RelaxedPrecision; desktop GLSL gives precision
+  // qualifiers no meaning, GLSL 4.50 section 4.7): a mediump variant and its highp twin run the same code and
+  // are measured once (measure/same_code.h). `precision` says so for measure.json's devices[].
+  bool ignores_relaxed_precision = false;
+  std::string precision;    // "mediump runs in fp32 (...)" / "mediump honoured (...)"
   // How draws are timed: "timestamp queries", or for a device without valid ones "wall clock per frame ..."
   // (render() then splits each frame's time evenly over its draws).
   std::string timing;

@@ -134,6 +134,7 @@ Device::Device(const BackendOptions& options) {
     if (options.validation) create_messenger();
     pick_physical_device(options.device);
     check_features(options.mediump_as_fp16);
+    set_precision();
     pick_queue_family();
     create_device(options.mediump_as_fp16);
     create_shared_objects();
@@ -248,6 +249,16 @@ void Device::check_features(bool mediump_as_fp16) {
     throw BackendError(fmt::format("lavapipe: mediump as fp16 needs the shaderFloat16 feature, which {} ({}) "
                                    "lacks", info.device, info.driver));
   info.mediump_fp16 = mediump_as_fp16;
+}
+
+// llvmpipe (a CPU device) runs RelaxedPrecision arithmetic in fp32 unless it was rewritten to fp16; a GPU may
+// run it in fp16, so there a mediump variant is a different measurement from its highp twin.
+void Device::set_precision() {
+  const bool cpu = properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  info.ignores_relaxed_precision = cpu && !info.mediump_fp16;
+  info.precision = info.ignores_relaxed_precision ? "mediump runs in fp32 (a CPU device: RelaxedPrecision ignored)"
+                   : info.mediump_fp16            ? "mediump honoured (rewritten to fp16)"
+                                                  : "mediump honoured (a GPU may run RelaxedPrecision in fp16)";
 }
 
 // The first graphics queue family. Draws are timed with its timestamp queries where they are valid; a device

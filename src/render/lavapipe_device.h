@@ -101,6 +101,7 @@ class Device {
   void create_messenger();
   void pick_physical_device(const std::string& selector);
   void check_features(bool mediump_as_fp16);
+  void set_precision();  // info.ignores_relaxed_precision and info.precision
   void pick_queue_family();
   void create_device(bool mediump_as_fp16);
   void create_shared_objects();

@@ -229,6 +229,9 @@ class OsmesaBackend final : public Backend {
     if (auto at = version.find("Mesa "); at != std::string::npos)
       info_.driver = version.substr(at, version.find(' ', at + 5) - at);
     info_.threads = options.threads;
+    // GLSL 4.50 section 4.7: precision qualifiers have no meaning in desktop GLSL, and llvmpipe runs fp32.
+    info_.ignores_relaxed_precision = true;
+    info_.precision = "mediump runs in fp32 (desktop GLSL ignores precision qualifiers)";
 
     // Fixed state: fullscreen triangles change winding with the y direction, and nothing blends.
     gl.Disable(GL_CULL_FACE);
