@@ -25,6 +25,7 @@ struct MeasureArgs {
   bool no_prune = false;
   CalibrationOption calibration;
   GpuOption gpu;
+  RepsOption reps{"10"};
 };
 
 // "PASS.NAME=NUMBER" items -> overrides; throws std::runtime_error naming --param.
@@ -60,6 +61,7 @@ int run_measure(const MeasureArgs& a) {
   o.globs = a.common.globs;
   o.jobs = a.common.jobs;
   o.size = parse_size(a.size);
+  a.reps.apply(o);
   if (o.radius < 0) throw std::runtime_error("--radius must be positive (world units; omit it for the scene's default)");
   if (o.warmup < 0) throw std::runtime_error("--warmup must be 0 or more");
   o.params = parse_params(a.params);
@@ -86,7 +88,7 @@ Command add_measure(CLI::App& app) {
   cmd->add_option("--backend,-b", mo.backends, "lavapipe, osmesa (repeatable or comma-separated)")
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
-  cmd->add_option("--reps", mo.reps, "timed rounds (min-of-N)")->capture_default_str();
+  add_reps(cmd, a->reps);
   cmd->add_option("--warmup", mo.warmup, "discarded frames after the first (JIT) frame")->capture_default_str();
   cmd->add_option("--threads", mo.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
   cmd->add_option("--device", mo.device, "lavapipe backend: Vulkan device by name substring or index (default: lavapipe)");

@@ -97,6 +97,37 @@ void add_gpu(CLI::App* cmd, GpuOption& o) {
   cmd->add_option("--gpu-size", o.frame, "frame size the --gpu estimate is for")->capture_default_str()->needs(families);
 }
 
+void RepsOption::apply(measure::MeasureOptions& o) const {
+  if (reps == "auto") {
+    o.auto_reps = measure::AutoReps{ci_target_pct / 100, cap_s};
+    return;  // o.reps: the least number of rounds (the fixed default)
+  }
+  std::size_t used = 0;
+  int n = 0;
+  try {
+    n = std::stoi(reps, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != reps.size() || n < 1)
+    throw std::runtime_error("--reps: expected a number of rounds (1 or more) or auto, got '" + reps + "'");
+  o.reps = n;
+  o.auto_reps.reset();
+}
+
+void add_reps(CLI::App* cmd, RepsOption& o) {
+  cmd->add_option("--reps", o.reps,
+                  "timed rounds: N, or auto (until each row's 95 % interval is within --ci-target, at least 10 rounds)")
+      ->capture_default_str();
+  cmd->add_option("--ci-target", o.ci_target_pct,
+                  "--reps auto: half-width of the 95 % interval of each row's ratio to the baseline, % of it")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--reps-cap-s", o.cap_s, "--reps auto: seconds of a row's own timed frames after which it stops anyway")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+}
+
 std::pair<int, int> parse_shard(const std::string& text) {
   int k = 0, n = 0;
   char slash = 0;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "compile/generate.h"
+#include "measure/measure.h"
 #include "render/frame.h"
 
 namespace aovar::cli {
@@ -69,6 +70,17 @@ struct GpuOption {
   render::Extent frame_size() const;
 };
 void add_gpu(CLI::App* cmd, GpuOption& o);
+
+// --reps N|auto, --ci-target PCT and --reps-cap-s S (measure, sweep; measure::AutoReps). `reps` is the
+// subcommand's default: "10" for measure, "auto" for sweep.
+struct RepsOption {
+  std::string reps;
+  double ci_target_pct = 2;
+  double cap_s = 2;
+  // Sets options.reps and options.auto_reps; throws std::runtime_error naming --reps.
+  void apply(measure::MeasureOptions& options) const;
+};
+void add_reps(CLI::App* cmd, RepsOption& o);
 
 // "WxH" (1 to 16384 each) -> extent; throws std::runtime_error naming --size.
 render::Extent parse_size(const std::string& text);

@@ -24,6 +24,7 @@ struct SweepArgs {
   bool no_prune = false;
   CalibrationOption calibration;
   GpuOption gpu;
+  RepsOption reps{"auto"};  // the sweep's default: each row timed until its interval is narrow
 };
 
 int run_sweep(const SweepArgs& a) {
@@ -35,6 +36,7 @@ int run_sweep(const SweepArgs& a) {
   m.globs = a.common.globs;
   m.jobs = a.common.jobs;
   m.size = parse_size(a.size);
+  a.reps.apply(m);
   if (!a.shard.empty()) std::tie(m.shard_index, m.shard_count) = parse_shard(a.shard);
   if (m.reference_rays < 1) throw std::runtime_error("--rays must be at least 1");
   m.cache_dir = m.reference_cache = a.common.cache();
@@ -60,7 +62,7 @@ Command add_sweep(CLI::App& app) {
   cmd->add_option("--backend,-b", so.measure.backends, "lavapipe, osmesa (repeatable or comma-separated)")
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
-  cmd->add_option("--reps", so.measure.reps, "timed rounds (min-of-N)")->capture_default_str();
+  add_reps(cmd, a->reps);
   cmd->add_option("--threads", so.measure.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
   cmd->add_option("--device", so.measure.device, "lavapipe backend: Vulkan device by name substring or index (default: lavapipe)");
   cmd->add_option("--rays", so.measure.reference_rays, "reference rays per pixel")->capture_default_str();

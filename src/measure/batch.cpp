@@ -20,14 +20,6 @@ using util::seconds_since;
 namespace {
 std::string size_text(render::Extent e) { return fmt::format("{}x{}", e.width, e.height); }
 
-// Per round: the pipeline's frame time over the baseline's in the same round (table::Rounds).
-std::vector<double> round_ratios(const PipelineTiming& t, const PipelineTiming& baseline) {
-  std::vector<double> ratios;
-  for (std::size_t i = 0; i < t.total_ms.size() && i < baseline.total_ms.size(); ++i)
-    if (baseline.total_ms[i] > 0 && t.total_ms[i] > 0) ratios.push_back(t.total_ms[i] / baseline.total_ms[i]);
-  return ratios;
-}
-
 // An id no other batch shares, in this run or an earlier one whose rows are reused next to these: rows with
 // the same id are paired round by round (table/time_compare.h).
 std::string batch_id(const std::string& where, int batch) {
@@ -109,7 +101,7 @@ std::string BatchMeasurer::context(const runner::VariantRunner& runner, const sc
   const auto& info = runner.device();
   std::string context = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", shadergen::generator_version(),
                                     scene_.content_hash, scene::camera_text(view), info.backend, info.device,
-                                    info.driver, info.mediump_fp16, size_text(o_.size), o_.threads, o_.reps, o_.warmup,
+                                    info.driver, info.mediump_fp16, size_text(o_.size), o_.threads, reps_text(o_), o_.warmup,
                                     res_.radius, c_.space.variants[sel_.baseline].key);
   if (o_.camera_path) context += "|path";
   if (o_.ground_truth) context += "|truth:" + reference::cache_key(scene_, view, reference_options());
@@ -215,7 +207,7 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
     }
     run.prepare_s = seconds_since(prep_start);
 
-    TimingOptions to{o_.warmup, o_.reps, res_.radius, o_.camera_path};
+    TimingOptions to{o_.warmup, o_.reps, res_.radius, o_.camera_path, o_.auto_reps};
     auto timed = time_round_robin(runner.backend(), pointers, view, to, [&](const std::string& s) {
       status(fmt::format("{}: batch {}/{}: {} ({} pipelines)", where, b + 1, batches, s, pointers.size()));
     });
@@ -228,6 +220,7 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
     const double ref_min = util::summarize(batch_ref.total_ms).min;
     ref_timing.total_ms.insert(ref_timing.total_ms.end(), batch_ref.total_ms.begin(), batch_ref.total_ms.end());
     ref_timing.draw_ms.insert(ref_timing.draw_ms.end(), batch_ref.draw_ms.begin(), batch_ref.draw_ms.end());
+    ref_timing.stop = batch_ref.stop;
 
     auto read_start = Clock::now();
     for (std::size_t i = lo; i < hi; ++i) {
@@ -238,6 +231,7 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
       row.rel_time_median = median_ratio(timing, batch_ref);
       row.rounds.id = id;
       row.rounds.ratios = round_ratios(timing, batch_ref);
+      row.set_reps_reached(timing.stop);
       res_.rows.push_back(std::move(row));
       ++rows_measured_;
     }
@@ -249,6 +243,7 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
       row.rel_time = row.rel_time_median = 1.0;
       row.rounds.id = table::Rounds::kAll;
       row.rounds.ratios.assign(ref_timing.total_ms.size(), 1.0);
+      row.set_reps_reached(ref_timing.stop);
       res_.rows.push_back(std::move(row));
       ++rows_measured_;
     }

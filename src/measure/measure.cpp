@@ -32,6 +32,11 @@ namespace {
 
 void check_options(const MeasureOptions& o) {
   if (o.reps < 1) throw std::runtime_error("--reps must be at least 1");
+  if (o.auto_reps && !(o.auto_reps->ci_target > 0 && o.auto_reps->cap_s > 0))
+    throw std::runtime_error("--reps auto needs --ci-target and --reps-cap-s above 0");
+  // The image is each pipeline's last frame, which --reps auto makes differ between rows: the reference
+  // traced for a path frame would match none of them.
+  if (o.auto_reps && o.camera_path) throw std::runtime_error("--camera-path needs a fixed --reps N, not auto");
   if (o.size.width < 1 || o.size.height < 1) throw std::runtime_error("--size must be WxH with W, H >= 1");
   if (o.shard_count < 1 || o.shard_index < 0 || o.shard_index >= o.shard_count)
     throw std::runtime_error(fmt::format("--shard {}/{}: use k/n with 1 <= k <= n", o.shard_index + 1, o.shard_count));
@@ -322,6 +327,8 @@ json to_json(const MeasureResult& res, const MeasureOptions& o) {
           {"contact_sheets_rows", res.contact_sheets_rows},
           {"size", fmt::format("{}x{}", o.size.width, o.size.height)},
           {"reps", o.reps},
+          {"reps_auto", reps_auto_json(o)},
+          {"reps_reached", reps_reached(res).to_json()},
           {"warmup", o.warmup},
           {"threads", o.threads},
           {"radius", res.radius},

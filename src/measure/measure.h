@@ -4,6 +4,7 @@
 // measure.json plus a float image (PFM) and an 8-bit preview (PNG) per variant, view and backend.
 // Rows are keyed by a hash of everything that determines them, so an interrupted or repeated run reuses
 // what it already measured, whatever else it selects (measure.json is rewritten atomically after every batch).
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -37,7 +38,8 @@ struct MeasureOptions {
   std::vector<std::string> globs;          // --variants
   std::string baseline = kDefaultBaseline;  // timed in every round (rel_time = 1); falls back to the first selected variant when absent
   render::Extent size{640, 360};
-  int reps = 10;
+  int reps = 10;                           // timed rounds; with auto_reps the least number of them
+  std::optional<AutoReps> auto_reps;       // --reps auto: rounds until each row's interval is narrow (timing.h)
   int warmup = 2;
   int threads = 2;
   std::string device;                      // lavapipe backend: --device NAME|INDEX (render::BackendOptions::device)
@@ -80,6 +82,17 @@ struct MeasureOptions {
 // cache; the profile stored in its output folder and reused with it.
 profile::PruneOptions prune_options(const MeasureOptions& options);
 
+// --reps as the inputs hash and the text output hold it: "10", or "auto" with its minimum, target and caps
+// (a row timed to a 2 % target is not one timed to 1 %, nor one of a fixed count).
+std::string reps_text(const MeasureOptions& options);
+
+// In words: "10 reps", or "--reps auto (95 % interval within 2 %, at least 10 rounds, cap 2 s or 200 rounds)".
+std::string reps_words(const MeasureOptions& options);
+
+// The rule of --reps auto in measure.json and cost_table.json meta: {"min_rounds", "ci_target", "cap_s",
+// "max_rounds"}, or null for a fixed --reps N.
+nlohmann::json reps_auto_json(const MeasureOptions& options);
+
 // The shard (0 .. n-1) a variant key belongs to: a stable hash of the key modulo n.
 int shard_of(const std::string& key, int shard_count);
 
@@ -100,8 +113,24 @@ struct MeasureRow : table::CostRow {
   std::string image, preview, error_map;  // paths relative to the output folder (`images` lists them)
   image::FloatImage result;             // kept in memory for callers (tests); not serialised
   bool reused = false;
+  // What the timing reached: the relative half-width of the interval of rounds.ratios (reps reached: their
+  // count) and why it ended (--reps auto: target or cap; --reps N: fixed).
+  double ci_half_width = NAN;
+  Stop stop = Stop::fixed;
 
   void list_images();  // images = the non-empty of image, preview, error_map
+  void set_reps_reached(Stop why);  // ci_half_width from rounds.ratios
+};
+
+// Over rows (the baseline's timing-only one left out): the widest half-width reached and how many stopped
+// on the cap, for the text output and the meta of measure.json and cost_table.json.
+struct RepsReached {
+  int rows = 0, on_cap = 0;
+  double widest = 0;  // relative half-width; 0 when no row has an interval
+  std::vector<double> rounds;  // per row: rounds reached
+  void add(const MeasureRow& row);
+  nlohmann::json to_json() const;  // {"rows", "on_cap", "widest_half_width", "rounds_median", "rounds_max"}
+  std::string text() const;        // "widest 95 % half-width 1.8 %, 0 of 75 rows on the cap, rounds median 14, max 200"
 };
 
 struct RunRecord {  // one batch on one backend and view: where the time went
@@ -127,6 +156,8 @@ struct MeasureResult {
   std::shared_ptr<const ScenePruning> pruning;  // with prune_by_profile
   std::vector<std::string> gpu_errors;          // --gpu: one line per family that failed
 };
+
+RepsReached reps_reached(const MeasureResult& result);
 
 // The table's rows of a measurement (every row but the baseline's timing-only one), images relative to
 // `prefix` (sweep: measure/<scene folder>).

@@ -52,7 +52,8 @@ json row_to_json(const MeasureRow& r, const MeasureResult& res) {
           {"view", r.view}, {"backend", r.backend}, {"device", r.device}, {"driver", r.driver}, {"size", r.size}, {"threads", r.threads},
           {"radius", res.radius}, {"spirv_hash", r.spirv_hash}, {"inputs_hash", r.inputs_hash},
           {"time_ms", stats_json(r.time_ms)}, {"passes", passes}, {"rel_time", r.rel_time},
-          {"rel_time_median", r.rel_time_median}, {"rounds", table::to_json(r.rounds)}, {"same_code_as", r.same_code_as},
+          {"rel_time_median", r.rel_time_median}, {"rounds", table::to_json(r.rounds)}, {"stop", stop_name(r.stop)},
+          {"ci_half_width", std::isfinite(r.ci_half_width) ? json(r.ci_half_width) : json(nullptr)}, {"same_code_as", r.same_code_as},
           {"baseline", r.baseline}, {"is_baseline", r.is_baseline},
           {"create_ms", r.create_ms}, {"first_frame_ms", r.first_frame_ms}, {"jit_ms", r.jit_ms},
           {"health", {{"nan", r.health.nan}, {"inf", r.health.inf}, {"out_of_range", r.health.out_of_range},
@@ -84,6 +85,7 @@ MeasureRow row_from_json(const json& j) {
   r.rel_time_median = j.at("rel_time_median");
   r.rounds = table::rounds_from_json(j.at("rounds"));  // rows written before rounds existed are measured again
   r.same_code_as = j.value("same_code_as", "");
+  r.set_reps_reached(stop_from_name(j.value("stop", "fixed")));  // its half-width: from the rounds
   r.baseline = j.at("baseline");
   r.is_baseline = j.at("is_baseline");
   r.create_ms = j.at("create_ms");

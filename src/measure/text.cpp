@@ -35,10 +35,11 @@ std::string notes_text(const MeasureResult& r, const MeasureOptions& o, const fs
     s += fmt::format("# {}: {}, {}, {} threads{}\n", d.backend, d.device, d.api_version, d.threads,
                      d.timing.empty() || d.timing == "timestamp queries" ? "" : "; timing: " + d.timing);
   const std::string json = o.out.empty() ? "" : util::display_path(o.out / "measure.json");
-  s += fmt::format("# scene {} ({} triangles), radius {:.3g}, {} at {}x{}, {} reps after {} warm-up; {}; "
+  s += fmt::format("# scene {} ({} triangles), radius {:.3g}, {} at {}x{}, {} after {} warm-up; {}; "
                    "{} rows ({} reused) in {:.1f} s{}\n",
-                   r.scene, r.triangles, r.radius, o.baseline, o.size.width, o.size.height, o.reps, o.warmup, r.counts,
-                   r.rows.size(), r.reused, r.wall_s, o.out.empty() ? "" : " -> " + json);
+                   r.scene, r.triangles, r.radius, o.baseline, o.size.width, o.size.height, reps_words(o), o.warmup,
+                   r.counts, r.rows.size(), r.reused, r.wall_s, o.out.empty() ? "" : " -> " + json);
+  s += "# timing reached: " + reps_reached(r).text() + "\n";
   if (r.pruning)
     s += fmt::format("# pruned by the scene's profile: {} ({}){}\n", r.pruning->summary(o.globs),
                      r.pruning->reused ? fmt::format("profile reused in {:.2f} s", r.pruning->seconds)

@@ -1,11 +1,13 @@
 #include "measure/timing.h"
 
 #include <chrono>
+#include <cmath>
 #include <numeric>
 
 #include <fmt/format.h>
 
 #include "util/clock.h"
+#include "util/intervals.h"
 
 namespace aovar::measure {
 namespace {
@@ -37,10 +39,11 @@ RoundRobinResult time_round_robin(render::Backend& backend, const std::vector<re
   r.wall_warmup_s = seconds_since(start);
 
   start = std::chrono::steady_clock::now();
-  std::size_t n = pipelines.size();
-  for (int round = 0; round < o.reps; ++round) {
-    for (std::size_t k = 0; k < n; ++k) {
-      std::size_t i = (k + static_cast<std::size_t>(round)) % n;  // rotate the order every round
+  std::vector<std::size_t> active(pipelines.size());
+  std::iota(active.begin(), active.end(), std::size_t{0});
+  for (int round = 0; !active.empty() && (o.adaptive || round < o.reps); ++round) {
+    for (std::size_t k = 0; k < active.size(); ++k) {
+      std::size_t i = active[(k + static_cast<std::size_t>(round)) % active.size()];  // rotate the order every round
       PipelineTiming& t = r.pipelines[i];
       auto ms = backend.render(*pipelines[i], setup(view, t.frames++, o));
       double total = std::accumulate(ms.begin(), ms.end(), 0.0);
@@ -48,8 +51,16 @@ RoundRobinResult time_round_robin(render::Backend& backend, const std::vector<re
       t.draw_ms.push_back(std::move(ms));
       r.sum_timed_s += total / 1000.0;
     }
-    if (progress) progress(fmt::format("round {}/{}", round + 1, o.reps));
+    if (o.adaptive) {
+      stop_after_round(r.pipelines, o.reps, *o.adaptive);
+      std::erase_if(active, [&](std::size_t i) { return r.pipelines[i].stop != Stop::running; });
+    }
+    if (progress)
+      progress(o.adaptive ? fmt::format("round {}, {} of {} pipelines still timed", round + 1, active.size(), pipelines.size())
+                          : fmt::format("round {}/{}", round + 1, o.reps));
   }
+  for (auto& t : r.pipelines)
+    if (t.stop == Stop::running) t.stop = Stop::fixed;
   r.wall_timed_s = seconds_since(start);
   return r;
 }
@@ -69,11 +80,65 @@ std::vector<std::pair<std::string, util::TimeStats>> pass_stats(const render::Pi
   return out;
 }
 
+std::vector<double> round_ratios(const PipelineTiming& t, const PipelineTiming& reference) {
+  std::vector<double> ratios;
+  for (std::size_t i = 0; i < t.total_ms.size() && i < reference.total_ms.size(); ++i)
+    if (reference.total_ms[i] > 0 && t.total_ms[i] > 0) ratios.push_back(t.total_ms[i] / reference.total_ms[i]);
+  return ratios;
+}
+
 double median_ratio(const PipelineTiming& t, const PipelineTiming& reference) {
   std::vector<double> ratios;
   for (std::size_t i = 0; i < t.total_ms.size() && i < reference.total_ms.size(); ++i)
     if (reference.total_ms[i] > 0) ratios.push_back(t.total_ms[i] / reference.total_ms[i]);
   return util::summarize(std::move(ratios)).median;
+}
+
+double relative_half_width(const std::vector<double>& ratios) {
+  const util::Interval ci = util::median_interval(ratios);
+  const double median = util::summarize(ratios).median;
+  return ci.known() && median > 0 ? (ci.hi - ci.lo) / 2 / median : NAN;
+}
+
+namespace {
+// Why a running pipeline that is not the reference stops after this round (running: it does not).
+Stop stop_of(const PipelineTiming& t, const PipelineTiming& reference, int min_rounds, const AutoReps& rule) {
+  const int rounds = static_cast<int>(t.total_ms.size());
+  if (rounds < min_rounds) return Stop::running;
+  if (relative_half_width(round_ratios(t, reference)) <= rule.ci_target) return Stop::target;  // NaN: not yet
+  const double timed_s = std::accumulate(t.total_ms.begin(), t.total_ms.end(), 0.0) / 1000.0;
+  return timed_s >= rule.cap_s || rounds >= rule.max_rounds ? Stop::cap : Stop::running;
+}
+}  // namespace
+
+void stop_after_round(std::vector<PipelineTiming>& pipelines, int min_rounds, const AutoReps& rule) {
+  if (pipelines.empty()) return;
+  bool others_run = false;
+  for (std::size_t i = 1; i < pipelines.size(); ++i) {
+    PipelineTiming& t = pipelines[i];
+    if (t.stop == Stop::running) t.stop = stop_of(t, pipelines[0], min_rounds, rule);
+    others_run = others_run || t.stop == Stop::running;
+  }
+  PipelineTiming& reference = pipelines[0];
+  // Alone (a batch of the reference only) it is its own target: its ratio to itself is exactly 1.
+  if (reference.stop == Stop::running && !others_run && static_cast<int>(reference.total_ms.size()) >= min_rounds)
+    reference.stop = Stop::target;
+}
+
+const char* stop_name(Stop s) {
+  switch (s) {
+    case Stop::running: return "running";
+    case Stop::fixed: return "fixed";
+    case Stop::target: return "target";
+    case Stop::cap: return "cap";
+  }
+  return "fixed";
+}
+
+Stop stop_from_name(const std::string& name) {
+  for (Stop s : {Stop::running, Stop::fixed, Stop::target, Stop::cap})
+    if (name == stop_name(s)) return s;
+  return Stop::fixed;
 }
 
 }  // namespace aovar::measure

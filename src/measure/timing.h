@@ -4,6 +4,7 @@
 // once, in an order rotated per round, so drift on a noisy machine spreads over all of them. The
 // reference pipeline is part of every round, so each result can be given relative to it.
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,18 +13,35 @@
 
 namespace aovar::measure {
 
+// --reps auto: rounds go on until every pipeline's ratio to the reference is known to within ci_target, or
+// the pipeline has had its cap. `reps` (TimingOptions, MeasureOptions) is then the least number of rounds,
+// so auto never measures less than the fixed default.
+struct AutoReps {
+  double ci_target = 0.02;  // (hi - lo) / 2 / median of the 95 % interval of the per-round ratio
+  double cap_s = 2.0;       // per pipeline: its own timed frames, summed, after which it stops anyway
+  int max_rounds = 200;     // per pipeline, whatever the cap in seconds says
+  bool operator==(const AutoReps&) const = default;
+};
+
 struct TimingOptions {
   int warmup = 2;   // frames after the first (JIT) frame that are discarded
-  int reps = 10;    // timed rounds
+  int reps = 10;    // timed rounds (with `adaptive`: the least number)
   float radius = 1.0f;
   bool camera_path = false;  // frames walk the view's camera path (else its first pose, static)
+  std::optional<AutoReps> adaptive;  // --reps auto
 };
+
+// Why a pipeline's timing ended: a fixed --reps N, its interval reached the target, or its cap.
+enum class Stop { running, fixed, target, cap };
+const char* stop_name(Stop s);  // "running", "fixed", "target", "cap"
+Stop stop_from_name(const std::string& name);  // unknown names: fixed (rows written before --reps auto)
 
 struct PipelineTiming {
   double first_frame_ms = 0;                 // first frame: includes the driver's JIT of every draw
   std::vector<std::vector<double>> draw_ms;  // [round][draw]
   std::vector<double> total_ms;              // [round] sum of the draws
   int frames = 0;                            // frames rendered so far (the next frame's number)
+  Stop stop = Stop::running;
 };
 
 struct RoundRobinResult {
@@ -43,7 +61,22 @@ RoundRobinResult time_round_robin(render::Backend& backend, const std::vector<re
 // Per timing group ("gbuffer", "ao", "blur", ...): stats of the summed draw times of that group per round.
 std::vector<std::pair<std::string, util::TimeStats>> pass_stats(const render::PipelinePlan& plan, const PipelineTiming& t);
 
+// Per round: the pipeline's frame time over the reference's in the same round (table::Rounds). A pipeline
+// that stopped early has fewer rounds; its round i is still the reference's round i.
+std::vector<double> round_ratios(const PipelineTiming& t, const PipelineTiming& reference);
+
 // Median over rounds of this pipeline's total divided by the reference's total in the same round.
 double median_ratio(const PipelineTiming& t, const PipelineTiming& reference);
+
+// The relative half-width (hi - lo) / 2 / median of the 95 % sign-test interval of the median of `ratios`;
+// NaN below the samples that interval needs.
+double relative_half_width(const std::vector<double>& ratios);
+
+// The stopping rule of --reps auto, after a round (no timing in it, so it is tested on synthetic rounds):
+// pipelines[0] is the reference, the others have run every round since the first until they stopped. A
+// running pipeline with at least `min_rounds` rounds stops on the target when its relative half-width is
+// within `rule.ci_target`, else on the cap when its timed frames reach cap_s or its rounds max_rounds. The
+// reference stops only when no other pipeline runs: every ratio needs it in the same round.
+void stop_after_round(std::vector<PipelineTiming>& pipelines, int min_rounds, const AutoReps& rule);
 
 }  // namespace aovar::measure

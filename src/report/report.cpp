@@ -244,7 +244,8 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
   std::string scenes;
   for (const auto& sc : m.value("scenes", nlohmann::json::array())) scenes += (scenes.empty() ? "" : ", ") + sc.value("scene", std::string());
   h << "<p>" << t.rows.size() << " rows; scenes: " << escape(scenes) << "; " << escape(m.value("size", std::string())) << ", "
-    << m.value("reps", 0) << " reps, references " << m.value("rays", 0) << " rays; "
+    << (m.contains("reps_auto") && !m.at("reps_auto").is_null() ? "--reps auto" : std::to_string(m.value("reps", 0)) + " reps")
+    << ", references " << m.value("rays", 0) << " rays; "
     << (m.value("calibrated", false) ? "calibrated parameters" : "manifest defaults") << "; shard "
     << escape(m.value("shard", std::string("1/1"))) << ".</p><p>" << escape(kTimeNote) << "</p><ul>";
   for (const auto& cm : m.value("cost_models", nlohmann::json::array())) {

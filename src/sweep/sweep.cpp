@@ -137,6 +137,8 @@ json table_meta(const SweepOptions& o, const SweepResult& res, const json& scene
                {"backends", o.measure.backends},
                {"size", fmt::format("{}x{}", o.measure.size.width, o.measure.size.height)},
                {"reps", o.measure.reps},
+               {"reps_auto", measure::reps_auto_json(o.measure)},
+               {"reps_reached", res.reps.to_json()},
                {"rays", o.measure.reference_rays},
                {"calibrated", !o.measure.calibration.empty()},
                {"shard", fmt::format("{}/{}", o.measure.shard_index + 1, o.measure.shard_count)},
@@ -185,6 +187,7 @@ SweepResult run_sweep(const SweepOptions& o, const Progress& progress) {
     auto r = o.prune_dominated ? measure_pruned(o, mo, statics, folder, say_for(i), pruning) : measure::run_measure(mo, say_for(i));
     for (const auto& row : r.rows)  // the table's rows: not the baseline's timing-only one
       if (!row.is_baseline) ++(row.reused && !pruning.phase1_measured.count(row.inputs_hash) ? res.rows_reused : res.rows_measured);
+    for (const auto& row : r.rows) res.reps.add(row);
     if (r.rows.empty()) continue;  // a shard holding none of the variants
     auto rows = measure::cost_rows(r, fs::path("measure") / folder);
     if (o.prune_dominated) {

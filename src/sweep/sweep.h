@@ -41,6 +41,7 @@ struct SweepResult {
   double profile_s = 0;     // scene profiles (measure.prune_by_profile): profiling or reading back, and pruning
   int profiles_reused = 0;  // read back from OUT/measure/<scene>/profile.json
   double wall_s = 0;
+  measure::RepsReached reps;  // over every scene's timed rows (meta.reps_reached)
 };
 
 // Throws std::runtime_error (and the scene/manifest/backend errors) with one-line messages.

@@ -32,6 +32,7 @@ std::string notes_text(const SweepResult& r, const SweepOptions& o, const fs::pa
     s += fmt::format("# scene profiles: {} ({} reused) in {:.2f} s; each dropped variant with its reason: "
                      "cost_table.json meta.pruned (--no-prune measures them)\n",
                      o.scenes.size(), r.profiles_reused, r.profile_s);
+  s += fmt::format("# timing: {}; reached: {}\n", measure::reps_words(o.measure), r.reps.text());
   s += fmt::format("# {} rows ({} measured, {} reused, {} predicted) in {:.1f} s{} -> {}\n", r.table.rows.size(),
                    r.rows_measured, r.rows_reused, r.rows_predicted, r.wall_s,
                    cal_file.empty() ? "" : ", calibrated by " + util::display_path(cal_file),

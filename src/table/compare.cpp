@@ -129,6 +129,7 @@ CostTable merge_tables(const std::vector<std::filesystem::path>& inputs) {
     CostTable t = read_table(inputs[i]);
     nlohmann::json meta = t.meta;
     if (meta.is_object()) meta.erase("shard");
+    if (meta.is_object()) meta.erase("reps_reached");  // what each shard's timing reached: its own
     if (i == 0) {
       first_meta = meta;
     } else if (meta != first_meta) {
