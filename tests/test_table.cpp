@@ -351,7 +351,9 @@ TEST(Diff, CountsAndPercentages) {
   auto d = diff_tables(a, b);
   ASSERT_EQ(d.metrics.size(), 3u);
   const auto& t = d.metrics[0];
-  EXPECT_EQ(t.metric, "time_ms.min");
+  EXPECT_EQ(t.metric, "time_ms");
+  EXPECT_EQ(t.by_threshold, 4) << "no rounds: the 2 % threshold decides";
+  EXPECT_EQ(t.inconclusive, 0);
   EXPECT_EQ(t.helped, 1);
   EXPECT_EQ(t.hurt, 1);
   EXPECT_EQ(t.unchanged, 2);
@@ -385,7 +387,7 @@ TEST(Diff, CountsAndPercentages) {
   write_json(b, dir / "b.json");
   auto r = test::run_aovar("diff " + (dir / "a.json").string() + " " + (dir / "b.json").string());
   EXPECT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("time_ms.min"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("rows without rounds decided by"), std::string::npos) << r.output;
 }
 
 TEST(Merge, DisjointShardsJoinAndConflictsAreRefused) {

@@ -1,4 +1,4 @@
-// aovar diff: per-variant deltas between two cost tables (helped / hurt).
+// aovar diff: per-variant deltas between two cost tables (helped / hurt / inconclusive).
 #include <iostream>
 #include <memory>
 
@@ -23,7 +23,7 @@ int run_diff(const DiffArgs& args) {
 
 Command add_diff(CLI::App& app) {
   auto a = std::make_shared<DiffArgs>();
-  auto* cmd = app.add_subcommand("diff", "per-variant deltas between two cost tables (helped / hurt)");
+  auto* cmd = app.add_subcommand("diff", "per-variant deltas between two cost tables (helped / hurt beyond the noise, inconclusive)");
   cmd->add_option("A", a->a, "the old cost_table.json")->required();
   cmd->add_option("B", a->b, "the new cost_table.json")->required();
   return {cmd, [a] { return run_diff(*a); }};

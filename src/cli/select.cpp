@@ -30,10 +30,10 @@ Command add_select(CLI::App& app) {
                                            "reason, the runners-up and the margin");
   cmd->add_option("--table,-t", a->table, "cost_table.json")->required();
   auto* budget = cmd->add_option("--budget-ms", q.budget_ms, "lowest error with time (time_ms.paired, else min) <= this");
-  cmd->add_option("--max-error", q.max_error, "cheapest variant with error.rmse <= this")->excludes(budget);
+  cmd->add_option("--max-error", q.max_error, "cheapest variant with error.rmse <= this (time ties: lowest rmse)")->excludes(budget);
   cmd->add_option("--tolerance", q.tolerance,
-                  "name a variant >= 5% cheaper (budget) or with >= 5% less error (max-error) that gives up at most "
-                  "this share of the other criterion")
+                  "name a variant faster beyond the noise (budget; >= 5% when the table has no rounds) or with >= 5% "
+                  "less error (max-error) that gives up at most this share of the other criterion")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--scene,-s", q.scene, "only this scene (default: all; worst over them)");

@@ -6,19 +6,29 @@
 #include <vector>
 
 #include "table/table.h"
+#include "util/intervals.h"
 
 namespace aovar::table {
 
 struct Delta {
   std::string key;   // CostRow::key()
   double a = 0, b = 0;
-  double pct = 0;    // 100 (b - a) / a; 0 when both are 0, +-inf when only a is 0
+  // 100 (b - a) / a; 0 when both are 0, +-inf when only a is 0. Time decided by rounds: 100 (ratio - 1) of
+  // compare_time's ratio to the baseline, free of the drift between the two runs that a and b keep.
+  double pct = 0;
+  // Time: the 95 % interval of pct (from compare_time's interval of b / a); unknown where the row was
+  // decided by the threshold (no rounds on either side) and for rmse and ssim (deterministic).
+  util::Interval pct_ci;
 };
 
 struct MetricDiff {
-  std::string metric;          // "time_ms.min", "error.rmse", "error.ssim"
+  std::string metric;          // "time_ms" (paired, else min), "error.rmse", "error.ssim"
   bool higher_is_better = false;
-  int helped = 0, hurt = 0, unchanged = 0;
+  // Time: helped / hurt = faster / slower beyond the noise (compare_time), inconclusive = the interval of
+  // the ratio holds 1; rows without an interval are decided by the threshold (then unchanged when within
+  // it) and counted in by_threshold too.
+  int helped = 0, hurt = 0, unchanged = 0, inconclusive = 0;
+  int by_threshold = 0;
   double total_a = 0, total_b = 0;  // sums over the rows in both tables
   double mean_pct = 0;              // mean of the per-row percentages (finite ones)
   std::vector<Delta> top_helped, top_hurt;  // up to 10 each, largest relative change first
@@ -30,8 +40,9 @@ struct TableDiff {
   int common = 0;
 };
 
-// Rows match by CostRow::key(). Thresholds: time |Δ| > 2 %, rmse and ssim |Δ| > 1e-4 absolute. Time
-// skips predicted rows; error metrics skip rows without an error on either side.
+// Rows match by CostRow::key(). Time: compare_time(b, a) on the rows' rounds (the decision time: paired, else
+// min); rows without rounds on both sides (older tables) fall back to |Δ| > 2 %. rmse and ssim: |Δ| > 1e-4
+// absolute. Time skips predicted rows; error metrics skip rows without an error on either side.
 TableDiff diff_tables(const CostTable& a, const CostTable& b);
 std::string format_diff(const TableDiff& d, const std::string& name_a, const std::string& name_b);
 

@@ -6,19 +6,21 @@
 #include <vector>
 
 #include "table/table.h"
+#include "table/time_compare.h"
+#include "util/intervals.h"
 
 namespace aovar::table {
 
 struct SelectQuery {
   std::optional<double> budget_ms;   // lowest error with time_ms.decision() (paired, else min) <= budget
-  std::optional<double> max_error;   // cheapest with error.rmse <= max_error
+  std::optional<double> max_error;   // cheapest with error.rmse <= max_error (time ties: the lowest rmse)
   std::string scene, view, backend;  // empty: all
   // An AMD family ("navi21"): time is the row's roofline estimate on it (gpu.<family>.est_ms, sweep --gpu)
   // instead of the time measured here; errors still come from the reference. Empty: the measured time.
   std::string target;
   // An alternative is worth a line when it gives up at most this share (0.02 = 2 %) of the criterion the
-  // query did not fix: a variant much faster for nearly the same error (budget), or one with much less
-  // error for nearly the same time (max-error).
+  // query did not fix: a variant faster beyond the noise for nearly the same error (budget), or one with
+  // much less error for nearly the same time (max-error).
   double tolerance = 0.02;
 };
 
@@ -29,14 +31,31 @@ struct Candidate {
   double time_ms = 0, rmse = 0, ssim = 0;
   std::vector<std::string> views;  // the rows it aggregates
   std::string worst_error_view, worst_time_view;
+  // The row that gives its worst (max) time, with its rounds: what its time is compared by (compare_time).
+  CostRow time_row;
+  util::Interval time_ci;       // 95 % interval of time_ms (time_row.time_ms.paired_ci; unknown with a target)
+  double work_per_pixel = NAN;  // static cost (StaticCost::work_per_pixel) of that row; NaN when not analysed
 };
+
+// a's time against b's as the query sees it: compare_time on their time rows, or the point estimates on
+// the target GPU (deterministic: no interval).
+TimeComparison compare_candidates(const Candidate& a, const Candidate& b, const SelectQuery& q);
 
 struct Selection {
   bool ok = false;
   std::optional<Candidate> choice;
   std::vector<Candidate> runners_up;  // the next 3 in the order that made the choice
+  // The candidates the query cannot tell from the choice on time (their time ratio's interval holds 1).
+  // Max-error: every eligible candidate no other eligible one is faster than beyond the noise, but the
+  // choice; the choice is the lowest rmse of them, then the lowest work per pixel, then point time, then key.
+  // Budget: the eligible candidates tied with the choice (any rmse; the choice has the lowest).
+  std::vector<Candidate> tied;
+  util::Interval choice_ci;           // 95 % interval of the choice's time (unknown without rounds)
+  bool may_exceed_budget = false;     // budget: choice_ci reaches beyond it
+  std::optional<TimeComparison> margin;  // the runner-up's time against the choice's
   std::optional<Candidate> nearest;   // when nothing satisfies: fastest (budget) / lowest error (max-error)
-  // Budget: the fastest candidate at least 5 % faster than the choice with rmse <= choice x (1 + tolerance).
+  // Budget: the fastest candidate faster than the choice beyond the noise (at least 5 % when the comparison
+  // has no interval: tables without rounds, a target's estimate) with rmse <= choice x (1 + tolerance).
   // Max-error: the lowest-error candidate with at least 5 % less rmse at time <= choice x (1 + tolerance).
   std::optional<Candidate> consider;
   std::string text;                   // what `aovar select` prints

@@ -1,0 +1,238 @@
+// Decisions that survive the noise (issue 18): select, diff and the Pareto front call two times tied when
+// the 95 % interval of their ratio holds 1, on rows with real rounds (per-round ratios to the baseline).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <fmt/format.h>
+
+#include "table/compare.h"
+#include "table/select.h"
+#include "table/table.h"
+#include "table/time_compare.h"
+
+namespace {
+using namespace aovar;
+using namespace aovar::table;
+
+constexpr double kBaselineMs = 10;
+constexpr int kRounds = 15;
+const std::string kScale = "base@builtin:atrium/overview/lavapipe/llvmpipe/64x36/2";
+
+// Per round: `ratio` times a noise factor uniform in +-3.46 % (a 2 % standard deviation), from a generator
+// whose sequence the standard fixes (mt19937), so every library draws the same rounds.
+std::vector<double> noisy_ratios(double ratio, std::mt19937& gen) {
+  std::vector<double> out;
+  for (int i = 0; i < kRounds; ++i) {
+    const double u = static_cast<double>(gen()) / 4294967295.0;  // [0, 1]
+    out.push_back(ratio * (1 + 0.0346 * (2 * u - 1)));
+  }
+  return out;
+}
+
+double median(std::vector<double> x) {
+  std::sort(x.begin(), x.end());
+  return x.size() % 2 ? x[x.size() / 2] : (x[x.size() / 2 - 1] + x[x.size() / 2]) / 2;
+}
+
+// A measured row as measure writes it: its rounds, the paired time (baseline min x median ratio) and the
+// intervals set_intervals derives from them.
+CostRow timed(const std::string& variant, std::vector<double> ratios, double rmse, const std::string& batch = "b1",
+              double baseline_ms = kBaselineMs) {
+  CostRow r;
+  r.variant = variant;
+  r.scene = "builtin:atrium";
+  r.view = "overview";
+  r.backend = "lavapipe";
+  r.size = "64x36";
+  r.threads = 2;
+  const double lo = *std::min_element(ratios.begin(), ratios.end());
+  r.rel_time_median = median(ratios);
+  r.rel_time = lo;
+  r.time_ms = {baseline_ms * lo, baseline_ms * r.rel_time_median, baseline_ms * lo * 1.1, kRounds};
+  r.time_ms.paired = baseline_ms * r.rel_time_median;
+  r.rounds = {kScale, batch, std::move(ratios)};
+  metrics::ErrorStats e;
+  e.rmse = rmse;
+  e.ssim = 1 - rmse;
+  r.error = e;
+  set_intervals(r);
+  return r;
+}
+
+std::string interval_ms(const util::Interval& ci) { return fmt::format("[{:.3f}, {:.3f}]", ci.lo, ci.hi); }
+
+bool on_front(const std::vector<CostRow>& rows, const std::string& variant) {
+  for (const auto& r : rows)
+    if (r.variant == variant) return r.pareto;
+  ADD_FAILURE() << "no row " << variant;
+  return false;
+}
+
+TEST(SelectTies, WithinTheNoiseTheErrorDecides) {
+  std::mt19937 gen(18);
+  CostTable t;
+  t.rows = {timed("quick", noisy_ratios(1.000, gen), 0.05), timed("careful", noisy_ratios(1.005, gen), 0.03)};
+  // The premise: by point "quick" is the faster one, and the two are tied beyond it.
+  ASSERT_LT(t.rows[0].time_ms.paired, t.rows[1].time_ms.paired);
+  ASSERT_TRUE(compare_time(t.rows[0], t.rows[1]).tied()) << ratio_text(compare_time(t.rows[0], t.rows[1]));
+  SelectQuery q;
+  q.max_error = 0.1;
+  auto s = select(t, q);
+  ASSERT_TRUE(s.ok) << s.text;
+  EXPECT_EQ(s.choice->variant, "careful") << s.text;
+  ASSERT_EQ(s.tied.size(), 1u) << s.text;
+  EXPECT_EQ(s.tied[0].variant, "quick");
+  EXPECT_NE(s.text.find("tied on time with 1 other (intervals overlap): quick"), std::string::npos) << s.text;
+  // The choice's paired time with its 95 % interval.
+  const CostRow& c = t.rows[1];
+  ASSERT_TRUE(c.time_ms.paired_ci.known());
+  EXPECT_EQ(s.choice_ci, c.time_ms.paired_ci);
+  EXPECT_NE(s.text.find(fmt::format("{:.3f} ms {}", c.time_ms.paired, interval_ms(c.time_ms.paired_ci))),
+            std::string::npos)
+      << s.text;
+  ASSERT_TRUE(s.margin);
+  EXPECT_TRUE(s.margin->tied());
+  EXPECT_NE(s.text.find("(tied: the interval holds 1)"), std::string::npos) << s.text;
+}
+
+TEST(SelectTies, AClearDifferenceIsNotATie) {
+  std::mt19937 gen(18);
+  CostTable t;
+  t.rows = {timed("quick", noisy_ratios(1.0, gen), 0.05), timed("careful", noisy_ratios(1.2, gen), 0.03)};
+  SelectQuery q;
+  q.max_error = 0.1;
+  auto s = select(t, q);
+  ASSERT_TRUE(s.ok) << s.text;
+  EXPECT_EQ(s.choice->variant, "quick") << s.text;
+  EXPECT_TRUE(s.tied.empty()) << s.text;
+  EXPECT_EQ(s.text.find("tied on time"), std::string::npos) << s.text;
+  ASSERT_TRUE(s.margin);
+  EXPECT_EQ(s.margin->verdict, TimeVerdict::slower) << s.text;
+  EXPECT_NE(s.text.find("time ratio " + ratio_text(*s.margin)), std::string::npos) << s.text;
+  EXPECT_EQ(s.text.find("(tied:"), std::string::npos) << s.text;
+}
+
+TEST(SelectTies, TiesChooseByStaticCostWhenTheErrorIsEqual) {
+  std::mt19937 gen(7);
+  CostTable t;
+  t.rows = {timed("heavy", noisy_ratios(0.998, gen), 0.04), timed("light", noisy_ratios(1.002, gen), 0.04)};
+  StaticCost heavy, light;
+  heavy.work_per_pixel = 300;
+  light.work_per_pixel = 120;
+  t.rows[0].static_cost = heavy;
+  t.rows[1].static_cost = light;
+  ASSERT_TRUE(compare_time(t.rows[0], t.rows[1]).tied());
+  SelectQuery q;
+  q.max_error = 0.1;
+  EXPECT_EQ(select(t, q).choice->variant, "light");
+  SelectQuery b;
+  b.budget_ms = 20;
+  EXPECT_EQ(select(t, b).choice->variant, "light");
+}
+
+TEST(SelectTies, BudgetSaysWhenTheIntervalCrossesIt) {
+  std::mt19937 gen(5);
+  CostTable t;
+  t.rows = {timed("good", noisy_ratios(1.0, gen), 0.02), timed("rough", noisy_ratios(1.003, gen), 0.06),
+            timed("slow", noisy_ratios(1.5, gen), 0.01)};
+  const CostRow& good = t.rows[0];
+  ASSERT_TRUE(good.time_ms.paired_ci.known());
+  ASSERT_GT(good.time_ms.paired_ci.hi, good.time_ms.paired);
+  SelectQuery q;
+  q.budget_ms = (good.time_ms.paired + good.time_ms.paired_ci.hi) / 2;  // the point fits, the interval does not
+  auto s = select(t, q);
+  ASSERT_TRUE(s.ok) << s.text;
+  EXPECT_EQ(s.choice->variant, "good") << s.text;
+  EXPECT_TRUE(s.may_exceed_budget);
+  EXPECT_NE(s.text.find(fmt::format("may exceed the budget: its 95 % interval reaches {:.3f} ms",
+                                    good.time_ms.paired_ci.hi)),
+            std::string::npos)
+      << s.text;
+  // "rough" is tied with it on time (and has more error): reported.
+  ASSERT_EQ(s.tied.size(), 1u) << s.text;
+  EXPECT_EQ(s.tied[0].variant, "rough");
+  q.budget_ms = good.time_ms.paired_ci.hi + 0.01;
+  s = select(t, q);
+  EXPECT_FALSE(s.may_exceed_budget) << s.text;
+  EXPECT_EQ(s.text.find("may exceed"), std::string::npos) << s.text;
+}
+
+TEST(SelectTies, ConsiderNeedsFasterBeyondTheNoise) {
+  std::mt19937 gen(11);
+  CostTable t;
+  // Budget: "best" has the lowest error; "near" is 1 % faster by point (within the noise), "cheap" 30 %
+  // faster, both within 2 % of its error.
+  t.rows = {timed("best", noisy_ratios(1.0, gen), 0.0500), timed("near", noisy_ratios(0.99, gen), 0.0505),
+            timed("cheap", noisy_ratios(0.7, gen), 0.0508)};
+  ASSERT_TRUE(compare_time(t.rows[1], t.rows[0]).tied());
+  SelectQuery q;
+  q.budget_ms = 20;
+  auto s = select(t, q);
+  ASSERT_EQ(s.choice->variant, "best") << s.text;
+  ASSERT_TRUE(s.consider) << s.text;
+  EXPECT_EQ(s.consider->variant, "cheap");
+  t.rows.pop_back();  // without "cheap" nothing is faster beyond the noise
+  s = select(t, q);
+  EXPECT_FALSE(s.consider) << s.text;
+}
+
+TEST(DiffTies, HelpedHurtAndInconclusive) {
+  std::mt19937 gen(3);
+  CostTable a, b;
+  a.rows = {timed("v1", noisy_ratios(1.0, gen), 0.1, "runA"), timed("v2", noisy_ratios(1.0, gen), 0.1, "runA"),
+            timed("v3", noisy_ratios(1.0, gen), 0.1, "runA")};
+  // Run B: the host is 10 % faster (its baseline min is 9 ms): the ratios to the baseline cancel that.
+  b.rows = {timed("v1", noisy_ratios(0.8, gen), 0.1, "runB", 9),    // clearly faster: helped
+            timed("v2", noisy_ratios(1.25, gen), 0.1, "runB", 9),   // clearly slower: hurt
+            timed("v3", noisy_ratios(1.003, gen), 0.1, "runB", 9)};  // within the noise: inconclusive
+  auto d = diff_tables(a, b);
+  const MetricDiff& t = d.metrics.at(0);
+  EXPECT_EQ(t.metric, "time_ms");
+  EXPECT_EQ(t.helped, 1);
+  EXPECT_EQ(t.hurt, 1);
+  EXPECT_EQ(t.inconclusive, 1);
+  EXPECT_EQ(t.unchanged, 0);
+  EXPECT_EQ(t.by_threshold, 0);
+  ASSERT_EQ(t.top_helped.size(), 1u);
+  EXPECT_EQ(t.top_helped[0].key.rfind("v1|", 0), 0u);
+  ASSERT_TRUE(t.top_helped[0].pct_ci.known());
+  EXPECT_LT(t.top_helped[0].pct_ci.hi, 0);
+  // The change listed is the drift-free one its interval belongs to (about -20 %, not the -28 % of the times).
+  EXPECT_TRUE(t.top_helped[0].pct_ci.contains(t.top_helped[0].pct)) << t.top_helped[0].pct;
+  ASSERT_EQ(t.top_hurt.size(), 1u);
+  EXPECT_EQ(t.top_hurt[0].key.rfind("v2|", 0), 0u);
+  EXPECT_GT(t.top_hurt[0].pct_ci.lo, 0);
+  std::string text = format_diff(d, "A", "B");
+  EXPECT_NE(text.find("helped 1, hurt 1, inconclusive 1"), std::string::npos) << text;
+  EXPECT_NE(text.find(fmt::format("[{:+.2f}%, {:+.2f}%]", t.top_helped[0].pct_ci.lo, t.top_helped[0].pct_ci.hi)),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("without rounds"), std::string::npos) << text;
+  // A row without rounds on one side falls back to the threshold and says so.
+  b.rows[2].rounds = {};
+  d = diff_tables(a, b);
+  EXPECT_EQ(d.metrics[0].by_threshold, 1);
+  EXPECT_EQ(d.metrics[0].inconclusive, 0);
+  EXPECT_NE(format_diff(d, "A", "B").find("1 rows without rounds decided by"), std::string::npos);
+}
+
+TEST(ParetoTies, TiedTimesLetTheErrorDecide) {
+  std::mt19937 gen(21);
+  std::vector<CostRow> rows = {timed("tie_fast", noisy_ratios(1.000, gen), 0.05),   // tied with tie_good
+                               timed("tie_good", noisy_ratios(1.004, gen), 0.03),
+                               timed("clear_fast", noisy_ratios(0.7, gen), 0.20),  // clearly faster, more error
+                               timed("copy", noisy_ratios(0.6, gen), 0.01)};       // shares another's code
+  rows[3].same_code_as = "tie_good";
+  ASSERT_LT(rows[0].time_ms.paired, rows[1].time_ms.paired) << "the premise: tie_fast is faster by point";
+  ASSERT_TRUE(compare_time(rows[0], rows[1]).tied());
+  mark_pareto(rows);
+  EXPECT_FALSE(on_front(rows, "tie_fast"));
+  EXPECT_TRUE(on_front(rows, "tie_good"));
+  EXPECT_TRUE(on_front(rows, "clear_fast"));
+  EXPECT_FALSE(on_front(rows, "copy"));
+}
+
+}  // namespace
