@@ -39,14 +39,11 @@ int threshold_sign(double a, double b, bool relative, double threshold, bool hig
   return (higher_better ? delta > 0 : delta < 0) ? 1 : -1;
 }
 
-// Time: b against a beyond the noise. The rows come from two runs, so their own intervals (each on its
-// run's baseline min) are left out: comparing those would bring back the drift between the runs that the
-// ratios to the baseline cancel; compare_time then tests the two rows' rounds (Mann-Whitney).
+// Time: b against a beyond the noise. The rows come from two runs: on one scale compare_time compares their
+// ratios to the baseline, which cancel the drift between the runs (Mann-Whitney on the two rows' rounds).
 Verdict time_verdict(const CostRow& a, const CostRow& b) {
   if (!a.rounds.ratios.empty() && !b.rounds.ratios.empty()) {
-    CostRow ca = a, cb = b;
-    ca.time_ms.paired_ci = cb.time_ms.paired_ci = {};
-    const TimeComparison t = compare_time(cb, ca);
+    const TimeComparison t = compare_time(b, a);
     if (t.ci.known()) {
       Verdict v;
       v.sign = t.verdict == TimeVerdict::faster ? 1 : t.verdict == TimeVerdict::slower ? -1 : 0;

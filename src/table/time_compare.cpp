@@ -65,12 +65,16 @@ TimeComparison compare_time(const CostRow& a, const CostRow& b) {
     return make(tb > 0 ? ta / tb : 1, {}, "point estimates");
   const bool same_scale = !a.rounds.scale.empty() && a.rounds.scale == b.rounds.scale;
   // Rows whose own intervals do not overlap differ whatever the pairing; this also keeps a front over
-  // thousands of rows cheap (the pairwise interval is computed only where the two overlap).
-  const util::Interval& ia = a.time_ms.paired_ci;
-  const util::Interval& ib = b.time_ms.paired_ci;
-  if (ia.known() && ib.known() && (ia.hi < ib.lo || ib.hi < ia.lo))
-    return {ta / tb, {ia.lo / ib.hi, ia.hi / ib.lo}, ia.hi < ib.lo ? TimeVerdict::faster : TimeVerdict::slower,
+  // thousands of rows cheap (the pairwise interval is computed only where the two overlap). On one scale
+  // the intervals of the ratios to the baseline, which are free of the drift between runs (diff compares
+  // two runs); across scales the paired times'.
+  const util::Interval& ia = same_scale ? a.rel_time_ci : a.time_ms.paired_ci;
+  const util::Interval& ib = same_scale ? b.rel_time_ci : b.time_ms.paired_ci;
+  if (ia.known() && ib.known() && (ia.hi < ib.lo || ib.hi < ia.lo)) {
+    const double ratio = same_scale ? a.rel_time_median / b.rel_time_median : ta / tb;
+    return {ratio, {ia.lo / ib.hi, ia.hi / ib.lo}, ia.hi < ib.lo ? TimeVerdict::faster : TimeVerdict::slower,
             "disjoint intervals"};
+  }
   if (same_scale && a.rounds.is_baseline() && b.rounds.is_baseline()) return make(1, {1, 1}, "against the baseline");
   if (same_scale && b.rounds.is_baseline()) return from_ratios(a.rounds.ratios, "against the baseline");
   if (same_scale && a.rounds.is_baseline()) {
