@@ -71,6 +71,27 @@ bool on_front(const std::vector<CostRow>& rows, const std::string& variant) {
   return false;
 }
 
+TEST(SelectTies, BudgetOfAVariantAdmitsItsTiesAndNothingSlower) {
+  std::mt19937 gen(21);
+  CostTable t;
+  // "now" is what ships today; "tied" is 1 % slower by point (within the noise) with less error; "slow" is
+  // 25 % slower with the least error.
+  t.rows = {timed("now", noisy_ratios(1.00, gen), 0.05), timed("tied", noisy_ratios(1.01, gen), 0.04),
+            timed("slow", noisy_ratios(1.25, gen), 0.01)};
+  ASSERT_TRUE(compare_time(t.rows[1], t.rows[0]).tied());
+  SelectQuery q;
+  q.budget_of = "now";
+  Selection s = select(t, q);
+  ASSERT_TRUE(s.ok) << s.text;
+  EXPECT_EQ(s.choice->variant, "tied") << s.text;
+  EXPECT_NE(s.text.find("budget: the time of now"), std::string::npos) << s.text;
+  q.budget_of = "missing";
+  EXPECT_THROW(select(t, q), std::runtime_error);
+  q.budget_of = "now";
+  q.budget_ms = 5.0;
+  EXPECT_THROW(select(t, q), std::runtime_error) << "one budget only";
+}
+
 TEST(SelectTies, WithinTheNoiseTheErrorDecides) {
   std::mt19937 gen(18);
   CostTable t;

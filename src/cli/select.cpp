@@ -30,7 +30,11 @@ Command add_select(CLI::App& app) {
                                            "reason, the runners-up and the margin");
   cmd->add_option("--table,-t", a->table, "cost_table.json")->required();
   auto* budget = cmd->add_option("--budget-ms", q.budget_ms, "lowest error with time (time_ms.paired, else min) <= this");
-  cmd->add_option("--max-error", q.max_error, "cheapest variant with error.rmse <= this (time ties: lowest rmse)")->excludes(budget);
+  auto* budget_of = cmd->add_option("--budget-of", q.budget_of,
+                                    "a variant key: its time is the budget (variants not slower than it beyond the "
+                                    "noise fit), the same on any machine")
+                        ->excludes(budget);
+  cmd->add_option("--max-error", q.max_error, "cheapest variant with error.rmse <= this (time ties: lowest rmse)")->excludes(budget)->excludes(budget_of);
   cmd->add_option("--tolerance", q.tolerance,
                   "name a variant faster beyond the noise (budget; >= 5% when the table has no rounds) or with >= 5% "
                   "less error (max-error) that gives up at most this share of the other criterion")

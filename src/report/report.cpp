@@ -163,6 +163,7 @@ namespace {
 // "12.34 [12.10, 12.61]": the decision time and its interval (rows without rounds: the time alone).
 std::string time_with_interval(const CostRow& r) {
   const auto& ci = r.time_ms.paired_ci;
+  if (r.rounds.is_baseline()) return fmt::format("{:.2f} (baseline)", r.time_ms.decision());
   return ci.known() ? fmt::format("{:.2f} [{:.2f}, {:.2f}]", r.time_ms.decision(), ci.lo, ci.hi)
                     : fmt::format("{:.2f}", r.time_ms.decision());
 }

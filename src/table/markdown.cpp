@@ -43,7 +43,9 @@ std::string to_markdown(const CostTable& t) {
     std::string time = r->predicted ? fmt::format("~{:.3f} (predicted)", r->time_ms.min)
                                     : fmt::format("{:.3f}", r->time_ms.min);
     std::string paired = r->predicted ? std::string("-") : r->time_ms.paired > 0 ? fmt::format("{:.3f}", r->time_ms.paired) : "-";
-    if (!r->predicted && r->time_ms.paired_ci.known())
+    if (r->rounds.is_baseline())  // its ratio to itself is 1 in every round: no interval of its own
+      paired += " (baseline)";
+    else if (!r->predicted && r->time_ms.paired_ci.known())
       paired += fmt::format(" [{:.3f}, {:.3f}]", r->time_ms.paired_ci.lo, r->time_ms.paired_ci.hi);
     out += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.2f} |{}| {} | {} |\n", md_cell(r->scene), md_cell(r->view),
                        md_cell(r->backend), md_cell(r->variant), paired, time,

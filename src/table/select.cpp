@@ -36,7 +36,8 @@ std::string families_of(const CostTable& table) {
 std::vector<Candidate> candidates(const CostTable& table, const SelectQuery& q) {
   std::map<std::pair<std::string, std::string>, Candidate> by;
   for (const auto& r : table.rows) {
-    if (!r.error || r.predicted) continue;
+    // A same_code_as row is its representative's measurement again: the representative stands for both.
+    if (!r.error || r.predicted || !r.same_code_as.empty()) continue;
     const double time = time_of(r, q);
     if (!std::isfinite(time)) continue;
     if (!q.scene.empty() && r.scene != q.scene) continue;
@@ -66,7 +67,8 @@ std::vector<Candidate> candidates(const CostTable& table, const SelectQuery& q) 
   std::vector<Candidate> out;
   for (auto& [k, c] : by) {
     // An estimate is deterministic: only a measured time has an interval.
-    if (q.target.empty()) c.time_ci = c.time_row.time_ms.paired_ci;
+    // The baseline's ratio to itself is 1 in every round: no interval of its own to show.
+    if (q.target.empty() && !c.time_row.rounds.is_baseline()) c.time_ci = c.time_row.time_ms.paired_ci;
     if (c.time_row.static_cost) c.work_per_pixel = c.time_row.static_cost->work_per_pixel;
     out.push_back(std::move(c));
   }
@@ -260,13 +262,15 @@ void choose(Selection& s, const std::vector<Candidate>& ordered, std::size_t n_t
     s.tied.assign(ordered.begin() + 1, ordered.begin() + n_tied);
   }
   s.text = "choice: " + describe(c, q) + "\n";
-  s.text += budget ? fmt::format("reason: lowest rmse of the {} of {} candidates within {:.3f} ms ({})\n",
-                                 ordered.size(), n_all, *q.budget_ms, scope_of(q))
+  const std::string within = q.budget_of.empty() ? fmt::format("within {:.3f} ms", *q.budget_ms)
+                                                  : "not slower than " + q.budget_of + " beyond the noise";
+  s.text += budget ? fmt::format("reason: lowest rmse of the {} of {} candidates {} ({})\n", ordered.size(), n_all,
+                                 within, scope_of(q))
                    : fmt::format("reason: cheapest ({}) of the {} of {} candidates with rmse <= {:.5f} ({})\n",
                                  q.target.empty() ? "paired time, within the noise" : "roofline estimate on " + q.target,
                                  ordered.size(), n_all, *q.max_error, scope_of(q));
   s.text += tied_line(s, budget);
-  if (budget && c.time_ci.known() && c.time_ci.hi > *q.budget_ms) {
+  if (budget && q.budget_of.empty() && c.time_ci.known() && c.time_ci.hi > *q.budget_ms) {
     s.may_exceed_budget = true;
     s.text += fmt::format("may exceed the budget: its 95 % interval reaches {:.3f} ms\n", c.time_ci.hi);
   }
@@ -274,14 +278,35 @@ void choose(Selection& s, const std::vector<Candidate>& ordered, std::size_t n_t
     s.text += fmt::format("worst views: rmse {}, time {}\n", c.worst_error_view, c.worst_time_view);
 }
 
-}  // namespace
+// --budget-of: the named variant's time becomes budget_ms (throws when the table has no such candidate).
+SelectQuery with_budget_of(const CostTable& table, SelectQuery q) {
+  if (q.budget_of.empty()) return q;
+  if (q.budget_ms || q.max_error)
+    throw std::runtime_error("select: give exactly one of --budget-ms, --budget-of and --max-error");
+  SelectQuery probe = q;
+  probe.max_error = 1e300;  // any query, for the candidates
+  for (const auto& c : candidates(table, probe))
+    if (c.variant == q.budget_of) {
+      q.budget_ms = c.time_ms;
+      return q;
+    }
+  throw std::runtime_error(fmt::format("select --budget-of {}: no measured row with an error for this variant in the "
+                                       "query's scope (aovar list shows the keys; the table must hold it)",
+                                       q.budget_of));
+}
 
-Selection select(const CostTable& table, const SelectQuery& q) {
+Selection select_within(const CostTable& table, const SelectQuery& q) {
   const std::vector<Candidate> all = checked_candidates(table, q);
   const bool budget = q.budget_ms.has_value();
+  // --budget-of: within the budget means not slower than that variant beyond the noise (its ties fit too).
+  auto ref = std::find_if(all.begin(), all.end(), [&](const Candidate& c) { return c.variant == q.budget_of; });
+  auto fits = [&](const Candidate& c) {
+    if (ref != all.end()) return compare_candidates(c, *ref, q).verdict != TimeVerdict::slower;
+    return budget ? c.time_ms <= *q.budget_ms : c.rmse <= *q.max_error;
+  };
   std::vector<Candidate> ok;
   for (const auto& c : all)
-    if (budget ? c.time_ms <= *q.budget_ms : c.rmse <= *q.max_error) ok.push_back(c);
+    if (fits(c)) ok.push_back(c);
   if (ok.empty()) return nothing_fits(all, q, budget);
   std::size_t n_tied = 1;
   const std::vector<Candidate> ordered = budget ? order_budget(ok, q) : order_max_error(ok, q, n_tied);
@@ -295,6 +320,18 @@ Selection select(const CostTable& table, const SelectQuery& q) {
   add_margin(s, q, budget);
   s.text += "runners-up:\n";
   for (std::size_t i = 0; i < s.runners_up.size(); ++i) s.text += fmt::format("  {}. {}\n", i + 2, describe(s.runners_up[i], q));
+  return s;
+}
+
+
+}  // namespace
+
+Selection select(const CostTable& table, const SelectQuery& query) {
+  const SelectQuery q = with_budget_of(table, query);
+  Selection s = select_within(table, q);
+  if (!q.budget_of.empty())
+    s.text = fmt::format("budget: the time of {} ({:.3f} ms in this scope); variants tied with it fit too\n",
+                         q.budget_of, *q.budget_ms) + s.text;
   return s;
 }
 

@@ -13,6 +13,9 @@ namespace aovar::table {
 
 struct SelectQuery {
   std::optional<double> budget_ms;   // lowest error with time_ms.decision() (paired, else min) <= budget
+  // The budget as a variant's time (its worst view, in the query's scope): "no slower than what I ship now",
+  // the same on any machine, where a figure in ms is one machine's. Instead of budget_ms.
+  std::string budget_of;
   std::optional<double> max_error;   // cheapest with error.rmse <= max_error (time ties: the lowest rmse)
   std::string scene, view, backend;  // empty: all
   // An AMD family ("navi21"): time is the row's roofline estimate on it (gpu.<family>.est_ms, sweep --gpu)
