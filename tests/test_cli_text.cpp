@@ -186,7 +186,10 @@ TEST(CliText, MeasureNotesNameTheSceneTheCountsAndWhereTheyWentOnlyWithAnOutputF
   r.radius = 0.5f;
   r.counts = "space 8 / rules 3";
   r.rows = {measured_row("a", 1, false)};
-  r.devices = {{"lavapipe", "llvmpipe", "Vulkan 1.3", "Mesa", 2, false, "timestamp queries"}};
+  render::DeviceInfo device;
+  device.backend = "lavapipe", device.device = "llvmpipe", device.api_version = "Vulkan 1.3", device.driver = "Mesa";
+  device.threads = 2, device.timing = "timestamp queries";
+  r.devices = {device};
   measure::MeasureOptions o;
   o.size = {64, 36};
   std::string no_out = measure::notes_text(r, o, {});

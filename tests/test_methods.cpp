@@ -1,6 +1,6 @@
 // Every AO method of the default manifest, through both backends: finite visibility in [0, 1] on every
-// built-in scene, an open plane stays open, an inner corner is darker than the open floor next to it, and
-// lavapipe and OSMesa agree. The list of methods is read from the manifest, so a new method is tested as
+// built-in scene, an open plane stays open, an inner corner is darker than the open floor next to it,
+// lavapipe and OSMesa agree, and the same scene at x0.01 and x100 renders the same image (docs/scale.md). The list of methods is read from the manifest, so a new method is tested as
 // soon as it is added there.
 #include <gtest/gtest.h>
 
@@ -118,6 +118,42 @@ TEST_P(Method, LavapipeAndOsmesaAgree) {
     auto d = compare(images[0][key], images[1][key]);
     EXPECT_LE(d.mean_abs, 1.0 / 255.0) << key;
     EXPECT_LE(d.max_abs, 0.1) << key;
+  }
+}
+
+// The atrium in centimetres and in hectometres (every length, the radius and the views scaled): no
+// parameter is an absolute length, so each method renders what it renders at x1. What may differ is
+// rounding: rasterisation on silhouettes and, with r16f depth, where each depth falls between two half
+// floats. A scale of x1.001 moves those roundings as much as any other non-power-of-two scale and nothing
+// else, so its difference from x1 is the floor x0.01 and x100 are held to.
+TEST_P(Method, ScaledSceneRendersTheSameImage) {
+  const auto& mv = method_variants(GetParam());
+  struct Difference {
+    double mean_abs = 0, share_beyond = 0;  // share of pixels off by more than 0.02
+  };
+  auto difference = [](const image::FloatImage& a, const image::FloatImage& b) {
+    long beyond = 0;
+    for (std::size_t i = 0; i < a.pixels.size(); ++i) beyond += std::abs(a.pixels[i] - b.pixels[i]) > 0.02f;
+    return Difference{compare(a, b).mean_abs, double(beyond) / double(a.pixels.size())};
+  };
+  for (const auto& b : kBackends) {
+    auto backend = render::make_backend(b, {});
+    std::map<std::string, std::map<std::string, image::FloatImage>> images;  // scale -> key -> image
+    for (const char* scale : {"1", "1.001", "0.01", "100"}) {
+      auto sc = scene::load_scene(std::string("builtin:atrium") + std::string(scene::kScaleSuffix) + scale);
+      backend->set_scene(sc);
+      for (const auto& [kind, key] : mv.keys)
+        images[scale][key] = render_plan(*backend, plan_for(mv, key, b), sc.view("closeup"), {160, 90}, sc.ao_radius, 3);
+    }
+    for (const auto& [kind, key] : mv.keys) {
+      const Difference floor = difference(images["1.001"][key], images["1"][key]);
+      EXPECT_LE(floor.mean_abs, 1e-2) << b << " " << key << ": x1.001 already changes the image";
+      for (const char* scale : {"0.01", "100"}) {
+        const Difference d = difference(images[scale][key], images["1"][key]);
+        EXPECT_LE(d.mean_abs, 1.5 * floor.mean_abs + 1e-3) << b << " " << key << " x" << scale;
+        EXPECT_LE(d.share_beyond, 1.5 * floor.share_beyond + 0.005) << b << " " << key << " x" << scale;
+      }
+    }
   }
 }
 

@@ -15,9 +15,11 @@
 //
 //     A = max(0, 1 - (2 sigma / s) * sum_i max(0, v_i . n - z_C beta) / (v_i . v_i + epsilon)) ^ k
 //
-// with v_i = Q_i - C, C the view position of this pixel, n its normal, Q_i the view position at tap i,
+// with v_i = (Q_i - C) / r, C the view position of this pixel, n its normal, Q_i the view position at tap i,
 // s the number of taps evaluated, sigma = intensity, k = contrast, beta = bias, z_C beta the bias scaled
-// with distance. Sign: the paper writes + z_C beta with z_C < 0 (view-space z); our z_C is the positive
+// with distance (also in radii). Eq. 1 takes world units, which ties sigma and epsilon to one scene unit;
+// measured in units of the AO radius r, A does not change when the scene is scaled (epsilon is then in
+// units of r^2). Sign: the paper writes + z_C beta with z_C < 0 (view-space z); our z_C is the positive
 // linear depth, so the bias is subtracted.
 //
 // Taps lie on a disc in screen space whose radius is the world radius frame.clip.z projected at depth z_C,
@@ -64,7 +66,7 @@
 precision highp float;
 precision highp int;
 precision highp sampler2D;
-#line 20 1
+#line 22 1
 #line 1 3
 // Per-frame camera and sizes, shared by every pass (docs/template-contract.md, "Interface").
 AO_UBO(0) uniform AOFrame {
@@ -78,7 +80,7 @@ AO_UBO(0) uniform AOFrame {
     vec4 clip;        // near, far, radius (world units), pixels per world unit at z = 1 at AO resolution
     ivec4 frame_index;// x = frame number, y = parity (0/1) for progressive halves, zw unused
 } frame;
-#line 21 1
+#line 23 1
 #line 1 4
 // Every G-buffer read of an AO method goes through these helpers: ao_depth (common/depth.glsl),
 // ao_position (common/reconstruct.glsl) and ao_normal (below). Reads the `normals`, `position` and
@@ -184,10 +186,17 @@ vec3 ao_position(vec2 uv) {
 // templates whose manifest entry lists it may include this file. View-space normals of visible surfaces
 // face the camera, i.e. mostly +z.
 
-// Normalise without producing NaN: a zero vector becomes the camera-facing normal.
+// Normalise without producing NaN: a zero vector becomes the camera-facing normal. Divided by its largest
+// component first, so that no threshold depends on the vector's length: the cross product of two position
+// derivatives is a squared pixel footprint, 1e-8 of a scene unit squared in a scene modelled in hectometres,
+// and a fixed cut-off there would replace every derived normal (docs/scale.md).
 vec3 ao_safe_normalize(vec3 v) {
-    float len2 = dot(v, v);
-    return len2 > 1e-12 ? v * inversesqrt(len2) : vec3(0.0, 0.0, 1.0);
+    float m = max(abs(v.x), max(abs(v.y), abs(v.z)));
+    if (!(m > 0.0) || isinf(m)) {
+        return vec3(0.0, 0.0, 1.0);
+    }
+    vec3 u = v / m;
+    return u * inversesqrt(dot(u, u));
 }
 
 #if defined(AO_NORMALS_RGB8)
@@ -267,7 +276,7 @@ vec3 ao_normal(vec2 uv, vec3 view_pos) {
     return ao_decode_normal(texelFetch(ao_normal_tex, ao_texel(uv, textureSize(ao_normal_tex, 0)), 0));
 #endif
 }
-#line 22 1
+#line 24 1
 #line 1 9
 // Sample kernels for a compile-time sample count n (Sunet 2018, §4.3.1, §4.3.2).
 //
@@ -315,7 +324,7 @@ vec3 ao_ball_pair_sample(int j, int p) {
     float r = sqrt(max(0.0, 1.0 - z * z));
     return pow(ao_kernel_t(j), 1.0 / 3.0) * vec3(r * cos(a), r * sin(a), z);
 }
-#line 23 1
+#line 25 1
 #line 1 10
 // Per-pixel kernel rotation (Sunet 2018, §4.3.3), computed procedurally instead of read from a 4x4 random
 // texture. Each pixel of a 4x4 tile gets one of 16 angles, 2 pi / 16 apart, in an interleaved order:
@@ -339,7 +348,7 @@ vec2 ao_rotation(ivec2 pixel) {
     float angle = float(index) * (6.28318531 / 16.0);
     return vec2(cos(angle), sin(angle));
 }
-#line 24 1
+#line 26 1
 
 AO_UBO(1) uniform AOParams {
     float intensity; // sigma
@@ -373,7 +382,11 @@ void main() {
     vec2 rot = ao_rotation(ivec2(gl_FragCoord.xy));
     mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x);
 
-    AOP float z_bias = z_c * params.bias;
+    // Lengths in units of the AO radius r (frame.clip.z): eq. 1's sum has the units of 1 / length, so with
+    // world-unit v_i its sigma and epsilon would hold only for one scene unit (docs/scale.md). With v_i / r,
+    // epsilon in units of r^2 and the bias divided by r, A is the same for a scene in metres or in cm.
+    float inv_r = 1.0 / frame.clip.z;
+    AOP float z_bias = z_c * inv_r * params.bias;
     AOP float epsilon = params.epsilon;
     AOP float sum = 0.0;
     int used = 0;
@@ -391,8 +404,8 @@ void main() {
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
             continue;
         }
-        // The difference of two nearby positions is taken in highp; only the small result drops to AOP.
-        AOP vec3 v = ao_position(uv) - c;
+        // The difference of two nearby positions is taken in highp; only the small result (in radii) drops to AOP.
+        AOP vec3 v = (ao_position(uv) - c) * inv_r;
         sum += max(0.0, dot(v, n) - z_bias) / (dot(v, v) + epsilon);
         ++used;
     }

@@ -205,10 +205,17 @@ vec3 ao_position(vec2 uv) {
 // templates whose manifest entry lists it may include this file. View-space normals of visible surfaces
 // face the camera, i.e. mostly +z.
 
-// Normalise without producing NaN: a zero vector becomes the camera-facing normal.
+// Normalise without producing NaN: a zero vector becomes the camera-facing normal. Divided by its largest
+// component first, so that no threshold depends on the vector's length: the cross product of two position
+// derivatives is a squared pixel footprint, 1e-8 of a scene unit squared in a scene modelled in hectometres,
+// and a fixed cut-off there would replace every derived normal (docs/scale.md).
 vec3 ao_safe_normalize(vec3 v) {
-    float len2 = dot(v, v);
-    return len2 > 1e-12 ? v * inversesqrt(len2) : vec3(0.0, 0.0, 1.0);
+    float m = max(abs(v.x), max(abs(v.y), abs(v.z)));
+    if (!(m > 0.0) || isinf(m)) {
+        return vec3(0.0, 0.0, 1.0);
+    }
+    vec3 u = v / m;
+    return u * inversesqrt(dot(u, u));
 }
 
 #if defined(AO_NORMALS_RGB8)

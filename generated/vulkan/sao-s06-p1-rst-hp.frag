@@ -13,7 +13,8 @@
 //
 //     A = max(0, 1 - (2 sigma / s) * sum_i max(0, v_i . n_C - z_C beta) / (v_i . v_i + epsilon)) ^ k   (eq. 1)
 //
-// the Alchemy estimator, unmodified, inside SAO's structure: depth is the only input. Before this pass the
+// the Alchemy estimator inside SAO's structure, with v_i measured in units of the AO radius r (so that it does
+// not depend on the scene's unit; epsilon is then in units of r^2): depth is the only input. Before this pass the
 // renderer builds a camera-space z pyramid (passes/sao_zmip.frag, bound at 7). Here C is rebuilt from
 // z^0 (eq. 3, the `reconstruct` axis), its face normal from screen-space derivatives (eq. 4), and the s
 // taps lie on a spiral (eqs. 6-7): alpha_i = (i + 0.5) / s, h_i = r' alpha_i, theta_i = 2 pi alpha_i tau + phi,
@@ -64,7 +65,7 @@
 precision highp float;
 precision highp int;
 precision highp sampler2D;
-#line 22 1
+#line 23 1
 #line 1 3
 // Per-frame camera and sizes, shared by every pass (docs/template-contract.md, "Interface").
 AO_UBO(0) uniform AOFrame {
@@ -78,7 +79,7 @@ AO_UBO(0) uniform AOFrame {
     vec4 clip;        // near, far, radius (world units), pixels per world unit at z = 1 at AO resolution
     ivec4 frame_index;// x = frame number, y = parity (0/1) for progressive halves, zw unused
 } frame;
-#line 23 1
+#line 24 1
 #line 1 4
 // Linear depth (positive view-space distance, cleared to the background depth frame.clip.y) and the
 // G-buffer texel lookup shared by every G-buffer read. Needs no axis.
@@ -122,7 +123,7 @@ bool ao_is_background(float z) {
 float ao_radius_px(float z) {
     return min(frame.clip.z * frame.clip.w / z, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
 }
-#line 24 1
+#line 25 1
 #line 1 5
 // View position from screen uv and linear depth (Sunet 2018, §5.4, §5.5). Reads the `reconstruct` axis only:
 // depth-only methods (no position buffer) include this file directly; common/reconstruct.glsl builds on it.
@@ -149,7 +150,7 @@ vec3 ao_view_position_from_depth(vec2 uv, float z) {
 #error "aovar: common/unproject.glsl needs the reconstruct axis in `reads`"
 #endif
 }
-#line 25 1
+#line 26 1
 #line 1 6
 // SAO's depth key (McGuire et al. 2012, §2.3): the AO pass packs linear depth next to AO into an rgba8 target,
 // (A, key_hi, key_lo), so its bilateral passes read one texel for both instead of the depth buffer too.
@@ -177,7 +178,7 @@ float ao_unpack_key(vec2 key) {
     float t = (floor(key.x * 255.0 + 0.5) + key.y) / 255.999;
     return t >= 0.99999 ? frame.clip.y : frame.clip.x * exp2(t * ao_key_range());
 }
-#line 26 1
+#line 27 1
 
 AO_UBO(1) uniform AOParams {
     float intensity; // sigma
@@ -223,8 +224,10 @@ void main() {
     // Eq. 4, before the early-out (derivatives need uniform control flow); oriented toward the camera
     // because the winding of dFdx x dFdy depends on the API's window y direction.
     vec3 face = cross(dFdy(c), dFdx(c));
-    float len2 = dot(face, face);
-    AOP vec3 n = len2 > 1e-30 ? face * inversesqrt(len2) : vec3(0.0, 0.0, 1.0);
+    // Scaled by its largest component before squaring, so that no cut-off depends on the scene's unit.
+    float face_max = max(abs(face.x), max(abs(face.y), abs(face.z)));
+    face = face_max > 0.0 && !isinf(face_max) ? face / face_max : vec3(0.0, 0.0, 1.0);
+    AOP vec3 n = face * inversesqrt(dot(face, face));
     if (dot(n, c) > 0.0) {
         n = -n;
     }
@@ -239,7 +242,11 @@ void main() {
     float phi = float((30 * ss_c.x) ^ ss_c.y) + 10.0 * float(ss_c.x) * float(ss_c.y);
     ivec2 size = ivec2(frame.ao_size.xy);
 
-    AOP float z_bias = z_c * params.bias;
+    // Lengths in units of the AO radius r (frame.clip.z): eq. 1's sum has the units of 1 / length, so with
+    // world-unit v_i its sigma and epsilon would hold only for one scene unit (docs/scale.md). With v_i / r,
+    // epsilon in units of r^2 and the bias divided by r, A is the same for a scene in metres or in cm.
+    float inv_r = 1.0 / frame.clip.z;
+    AOP float z_bias = z_c * inv_r * params.bias;
     AOP float epsilon = params.epsilon;
     AOP float sum = 0.0;
     int used = 0;
@@ -260,8 +267,8 @@ void main() {
         int m = clamp(int(floor(log2(max(h, 1.0)))) - AO_LOG_Q, 0, AO_MAX_MIP);
         ivec2 texel = min(ss_p >> m, textureSize(ao_prefilter_tex, m) - 1);
         float z_p = texelFetch(ao_prefilter_tex, texel, m).r;
-        // The difference of two nearby positions is taken in highp; only the small result drops to AOP.
-        AOP vec3 v = ao_position_at(ss_p, z_p) - c;
+        // The difference of two nearby positions is taken in highp; only the small result (in radii) drops to AOP.
+        AOP vec3 v = (ao_position_at(ss_p, z_p) - c) * inv_r;
         sum += max(0.0, dot(v, n) - z_bias) / (dot(v, v) + epsilon);
         ++used;
     }

@@ -2,9 +2,11 @@
 //
 //     A = max(0, 1 - (2 sigma / s) * sum_i max(0, v_i . n - z_C beta) / (v_i . v_i + epsilon)) ^ k
 //
-// with v_i = Q_i - C, C the view position of this pixel, n its normal, Q_i the view position at tap i,
+// with v_i = (Q_i - C) / r, C the view position of this pixel, n its normal, Q_i the view position at tap i,
 // s the number of taps evaluated, sigma = intensity, k = contrast, beta = bias, z_C beta the bias scaled
-// with distance. Sign: the paper writes + z_C beta with z_C < 0 (view-space z); our z_C is the positive
+// with distance (also in radii). Eq. 1 takes world units, which ties sigma and epsilon to one scene unit;
+// measured in units of the AO radius r, A does not change when the scene is scaled (epsilon is then in
+// units of r^2). Sign: the paper writes + z_C beta with z_C < 0 (view-space z); our z_C is the positive
 // linear depth, so the bias is subtracted.
 //
 // Taps lie on a disc in screen space whose radius is the world radius frame.clip.z projected at depth z_C,
@@ -54,7 +56,11 @@ void main() {
     vec2 rot = ao_rotation(ivec2(gl_FragCoord.xy));
     mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x);
 
-    AOP float z_bias = z_c * params.bias;
+    // Lengths in units of the AO radius r (frame.clip.z): eq. 1's sum has the units of 1 / length, so with
+    // world-unit v_i its sigma and epsilon would hold only for one scene unit (docs/scale.md). With v_i / r,
+    // epsilon in units of r^2 and the bias divided by r, A is the same for a scene in metres or in cm.
+    float inv_r = 1.0 / frame.clip.z;
+    AOP float z_bias = z_c * inv_r * params.bias;
     AOP float epsilon = params.epsilon;
     AOP float sum = 0.0;
     int used = 0;
@@ -72,8 +78,8 @@ void main() {
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
             continue;
         }
-        // The difference of two nearby positions is taken in highp; only the small result drops to AOP.
-        AOP vec3 v = ao_position(uv) - c;
+        // The difference of two nearby positions is taken in highp; only the small result (in radii) drops to AOP.
+        AOP vec3 v = (ao_position(uv) - c) * inv_r;
         sum += max(0.0, dot(v, n) - z_bias) / (dot(v, v) + epsilon);
         ++used;
     }

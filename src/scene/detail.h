@@ -54,10 +54,14 @@ std::vector<View> derive_views(const Scene& scene);  // overview, closeup, backg
 // Reads a TOML or JSON views file (format: views.cpp) and merges it into scene.views: its views replace
 // the same-named ones, the rest are appended (overview, closeup, background stay first). Near and far
 // planes the file leaves out are fitted to the scene's bounds.
-void apply_views_file(Scene& scene, const std::filesystem::path& path);
+// `scale` multiplies the file's lengths (a scene loaded with "@scale=F").
+void apply_views_file(Scene& scene, const std::filesystem::path& path, float scale = 1.0f);
+void scale_view(View& v, float f);  // eye, target, planes, path offset times f
 
 // Ray casting against the scene's triangles through a small median-split BVH: derived views are chosen
 // with a few thousand rays, which brute force would make cost seconds on the 200k-triangle dragon.
+// It works in the scene's unit box (centre at 0, diagonal 1), so that its tolerances are shares of the
+// scene and a scaled scene picks the same views (docs/scale.md).
 struct Hit {
   float t = -1.0f;         // distance along the (unit) direction; < 0: miss
   bool front = true;       // the ray meets the side the vertex normals point to
@@ -85,6 +89,8 @@ class RayCaster {
                       std::uint32_t end);
   std::vector<Tri> tris_;
   std::vector<Node> nodes_;
+  glm::vec3 centre_{0.0f};  // world = unit * size_ + centre_
+  float size_ = 1.0f;
 };
 
 }  // namespace aovar::scene::detail

@@ -9,16 +9,19 @@
 namespace aovar::scene::detail {
 
 RayCaster::RayCaster(const Scene& scene) {
-  const auto& p = scene.positions;
   const auto& n = scene.normals;
   const std::size_t count = scene.triangle_count();
+  if (!scene.bounds.empty() && scene.bounds.diagonal() > 0.0f)
+    centre_ = scene.bounds.center(), size_ = scene.bounds.diagonal();
   std::vector<Tri> tris(count);
   std::vector<glm::vec3> centroids(count);
   std::vector<std::uint32_t> order(count);
+  auto unit = [&](std::uint32_t v) { return (scene.positions[v] - centre_) / size_; };
   for (std::size_t i = 0; i < count; ++i) {
     std::uint32_t a = scene.indices[3 * i], b = scene.indices[3 * i + 1], c = scene.indices[3 * i + 2];
-    tris[i] = {p[a], p[b] - p[a], p[c] - p[a], n[a] + n[b] + n[c]};
-    centroids[i] = (p[a] + p[b] + p[c]) / 3.0f;
+    const glm::vec3 pa = unit(a), pb = unit(b), pc = unit(c);
+    tris[i] = {pa, pb - pa, pc - pa, n[a] + n[b] + n[c]};
+    centroids[i] = (pa + pb + pc) / 3.0f;
     order[i] = static_cast<std::uint32_t>(i);
   }
   if (count == 0) return;
@@ -56,9 +59,11 @@ std::uint32_t RayCaster::build(std::vector<std::uint32_t>& order, const std::vec
   return index;
 }
 
-Hit RayCaster::cast(const glm::vec3& o, const glm::vec3& d, float t_max) const {
+Hit RayCaster::cast(const glm::vec3& world_origin, const glm::vec3& d, float world_t_max) const {
   Hit best;
   if (nodes_.empty()) return best;
+  const glm::vec3 o = (world_origin - centre_) / size_;
+  const float t_max = world_t_max / size_;
   // Zero direction components are nudged so that no 0 * inf NaN reaches the slab comparisons.
   glm::vec3 inv;
   for (int k = 0; k < 3; ++k) inv[k] = 1.0f / (std::fabs(d[k]) > 1e-12f ? d[k] : std::copysign(1e-12f, d[k]));
@@ -84,10 +89,13 @@ Hit RayCaster::cast(const glm::vec3& o, const glm::vec3& d, float t_max) const {
         float inv_det = 1.0f / det;
         glm::vec3 s = o - tri.v0;
         float u = glm::dot(s, p) * inv_det;
-        if (u < 0.0f || u > 1.0f) continue;
+        // A small barycentric margin: a ray through a shared edge hits one of its two triangles instead of
+        // slipping through the crack, which rounding opens at one scale and not at another.
+        constexpr float kEdge = 1e-5f;
+        if (u < -kEdge || u > 1.0f + kEdge) continue;
         glm::vec3 q = glm::cross(s, tri.e1);
         float v = glm::dot(d, q) * inv_det;
-        if (v < 0.0f || u + v > 1.0f) continue;
+        if (v < -kEdge || u + v > 1.0f + kEdge) continue;
         float t = glm::dot(tri.e2, q) * inv_det;
         if (t > 0.0f && t < t_best) t_best = t, hit = &tri;
       }
@@ -106,7 +114,7 @@ Hit RayCaster::cast(const glm::vec3& o, const glm::vec3& d, float t_max) const {
       stack[top++] = right;
     }
   }
-  if (hit) best.t = t_best, best.front = glm::dot(hit->n, d) <= 0.0f, best.normal = hit->n;
+  if (hit) best.t = t_best * size_, best.front = glm::dot(hit->n, d) <= 0.0f, best.normal = hit->n;
   return best;
 }
 

@@ -193,16 +193,39 @@ fs::path side_file_for(const fs::path& scene_path) {
   return has_toml ? toml : has_json ? json : fs::path();
 }
 
+std::pair<std::string, float> split_scale(const std::string& spec) {
+  const std::size_t at = spec.rfind(kScaleSuffix);
+  if (at == std::string::npos) return {spec, 1.0f};
+  const std::string base = spec.substr(0, at), text = spec.substr(at + kScaleSuffix.size());
+  char* end = nullptr;
+  const double f = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !(f >= 1e-6 && f <= 1e6))
+    fail(fmt::format("{}: error: scale '{}' must be a number from 1e-6 to 1e6 (e.g. {}0.01)", spec, text,
+                     kScaleSuffix));
+  return {base, static_cast<float>(f)};
+}
+
+// Every length of the scene times f: geometry, the built-in radius and views. The views a side file gives
+// are scaled after it is read (apply_views_file), so a views file keeps the units of its scene file.
+void scale_scene(Scene& scene, float f) {
+  if (f == 1.0f) return;
+  for (glm::vec3& p : scene.positions) p *= f;
+  scene.ao_radius *= f;
+  for (View& v : scene.views) scale_view(v, f);
+}
+
 }  // namespace
 
-Scene load_scene(const std::string& spec, const LoadOptions& options) {
+Scene load_scene(const std::string& full_spec, const LoadOptions& options) {
   constexpr std::string_view kPrefix = "builtin:";
+  const auto [spec, scale] = split_scale(full_spec);
   Scene scene;
   fs::path views_file = options.views_file;
   if (spec.starts_with(kPrefix)) {
     const std::string_view name = std::string_view(spec).substr(kPrefix.size());
     scene = make_builtin(name);
-    scene.name = spec;
+    scale_scene(scene, scale);
+    scene.name = full_spec;
     scene.source = "builtin";
     finalize(scene, spec, builtin_keeps_normals(name));
   } else {
@@ -218,7 +241,8 @@ Scene load_scene(const std::string& spec, const LoadOptions& options) {
     std::error_code ec;
     if (!fs::is_regular_file(path, ec)) fail(fmt::format("{}: error: cannot open (check the path)", display));
     scene = ext == ".obj" ? load_obj(path, display, options) : load_gltf(path, display, options, ext == ".glb");
-    scene.name = spec;
+    scale_scene(scene, scale);
+    scene.name = full_spec;
     scene.source = display;
     finalize(scene, display);
     // Files carry no AO scale: 1.5% of the bounding-box diagonal is about a hand's width in a room-sized
@@ -227,7 +251,7 @@ Scene load_scene(const std::string& spec, const LoadOptions& options) {
     scene.views = derive_views(scene);
     if (views_file.empty()) views_file = side_file_for(path);
   }
-  if (!views_file.empty()) apply_views_file(scene, views_file);
+  if (!views_file.empty()) apply_views_file(scene, views_file, scale);
   return scene;
 }
 

@@ -79,7 +79,11 @@ struct LoadOptions {
   std::uint64_t memory_limit = 0;
 };
 
-// "builtin:<name>" or a path to .obj/.gltf/.glb. Throws SceneError (one line, naming the file, the line
+// "SPEC@scale=F" loads SPEC with every length times F (geometry, views, the built-in radius): the same
+// scene in other units, which every result must survive (docs/scale.md).
+inline constexpr std::string_view kScaleSuffix = "@scale=";
+
+// "builtin:<name>" or a path to .obj/.gltf/.glb, optionally with kScaleSuffix. Throws SceneError (one line, naming the file, the line
 // or byte offset, and what to do) for unknown names, missing, broken, empty or too-large files.
 Scene load_scene(const std::string& spec, const LoadOptions& options = {});
 

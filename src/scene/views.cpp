@@ -152,8 +152,13 @@ std::vector<View> derive_views(const Scene& s) {
   const float close = 0.12f * diag;
   std::optional<View> closeup;
   if (inside && !around.empty()) {
-    auto nearest = std::min_element(around.begin(), around.end(),
-                                    [](const auto& a, const auto& b) { return a.first.t < b.first.t; });
+    // The first of the nearest within 0.1 %: symmetric scenes (Sponza's nave) have mirrored nearest walls
+    // that rounding would pick between differently at another scale.
+    const float t_min = std::min_element(around.begin(), around.end(), [](const auto& a, const auto& b) {
+                          return a.first.t < b.first.t;
+                        })->first.t;
+    auto nearest = std::find_if(around.begin(), around.end(),
+                                [&](const auto& a) { return a.first.t <= t_min * 1.001f; });
     closeup = look_at_hit(rc, *inside, *inside + nearest->second, close);
   }
   if (!closeup) {
@@ -191,7 +196,7 @@ std::vector<View> derive_views(const Scene& s) {
         View v;
         v.eye = *inside;
         float y = glm::radians(yaw), p = glm::radians(pitch);
-        v.target = v.eye + glm::vec3(std::cos(p) * std::cos(y), std::sin(p), std::cos(p) * std::sin(y));
+        v.target = v.eye + diag * glm::vec3(std::cos(p) * std::cos(y), std::sin(p), std::cos(p) * std::sin(y));
         consider(v);
       }
   if (best >= 1.0f)
@@ -201,7 +206,7 @@ std::vector<View> derive_views(const Scene& s) {
           View v;
           h = glm::normalize(h);
           v.eye = glm::vec3(c.x, b.max.y + 0.05f * size.y, c.z) + h * (away * diag);
-          v.target = v.eye - h - glm::vec3(0, std::tan(glm::radians(pitch)), 0);
+          v.target = v.eye - diag * (h + glm::vec3(0, std::tan(glm::radians(pitch)), 0));
           consider(v);
         }
   background.name = "background";
@@ -481,7 +486,12 @@ std::vector<View> parse_json(const std::string& text, const std::string& display
 
 }  // namespace
 
-void apply_views_file(Scene& scene, const fs::path& path) {
+void scale_view(View& v, float f) {
+  v.eye *= f, v.target *= f, v.path_offset *= f;
+  v.near_plane *= f, v.far_plane *= f;  // NaN (not given) and inf stay what they are
+}
+
+void apply_views_file(Scene& scene, const fs::path& path, float scale) {
   const std::string display = util::display_path(path);
   std::optional<std::string> text = util::read_file(path);
   if (!text) fail(fmt::format("{}: error: cannot open views file (check the path)", display));
@@ -496,6 +506,7 @@ void apply_views_file(Scene& scene, const fs::path& path) {
 
   const float near = std::max(scene.bounds.diagonal() * 1e-3f, 1e-6f);
   for (View& v : views) {
+    scale_view(v, scale);
     const float given_near = v.near_plane, given_far = v.far_plane;
     fit_planes(v, scene.bounds, std::isnan(given_near) ? near : given_near);
     if (!std::isnan(given_far)) v.far_plane = given_far;

@@ -252,7 +252,7 @@ class Parser {
       p.pos = pos_of(k.source());
       if (!is_identifier(p.name)) fail(p.pos, fmt::format("parameter '{}' must be a GLSL identifier", p.name));
       const toml::table& t = table_of(v, "a parameter ({ default = ..., min = ..., max = ..., source = ... })");
-      check_keys(t, {"default", "min", "max", "source", "fit"}, "a parameter");
+      check_keys(t, {"default", "min", "max", "source", "fit", "unit"}, "a parameter");
       for (auto key : {"default", "min", "max"})
         if (!t.get(key)) fail(v, fmt::format("parameter '{}' needs '{}'", p.name, key));
       p.value = number_of(*t.get("default"), "default");
@@ -262,6 +262,13 @@ class Parser {
       if (const toml::node* f = t.get("fit")) {
         if (!f->is_boolean()) fail(*f, fmt::format("'fit' of '{}' must be true or false", p.name));
         p.fit = *f->value<bool>();
+      }
+      if (const toml::node* u = t.get("unit")) {
+        p.unit = string_of(*u, "unit");
+        if (std::find(std::begin(kParamUnits), std::end(kParamUnits), p.unit) == std::end(kParamUnits))
+          fail(*u, fmt::format("unit '{}' of '{}' is not one of 1, radius, radius^2, depth, px, rad (lengths are in AO "
+                               "radii or shares of depth, never scene units)",
+                               p.unit, p.name));
       }
       if (!(p.min <= p.value && p.value <= p.max))
         fail(*t.get("default"), fmt::format("default {} of '{}' lies outside [{}, {}]", p.value, p.name, p.min, p.max));

@@ -51,8 +51,15 @@ struct Param {
   double value = 0, min = 0, max = 0;
   std::string source;  // where the default comes from (seed section)
   bool fit = false;    // artistic: calibration fits it against the ray-traced reference (`fit = true`)
+  // What the number is measured in (`unit`, one of kParamUnits; empty when the manifest does not say). No
+  // parameter is an absolute length: lengths are in AO radii or shares of depth, so that a scaled scene
+  // renders the same (docs/scale.md).
+  std::string unit;
   SourcePos pos;
 };
+// "1": a pure number; "radius" / "radius^2": in units of the AO radius (squared); "depth": a share of
+// the pixel's linear depth; "px": pixels of the pass's target; "rad": an angle.
+inline constexpr std::string_view kParamUnits[] = {"1", "radius", "radius^2", "depth", "px", "rad"};
 
 struct Stage {
   bool present = false;
