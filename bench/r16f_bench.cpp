@@ -30,7 +30,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "calibrate/calibrate.h"
+#include "calibrate/file.h"
 #include "compile/cache.h"
 #include "compile/generate.h"
 #include "metrics/metrics.h"
@@ -39,6 +39,7 @@
 #include "render/backend.h"
 #include "render/plan.h"
 #include "scene/scene.h"
+#include "variants/manifest.h"
 #include "util/fs.h"
 
 using namespace aovar;
@@ -188,7 +189,7 @@ int main(int argc, char** argv) {
 
   std::map<std::string, render::ParamOverrides> calibration;
   const auto cal_path = std::filesystem::path(manifest).parent_path() / "calibration.json";
-  if (std::filesystem::exists(cal_path)) calibration = calibrate::load_calibration(cal_path);
+  if (std::filesystem::exists(cal_path)) calibration = calibrate::load_calibration(cal_path, variants::load_manifest(manifest));
 
   render::BackendOptions bo;
   bo.threads = 2;

@@ -266,20 +266,31 @@ TEST(CliText, CalibrationTextShowsEachFitBeforeAndAfter) {
   c.backend = "lavapipe";
   c.size = {320, 180};
   c.rays = 64;
-  calibrate::AlgorithmFit f;
+  c.views.training = {{"builtin:stairs", "overview"}, {"builtin:stairs", "closeup"}};
+  c.views.holdout = {{"builtin:stairs", "background"}};
+  calibrate::Fit f;
   f.algorithm = "alchemy";
-  f.evaluations = 42;
+  f.budget = 100;
+  f.search.evaluations = 42;
+  f.search.method = "BOBYQA";
+  f.search.converged = true;
+  f.search.stop = "x tolerance";
+  f.search.best_so_far = {0.04, 0.0225, 0.01, 0.01, 0.0025};
   f.train_rmse_before = 0.25;
   f.train_rmse_after = 0.125;
-  f.validation_rmse_before = 0.5;
-  f.validation_rmse_after = 0.375;
+  f.holdout_rmse_before = 0.5;
+  f.holdout_rmse_after = 0.375;
   f.fitted = {{"ao.intensity", 1.5}};
   f.defaults = {{"ao.intensity", 1.0}};
   c.fits = {f};
   std::string s = calibrate::to_text(c, "out/calibration.json");
-  EXPECT_NE(s.find("alchemy        42  0.2500 -> 0.1250   0.5000 -> 0.3750  ao.intensity 1.5 (1)"), std::string::npos) << s;
+  EXPECT_NE(s.find("alchemy       42 / 100  0.2500 -> 0.1250  0.5000 -> 0.3750  ao.intensity 1.5 (1)"), std::string::npos) << s;
+  EXPECT_NE(s.find("BOBYQA converged (x tolerance); training error (root of the mean MSE) by evaluation: 1: 0.2000, 2: "
+                   "0.1500, 3: 0.1000, 4: 0.1000, 5: 0.0500"),
+            std::string::npos)
+      << s;
   EXPECT_NE(s.find("# lavapipe at 320x180, references 64 rays"), std::string::npos) << s;
-  EXPECT_NE(s.find("-> out/calibration.json"), std::string::npos) << s;
+  EXPECT_NE(s.find("2 training and 1 held-out views of builtin:stairs; -> out/calibration.json"), std::string::npos) << s;
 }
 
 TEST(CliText, SceneListingKeepsKeysAndGivesReasonsOnlyWhenAsked) {

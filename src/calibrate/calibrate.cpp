@@ -9,105 +9,17 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include "compile/generate.h"
 #include "metrics/metrics.h"
 #include "render/backend.h"
 #include "runner/variant_runner.h"
 #include "scene/scene.h"
-#include "util/fs.h"
 #include "util/glob.h"
 
 namespace aovar::calibrate {
-namespace fs = std::filesystem;
-using json = nlohmann::json;
-
-std::vector<double> minimize(const std::function<double(const std::vector<double>&)>& f, std::vector<double> start,
-                             int max_evaluations, double initial_step, double tolerance, int* evaluations) {
-  const std::size_t d = start.size();
-  int calls = 0;
-  auto clamp01 = [](std::vector<double> x) {
-    for (double& v : x) v = std::clamp(v, 0.0, 1.0);
-    return x;
-  };
-  auto eval = [&](const std::vector<double>& x) {
-    ++calls;
-    return f(x);
-  };
-  if (d == 0 || max_evaluations < 1) {
-    if (evaluations) *evaluations = 0;
-    return start;
-  }
-  // Initial simplex: the start and one step along each axis (inward when the step would leave [0, 1]).
-  std::vector<std::vector<double>> x(d + 1, clamp01(start));
-  for (std::size_t i = 0; i < d; ++i) x[i + 1][i] += x[i + 1][i] + initial_step <= 1.0 ? initial_step : -initial_step;
-  std::vector<double> fx(d + 1);
-  for (std::size_t i = 0; i <= d; ++i) fx[i] = eval(x[i]);
-
-  while (calls < max_evaluations) {
-    std::vector<std::size_t> order(d + 1);
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return fx[a] < fx[b]; });
-    std::vector<std::vector<double>> xs;
-    std::vector<double> fs_sorted;
-    for (std::size_t i : order) xs.push_back(x[i]), fs_sorted.push_back(fx[i]);
-    x = xs;
-    fx = fs_sorted;
-    double size = 0;
-    for (std::size_t i = 1; i <= d; ++i)
-      for (std::size_t k = 0; k < d; ++k) size = std::max(size, std::abs(x[i][k] - x[0][k]));
-    if (size < tolerance) break;
-
-    std::vector<double> centroid(d, 0.0);
-    for (std::size_t i = 0; i < d; ++i)
-      for (std::size_t k = 0; k < d; ++k) centroid[k] += x[i][k] / static_cast<double>(d);
-    auto along = [&](double t) {  // centroid + t (centroid - worst)
-      std::vector<double> p(d);
-      for (std::size_t k = 0; k < d; ++k) p[k] = centroid[k] + t * (centroid[k] - x[d][k]);
-      return clamp01(p);
-    };
-    auto reflected = along(1.0);
-    double fr = eval(reflected);
-    if (fr < fx[0]) {
-      auto expanded = along(2.0);
-      double fe = calls < max_evaluations ? eval(expanded) : std::numeric_limits<double>::infinity();
-      if (fe < fr) x[d] = expanded, fx[d] = fe;
-      else x[d] = reflected, fx[d] = fr;
-    } else if (fr < fx[d - 1]) {
-      x[d] = reflected, fx[d] = fr;
-    } else {
-      auto contracted = along(fr < fx[d] ? 0.5 : -0.5);
-      double fc = eval(contracted);
-      if (fc < std::min(fr, fx[d])) {
-        x[d] = contracted, fx[d] = fc;
-      } else {  // shrink toward the best point
-        for (std::size_t i = 1; i <= d && calls < max_evaluations; ++i) {
-          for (std::size_t k = 0; k < d; ++k) x[i][k] = x[0][k] + 0.5 * (x[i][k] - x[0][k]);
-          fx[i] = eval(x[i]);
-        }
-      }
-    }
-  }
-  std::size_t best = std::min_element(fx.begin(), fx.end()) - fx.begin();
-  if (evaluations) *evaluations = calls;
-  return x[best];
-}
 
 namespace {
-
-std::vector<ViewCase> builtin_cases(const std::string& which) {
-  std::vector<ViewCase> out;
-  for (const char* s : {"builtin:atrium", "builtin:spheres", "builtin:stairs", "builtin:cornell"}) {
-    if (which == "training") {
-      out.push_back({s, "overview"});
-      out.push_back({s, "closeup"});
-    } else {
-      out.push_back({s, "background"});
-    }
-  }
-  return out;
-}
 
 // The variant a method is fitted with: 16 samples, full resolution, separable blur, r32f depth, highp, the
 // buffered RGB8 normal when the method reads normals. Its values then apply to every variant of the method.
@@ -128,6 +40,13 @@ struct FitParam {
   double min, max, value;
 };
 
+// What one fit renders: a variant, standing for its algorithm or for itself.
+struct Target {
+  std::string algorithm;
+  int variant = 0;
+  bool per_variant = false;
+};
+
 std::vector<std::string> algorithms_to_fit(const CalibrateOptions& o, const variants::Manifest& manifest) {
   std::vector<std::string> algorithms = o.algorithms;
   if (algorithms.empty())
@@ -143,27 +62,58 @@ compile::CompiledSpace compile_fit_variants(const CalibrateOptions& o, const std
                                             variants::Target target) {
   compile::CompileOptions co;
   co.targets = {target};
-  for (const auto& a : algorithms)
-    for (auto& g : fit_globs(a)) co.globs.push_back(std::move(g));
+  co.globs = o.variants;
+  if (co.globs.empty())
+    for (const auto& a : algorithms)
+      for (auto& g : fit_globs(a)) co.globs.push_back(std::move(g));
   co.cache_dir = o.compile_cache;
   auto c = compile::compile_space(o.manifest, co);
   if (!c.ok()) throw std::runtime_error(c.diagnostics.empty() ? "compile failed" : c.diagnostics.front());
   return c;
 }
 
-// The training and validation views with their ray-traced references; `scenes` holds each scene once.
-std::vector<Case> load_cases(const CalibrateOptions& o, std::map<std::string, scene::Scene>& scenes,
+// Index of the variant `algorithm` is fitted with (the first fit_globs match).
+int fit_variant(const compile::CompiledSpace& c, const variants::Manifest& manifest, const std::string& algorithm) {
+  for (const auto& glob : fit_globs(algorithm))
+    for (std::size_t v = 0; v < c.space.variants.size(); ++v)
+      if (util::glob_match(glob, c.space.variants[v].key)) return static_cast<int>(v);
+  throw std::runtime_error(fmt::format("{}: no 16-sample, full-resolution, separable-blur variant of '{}' to fit "
+                                       "(the manifest's rules remove it)", manifest.error_prefix(), algorithm));
+}
+
+// One fit per algorithm, or (with --variants) one per selected variant, filtered by --algorithms.
+std::vector<Target> fit_targets(const CalibrateOptions& o, const compile::CompiledSpace& c,
+                                const std::vector<std::string>& algorithms) {
+  std::vector<Target> out;
+  if (o.variants.empty()) {
+    for (const auto& a : algorithms) out.push_back({a, fit_variant(c, c.manifest, a), false});
+    return out;
+  }
+  for (std::size_t v = 0; v < c.space.variants.size(); ++v) {
+    const auto& point = c.space.variants[v].point;
+    std::string a = c.manifest.value(variants::Axis::algorithm, point[variants::index(variants::Axis::algorithm)]).text;
+    if (std::find(algorithms.begin(), algorithms.end(), a) != algorithms.end())
+      out.push_back({a, static_cast<int>(v), true});
+  }
+  if (out.empty()) throw std::runtime_error("calibrate: error: --variants selects no variant of the algorithms to fit");
+  return out;
+}
+
+// The training and held-out views with their ray-traced references; `scenes` holds each scene once.
+std::vector<Case> load_cases(const CalibrateOptions& o, const ViewSplit& split, std::map<std::string, scene::Scene>& scenes,
                              const Progress& say) {
   std::vector<Case> cases;
+  scene::LoadOptions lo;
+  lo.views_file = o.views_file;
   auto add_cases = [&](const std::vector<ViewCase>& list, bool training) {
     for (const auto& vc : list) {
       auto it = scenes.find(vc.scene);
-      if (it == scenes.end()) it = scenes.emplace(vc.scene, scene::load_scene(vc.scene)).first;
+      if (it == scenes.end()) it = scenes.emplace(vc.scene, scene::load_scene(vc.scene, lo)).first;
       cases.push_back({&it->second, &it->second.view(vc.view), training, {}});
     }
   };
-  add_cases(o.training.empty() ? builtin_cases("training") : o.training, true);
-  add_cases(o.validation.empty() ? builtin_cases("validation") : o.validation, false);
+  add_cases(split.training, true);
+  add_cases(split.holdout, false);
   for (Case& k : cases) {
     reference::ReferenceOptions ro;
     ro.size = o.size;
@@ -175,15 +125,6 @@ std::vector<Case> load_cases(const CalibrateOptions& o, std::map<std::string, sc
     k.truth = reference::trace_reference(*k.scene, *k.view, ro);
   }
   return cases;
-}
-
-// Index of the variant `algorithm` is fitted with (the first fit_globs match).
-int fit_variant(const compile::CompiledSpace& c, const variants::Manifest& manifest, const std::string& algorithm) {
-  for (const auto& glob : fit_globs(algorithm))
-    for (std::size_t v = 0; v < c.space.variants.size(); ++v)
-      if (util::glob_match(glob, c.space.variants[v].key)) return static_cast<int>(v);
-  throw std::runtime_error(fmt::format("{}: no 16-sample, full-resolution, separable-blur variant of '{}' to fit "
-                                       "(the manifest's rules remove it)", manifest.error_prefix(), algorithm));
 }
 
 // The fit variant rendered on the cases with given parameter values: one prepared pipeline whose AO draw is
@@ -235,38 +176,38 @@ double mean_rmse(const std::vector<double>& mse) {
   return mse.empty() ? 0.0 : s / static_cast<double>(mse.size());
 }
 
-// Per-case MSE before and after the fit, for one kind of case (training or validation).
+// Per-case MSE before and after the fit, for one kind of case (training or held out).
 struct Errors {
   std::vector<double> before, after;
 };
 
 // The fit's per-view errors and their means, from the per-case MSE in case order.
-void report_errors(AlgorithmFit& fit, const std::vector<Case>& cases, const Errors& train, const Errors& valid) {
-  std::size_t ti = 0, vi = 0;
+void report_errors(Fit& fit, const std::vector<Case>& cases, const Errors& train, const Errors& held) {
+  std::size_t ti = 0, hi = 0;
   for (const Case& k : cases) {
     ViewError ve{k.scene->name, k.view->name, k.training, 0, 0};
     if (k.training) ve.rmse_before = std::sqrt(train.before[ti]), ve.rmse_after = std::sqrt(train.after[ti]), ++ti;
-    else ve.rmse_before = std::sqrt(valid.before[vi]), ve.rmse_after = std::sqrt(valid.after[vi]), ++vi;
+    else ve.rmse_before = std::sqrt(held.before[hi]), ve.rmse_after = std::sqrt(held.after[hi]), ++hi;
     fit.views.push_back(ve);
   }
   fit.train_rmse_before = mean_rmse(train.before);
   fit.train_rmse_after = mean_rmse(train.after);
-  fit.validation_rmse_before = mean_rmse(valid.before);
-  fit.validation_rmse_after = mean_rmse(valid.after);
+  fit.holdout_rmse_before = mean_rmse(held.before);
+  fit.holdout_rmse_after = mean_rmse(held.after);
 }
 
-// Fits one algorithm's `fit = true` parameters on the training cases, starting from the manifest defaults.
-AlgorithmFit fit_algorithm(runner::VariantRunner& runner, const variants::Manifest& manifest,
-                           const std::string& algorithm, const std::vector<Case>& cases, const CalibrateOptions& o,
-                           const Progress& say) {
-  const int variant = fit_variant(runner.compiled(), manifest, algorithm);
-  AlgorithmFit fit;
-  fit.algorithm = algorithm;
-  fit.variant = runner.compiled().space.variants[variant].key;
+// Fits one target's `fit = true` parameters on the training cases, starting from the manifest defaults.
+Fit fit_target(runner::VariantRunner& runner, const variants::Manifest& manifest, const Target& target,
+               const std::vector<Case>& cases, const CalibrateOptions& o, const Progress& say) {
+  Fit fit;
+  fit.algorithm = target.algorithm;
+  fit.variant = runner.compiled().space.variants[target.variant].key;
+  fit.per_variant = target.per_variant;
+  fit.budget = o.budget.max_evaluations;
   std::vector<FitParam> params;
-  for (const auto& p : manifest.algorithm(algorithm)->params)
+  for (const auto& p : manifest.algorithm(target.algorithm)->params)
     if (p.fit) params.push_back({"ao." + p.name, p.min, p.max, p.value});
-  Objective objective(runner, variant, cases);
+  Objective objective(runner, target.variant, cases);
   // The search runs over [0, 1] per parameter, mapped onto its range.
   auto values_at = [&](const std::vector<double>& u) {
     render::ParamOverrides values;
@@ -280,28 +221,29 @@ AlgorithmFit fit_algorithm(runner::VariantRunner& runner, const variants::Manife
     start.push_back(p.max > p.min ? (p.value - p.min) / (p.max - p.min) : 0.0);
   }
 
-  Errors train, valid;
+  Errors train, held;
   train.before = objective.errors(fit.defaults, true);
-  valid.before = objective.errors(fit.defaults, false);
+  held.before = objective.errors(fit.defaults, false);
   int evaluation = 0;
-  auto best = minimize(
+  const std::string name = target.per_variant ? fit.variant : fit.algorithm;
+  fit.search = minimize(
       [&](const std::vector<double>& u) {
         double m = mean(objective.errors(values_at(u), true));
-        say(fmt::format("{}: evaluation {}/{}: training RMSE {:.4f}", algorithm, ++evaluation, o.max_evaluations,
+        say(fmt::format("{}: evaluation {}/{}: training RMSE {:.4f}", name, ++evaluation, o.budget.max_evaluations,
                         std::sqrt(m)));
         return m;
       },
-      start, o.max_evaluations, 0.15, 1e-3, &fit.evaluations);
-  fit.fitted = values_at(best);
+      start, o.budget);
+  fit.fitted = values_at(fit.search.x);
   train.after = objective.errors(fit.fitted, true);
-  valid.after = objective.errors(fit.fitted, false);
+  held.after = objective.errors(fit.fitted, false);
   // Never worse than the defaults on the training views (the search starts there, but keep it explicit).
   if (mean(train.after) > mean(train.before)) {
     fit.fitted = fit.defaults;
     train.after = train.before;
-    valid.after = valid.before;
+    held.after = held.before;
   }
-  report_errors(fit, cases, train, valid);
+  report_errors(fit, cases, train, held);
   return fit;
 }
 
@@ -314,8 +256,10 @@ Calibration calibrate(const CalibrateOptions& o, const Progress& progress) {
   const std::vector<std::string> algorithms = algorithms_to_fit(o, manifest);
   say("compiling the variants to fit");
   const compile::CompiledSpace c = compile_fit_variants(o, algorithms, target);
+  const std::vector<Target> targets = fit_targets(o, c, algorithms);
+  const ViewSplit split = o.views.training.empty() ? builtin_split() : o.views;
   std::map<std::string, scene::Scene> scenes;
-  const std::vector<Case> cases = load_cases(o, scenes, say);
+  const std::vector<Case> cases = load_cases(o, split, scenes, say);
 
   runner::RunnerOptions ro;
   ro.backend = o.backend;
@@ -327,49 +271,8 @@ Calibration calibrate(const CalibrateOptions& o, const Progress& progress) {
   out.size = o.size;
   out.rays = o.rays;
   out.mode = o.mode;
-  for (const auto& algorithm : algorithms)
-    out.fits.push_back(fit_algorithm(runner, manifest, algorithm, cases, o, say));
-  return out;
-}
-
-void write_calibration(const fs::path& path, const Calibration& cal) {
-  json algorithms = json::object();
-  for (const auto& f : cal.fits) {
-    json views = json::array();
-    for (const auto& v : f.views)
-      views.push_back({{"scene", v.scene}, {"view", v.view}, {"training", v.training},
-                       {"rmse_before", v.rmse_before}, {"rmse_after", v.rmse_after}});
-    algorithms[f.algorithm] = {{"variant", f.variant},
-                               {"params", f.fitted},
-                               {"defaults", f.defaults},
-                               {"evaluations", f.evaluations},
-                               {"train_rmse_before", f.train_rmse_before},
-                               {"train_rmse_after", f.train_rmse_after},
-                               {"validation_rmse_before", f.validation_rmse_before},
-                               {"validation_rmse_after", f.validation_rmse_after},
-                               {"views", views}};
-  }
-  json doc = {{"tool", "aovar calibrate"},
-              {"backend", cal.backend},
-              {"size", fmt::format("{}x{}", cal.size.width, cal.size.height)},
-              {"rays", cal.rays},
-              {"mode", reference::mode_name(cal.mode)},
-              {"algorithms", algorithms}};
-  util::write_atomic(path, doc.dump(2) + "\n");
-}
-
-std::map<std::string, render::ParamOverrides> load_calibration(const fs::path& path) {
-  auto text = util::read_file(path);
-  if (!text) throw std::runtime_error(fmt::format("{}: error: cannot read the calibration file", util::display_path(path)));
-  std::map<std::string, render::ParamOverrides> out;
-  try {
-    json doc = json::parse(*text);
-    for (auto& [algorithm, entry] : doc.at("algorithms").items())
-      for (auto& [key, value] : entry.at("params").items()) out[algorithm][key] = value.get<double>();
-  } catch (const std::exception& e) {
-    throw std::runtime_error(fmt::format("{}: error: not a calibration file ({}); write one with aovar calibrate",
-                                         util::display_path(path), e.what()));
-  }
+  out.views = split;
+  for (const auto& t : targets) out.fits.push_back(fit_target(runner, manifest, t, cases, o, say));
   return out;
 }
 

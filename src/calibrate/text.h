@@ -1,5 +1,5 @@
 #pragma once
-// A calibration for people: per algorithm the train and validation error before -> after and the fitted
+// A calibration for people: per fit the train and held-out error before -> after and the fitted
 // values with their defaults, then the closing line. What `aovar calibrate` prints.
 #include <filesystem>
 #include <string>

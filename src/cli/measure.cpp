@@ -6,7 +6,6 @@
 #include <memory>
 #include <stdexcept>
 
-#include "calibrate/calibrate.h"
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "measure/measure.h"
@@ -56,8 +55,7 @@ int run_measure(const MeasureArgs& a) {
   o.reference_mode = reference::parse_mode(a.reference_mode);
   if (o.reference_rays < 1) throw std::runtime_error("--rays must be at least 1");
   o.reference_cache = a.common.cache();
-  const auto cal_file = a.calibration.resolve(a.common.manifest);
-  if (!cal_file.empty()) o.calibration = calibrate::load_calibration(cal_file);
+  const auto cal_file = a.calibration.load(a.common.manifest, o.calibration, o.calibration_file, o.calibration_hash);
   o.globs = a.common.globs;
   o.jobs = a.common.jobs;
   o.size = parse_size(a.size);

@@ -1,5 +1,8 @@
 #include "cli/options.h"
 
+#include "calibrate/file.h"
+#include "variants/manifest.h"
+
 #include <fmt/format.h>
 
 #include <cstdio>
@@ -62,6 +65,17 @@ std::filesystem::path CalibrationOption::resolve(const std::string& manifest) co
   if (!file.empty()) return file;
   auto next_to = std::filesystem::path(manifest).parent_path() / "calibration.json";
   return std::filesystem::exists(next_to) ? next_to : std::filesystem::path();
+}
+
+std::filesystem::path CalibrationOption::load(const std::string& manifest,
+                                              std::map<std::string, render::ParamOverrides>& values, std::string& file,
+                                              std::string& hash) const {
+  const auto path = resolve(manifest);
+  if (path.empty()) return path;
+  values = calibrate::load_calibration(path, variants::load_manifest(manifest));
+  const auto source = calibrate::calibration_source(path);
+  file = source.file, hash = source.hash;
+  return path;
 }
 
 void add_calibration(CLI::App* cmd, CalibrationOption& o, const std::string& help) {

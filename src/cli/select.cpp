@@ -3,6 +3,7 @@
 #include <iostream>
 #include <memory>
 
+#include "calibrate/file.h"
 #include "cli/commands.h"
 #include "table/select.h"
 #include "table/table.h"
@@ -11,12 +12,16 @@ namespace aovar::cli {
 namespace {
 
 struct SelectArgs {
-  std::string table;
+  std::string table, calibration;
   table::SelectQuery query;
 };
 
 int run_select(const SelectArgs& a) {
-  auto sel = table::select(table::read_table(a.table), a.query);
+  const auto t = table::read_table(a.table);
+  if (!a.calibration.empty())
+    if (auto why = calibrate::measured_with(t.meta, calibrate::calibration_source(a.calibration), a.table); !why.empty())
+      throw std::runtime_error(why);
+  auto sel = table::select(t, a.query);
   (sel.ok ? std::cout : std::cerr) << sel.text;
   return sel.ok ? 0 : 1;
 }
@@ -46,6 +51,8 @@ Command add_select(CLI::App& app) {
   cmd->add_option("--target", q.target,
                   "an AMD GPU family (sweep --gpu): decide by the roofline estimate on it (gpu.<family>.est_ms) "
                   "instead of the time measured here; errors still from the reference");
+  cmd->add_option("--calibration", a->calibration,
+                  "refuse a table not measured with this calibration file (aovar calibrate; compared by content hash)");
   return {cmd, [a] { return run_select(*a); }};
 }
 

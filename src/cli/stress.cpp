@@ -8,7 +8,6 @@
 #include <memory>
 #include <stdexcept>
 
-#include "calibrate/calibrate.h"
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "stress/stress.h"
@@ -75,8 +74,8 @@ stress::Options stress_options(const StressArgs& a) {
   o.reuse = !a.no_reuse;
   o.mediump_fp16 = !a.mediump_fp32;
   if (!a.common.no_cache) o.cache_dir = o.reference_cache = a.common.cache();
-  const auto cal_file = a.calibration.resolve(a.common.manifest);
-  if (!cal_file.empty()) o.calibration = calibrate::load_calibration(cal_file);
+  std::string file, hash;  // stress records no calibration source
+  a.calibration.load(a.common.manifest, o.calibration, file, hash);
   o.cases = selected_cases(a);
   return o;
 }

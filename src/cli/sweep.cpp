@@ -6,7 +6,6 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "calibrate/calibrate.h"
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "sweep/sweep.h"
@@ -42,8 +41,7 @@ int run_sweep(const SweepArgs& a) {
   m.cache_dir = m.reference_cache = a.common.cache();
   m.gpu_families = a.gpu.family_list();
   m.gpu_frame = a.gpu.frame_size();
-  const auto cal_file = a.calibration.resolve(a.common.manifest);
-  if (!cal_file.empty()) m.calibration = calibrate::load_calibration(cal_file);
+  const auto cal_file = a.calibration.load(a.common.manifest, m.calibration, m.calibration_file, m.calibration_hash);
   auto r = with_status([&](const auto& progress) { return sweep::run_sweep(o, progress); });
   std::cout << table::to_markdown(r.table) << sweep::notes_text(r, o, cal_file);
   return 0;

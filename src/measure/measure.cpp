@@ -306,6 +306,11 @@ MeasureResult run_measure(const MeasureOptions& options, const Progress& progres
   return MeasureRun(options, progress).run();
 }
 
+json calibration_json(const MeasureOptions& o) {
+  if (o.calibration_file.empty()) return nullptr;
+  return {{"file", o.calibration_file}, {"hash", o.calibration_hash}};
+}
+
 json to_json(const MeasureResult& res, const MeasureOptions& o) {
   json devices = json::array();
   for (const auto& d : res.devices)
@@ -332,6 +337,7 @@ json to_json(const MeasureResult& res, const MeasureOptions& o) {
           {"warmup", o.warmup},
           {"threads", o.threads},
           {"radius", res.radius},
+          {"calibration", calibration_json(o)},
           {"camera_path", o.camera_path},
           {"devices", devices},
           {"runs", runs},

@@ -60,6 +60,7 @@ struct MeasureOptions {
   std::filesystem::path reference_cache;
   // Calibrated parameter values by algorithm (aovar calibrate); --param values win over them.
   std::map<std::string, render::ParamOverrides> calibration;
+  std::string calibration_file, calibration_hash;  // where `calibration` came from (recorded; empty: none)
   // Shard k of n (0-based k): only selected variants whose key hashes to k (stable across machines), so
   // n machines split one selection without overlap (the baseline is timed in every shard regardless).
   int shard_index = 0, shard_count = 1;
@@ -92,6 +93,9 @@ std::string reps_words(const MeasureOptions& options);
 // The rule of --reps auto in measure.json and cost_table.json meta: {"min_rounds", "ci_target", "cap_s",
 // "max_rounds"}, or null for a fixed --reps N.
 nlohmann::json reps_auto_json(const MeasureOptions& options);
+
+// The calibration measure.json and cost_table.json meta record: {"file", "hash"}, or null for none.
+nlohmann::json calibration_json(const MeasureOptions& options);
 
 // The shard (0 .. n-1) a variant key belongs to: a stable hash of the key modulo n.
 int shard_of(const std::string& key, int shard_count);

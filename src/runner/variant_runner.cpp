@@ -18,8 +18,9 @@ render::PipelinePlan VariantRunner::plan(int variant, const render::ParamOverrid
   render::ParamOverrides values = overrides;
   const auto& point = compiled_.space.variants[variant].point;
   const auto& algorithm = compiled_.manifest.value(variants::Axis::algorithm, point[variants::index(variants::Axis::algorithm)]);
-  if (auto cal = options_.calibration.find(algorithm.text); cal != options_.calibration.end())
-    values.insert(cal->second.begin(), cal->second.end());  // insert keeps the caller's values
+  auto cal = options_.calibration.find(compiled_.space.variants[variant].key);
+  if (cal == options_.calibration.end()) cal = options_.calibration.find(algorithm.text);
+  if (cal != options_.calibration.end()) values.insert(cal->second.begin(), cal->second.end());  // keeps the caller's
   return render::plan_pipeline(compiled_, variant, target_, values, strict);
 }
 

@@ -22,7 +22,8 @@ struct RunnerOptions {
   std::string backend = "lavapipe";  // render::backend_names()
   render::BackendOptions device;     // threads, validation, mediump as fp16
   render::Extent size{640, 360};     // output size every prepared pipeline renders at
-  // Calibrated parameter values by algorithm name (aovar calibrate); a plan's overrides win over them.
+  // Calibrated parameter values by variant key or algorithm name (aovar calibrate; a variant's entry wins
+  // over its algorithm's); a plan's overrides win over both.
   std::map<std::string, render::ParamOverrides> calibration;
 };
 

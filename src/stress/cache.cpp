@@ -25,7 +25,9 @@ Member member_of(const Run& run, int v, const std::string& partner, const std::s
   const auto& entry = run.c.space.variants[v];
   Member m{v, partner, {}, {}};
   const std::string algorithm = variants::value_text(run.c.manifest, entry.point, variants::Axis::algorithm);
-  if (auto cal = o.calibration.find(algorithm); cal != o.calibration.end()) m.overrides = cal->second;
+  auto cal = o.calibration.find(entry.key);  // a variant's own entry, else its algorithm's
+  if (cal == o.calibration.end()) cal = o.calibration.find(algorithm);
+  if (cal != o.calibration.end()) m.overrides = cal->second;
   const int t = run.c.target_index(render::target_of(backend));
   util::Hasher programs;
   for (const auto& pass : entry.passes)

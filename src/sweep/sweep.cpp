@@ -141,6 +141,7 @@ json table_meta(const SweepOptions& o, const SweepResult& res, const json& scene
                {"reps_reached", res.reps.to_json()},
                {"rays", o.measure.reference_rays},
                {"calibrated", !o.measure.calibration.empty()},
+               {"calibration", measure::calibration_json(o.measure)},
                {"shard", fmt::format("{}/{}", o.measure.shard_index + 1, o.measure.shard_count)},
                {"cost_models", models}};
   meta["profile_prune"] = o.measure.prune_by_profile;
