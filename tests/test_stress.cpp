@@ -11,6 +11,7 @@
 
 #include "reference/reference.h"
 #include "scene/scene.h"
+#include "stress/checks.h"
 #include "stress/stress.h"
 #include "test_support.h"
 #include "util/fs.h"
@@ -263,6 +264,29 @@ TEST(Stress, CustomCaseAndBadInput) {
   EXPECT_NE(typo.status, 0);
   EXPECT_NE(typo.output.find("aovar.toml:"), std::string::npos) << typo.output;
   EXPECT_NE(typo.output.find("[ship] glob 'alchemy-s99-*' matches no variant"), std::string::npos) << typo.output;
+}
+
+// A scaled case fails when its error against its own reference moves past the tolerance from its
+// original's, and the comparison is not repeated on checks an earlier run already compared.
+TEST(Stress, ScaledCasesCompareTheirErrorWithTheOriginal) {
+  const auto cases = stress::default_cases();
+  ASSERT_TRUE(std::any_of(cases.begin(), cases.end(), [](const auto& c) { return c.scale_of == "baseline"; }));
+  stress::Options o;
+  auto check = [](const std::string& variant, const std::string& case_name, double rmse) {
+    stress::Check c;
+    c.variant = variant, c.backend = "lavapipe", c.case_name = case_name, c.rmse = rmse;
+    return c;
+  };
+  std::vector<stress::Check> checks = {check("a", "baseline", 0.100), check("a", "scale-100", 0.103),
+                                       check("b", "baseline", 0.100), check("b", "scale-0.01", 0.120),
+                                       check("c", "scale-100", 0.5)};  // no original: nothing to compare
+  stress::detail::compare_scaled(checks, cases, o);
+  EXPECT_EQ(checks[1].failure, "");
+  EXPECT_EQ(checks[3].failure,
+            "RMSE 0.1200 against the reference, 0.1000 in baseline: off by 0.0200 (> 0.005) when the scene is scaled");
+  EXPECT_EQ(checks[4].failure, "");
+  stress::detail::compare_scaled(checks, cases, o);
+  EXPECT_EQ(checks[3].failure.find("scaled"), checks[3].failure.rfind("scaled")) << "compared once";
 }
 
 TEST(Stress, DefaultCasesSeeWhatTheyClaim) {

@@ -34,8 +34,8 @@ Member member_of(const Run& run, int v, const std::string& partner, const std::s
     for (int p : pass)
       if (p >= 0) programs.add(run.c.builds[t][p].hash);
   for (const auto& [k, value] : m.overrides) programs.add(k).add(fmt::format("{}", value));
-  programs.add(fmt::format("{}x{}|{}|{}|{}|{}", o.size.width, o.size.height, o.pair_tolerance, o.pair_share, m.partner,
-                           o.reference_rays));
+  programs.add(fmt::format("{}x{}|{}|{}|{}|{}|{}", o.size.width, o.size.height, o.pair_tolerance, o.pair_share,
+                           m.partner, o.reference_rays, o.scale_tolerance));
   const std::string base_hash = programs.hex();
   for (const auto& cs : run.cases) {
     util::Hasher h;

@@ -67,6 +67,16 @@ std::vector<Case> default_cases() {
   }
   add("radius-1e-4", "AO radius 1e-4 scene units: well under a pixel everywhere", atrium_spec, ov, 1e-4f);
   add("radius-1e4", "AO radius 1e4 scene units: every tap far off screen", atrium_spec, ov, 1e4f);
+  // The atrium in centimetres and in hectometres: parameters that are absolute lengths or cut-offs fail
+  // here, compared with the reference of the scaled scene (the acceptance figure of issue 19: 0.005).
+  for (float f : {0.01f, 100.0f}) {
+    scene::View v = ov;
+    v.eye *= f, v.target *= f, v.near_plane *= f, v.far_plane *= f;
+    const std::string name = fmt::format("scale-{}", f);
+    add(name, fmt::format("the scene x{}: error against the reference as at x1 (baseline)", f),
+        atrium_spec + std::string(scene::kScaleSuffix) + fmt::format("{}", f), v);
+    out.back().scale_of = "baseline";
+  }
   add("screen-edges", "geometry touching every screen edge (taps leave the frame)", atrium_spec, atrium.view("closeup"));
   {
     // From just under the top of the walls, straight up into the open court: nothing but sky.

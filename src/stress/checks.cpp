@@ -153,6 +153,24 @@ void render_member(const Run& run, runner::VariantRunner& runner, const std::str
 
 }  // namespace
 
+void compare_scaled(std::vector<Check>& checks, const std::vector<Case>& cases, const Options& o) {
+  constexpr std::string_view kNote = "when the scene is scaled";
+  std::map<std::string, std::string> original;  // case -> the case it scales
+  for (const auto& cs : cases)
+    if (!cs.scale_of.empty()) original[cs.name] = cs.scale_of;
+  std::map<std::string, double> rmse;  // variant|backend|case -> rmse
+  for (const auto& ch : checks) rmse[ch.variant + "|" + ch.backend + "|" + ch.case_name] = ch.rmse;
+  for (auto& ch : checks) {
+    auto of = original.find(ch.case_name);
+    if (of == original.end() || ch.rmse < 0 || ch.failure.find(kNote) != std::string::npos) continue;
+    auto base = rmse.find(ch.variant + "|" + ch.backend + "|" + of->second);
+    if (base == rmse.end() || base->second < 0 || std::abs(ch.rmse - base->second) <= o.scale_tolerance) continue;
+    ch.failure += fmt::format("{}RMSE {:.4f} against the reference, {:.4f} in {}: off by {:.4f} (> {}) {}",
+                              ch.failure.empty() ? "" : "; ", ch.rmse, base->second, of->second,
+                              std::abs(ch.rmse - base->second), o.scale_tolerance, kNote);
+  }
+}
+
 bool fp16_on(const Options& o, const std::string& backend) { return o.mediump_fp16 && backend == "lavapipe"; }
 
 void render_groups(const Run& run, const std::string& backend_name, const std::vector<Group>& groups,

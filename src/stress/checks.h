@@ -36,6 +36,11 @@ struct Run {
 using Starting = std::function<void(const std::string& key)>;
 using Emit = std::function<void(const Check&)>;
 
+// Scaled cases (Case::scale_of): a check whose RMSE against its reference differs from its original
+// case's (same variant and backend) by more than o.scale_tolerance fails, with both figures. Idempotent:
+// checks reused from an earlier run already carry the comparison.
+void compare_scaled(std::vector<Check>& checks, const std::vector<Case>& cases, const Options& o);
+
 // Whether mediump runs in fp16 on this backend (lavapipe only: llvmpipe's GL runs it in fp32).
 bool fp16_on(const Options& o, const std::string& backend);
 

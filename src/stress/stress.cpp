@@ -160,6 +160,7 @@ Result run_stress(const Options& o, const Progress& progress) {
   for (const auto& backend : o.backends)
     detail::render_pending(run, backend, schedule(run, groups, partners, previous, backend, res, tally), res, tally,
                            checkpoints);
+  detail::compare_scaled(res.checks, cases, o);
   detail::summarize(res, keys, ship);
   res.wall_s = util::seconds_since(start);
   if (!o.out.empty()) {

@@ -35,6 +35,9 @@ struct Case {
   std::string scene;  // scene spec ("builtin:atrium", a file)
   scene::View view;   // eye, target, up, fov, near, far (view.name = name)
   float radius = 0;   // world units; 0 = the scene's default
+  // A copy of case `scale_of` with every length times some factor (scene "@scale=F", view and radius): its
+  // error against its own reference must equal the original's within Options::scale_tolerance.
+  std::string scale_of;
 };
 
 // The default suite, built on the built-in scenes (cases whose scene is not built into this binary are
@@ -63,6 +66,7 @@ struct Options {
   std::map<std::string, render::ParamOverrides> calibration;  // by algorithm (shipped parameter values)
   double pair_tolerance = 0.1;                   // |mediump - highp| or |r16f - r32f| per pixel
   double pair_share = 0.01;                      // share of pixels allowed beyond the tolerance
+  double scale_tolerance = 0.005;                // |RMSE of a scaled case - RMSE of its original|
   std::filesystem::path out;                     // stress.json and stress.md (empty: no files)
   bool reuse = true;                             // keep results of an earlier stress.json whose inputs match
   int reference_rays = 64;                       // per pixel, for the reference error and the coverage probe
