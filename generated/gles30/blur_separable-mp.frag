@@ -110,11 +110,14 @@ float ao_radius_px(float z) {
 
 // Range weight: 1 at equal depth, 1/e when the tap's depth differs from the centre's by depth_sigma
 // relative to it. Relative, so one sigma works near and far (the seed's weight uses the absolute difference).
-// The denominator is kept at or above 2^-14, the smallest normal half float: with mediump on a GPU that
-// flushes fp16 subnormals, z * depth_sigma for a near plane of 1e-4 (and sigma 0.1) would be 0 and the
-// centre tap 0 / 0. (Mesa's CPU drivers run mediump in 32 bits, so `aovar stress` cannot show it there.)
+// The relative difference is taken in highp and only then drops to AOP: in fp16, z * depth_sigma underflows
+// for small depths (a near plane of 1e-4, or a scene in hectometres, where depths are 1e-4 of a unit), and a
+// floor in scene units there (2^-14, the smallest normal half float, as before) made the weight depend on
+// the scene's unit: the blurs bled across the silhouettes of a small object (docs/scale.md). Clamped at 16
+// (a weight of e^-256) so that t * t cannot overflow fp16.
 AOP float ao_depth_weight(float z_tap, float z, float depth_sigma) {
-    AOP float t = abs(z_tap - z) / max(z * depth_sigma, 6.103515625e-05);
+    float relative = abs(z_tap - z) / max(z * depth_sigma, 1e-30);
+    AOP float t = min(relative, 16.0);
     return exp(-t * t);
 }
 

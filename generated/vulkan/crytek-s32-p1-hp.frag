@@ -277,7 +277,8 @@ void main() {
 
     // Ball radius in AO pixels, capped at a quarter of the screen; the world radius shrinks with the cap.
     float radius_px = ao_radius_px(z_c);
-    float radius = max(radius_px * z_c / frame.clip.w, 1e-6);
+    // The floor only keeps a zero radius finite; relative to depth so that it never binds on a small scene.
+    float radius = max(radius_px * z_c / frame.clip.w, 1e-7 * z_c);
     // In depth texels: the AO pass may run at a lower resolution than the G-buffer.
     float radius_tx = radius_px * float(size.x) * frame.ao_size.z;
     vec2 rot = ao_rotation(ivec2(gl_FragCoord.xy));

@@ -394,7 +394,7 @@ void main() {
     float radius_px = ao_radius_px(z_p);
     vec2 radius_uv = radius_px * frame.ao_size.zw;
     // L in world units, from the radius after the cap.
-    float falloff = max(params.falloff * radius_px * z_p / frame.clip.w, 1e-6);
+    float falloff = max(params.falloff * radius_px * z_p / frame.clip.w, 1e-7 * z_p);  // floor relative to depth
     vec2 rot = ao_rotation(ivec2(gl_FragCoord.xy));
     mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x);
 

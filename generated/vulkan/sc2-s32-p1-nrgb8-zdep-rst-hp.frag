@@ -398,7 +398,8 @@ void main() {
 
     // Radius capped at a quarter of the screen in AO pixels, as the disc methods; world radius follows.
     float radius_px = ao_radius_px(z_c);
-    float radius = max(radius_px * z_c / frame.clip.w, 1e-6);
+    // The floor only keeps a zero radius finite; relative to depth so that it never binds on a small scene.
+    float radius = max(radius_px * z_c / frame.clip.w, 1e-7 * z_c);
 
     // Tangent frame from the rotation vector; r || n (possible on surfaces seen edge-on) takes r rotated by
     // a quarter turn instead, which is then orthogonal to n's projection.
