@@ -177,6 +177,25 @@ TEST(CliText, MeasureTableListsEveryRowWithItsTimesAndErrorColumnsOnlyWithARefer
   EXPECT_NE(truth.find("rmse"), std::string::npos);
   EXPECT_NE(truth.find("0.0625  0.8750"), std::string::npos) << truth;
   EXPECT_NE(truth.find("             -"), std::string::npos) << "the row without an error gets a dash";
+  EXPECT_EQ(measure::where_text(r), "") << "no breakdown, no section";
+  metrics::ErrorBreakdown b;  // mostly far and too light
+  b.edge_band_px = 4;
+  b.edge = {0.25, 0.05, 0.25, 0.01};
+  b.interior = {0.75, 0.06, 0.75, 0.02};
+  b.near = {0.5, 0.03, 0.2, 0.0};
+  b.far = {0.5, 0.08, 0.8, 0.04};
+  b.light = {0.6, 0.07, 0.9, 0.05};
+  b.dark = {0.4, 0.02, 0.1, -0.01};
+  r.rows[1].error->breakdown = b;
+  const std::string where = measure::where_text(r);
+  EXPECT_NE(where.find("where the error comes from:\n  alchemy-s16-x lavapipe overview: edge band 4.0 px: 25 % of the "
+                       "error on 25 % of the pixels"),
+            std::string::npos)
+      << where;
+  EXPECT_NE(where.find("mostly in the far half (80 %); mostly too light (90 %, mean +0.050): occluders missed"),
+            std::string::npos)
+      << where;
+  EXPECT_NE(measure::to_text(r).find(where), std::string::npos) << "measure prints it after the table";
 }
 
 TEST(CliText, MeasureNotesNameTheSceneTheCountsAndWhereTheyWentOnlyWithAnOutputFolder) {

@@ -175,6 +175,33 @@ TEST(Reference, ErrorFallsAtLeastAsFastAsOneOverSqrtRays) {
   EXPECT_LE(slope, -0.45);
 }
 
+// The reference's depth (for the error breakdown) is the primary rays' t, the same as trace_depth's; the cache
+// keeps it, and an entry written before depth was cached gets it once, without tracing the hemisphere again.
+TEST(Reference, DepthIsTraceDepthsAndTheCacheKeepsIt) {
+  TempDir dir;
+  const scene::View view = floor_view();
+  auto sc = quad_scene({kFloor, {{-20.0f, 0.0f, -2.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 0.5f, 0.0f}}}, view, 1.0f);
+  auto o = options({32, 18}, 1.0f, 16);
+  o.cache_dir = dir.path();
+  const auto traced = reference::trace_reference(sc, view, o);
+  const auto depth = reference::trace_depth(sc, view, o.size).depth;
+  ASSERT_EQ(traced.depth.pixels.size(), depth.pixels.size());
+  EXPECT_EQ(std::memcmp(traced.depth.pixels.data(), depth.pixels.data(), depth.pixels.size() * sizeof(float)), 0);
+  for (std::size_t i = 0; i < depth.pixels.size(); ++i)
+    EXPECT_EQ(std::isinf(traced.depth.pixels[i]), traced.background[i] == 1) << "pixel " << i;
+
+  const fs::path depth_file = dir / ("reference/" + traced.key + ".depth.pfm");
+  ASSERT_TRUE(fs::exists(depth_file));
+  const auto traces = reference::detail::trace_calls.load();
+  EXPECT_EQ(reference::trace_reference(sc, view, o).depth.pixels, traced.depth.pixels);
+  fs::remove(depth_file);  // as an entry written before depth was cached
+  const auto old_entry = reference::trace_reference(sc, view, o);
+  EXPECT_TRUE(old_entry.from_cache);
+  EXPECT_EQ(reference::detail::trace_calls.load(), traces) << "the hemisphere is not traced again";
+  EXPECT_EQ(std::memcmp(old_entry.depth.pixels.data(), depth.pixels.data(), depth.pixels.size() * sizeof(float)), 0);
+  EXPECT_TRUE(fs::exists(depth_file)) << "stored for the next run";
+}
+
 TEST(Reference, CacheReturnsTheStoredImageBitIdenticalWithoutTracing) {
   TempDir dir;
   const scene::View view = floor_view();

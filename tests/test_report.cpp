@@ -65,6 +65,55 @@ TEST(Report, SeedPairsMatchRowsDifferingInOneAxis) {
   EXPECT_TRUE(std::filesystem::exists(dir / "report.md"));
 }
 
+// "Where the error comes from": per view, the front rows' breakdowns with their numbers and one reading
+// generated from them (here both rows mostly far and too light); dominated rows and rows without a
+// breakdown are left out, and a table without any has no section.
+TEST(Report, WhereTheErrorComesFromPerView) {
+  auto breakdown = [](double far_share, double light_mean) {
+    metrics::ErrorBreakdown b;
+    b.edge_band_px = 7.5;
+    b.split_depth = 2;
+    b.edge = {0.2, 0.05, 0.1, 0.01};
+    b.interior = {0.8, 0.09, 0.9, 0.04};
+    b.near = {0.5, 0.04, 1 - far_share, 0.01};
+    b.far = {0.5, 0.12, far_share, 0.06};
+    b.light = {0.7, 0.1, 0.9, light_mean};
+    b.dark = {0.3, 0.03, 0.1, -0.02};
+    return b;
+  };
+  table::CostTable t;
+  t.rows.push_back(row("alchemy-fast", {{"algorithm", "alchemy"}}, 10, 0.10));
+  t.rows.push_back(row("gtao-good", {{"algorithm", "gtao"}}, 20, 0.05));
+  t.rows.push_back(row("sao-bad", {{"algorithm", "sao"}}, 30, 0.20));  // dominated
+  t.rows[0].error->breakdown = breakdown(0.7, 0.08);
+  t.rows[1].error->breakdown = breakdown(0.9, 0.04);
+  t.rows[2].error->breakdown = breakdown(0.1, 0.5);
+  table::mark_pareto(t);
+  const std::string md = report::markdown_report(t);
+  EXPECT_NE(md.find("### Where the error comes from"), std::string::npos) << md;
+  EXPECT_NE(md.find("| alchemy-fast | 0.1000 | 7.5 | 10 % / 20 % | 0.0500 | 0.0900 | 30 % (0.0400) | 70 % (0.1200) | "
+                    "90 % (+0.0800) | 10 % (-0.0200) |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| gtao-good | 0.0500 | 7.5 | 10 % / 20 % |"), std::string::npos) << md;
+  EXPECT_EQ(md.find("| sao-bad | 0.2000"), std::string::npos) << "not on the front";
+  // The reading: the mean of the two rows (far 80 %, light 90 % with mean +0.060, edge 10 % on 20 %).
+  EXPECT_NE(md.find("Reading (mean over the 2 rows): spread over the interior, not the screen edges (the edge band "
+                    "holds 10 % of the error on 20 % of the pixels); mostly in the far half (80 %); mostly too light "
+                    "(90 %, mean +0.060): occluders missed."),
+            std::string::npos)
+      << md;
+  TempDir dir;
+  report::write_reports(t, dir.path());
+  const auto html = util::read_file(dir / "report.html").value();
+  EXPECT_NE(html.find("<h3>Where the error comes from</h3>"), std::string::npos);
+  EXPECT_NE(html.find("<td>70 % (0.1200)</td>"), std::string::npos);
+  EXPECT_NE(html.find("mostly in the far half (80 %)"), std::string::npos);
+
+  for (auto& r : t.rows) r.error->breakdown.reset();  // a table measured before the breakdown
+  EXPECT_EQ(report::markdown_report(t).find("Where the error comes from"), std::string::npos);
+}
+
 // `aovar report --table`: the reports of a table written elsewhere (a merged or edited one), the worst-view
 // front across two views, predicted rows marked; a missing table is a one-line error naming it.
 TEST(Report, CliWritesReportsFromATable) {

@@ -1,6 +1,7 @@
 // The cost table (src/table): file formats, Pareto, select, diff, merge and the cost model.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -47,6 +48,20 @@ bool on_front(const std::vector<CostRow>& rows, const std::string& variant, cons
   return false;
 }
 
+// Every figure distinct (and exact in binary), so a field written under the wrong name cannot round-trip.
+metrics::ErrorBreakdown sample_breakdown() {
+  metrics::ErrorBreakdown b;
+  b.edge_band_px = 6.25;
+  b.split_depth = 3.5;
+  b.edge = {0.25, 0.125, 0.375, 0.0625};
+  b.interior = {0.75, 0.0625, 0.625, -0.03125};
+  b.near = {0.5, 0.09375, 0.25, 0.015625};
+  b.far = {0.5, 0.15625, 0.75, 0.046875};
+  b.light = {0.375, 0.1875, 0.8125, 0.078125};
+  b.dark = {0.5, 0.109375, 0.1875, -0.0234375};
+  return b;
+}
+
 CostTable sample_table() {
   CostTable t;
   t.meta = {{"tool", "test"}, {"size", "64x36"}};
@@ -65,6 +80,7 @@ CostTable sample_table() {
   a.flicker = 0.0125;
   a.images = {"images/a,b.pfm", "images/a \"q\".png"};
   a.error->psnr = std::numeric_limits<double>::infinity();
+  a.error->breakdown = sample_breakdown();
   a.device = "llvmpipe (LLVM 15.0.6, 256 bits)";
   a.driver = "Mesa 22.3.6";
   GpuPassCost ao;  // NaN: a statistic this Mesa does not report; written as null, read back as NaN
@@ -97,6 +113,43 @@ TEST(Table, JsonRoundTrip) {
   EXPECT_EQ(read_table(dir / "cost_table.json").rows, t.rows);
   EXPECT_TRUE(fs::exists(dir / "cost_table.csv"));
   EXPECT_TRUE(fs::exists(dir / "cost_table.md"));
+}
+
+// The breakdown in both files: cost_table.json and measure.json hold it under error.breakdown, a NaN as null
+// (read back as NaN); rows written before it load without one; the CSV's readable share columns.
+TEST(Table, ErrorBreakdownInTheFiles) {
+  CostTable t = sample_table();
+  const nlohmann::json j = to_json(t);
+  const nlohmann::json& b = j["rows"][0]["error"]["breakdown"];
+  EXPECT_EQ(b["edge_band_px"], 6.25);
+  EXPECT_EQ(b["far"]["error_share"], 0.75);
+  EXPECT_EQ(b["light"]["mean_error"], 0.078125);
+  EXPECT_EQ(b["interior"]["rmse"], 0.0625);
+
+  nlohmann::json old = j["rows"][0];
+  old["error"].erase("breakdown");  // a table written before the breakdown
+  const CostRow back = row_from_json(old);
+  ASSERT_TRUE(back.error);
+  EXPECT_FALSE(back.error->breakdown);
+  EXPECT_EQ(back.error->rmse, t.rows[0].error->rmse);
+
+  metrics::ErrorBreakdown with_nan = sample_breakdown();
+  with_nan.far.rmse = std::numeric_limits<double>::quiet_NaN();  // an empty half
+  const nlohmann::json nan_json = to_json(with_nan);
+  EXPECT_TRUE(nan_json["far"]["rmse"].is_null());
+  EXPECT_TRUE(std::isnan(breakdown_from_json(nlohmann::json::parse(nan_json.dump())).far.rmse));
+
+  const std::string csv = to_csv(t);
+  const auto lines = parse_csv(csv);
+  auto column = [&](const std::string& name) {
+    auto it = std::find(lines[0].begin(), lines[0].end(), name);
+    EXPECT_NE(it, lines[0].end()) << name;
+    return static_cast<std::size_t>(it - lines[0].begin());
+  };
+  EXPECT_EQ(lines[1][column("err_edge_share")], "0.375");
+  EXPECT_EQ(lines[1][column("err_far_share")], "0.75");
+  EXPECT_EQ(lines[1][column("err_light_share")], "0.8125");
+  EXPECT_EQ(lines[2][column("err_far_share")], "") << "a row without an error";
 }
 
 TEST(Table, CsvRoundTripAndQuoting) {
@@ -173,9 +226,16 @@ TEST(Table, RowsOfAMeasureJson) {
   EXPECT_EQ(rows[0].health.out_of_range, 4);
   EXPECT_EQ(rows[0].images, (std::vector<std::string>{"measure/scene/images/a.pfm", "measure/scene/images/a.png"}));
   EXPECT_TRUE(rows[0].pareto);
-  // And back: the row's JSON is what was read.
+  // And back: the row's JSON is what was read; a row written before the breakdown has none.
   EXPECT_EQ(measure::row_to_json(m.rows[0], m).at("time_ms"), r.at("time_ms"));
   EXPECT_EQ(measure::row_to_json(m.rows[0], m).at("error"), r.at("error"));
+  EXPECT_FALSE(m.rows[0].error->breakdown);
+  // With one: written, read back equal.
+  measure::MeasureRow with = m.rows[0];
+  with.error->breakdown = sample_breakdown();
+  const measure::MeasureRow again = measure::row_from_json(nlohmann::json::parse(measure::row_to_json(with, m).dump()));
+  ASSERT_TRUE(again.error && again.error->breakdown);
+  EXPECT_EQ(*again.error->breakdown, sample_breakdown());
 }
 
 TEST(Table, ParetoFrontWithTies) {

@@ -331,7 +331,7 @@ void BatchMeasurer::temporal_errors(MeasureRow& row, runner::VariantRunner& runn
   if (!plan.progressive) return;
   auto single = runner.prepare(render::plan_single_frame(plan));
   runner.backend().render(*single, {&view, 0, true, res_.radius});
-  row.error_one_frame = runner::score(runner.read(*single).image, truth);
+  row.error_one_frame = runner::score(runner.read(*single).image, truth, view, res_.radius);
 }
 
 void BatchMeasurer::finish_row(MeasureRow& row, runner::VariantRunner& runner, const Candidate& cand,
@@ -354,7 +354,7 @@ void BatchMeasurer::finish_row(MeasureRow& row, runner::VariantRunner& runner, c
   }
   if (o_.ground_truth) {
     const auto& truth = ground_truth(view);
-    row.error = runner::score(row.result, truth);
+    row.error = runner::score(row.result, truth, view, res_.radius);  // with where the error comes from
     temporal_errors(row, runner, cand.plan, p, view, truth);
     if (!o_.out.empty() && o_.images) {
       metrics::write_error_heatmap(o_.out / (rel + ".error.png"), row.result, truth.visibility, truth.background);

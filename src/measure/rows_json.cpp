@@ -24,9 +24,11 @@ util::TimeStats stats_from(const json& j) {
 
 // PSNR of identical images is +inf, which JSON cannot hold: written as null.
 json error_json(const metrics::ErrorStats& e) {
-  return {{"rmse", e.rmse}, {"mae", e.mae}, {"psnr", std::isfinite(e.psnr) ? json(e.psnr) : json(nullptr)},
-          {"ssim", e.ssim}, {"bias", e.bias}, {"max", e.max}, {"share_over_0_1", e.share_over_0_1},
-          {"pixels", e.health.pixels}};
+  json j = {{"rmse", e.rmse}, {"mae", e.mae}, {"psnr", std::isfinite(e.psnr) ? json(e.psnr) : json(nullptr)},
+            {"ssim", e.ssim}, {"bias", e.bias}, {"max", e.max}, {"share_over_0_1", e.share_over_0_1},
+            {"pixels", e.health.pixels}};
+  if (e.breakdown) j["breakdown"] = table::to_json(*e.breakdown);  // the same shape as cost_table.json's
+  return j;
 }
 metrics::ErrorStats error_from(const json& j) {
   metrics::ErrorStats e;
@@ -38,6 +40,7 @@ metrics::ErrorStats error_from(const json& j) {
   e.max = j.at("max");
   e.share_over_0_1 = j.at("share_over_0_1");
   e.health.pixels = j.at("pixels");
+  if (j.contains("breakdown") && !j.at("breakdown").is_null()) e.breakdown = table::breakdown_from_json(j.at("breakdown"));
   return e;
 }
 
@@ -119,6 +122,7 @@ PreviousRun read_previous(const fs::path& out, bool need_images, const Progress&
       for (const auto& j : doc.value(list, json::array())) {
         MeasureRow r = row_from_json(j);
         if (r.image.empty() ? need_images : !fs::exists(out / r.image)) continue;
+        if (r.error && !r.error->breakdown) continue;  // written before the breakdown: measured again to get it
         prev.text.emplace(r.inputs_hash, j);
         prev.rows.emplace(r.inputs_hash, std::move(r));
       }

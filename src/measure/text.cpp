@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "metrics/breakdown_text.h"
 #include "util/fs.h"
 
 namespace aovar::measure {
@@ -26,7 +27,17 @@ std::string to_text(const MeasureResult& r) {
                      row.view, row.time_ms.min, row.time_ms.median, row.time_ms.p90, rel, error, passes,
                      row.is_baseline ? "(baseline)" : row.reused ? "(reused)" : "");
   }
-  return s;
+  return s + where_text(r);
+}
+
+// Per row with a reference: where its error comes from, the figures and their reading (metrics/breakdown_text.h).
+std::string where_text(const MeasureResult& r) {
+  std::string s;
+  for (const auto& row : r.rows)
+    if (row.error && row.error->breakdown)
+      s += fmt::format("  {} {} {}: {}\n    {}\n", row.variant, row.backend, row.view,
+                       metrics::breakdown_summary(*row.error->breakdown), metrics::breakdown_reading(*row.error->breakdown));
+  return s.empty() ? s : "where the error comes from:\n" + s;
 }
 
 std::string notes_text(const MeasureResult& r, const MeasureOptions& o, const fs::path& cal_file) {

@@ -15,16 +15,13 @@
 
 #include <fmt/format.h>
 
+#include "metrics/detail.h"
+
 namespace aovar::metrics {
-namespace {
 
 using image::FloatImage;
 
-constexpr int kRadius = 5;  // 11 taps
-constexpr double kSigma = 1.5;
-constexpr double kC1 = 0.01 * 0.01;
-constexpr double kC2 = 0.03 * 0.03;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+namespace detail {
 
 std::size_t pixel_count(const FloatImage& img) {
   return static_cast<std::size_t>(std::max(img.width, 0)) * static_cast<std::size_t>(std::max(img.height, 0));
@@ -53,6 +50,21 @@ void check_background(const std::vector<std::uint8_t>& background, const FloatIm
 bool is_compared(const std::vector<std::uint8_t>& background, std::size_t i) {
   return background.empty() || background[i] == 0;
 }
+
+}  // namespace detail
+
+namespace {
+
+using detail::check_background;
+using detail::check_pair;
+using detail::is_compared;
+using detail::pixel_count;
+
+constexpr int kRadius = 5;  // 11 taps
+constexpr double kSigma = 1.5;
+constexpr double kC1 = 0.01 * 0.01;
+constexpr double kC2 = 0.03 * 0.03;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Normalised 1-D Gaussian taps, index 0 = offset -kRadius.
 std::array<double, 2 * kRadius + 1> gaussian_taps() {

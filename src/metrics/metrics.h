@@ -4,10 +4,12 @@
 // out-of-[0, 1] counts. Non-finite pixels are counted, never averaged in.
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include "image/health.h"
 #include "image/image.h"
+#include "metrics/breakdown.h"
 
 namespace aovar::metrics {
 
@@ -16,6 +18,9 @@ struct ErrorStats {
   double share_over_0_1 = 0;  // fraction of finite compared pixels with |error| > 0.1
   image::Health health;  // of the compared (non-background) pixels
   long finite = 0;            // compared pixels that entered the averages
+  // Where the error comes from (metrics/breakdown.h): set where the depth is known (runner::score with a
+  // view), not by compare(); nullopt in rows written before it.
+  std::optional<ErrorBreakdown> breakdown;
   bool operator==(const ErrorStats&) const = default;
 };
 

@@ -46,6 +46,27 @@ void check_options(const ReferenceOptions& o) {
   if (o.threads < 0) throw std::runtime_error(fmt::format("reference: threads {} must be 0 (all cores) or more", o.threads));
 }
 
+// The depth of a cache entry: <entry>.depth.pfm, or for an entry written before depth was cached, one
+// primary ray per pixel (trace_depth: the same rays the reference traced), stored for the next run.
+image::FloatImage cached_depth(const fs::path& entry, const scene::Scene& scene, const scene::View& view,
+                               const ReferenceOptions& o) {
+  const fs::path path = with_suffix(entry, ".depth.pfm");
+  if (!fs::exists(path)) {
+    image::FloatImage depth = trace_depth(scene, view, o.size, o.frame, o.threads).depth;
+    try {
+      image::write_pfm(path, depth);
+    } catch (const std::exception&) {
+      // As for the image: an unwritable cache costs the next run a trace, nothing else.
+    }
+    return depth;
+  }
+  image::FloatImage depth = image::read_pfm(path);
+  if (depth.width != o.size.width || depth.height != o.size.height)
+    throw std::runtime_error(fmt::format("{}: error: cached depth is {}x{}, expected {}x{}", util::display_path(path),
+                                         depth.width, depth.height, o.size.width, o.size.height));
+  return depth;
+}
+
 }  // namespace
 
 const char* mode_name(Mode m) { return m == Mode::obscurance ? "obscurance" : "occlusion"; }
@@ -135,6 +156,7 @@ ReferenceImage trace_reference(const scene::Scene& scene, const scene::View& vie
       ReferenceImage ref;
       try {
         ref = load_reference(entry);
+        ref.depth = cached_depth(entry, scene, view, options);
       } catch (const std::exception& e) {
         throw std::runtime_error(std::string(e.what()) + " (a broken reference cache entry: delete it, or use --no-cache)");
       }
@@ -153,6 +175,7 @@ ReferenceImage trace_reference(const scene::Scene& scene, const scene::View& vie
   ref.key = key;
   if (!entry.empty()) {
     try {
+      image::write_pfm(with_suffix(entry, ".depth.pfm"), ref.depth);  // before the image, which marks a complete entry
       write_reference(entry, ref);
     } catch (const std::exception&) {
       // A cache that cannot be written only costs the next run a trace; the result is still good.

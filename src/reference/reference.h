@@ -35,6 +35,10 @@ struct ReferenceImage {
   image::FloatImage visibility;  // in [0, 1], 1 = open; background pixels are 1
   image::FloatImage std_error;   // per-pixel standard error of `visibility`; background pixels are 0
   std::vector<std::uint8_t> background;  // 1 where the primary ray hits nothing (row 0 = bottom, as images)
+  // Linear view depth of the primary hit (trace_depth's, from the same rays), +inf on background: where the
+  // error lies in depth (metrics::error_breakdown). Cached next to the image (<key>.depth.pfm); an entry
+  // written before it gets it from one trace_depth, stored then. Not in write_reference's files.
+  image::FloatImage depth;
   std::string key;               // cache key (scene hash, view, size, radius, rays, mode, frame, version)
   bool from_cache = false;
   double trace_s = 0;            // wall time spent tracing (0 when from the cache)

@@ -136,6 +136,7 @@ Camera make_camera(const scene::View& view, const ReferenceOptions& o) {
 // Result of one pixel.
 struct PixelResult {
   float visibility = 1.0f, std_error = 0.0f;
+  float depth = std::numeric_limits<float>::infinity();  // linear view depth of the primary hit
   bool background = true;
   std::uint32_t rays = 1;
 };
@@ -176,6 +177,7 @@ class PixelTracer {
     r.background = false;
 
     const float t = rh.ray.tfar;
+    r.depth = t;  // view-space z = -1: t is the linear depth, as trace_depth's
     glm::vec3 p = cam_.eye + t * dir;
     glm::vec3 n = glm::normalize(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
     if (glm::dot(n, dir) > 0.0f) n = -n;  // face the camera: AO of the side we see
@@ -295,6 +297,7 @@ ReferenceImage trace(const scene::Scene& sc, const scene::View& view, const Refe
   out.visibility = {w, h, std::vector<float>(static_cast<std::size_t>(w) * h, 1.0f)};
   out.std_error = {w, h, std::vector<float>(static_cast<std::size_t>(w) * h, 0.0f)};
   out.background.assign(static_cast<std::size_t>(w) * h, 1);
+  out.depth = {w, h, std::vector<float>(static_cast<std::size_t>(w) * h, kInf)};
 
   // Threads: `threads` caps TBB process-wide while we run (Embree's BVH build runs on TBB too) and sizes
   // the arena the work runs in.
@@ -330,6 +333,7 @@ ReferenceImage trace(const scene::Scene& sc, const scene::View& view, const Refe
             out.visibility.pixels[i] = p.visibility;
             out.std_error.pixels[i] = p.std_error;
             out.background[i] = p.background ? 1 : 0;
+            out.depth.pixels[i] = p.depth;
             tile_rays += p.rays;
           }
         pixels_done.fetch_add(static_cast<std::int64_t>(x1 - x0) * (y1 - y0), std::memory_order_relaxed);

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "report/error_sources.h"
 #include "report/gpu_section.h"
 #include "report/grid.h"
 #include "util/fs.h"
@@ -225,7 +226,7 @@ std::string markdown_report(const CostTable& t) {
     for (const CostRow* r : rows)
       if (r->pareto)
         md << fmt::format("| {} | {} | {:.4f} | {:.3f} |\n", r->variant, time_with_interval(*r), r->error->rmse, r->error->ssim);
-    md << "\n";
+    md << "\n" << error_sources_markdown(rows);
   }
   md << "## The pairs the seeds compared, on these scenes\n\n" << kPairsNote << "\n\n"
      << markdown(pairs_grid(seed_pairs(t), "time"));
@@ -337,6 +338,7 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
         << image_tag(scene_dir / "images" / "reference" / (r->view + ".png"), "ray-traced reference")
         << image_tag(heat, "error (red: too dark, blue: too light)") << "</div>";
     }
+    h << error_sources_html(rows);
   }
   h << "<h2>The pairs the seeds compared, on these scenes</h2><p>" << escape(kPairsNote) << "</p>"
     << html(pairs_grid(seed_pairs(t), "time"));

@@ -2,7 +2,8 @@
 // Reports a person reads (docs/cli.md, "File formats"): report.md and a self-contained report.html (no network: inline
 // SVG charts, images embedded as data URIs) from a cost table — the Pareto front per scene/view/backend,
 // Pareto scatter coloured by algorithm, time per variant, static cost against measured time, an image grid
-// (variant, reference, error heat map) for the front, and the Sunet 2018 pairs measured on these scenes.
+// (variant, reference, error heat map) for the front, where the front's error comes from
+// (error_sources.h), and the Sunet 2018 pairs measured on these scenes.
 #include <filesystem>
 #include <functional>
 #include <string>

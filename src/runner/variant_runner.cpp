@@ -60,8 +60,4 @@ int find_variant(const compile::CompiledSpace& compiled, const std::string& key)
   return -1;
 }
 
-metrics::ErrorStats score(const image::FloatImage& image, const reference::ReferenceImage& truth) {
-  return metrics::compare(image, truth.visibility, truth.background);
-}
-
 }  // namespace aovar::runner

@@ -15,6 +15,7 @@
 #include "metrics/metrics.h"
 #include "reference/reference.h"
 #include "render/backend.h"
+#include "runner/score.h"  // score(): scoring an image read back
 
 namespace aovar::runner {
 
@@ -76,7 +77,5 @@ class VariantRunner {
 // Index of the variant with this key in compiled.space.variants, -1 when the selection does not hold it.
 int find_variant(const compile::CompiledSpace& compiled, const std::string& key);
 
-// The error of an image against a view's ray-traced reference, over the reference's geometry pixels.
-metrics::ErrorStats score(const image::FloatImage& image, const reference::ReferenceImage& truth);
 
 }  // namespace aovar::runner

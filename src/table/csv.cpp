@@ -100,7 +100,7 @@ const std::vector<std::string> kFixedTail = {
     "time_ms.n", "time_ms.paired", "time_ms.paired_lo", "time_ms.paired_hi", "rel_time", "rel_time_median", "rel_time_lo",
     "rel_time_hi", "same_code_as", "error.rmse", "error.mae", "error.psnr", "error.ssim", "error.bias", "error.max",
     "health.nan", "health.inf", "health.out_of_range", "pareto", "predicted", "flicker", "images", "static", "gpu",
-    "rounds"};
+    "rounds", "error.breakdown", "err_edge_share", "err_far_share", "err_light_share"};
 // Readable per-family columns after the fixed ones (the "gpu" column's JSON is what from_csv reads back).
 const std::vector<std::string> kGpuColumns = {"est_ms", "bound", "vgprs", "waves"};
 }  // namespace
@@ -148,6 +148,13 @@ std::string to_csv(const CostTable& t) {
                                      r.static_cost ? to_json(r.static_cost).dump() : std::string("{}"),
                                      r.gpu.empty() ? std::string("{}") : to_json(r.gpu).dump(),
                                      r.rounds.ratios.empty() ? std::string() : to_json(r.rounds).dump()};
+    // The breakdown: its JSON (what from_csv reads back), then the three shares a spreadsheet sorts by.
+    const metrics::ErrorBreakdown* b = r.error && r.error->breakdown ? &*r.error->breakdown : nullptr;
+    auto share = [&](const metrics::ErrorPart& p) { return std::isnan(p.error_share) ? std::string() : text(p.error_share); };
+    if (b)
+      tail.insert(tail.end(), {to_json(*b).dump(), share(b->edge), share(b->far), share(b->light)});
+    else
+      tail.insert(tail.end(), 4, std::string());
     f.insert(f.end(), tail.begin(), tail.end());
     for (const auto& family : families) {
       auto it = r.gpu.find(family);
@@ -209,6 +216,7 @@ CostTable from_csv(const std::string& s) {
         std::string col = std::string("error.") + kErrorFields[i];
         error_field(e, i) = parse_double(c[col], col);
       }
+      if (!c["error.breakdown"].empty()) e.breakdown = breakdown_from_json(json::parse(c["error.breakdown"]));
       r.error = e;
     }
     r.health.nan = static_cast<long>(parse_double(c["health.nan"], "health.nan"));

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "table/detail.h"
@@ -37,6 +38,41 @@ Rounds rounds_from_json(const json& j) {
   return r;
 }
 
+namespace {
+// The parts of a breakdown by their JSON name, in file order.
+struct PartField {
+  const char* name;
+  metrics::ErrorPart metrics::ErrorBreakdown::*part;
+};
+constexpr PartField kParts[] = {{"edge", &metrics::ErrorBreakdown::edge},   {"interior", &metrics::ErrorBreakdown::interior},
+                                {"near", &metrics::ErrorBreakdown::near},   {"far", &metrics::ErrorBreakdown::far},
+                                {"light", &metrics::ErrorBreakdown::light}, {"dark", &metrics::ErrorBreakdown::dark}};
+
+double nan_if_null(const json& j) { return j.is_null() ? std::numeric_limits<double>::quiet_NaN() : j.get<double>(); }
+}  // namespace
+
+json to_json(const metrics::ErrorBreakdown& b) {
+  json out = {{"edge_band_px", num(b.edge_band_px)}, {"split_depth", num(b.split_depth)}};
+  for (const auto& [name, part] : kParts) {
+    const metrics::ErrorPart& p = b.*part;
+    out[name] = {{"pixel_share", num(p.pixel_share)}, {"rmse", num(p.rmse)}, {"error_share", num(p.error_share)},
+                 {"mean_error", num(p.mean_error)}};
+  }
+  return out;
+}
+
+metrics::ErrorBreakdown breakdown_from_json(const json& j) {
+  metrics::ErrorBreakdown b;
+  b.edge_band_px = nan_if_null(j.at("edge_band_px"));
+  b.split_depth = nan_if_null(j.at("split_depth"));
+  for (const auto& [name, part] : kParts) {
+    const json& p = j.at(name);
+    b.*part = {nan_if_null(p.at("pixel_share")), nan_if_null(p.at("rmse")), nan_if_null(p.at("error_share")),
+               nan_if_null(p.at("mean_error"))};
+  }
+  return b;
+}
+
 std::string CostRow::key() const {
   return fmt::format("{}|{}|{}|{}|{}|{}", variant, scene, view, backend, size, threads);
 }
@@ -49,6 +85,7 @@ json to_json(const CostRow& r) {
     error = json::object();
     metrics::ErrorStats e = *r.error;
     for (int i = 0; i < 6; ++i) error[kErrorFields[i]] = num(error_field(e, i));
+    if (e.breakdown) error["breakdown"] = to_json(*e.breakdown);
   }
   return {{"variant", r.variant},
           {"axes", axes},
@@ -127,6 +164,8 @@ CostRow row_from_json(const json& j) {
         const json& v = ej.at(kErrorFields[i]);
         error_field(e, i) = v.is_null() ? std::numeric_limits<double>::infinity() : v.get<double>();
       }
+      field = "error.breakdown";  // tables written before it have none
+      if (ej.contains("breakdown") && !ej.at("breakdown").is_null()) e.breakdown = breakdown_from_json(ej.at("breakdown"));
       r.error = e;
     }
     field = "health";

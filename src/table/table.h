@@ -54,7 +54,7 @@ struct CostRow {
   // and highp where the driver ignores RelaxedPrecision). Empty: measured itself. Never on a front.
   std::string same_code_as;
   // Against the ray-traced reference; null when measured without --reference. cost_table.json keeps rmse, mae,
-  // psnr, ssim, bias and max (measure.json all of it).
+  // psnr, ssim, bias, max and the breakdown (measure.json all of it).
   std::optional<metrics::ErrorStats> error;
   image::Health health;                      // cost_table.json keeps nan, inf and out_of_range
   bool pareto = false;
@@ -82,6 +82,11 @@ nlohmann::json to_json(const util::Interval& interval);
 util::Interval interval_from_json(const nlohmann::json& j);
 nlohmann::json to_json(const Rounds& rounds);
 Rounds rounds_from_json(const nlohmann::json& j);
+// The error's breakdown (metrics/breakdown.h), as `error.breakdown` in both files: `edge_band_px`,
+// `split_depth` and per part (`edge`, `interior`, `near`, `far`, `light`, `dark`) `pixel_share`, `rmse`,
+// `error_share`, `mean_error`; a NaN is written as null and read back as NaN.
+nlohmann::json to_json(const metrics::ErrorBreakdown& breakdown);
+metrics::ErrorBreakdown breakdown_from_json(const nlohmann::json& j);
 CostTable table_from_json(const nlohmann::json& j);
 
 // Files. read_table throws with a one-line message naming the file; writes are atomic.
