@@ -169,6 +169,7 @@ TEST(Analyze, AoMethodFetchesMatchDocumentedCounts) {
       {"crytek", {5, 0, 0, 0, 0, true, "N+1 depth / 0 normal"}},
       {"hbao", {1, 0, 1, 0, 0, true, "1+R(2+S) depth / 0 normal"}},
       {"gtao", {1, 0, 1, 0, 0, true, "-"}},
+      {"vbao", {1, 0, 1, 0, 0, true, "-"}},
       {"vo", {5, 0, 0, 0, 0, true, "-"}},
       {"unsharp", {1, 0, 0, 0, 1, false, "-"}},
       {"sao", {0, 0, 0, 1, 1, false, "-"}},  // README: N + 1 z-pyramid texels (binding 7), no depth read
