@@ -155,7 +155,7 @@ int main(int argc, char** argv) {
   }
   if (scenes.empty()) scenes = {"builtin:atrium", "builtin:far", "builtin:cornell", "builtin:spheres", "builtin:stairs"};
 
-  // Every r16f/r32f pair: the nine methods at 8 samples, p0, bsep, highp, default reconstruction, at the
+  // Every r16f/r32f pair: the ten methods at 8 samples, p0, bsep, highp, default reconstruction, at the
   // three resolutions; buffered RGB8 normals and normals from depth where the method reads normals.
   compile::CompileOptions co;
   co.targets = {variants::Target::vulkan};

@@ -17,7 +17,7 @@ namespace {
 
 const std::vector<std::string> kBackends = {"lavapipe", "osmesa"};
 const std::vector<std::string> kAlgorithms = {"alchemy", "unsharp", "sao",      "hbao", "gtao",
-                                              "crytek",  "sc2",     "homebrew", "vo"};
+                                              "crytek",  "sc2",     "homebrew", "vo",   "vbao"};
 const render::Extent kSize{160, 90};
 
 // Per method: render_support's three kinds (full resolution plain and blurred, half-resolution progressive

@@ -36,7 +36,9 @@
 // sum of the visible arcs by the sum of the unoccluded ones (a ratio of two estimators of the same phi
 // integral; the denominator tends to 1) keeps the estimate consistent and makes every open surface exactly 1
 // for any slice count, where the plain mean leaves a slice-direction pattern on grazing surfaces. This and
-// the clamp to [0, 1] are the deviations from eq. 3.21; GTAO's thickness heuristic is not implemented.
+// the clamp to [0, 1] are the deviations from eq. 3.21; GTAO's thickness heuristic is not implemented, XeGTAO's
+// thin-occluder compensation is (Strugar 2021: the falloff distance of a sample with its view z stretched by
+// 1 + thin_occluder_compensation; 0 = off).
 //
 // Noise (Dörries 2018, Listing 3.21, the spatial part): a 4x4 pattern of 16 slice rotations (a fraction of the
 // slice spacing) and a 4-value step offset along the diagonal. Its temporal part (6 rotations x 4 offsets
@@ -90,7 +92,7 @@
 precision highp float;
 precision highp int;
 precision highp sampler2D;
-#line 46 1
+#line 48 1
 #line 1 3
 // Per-frame camera and sizes, shared by every pass (docs/template-contract.md, "Interface").
 AO_UBO(0) uniform AOFrame {
@@ -104,7 +106,7 @@ AO_UBO(0) uniform AOFrame {
     vec4 clip;        // near, far, radius (world units), pixels per world unit at z = 1 at AO resolution
     ivec4 frame_index;// x = frame number, y = parity (0/1) for progressive halves, zw unused
 } frame;
-#line 47 1
+#line 49 1
 #line 1 4
 // Every G-buffer read of an AO method goes through these helpers: ao_depth (common/depth.glsl),
 // ao_position (common/reconstruct.glsl) and ao_normal (below). Reads the `normals`, `position` and
@@ -151,6 +153,12 @@ bool ao_is_background(float z) {
 // kernel footprint comes from here.
 float ao_radius_px(float z) {
     return min(frame.clip.z * frame.clip.w / z, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+}
+
+// ao_radius_px of a pixel at linear depth z, 0 on background. A pixel whose disc is under 1 pixel is open
+// (Dörries 2018, §3.3.4), so `ao_disc_px(z) < 1` is the one early-out a method needs.
+float ao_disc_px(float z) {
+    return ao_is_background(z) ? 0.0 : ao_radius_px(z);
 }
 #line 5 4
 #line 1 6
@@ -300,8 +308,41 @@ vec3 ao_normal(vec2 uv, vec3 view_pos) {
     return ao_decode_normal(texelFetch(ao_normal_tex, ao_texel(uv, textureSize(ao_normal_tex, 0)), 0));
 #endif
 }
-#line 48 1
+#line 50 1
 #line 1 9
+// Per-pixel kernel rotation (Sunet 2018, §4.3.3), computed procedurally instead of read from a 4x4 random
+// texture. Each pixel of a 4x4 tile gets one of 16 angles, 2 pi / 16 apart, in an interleaved order:
+//
+//     y\x   0   1   2   3        index = (4 x + 8 (y & 1) + gray(y)) mod 16,  gray(y) = y ^ (y >> 1)
+//      0    0   4   8  12
+//      1    9  13   1   5        Each row steps by a quarter turn; rows are offset by a Gray code so
+//      2    3   7  11  15        horizontal and vertical neighbours (across tile borders too) differ by at
+//      3   10  14   2   6        least a quarter turn and diagonal ones by at least an eighth.
+//
+// A 4x4 Bayer matrix is worse here: its ranks are thresholds on a line, but angles wrap, so ranks 15 and 0
+// (vertical neighbours across the tile border) would be only 1/16 turn apart. The tile matches the 4x4 blur
+// footprint (Sunet 2018, §4.3.4): any 4x4 window holds all 16 rotations, and a 4-tap row already holds four
+// rotations a quarter turn apart.
+
+// (cos, sin) of the rotation angle of pixel p.
+vec2 ao_rotation(ivec2 pixel) {
+    int x = pixel.x & 3;
+    int y = pixel.y & 3;
+    int index = (4 * x + 8 * (y & 1) + (y ^ (y >> 1))) & 15;
+    float angle = float(index) * (6.28318531 / 16.0);
+    return vec2(cos(angle), sin(angle));
+}
+
+// Slice noise of the slice-marching methods (GTAO, VBAO; Dörries 2018, Listing 3.21, its spatial part):
+// x = slice rotation in [0, 1) of the slice spacing, 16 values on a 4x4 tile; y = step offset, 4 values; both
+// in the 4x4 blur footprint (Sunet 2018, §4.3.4).
+vec2 ao_slice_noise(ivec2 p) {
+    float rotation = (1.0 / 16.0) * float((((p.x + p.y) & 3) << 2) + (p.x & 3));
+    float offset = 0.25 * float((p.y - p.x) & 3);
+    return vec2(rotation, offset);
+}
+#line 51 1
+#line 1 10
 // Slice geometry shared by the horizon-based methods (ao/hbao.glsl, ao/gtao.glsl). Needs no axis.
 //
 // A slice is the plane through the eye, the centre C and a screen direction d: every point seen along the
@@ -310,7 +351,7 @@ vec3 ao_normal(vec2 uv, vec3 view_pos) {
 // the slice, dot(H, V)/|H| is the cosine of its angle from V (the sine of its elevation above the plane
 // perpendicular to V: HBAO's sin h, GTAO's horizon cosine). The tangent of the surface in the slice, on the
 // +d side, is perpendicular to the normal projected onto the slice, n_p = (n.x) x + (n.V) V.
-#line 10 9
+#line 10 10
 
 // The view-space direction (x, y, 0) of the screen line through a pixel in direction d (AO pixels).
 vec3 ao_slice_direction(vec2 d) {
@@ -347,11 +388,37 @@ AOP float ao_sample_tangent_sin(AOP float hh, AOP float hv, AOP float nh, AOP fl
     AOP float d = u * u + nvc * nvc * b2;
     return (b2 > 1e-4 * hh && d > 0.0) ? clamp(-u * inversesqrt(d), -1.0, 1.0) : fallback;
 }
-#line 49 1
+
+// The normal projected onto the slice with screen direction d (GTAO, VBAO): (|n_p|, cos g, sin g, g), g the
+// angle of n_p from V (towards +d when positive), clamped to the hemisphere facing the camera (n.V >= 0;
+// Dörries 2018, Listing 3.23 rebuilds the sign of acos, atan keeps it). All 0 when the normal is
+// perpendicular to the slice, which then has no visible arc.
+AOP vec4 ao_slice_normal(AOP vec3 n, AOP vec3 v, AOP float nv, vec2 d) {
+    AOP float nx = dot(n, ao_slice_x(ao_slice_direction(d), v));
+    AOP float nvc = max(nv, 0.0);
+    AOP float np2 = nx * nx + nvc * nvc;
+    if (np2 < 1e-6) {
+        return vec4(0.0);
+    }
+    AOP float inv_np = inversesqrt(np2);
+    return vec4(sqrt(nx * nx + nv * nv), nvc * inv_np, nx * inv_np, atan(nx, nvc));
+}
+
+// Step j of a march from uv0 along screen direction d (unit, AO pixels): at (j + jitter) x step_px pixels, at
+// least 1 so the first step leaves the centre's texel. Off screen (outside [0, 1]^2) the ray only moves
+// further away, so a march stops at the first such step.
+vec2 ao_march_uv(vec2 uv0, vec2 d, int j, float jitter, float step_px) {
+    return uv0 + d * (max(1.0, (float(j) + jitter) * step_px) * frame.ao_size.zw);
+}
+bool ao_off_screen(vec2 uv) {
+    return any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)));
+}
+#line 52 1
 
 AO_UBO(1) uniform AOParams {
     float falloff; // fraction of the radius over which a horizon fades out
     float albedo;  // multi-bounce albedo rho; 0 = off
+    float thin_occluder_compensation; // z stretch of the falloff distance (Strugar 2021); 0 = off
 } params;
 
 AO_LOC(0) in vec2 v_uv;
@@ -361,14 +428,6 @@ const int GTAO_STEPS = AO_SAMPLES < 4 ? 1 : (AO_SAMPLES > 16 ? 4 : AO_SAMPLES / 
 const int GTAO_SLICES = AO_SAMPLES / (2 * GTAO_STEPS);
 
 const float GTAO_PI = 3.14159265;
-
-// Spatial noise of Dörries 2018, Listing 3.21: x = slice rotation in [0, 1) of the slice spacing, 16 values on a
-// 4x4 tile; y = step offset, 4 values; both in the 4x4 blur footprint (Sunet 2018, §4.3.4).
-vec2 gtao_noise(ivec2 p) {
-    float rotation = (1.0 / 16.0) * float((((p.x + p.y) & 3) << 2) + (p.x & 3));
-    float offset = 0.25 * float((p.y - p.x) & 3);
-    return vec2(rotation, offset);
-}
 
 // Unit screen direction of slice i: slices are pi / GTAO_SLICES apart.
 vec2 gtao_direction(int i) {
@@ -383,6 +442,7 @@ AOP float gtao_horizon(vec3 c, AOP vec3 v, AOP vec3 n, AOP float nv, vec2 d, flo
     // does R beyond 65504. Only the falloff weight and the unit direction, both in [0, 1], drop to AOP.
     float radius = frame.clip.z;
     float inv_range = 1.0 / max(params.falloff * radius, 1e-4);
+    vec3 stretch = vec3(1.0, 1.0, 1.0 + params.thin_occluder_compensation);
     AOP float cos_h = low;
     for (int j = 0; j < GTAO_STEPS; ++j) {
         float t_px = max(1.0, (float(j) + jitter) * step_px);
@@ -394,7 +454,11 @@ AOP float gtao_horizon(vec3 c, AOP vec3 v, AOP vec3 n, AOP float nv, vec2 d, flo
         float dd = dot(offset, offset);
         if (dd > 0.0) {
             float inv_r = inversesqrt(dd);
-            AOP float w = clamp((radius - dd * inv_r) * inv_range, 0.0, 1.0);
+            // Thin-occluder compensation (Strugar 2021): the falloff distance with the offset's view z
+            // stretched, so a sample far in front of or behind C (a thin pole seen past its side) fades
+            // sooner than one beside it. Off, the distance is the one before it existed, to the last bit.
+            float dist = params.thin_occluder_compensation > 0.0 ? length(offset * stretch) : dd * inv_r;
+            AOP float w = clamp((radius - dist) * inv_range, 0.0, 1.0);
             if (w > 0.0) {
                 AOP vec3 h = offset * inv_r;
                 AOP float hv = dot(h, v);
@@ -433,7 +497,7 @@ void main() {
         return;
     }
 
-    vec2 noise = gtao_noise(ivec2(gl_FragCoord.xy));
+    vec2 noise = ao_slice_noise(ivec2(gl_FragCoord.xy));
     float phi = noise.x * (GTAO_PI / float(GTAO_SLICES));
     mat2 rotation = mat2(cos(phi), sin(phi), -sin(phi), cos(phi));
     float jitter = noise.y + 0.125; // centres of 4 strata in (0, 1)
@@ -449,10 +513,11 @@ void main() {
     for (int s = 0; s < GTAO_SLICES; ++s) {
         vec2 d = rotation * gtao_direction(s);
         // Slice frame: V and x, the unit vector of the slice perpendicular to V towards +d. Projected normal
-        // n_p = (n.x) x + (n.V) V of length |n_p|, at angle g from V (towards +d when positive). g is clamped
-        // to the hemisphere facing the camera (n.V >= 0; Listing 3.23 rebuilds the sign of acos, atan keeps it).
+        // n_p = (n.x) x + (n.V) V of length |n_p|, at angle g from V (common/horizon.glsl).
         // The horizons start at the tangents, cos(g +- pi/2) = -+ sin g, and only rise, so h1 <= g + pi/2 and
         // h2 >= g - pi/2: they stay in the normal's hemisphere without a further clamp.
+        // Inlined, not common/horizon.glsl's ao_slice_normal (VBAO's): through that call lavapipe rounded 29 of
+        // 14,400 pixels of builtin:atrium differently (up to 1.2e-4), and GTAO's images are kept bit for bit.
         AOP float nx = dot(n, ao_slice_x(ao_slice_direction(d), v));
         AOP float nvc = max(nv, 0.0);
         AOP float np2 = nx * nx + nvc * nvc;

@@ -128,6 +128,12 @@ bool ao_is_background(float z) {
 float ao_radius_px(float z) {
     return min(frame.clip.z * frame.clip.w / z, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
 }
+
+// ao_radius_px of a pixel at linear depth z, 0 on background. A pixel whose disc is under 1 pixel is open
+// (Dörries 2018, §3.3.4), so `ao_disc_px(z) < 1` is the one early-out a method needs.
+float ao_disc_px(float z) {
+    return ao_is_background(z) ? 0.0 : ao_radius_px(z);
+}
 #line 5 4
 #line 1 6
 // View-space position of a G-buffer texel (Sunet 2018, §5.4, §5.5). Reads the `position` and `reconstruct`
@@ -347,6 +353,15 @@ vec2 ao_rotation(ivec2 pixel) {
     int index = (4 * x + 8 * (y & 1) + (y ^ (y >> 1))) & 15;
     float angle = float(index) * (6.28318531 / 16.0);
     return vec2(cos(angle), sin(angle));
+}
+
+// Slice noise of the slice-marching methods (GTAO, VBAO; Dörries 2018, Listing 3.21, its spatial part):
+// x = slice rotation in [0, 1) of the slice spacing, 16 values on a 4x4 tile; y = step offset, 4 values; both
+// in the 4x4 blur footprint (Sunet 2018, §4.3.4).
+vec2 ao_slice_noise(ivec2 p) {
+    float rotation = (1.0 / 16.0) * float((((p.x + p.y) & 3) << 2) + (p.x & 3));
+    float offset = 0.25 * float((p.y - p.x) & 3);
+    return vec2(rotation, offset);
 }
 #line 26 1
 

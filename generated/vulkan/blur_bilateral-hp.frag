@@ -101,6 +101,12 @@ bool ao_is_background(float z) {
 float ao_radius_px(float z) {
     return min(frame.clip.z * frame.clip.w / z, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
 }
+
+// ao_radius_px of a pixel at linear depth z, 0 on background. A pixel whose disc is under 1 pixel is open
+// (Dörries 2018, §3.3.4), so `ao_disc_px(z) < 1` is the one early-out a method needs.
+float ao_disc_px(float z) {
+    return ao_is_background(z) ? 0.0 : ao_radius_px(z);
+}
 #line 8 1
 #line 1 5
 // Weights shared by the depth-aware blurs and the upsample (Sunet 2018, §3.3.1, eq. 3.3). Computed in AOP:

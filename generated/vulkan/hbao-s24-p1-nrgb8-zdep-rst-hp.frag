@@ -45,6 +45,8 @@
 // apart on the full circle (each ray is one-sided). Progressive (Sunet 2018, §4.10): this frame marches only
 // directions i = 2k + h, h = frame.frame_index.y; each half is itself evenly spread and the two
 // interleave, so the mean of two frames is the full kernel (before the clamp and power).
+// Thin-occluder compensation (Strugar 2021, XeGTAO's ThinOccluderCompensation): the falloff and the radius
+// test take the offset with its view z stretched by 1 + thin_occluder_compensation (0 = off).
 // Radius: capped at a quarter of the AO screen; pixels whose disc is under 1 pixel are open (Dörries 2018, §3.3.4).
 //
 // Axes: samples, progressive, normals, position, reconstruct (common/fetch.glsl), precision (AOP).
@@ -85,7 +87,7 @@
 precision highp float;
 precision highp int;
 precision highp sampler2D;
-#line 41 1
+#line 43 1
 #line 1 3
 // Per-frame camera and sizes, shared by every pass (docs/template-contract.md, "Interface").
 AO_UBO(0) uniform AOFrame {
@@ -99,7 +101,7 @@ AO_UBO(0) uniform AOFrame {
     vec4 clip;        // near, far, radius (world units), pixels per world unit at z = 1 at AO resolution
     ivec4 frame_index;// x = frame number, y = parity (0/1) for progressive halves, zw unused
 } frame;
-#line 42 1
+#line 44 1
 #line 1 4
 // Every G-buffer read of an AO method goes through these helpers: ao_depth (common/depth.glsl),
 // ao_position (common/reconstruct.glsl) and ao_normal (below). Reads the `normals`, `position` and
@@ -146,6 +148,12 @@ bool ao_is_background(float z) {
 // kernel footprint comes from here.
 float ao_radius_px(float z) {
     return min(frame.clip.z * frame.clip.w / z, 0.25 * min(frame.ao_size.x, frame.ao_size.y));
+}
+
+// ao_radius_px of a pixel at linear depth z, 0 on background. A pixel whose disc is under 1 pixel is open
+// (Dörries 2018, §3.3.4), so `ao_disc_px(z) < 1` is the one early-out a method needs.
+float ao_disc_px(float z) {
+    return ao_is_background(z) ? 0.0 : ao_radius_px(z);
 }
 #line 5 4
 #line 1 6
@@ -295,7 +303,7 @@ vec3 ao_normal(vec2 uv, vec3 view_pos) {
     return ao_decode_normal(texelFetch(ao_normal_tex, ao_texel(uv, textureSize(ao_normal_tex, 0)), 0));
 #endif
 }
-#line 43 1
+#line 45 1
 #line 1 9
 // Per-pixel kernel rotation (Sunet 2018, §4.3.3), computed procedurally instead of read from a 4x4 random
 // texture. Each pixel of a 4x4 tile gets one of 16 angles, 2 pi / 16 apart, in an interleaved order:
@@ -319,7 +327,16 @@ vec2 ao_rotation(ivec2 pixel) {
     float angle = float(index) * (6.28318531 / 16.0);
     return vec2(cos(angle), sin(angle));
 }
-#line 44 1
+
+// Slice noise of the slice-marching methods (GTAO, VBAO; Dörries 2018, Listing 3.21, its spatial part):
+// x = slice rotation in [0, 1) of the slice spacing, 16 values on a 4x4 tile; y = step offset, 4 values; both
+// in the 4x4 blur footprint (Sunet 2018, §4.3.4).
+vec2 ao_slice_noise(ivec2 p) {
+    float rotation = (1.0 / 16.0) * float((((p.x + p.y) & 3) << 2) + (p.x & 3));
+    float offset = 0.25 * float((p.y - p.x) & 3);
+    return vec2(rotation, offset);
+}
+#line 46 1
 #line 1 10
 // Slice geometry shared by the horizon-based methods (ao/hbao.glsl, ao/gtao.glsl). Needs no axis.
 //
@@ -366,12 +383,38 @@ AOP float ao_sample_tangent_sin(AOP float hh, AOP float hv, AOP float nh, AOP fl
     AOP float d = u * u + nvc * nvc * b2;
     return (b2 > 1e-4 * hh && d > 0.0) ? clamp(-u * inversesqrt(d), -1.0, 1.0) : fallback;
 }
-#line 45 1
+
+// The normal projected onto the slice with screen direction d (GTAO, VBAO): (|n_p|, cos g, sin g, g), g the
+// angle of n_p from V (towards +d when positive), clamped to the hemisphere facing the camera (n.V >= 0;
+// Dörries 2018, Listing 3.23 rebuilds the sign of acos, atan keeps it). All 0 when the normal is
+// perpendicular to the slice, which then has no visible arc.
+AOP vec4 ao_slice_normal(AOP vec3 n, AOP vec3 v, AOP float nv, vec2 d) {
+    AOP float nx = dot(n, ao_slice_x(ao_slice_direction(d), v));
+    AOP float nvc = max(nv, 0.0);
+    AOP float np2 = nx * nx + nvc * nvc;
+    if (np2 < 1e-6) {
+        return vec4(0.0);
+    }
+    AOP float inv_np = inversesqrt(np2);
+    return vec4(sqrt(nx * nx + nv * nv), nvc * inv_np, nx * inv_np, atan(nx, nvc));
+}
+
+// Step j of a march from uv0 along screen direction d (unit, AO pixels): at (j + jitter) x step_px pixels, at
+// least 1 so the first step leaves the centre's texel. Off screen (outside [0, 1]^2) the ray only moves
+// further away, so a march stops at the first such step.
+vec2 ao_march_uv(vec2 uv0, vec2 d, int j, float jitter, float step_px) {
+    return uv0 + d * (max(1.0, (float(j) + jitter) * step_px) * frame.ao_size.zw);
+}
+bool ao_off_screen(vec2 uv) {
+    return any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)));
+}
+#line 47 1
 
 AO_UBO(1) uniform AOParams {
     float bias;      // beta: tangent bias angle (radians)
     float intensity; // sigma: scale of the occlusion
     float contrast;  // k: exponent on the visibility
+    float thin_occluder_compensation; // z stretch of the falloff distance (Strugar 2021); 0 = off
 } params;
 
 AO_LOC(0) in vec2 v_uv;
@@ -423,6 +466,7 @@ void main() {
     // The falloff (r / R)^2 is taken in highp: with R = 1e4, R^2 overflows fp16 (mediump) and (r / R)^2 of
     // a 20-unit room underflows it; either rejected every sample (aovar stress, case radius-1e4).
     float inv_r2 = 1.0 / (frame.clip.z * frame.clip.z);
+    vec3 stretch = vec3(1.0, 1.0, 1.0 + params.thin_occluder_compensation);
     AOP float cos_bias = cos(params.bias);
     AOP float sin_bias = sin(params.bias);
     AOP float occlusion = 0.0;
@@ -452,8 +496,12 @@ void main() {
             // falloff, both in [0, 1], drop to AOP. The horizon tests are scale-invariant.
             vec3 offset = ao_position(uv) - c;
             float dd = dot(offset, offset);
-            if (dd * inv_r2 < 1.0 && dd > 0.0) {
-                AOP float r2 = dd * inv_r2;
+            // Thin-occluder compensation (Strugar 2021): falloff and radius test on the offset with its view
+            // z stretched, so samples far in front of or behind C fade sooner; a stretch of 1 is exact.
+            vec3 stretched = offset * stretch;
+            float ds = dot(stretched, stretched);
+            if (ds * inv_r2 < 1.0 && dd > 0.0) {
+                AOP float r2 = ds * inv_r2;
                 AOP vec3 h = offset * inversesqrt(dd);
                 AOP float hv = dot(h, v);
                 // Elevation relative to the tangent of the sample's own slice, carried over to this slice.

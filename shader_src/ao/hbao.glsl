@@ -32,6 +32,8 @@
 // apart on the full circle (each ray is one-sided). Progressive (Sunet 2018, §4.10): this frame marches only
 // directions i = 2k + h, h = frame.frame_index.y; each half is itself evenly spread and the two
 // interleave, so the mean of two frames is the full kernel (before the clamp and power).
+// Thin-occluder compensation (Strugar 2021, XeGTAO's ThinOccluderCompensation): the falloff and the radius
+// test take the offset with its view z stretched by 1 + thin_occluder_compensation (0 = off).
 // Radius: capped at a quarter of the AO screen; pixels whose disc is under 1 pixel are open (Dörries 2018, §3.3.4).
 //
 // Axes: samples, progressive, normals, position, reconstruct (common/fetch.glsl), precision (AOP).
@@ -47,6 +49,7 @@ AO_UBO(1) uniform AOParams {
     float bias;      // beta: tangent bias angle (radians)
     float intensity; // sigma: scale of the occlusion
     float contrast;  // k: exponent on the visibility
+    float thin_occluder_compensation; // z stretch of the falloff distance (Strugar 2021); 0 = off
 } params;
 
 AO_LOC(0) in vec2 v_uv;
@@ -98,6 +101,7 @@ void main() {
     // The falloff (r / R)^2 is taken in highp: with R = 1e4, R^2 overflows fp16 (mediump) and (r / R)^2 of
     // a 20-unit room underflows it; either rejected every sample (aovar stress, case radius-1e4).
     float inv_r2 = 1.0 / (frame.clip.z * frame.clip.z);
+    vec3 stretch = vec3(1.0, 1.0, 1.0 + params.thin_occluder_compensation);
     AOP float cos_bias = cos(params.bias);
     AOP float sin_bias = sin(params.bias);
     AOP float occlusion = 0.0;
@@ -127,8 +131,12 @@ void main() {
             // falloff, both in [0, 1], drop to AOP. The horizon tests are scale-invariant.
             vec3 offset = ao_position(uv) - c;
             float dd = dot(offset, offset);
-            if (dd * inv_r2 < 1.0 && dd > 0.0) {
-                AOP float r2 = dd * inv_r2;
+            // Thin-occluder compensation (Strugar 2021): falloff and radius test on the offset with its view
+            // z stretched, so samples far in front of or behind C fade sooner; a stretch of 1 is exact.
+            vec3 stretched = offset * stretch;
+            float ds = dot(stretched, stretched);
+            if (ds * inv_r2 < 1.0 && dd > 0.0) {
+                AOP float r2 = ds * inv_r2;
                 AOP vec3 h = offset * inversesqrt(dd);
                 AOP float hv = dot(h, v);
                 // Elevation relative to the tangent of the sample's own slice, carried over to this slice.

@@ -43,3 +43,28 @@ AOP float ao_sample_tangent_sin(AOP float hh, AOP float hv, AOP float nh, AOP fl
     AOP float d = u * u + nvc * nvc * b2;
     return (b2 > 1e-4 * hh && d > 0.0) ? clamp(-u * inversesqrt(d), -1.0, 1.0) : fallback;
 }
+
+// The normal projected onto the slice with screen direction d (GTAO, VBAO): (|n_p|, cos g, sin g, g), g the
+// angle of n_p from V (towards +d when positive), clamped to the hemisphere facing the camera (n.V >= 0;
+// Dörries 2018, Listing 3.23 rebuilds the sign of acos, atan keeps it). All 0 when the normal is
+// perpendicular to the slice, which then has no visible arc.
+AOP vec4 ao_slice_normal(AOP vec3 n, AOP vec3 v, AOP float nv, vec2 d) {
+    AOP float nx = dot(n, ao_slice_x(ao_slice_direction(d), v));
+    AOP float nvc = max(nv, 0.0);
+    AOP float np2 = nx * nx + nvc * nvc;
+    if (np2 < 1e-6) {
+        return vec4(0.0);
+    }
+    AOP float inv_np = inversesqrt(np2);
+    return vec4(sqrt(nx * nx + nv * nv), nvc * inv_np, nx * inv_np, atan(nx, nvc));
+}
+
+// Step j of a march from uv0 along screen direction d (unit, AO pixels): at (j + jitter) x step_px pixels, at
+// least 1 so the first step leaves the centre's texel. Off screen (outside [0, 1]^2) the ray only moves
+// further away, so a march stops at the first such step.
+vec2 ao_march_uv(vec2 uv0, vec2 d, int j, float jitter, float step_px) {
+    return uv0 + d * (max(1.0, (float(j) + jitter) * step_px) * frame.ao_size.zw);
+}
+bool ao_off_screen(vec2 uv) {
+    return any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)));
+}

@@ -20,3 +20,12 @@ vec2 ao_rotation(ivec2 pixel) {
     float angle = float(index) * (6.28318531 / 16.0);
     return vec2(cos(angle), sin(angle));
 }
+
+// Slice noise of the slice-marching methods (GTAO, VBAO; Dörries 2018, Listing 3.21, its spatial part):
+// x = slice rotation in [0, 1) of the slice spacing, 16 values on a 4x4 tile; y = step offset, 4 values; both
+// in the 4x4 blur footprint (Sunet 2018, §4.3.4).
+vec2 ao_slice_noise(ivec2 p) {
+    float rotation = (1.0 / 16.0) * float((((p.x + p.y) & 3) << 2) + (p.x & 3));
+    float offset = 0.25 * float((p.y - p.x) & 3);
+    return vec2(rotation, offset);
+}

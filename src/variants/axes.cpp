@@ -11,7 +11,7 @@ const std::array<AxisInfo, kAxisCount>& table() {
   static const std::array<AxisInfo, kAxisCount> t = {{
       {Axis::algorithm, "algorithm", AxisKind::name, 'a',
        {{"crytek", "crytek"}, {"sc2", "sc2"}, {"alchemy", "alchemy"}, {"hbao", "hbao"}, {"homebrew", "homebrew"},
-        {"unsharp", "unsharp"}, {"vo", "vo"}, {"sao", "sao"}, {"gtao", "gtao"}}},
+        {"unsharp", "unsharp"}, {"vo", "vo"}, {"sao", "sao"}, {"gtao", "gtao"}, {"vbao", "vbao"}}},
       {Axis::samples, "samples", AxisKind::integer, 's', {}},
       {Axis::progressive, "progressive", AxisKind::boolean, 'p', {}},
       {Axis::normals, "normals", AxisKind::name, 'n',
