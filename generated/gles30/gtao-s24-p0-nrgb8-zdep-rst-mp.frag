@@ -441,7 +441,9 @@ AOP float gtao_horizon(vec3 c, AOP vec3 v, AOP vec3 n, AOP float nv, vec2 d, flo
     // Distances stay highp: scene-sized offsets overflow fp16 (mediump) when squared (|H| > 256), and so
     // does R beyond 65504. Only the falloff weight and the unit direction, both in [0, 1], drop to AOP.
     float radius = frame.clip.z;
-    float inv_range = 1.0 / max(params.falloff * radius, 1e-4);
+    // The floor is on the falloff share, not on a length: a floor in scene units (1e-4, before) binds on a
+    // small scene (docs/scale.md). The radius is always > 0 (render::FrameSetup).
+    float inv_range = 1.0 / (max(params.falloff, 1e-3) * radius);
     vec3 stretch = vec3(1.0, 1.0, 1.0 + params.thin_occluder_compensation);
     AOP float cos_h = low;
     for (int j = 0; j < GTAO_STEPS; ++j) {

@@ -43,7 +43,7 @@ std::string algorithm_of(const CostRow& r) {
 std::string colour(const std::string& algorithm) {
   static const std::map<std::string, std::string> c = {
       {"alchemy", "#1f77b4"}, {"crytek", "#ff7f0e"}, {"sc2", "#2ca02c"},  {"hbao", "#d62728"}, {"homebrew", "#9467bd"},
-      {"unsharp", "#8c564b"}, {"vo", "#e377c2"},     {"sao", "#17becf"},  {"gtao", "#bcbd22"}};
+      {"unsharp", "#8c564b"}, {"vo", "#e377c2"},     {"sao", "#17becf"},  {"gtao", "#bcbd22"}, {"vbao", "#393b79"}};
   auto it = c.find(algorithm);
   return it != c.end() ? it->second : "#7f7f7f";
 }
