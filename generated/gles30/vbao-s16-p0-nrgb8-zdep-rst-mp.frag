@@ -20,7 +20,7 @@
 // samples' own-slice tangent are GTAO's (ao/gtao.glsl, common/horizon.glsl). Where GTAO keeps the highest
 // horizon per side, here each sample Q marks sectors of a 32-bit mask b_s of the slice's hemisphere (the
 // half circle around n_p): those between its front face, seen along H = Q - C, and its back face, the front
-// pushed away from the eye by a constant thickness T, seen along H - V T (Therrien et al. 2023, §3). So an
+// pushed away from the eye by a constant thickness T, seen along H - V T (Therrien et al. 2023). So an
 // occluder hides only the angles it could cover if it were T thick, and light passes behind thin objects,
 // which a horizon cannot express (a horizon hides everything below it). |b_s| is the number of set bits.
 //
