@@ -47,7 +47,7 @@ std::string stop_text(nlopt_result r) {
     case NLOPT_STOPVAL_REACHED: return "target value";
     case NLOPT_MAXEVAL_REACHED: return "evaluation budget";
     case NLOPT_ROUNDOFF_LIMITED: return "round-off";
-    case NLOPT_SUCCESS: return "converged";
+    case NLOPT_SUCCESS: return "its own stopping test";  // BOBYQA: the trust region shrank to its end
     default: return fmt::format("NLopt result {}", static_cast<int>(r));
   }
 }
