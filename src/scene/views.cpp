@@ -74,6 +74,16 @@ float fit_distance(const Bounds& b, const glm::vec3& centre, const glm::vec3& fr
   return 1.05f * d;
 }
 
+// Of the rays around a standpoint (hit, direction; not empty), the direction of the first of the nearest
+// within 0.1 %: symmetric scenes (Sponza's nave) have mirrored nearest walls that rounding would pick
+// between differently at another scale.
+glm::vec3 nearest_direction(const std::vector<std::pair<Hit, glm::vec3>>& around) {
+  const float t_min = std::min_element(around.begin(), around.end(), [](const auto& a, const auto& b) {
+                        return a.first.t < b.first.t;
+                      })->first.t;
+  return std::find_if(around.begin(), around.end(), [&](const auto& a) { return a.first.t <= t_min * 1.001f; })->second;
+}
+
 }  // namespace
 
 void fit_planes(View& view, const Bounds& bounds, float near) {
@@ -152,14 +162,7 @@ std::vector<View> derive_views(const Scene& s) {
   const float close = 0.12f * diag;
   std::optional<View> closeup;
   if (inside && !around.empty()) {
-    // The first of the nearest within 0.1 %: symmetric scenes (Sponza's nave) have mirrored nearest walls
-    // that rounding would pick between differently at another scale.
-    const float t_min = std::min_element(around.begin(), around.end(), [](const auto& a, const auto& b) {
-                          return a.first.t < b.first.t;
-                        })->first.t;
-    auto nearest = std::find_if(around.begin(), around.end(),
-                                [&](const auto& a) { return a.first.t <= t_min * 1.001f; });
-    closeup = look_at_hit(rc, *inside, *inside + nearest->second, close);
+    closeup = look_at_hit(rc, *inside, *inside + nearest_direction(around), close);
   }
   if (!closeup) {
     const glm::vec3 low(c.x, b.min.y + 0.15f * size.y, c.z);
