@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <functional>
 #include <fmt/format.h>
@@ -15,6 +16,7 @@
 #include "util/clock.h"
 #include "util/fs.h"
 #include "util/hash.h"
+#include "util/path_names.h"
 
 namespace aovar::compile {
 namespace fs = std::filesystem;
@@ -253,6 +255,31 @@ std::string fingerprint(const CompiledSpace& c, const CompileOptions& co, const 
 
 namespace {
 constexpr const char* kStateFile = ".aovar-state";
+
+// The namespace is both a C++ namespace and the embedding's file names (NS.h, NS.cpp): a plain identifier,
+// not a keyword, not one the standard reserves (a leading underscore and capital, or two underscores).
+void check_cpp_namespace(const std::string& ns) {
+  static const std::set<std::string> keywords = {
+      "alignas", "alignof", "and", "asm", "auto", "bool", "break", "case", "catch", "char", "class", "concept",
+      "const", "consteval", "constexpr", "constinit", "continue", "co_await", "co_return", "co_yield",
+      "decltype", "default", "delete", "do", "double", "else", "enum", "explicit", "export", "extern", "false",
+      "float", "for", "friend", "goto", "if", "inline", "int", "long", "mutable", "namespace", "new",
+      "noexcept", "not", "nullptr", "operator", "or", "private", "protected", "public", "register", "requires",
+      "return", "short", "signed", "sizeof", "static", "struct", "switch", "template", "this", "throw",
+      "true", "try", "typedef", "typeid", "typename", "union", "unsigned", "using", "virtual", "void",
+      "volatile", "while", "xor", "std"};
+  auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  std::string why;
+  if (ns.empty() || ns.size() > 200) why = "must be 1-200 characters";
+  else if (std::isdigit(static_cast<unsigned char>(ns[0]))) why = "starts with a digit";
+  else if (!std::all_of(ns.begin(), ns.end(), word)) why = "may hold only letters, digits and '_'";
+  else if (keywords.count(ns)) why = "is a C++ keyword (or std)";
+  else if (ns.find("__") != std::string::npos || (ns[0] == '_' && std::isupper(static_cast<unsigned char>(ns[1]))))
+    why = "is reserved by the C++ standard (no '__', no '_' then a capital)";
+  if (!why.empty())
+    throw std::runtime_error(fmt::format("--namespace '{}': the C++ namespace and file name of the embedding {} "
+                                         "(e.g. my_ssao)", util::printable_name(ns), why));
+}
 }  // namespace
 
 std::optional<std::string> fresh_outputs(const CompiledSpace& planned, const std::string& print,
@@ -289,6 +316,7 @@ OutputReport write_outputs(const CompiledSpace& c, const OutputOptions& o) {
       const ProgramBuild& b = c.builds[t][p];
       if (!b.ok || b.same_as >= 0) continue;
       const std::string& key = c.space.programs[p].key;
+      util::check_path_component(key, "program key");
       if (o.emit & emit_source) files[dir / key] = b.source;
       if ((o.emit & emit_spirv) && !b.output.spirv.empty())
         files[dir / (key + ".spv")] =
@@ -296,6 +324,7 @@ OutputReport write_outputs(const CompiledSpace& c, const OutputOptions& o) {
     }
   }
   if (o.emit & emit_cpp) {
+    check_cpp_namespace(o.cpp_namespace);
     auto [header, source] = cpp_embedding(c, o.cpp_namespace);
     files[o.out / (o.cpp_namespace + ".h")] = std::move(header);
     files[o.out / (o.cpp_namespace + ".cpp")] = std::move(source);

@@ -10,6 +10,7 @@
 #include "shadergen/expand.h"
 #include "util/clock.h"
 #include "util/hash.h"
+#include "util/path_names.h"
 
 namespace aovar::measure {
 namespace fs = std::filesystem;
@@ -84,7 +85,10 @@ const reference::ReferenceImage& BatchMeasurer::ground_truth(const scene::View& 
       progress_(fmt::format("reference {}: {:.0f} %{}", view.name, 100 * f,
                             f > 0.01 ? fmt::format(", ETA {:.0f} s", elapsed * (1 - f) / f) : std::string()));
   });
-  if (!o_.out.empty() && o_.images) reference::write_reference(o_.out / "images" / "reference" / view.name, ref);
+  if (!o_.out.empty() && o_.images) {
+    util::check_path_component(view.name, "view name");
+    reference::write_reference(o_.out / "images" / "reference" / view.name, ref);
+  }
   return truth_.emplace(view.name, std::move(ref)).first->second;
 }
 
@@ -347,6 +351,8 @@ void BatchMeasurer::finish_row(MeasureRow& row, runner::VariantRunner& runner, c
   row.result = std::move(still.image);
   const std::string rel = (fs::path("images") / row.backend / view.name / row.variant).string();
   if (!o_.out.empty() && o_.images) {
+    util::check_path_component(view.name, "view name");
+    util::check_path_component(row.variant, "variant key");
     image::write_pfm(o_.out / (rel + ".pfm"), row.result);
     image::write_png(o_.out / (rel + ".png"), row.result);
     row.image = rel + ".pfm";

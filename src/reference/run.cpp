@@ -9,6 +9,7 @@
 
 #include "reference/reference.h"
 #include "util/fs.h"
+#include "util/path_names.h"
 
 namespace aovar::reference {
 
@@ -104,6 +105,7 @@ RunResult run_reference(const RunOptions& o, const RunStatus& status) {
     rv.trace_s = ref.trace_s;
     rv.rays_traced = ref.rays_traced;
     rv.files = {view.name + ".pfm", view.name + ".stderr.pfm", view.name + ".png"};
+    util::check_path_component(view.name, "view name");
     write_reference(o.out / view.name, ref);
     res.views.push_back(rv);
     doc["views"].push_back(view_json(rv));

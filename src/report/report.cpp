@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <map>
 #include <set>
 #include <sstream>
@@ -13,6 +14,7 @@
 #include "report/gpu_section.h"
 #include "report/grid.h"
 #include "util/fs.h"
+#include "util/path_names.h"
 
 namespace aovar::report {
 namespace fs = std::filesystem;
@@ -151,7 +153,14 @@ double static_cost(const CostRow& r) {  // static work per output pixel of the f
   return r.static_cost ? r.static_cost->work_per_pixel : -1;
 }
 
-std::string image_tag(const fs::path& file, const std::string& caption) {
+// Only images inside the table's folder are read: a table names its images, and a hand-made one could name
+// any file on the machine (the report is a CI artifact that gets shared).
+std::string image_tag(const fs::path& root, const fs::path& file, const std::string& caption) {
+  if (!util::is_inside(root, file)) {
+    std::cerr << "aovar report: warning: " << util::display_path(file)
+              << " lies outside the table's folder " << util::display_path(root) << ": not embedded\n";
+    return "<figure><figcaption>" + escape(caption) + " (outside the table folder: not embedded)</figcaption></figure>";
+  }
   auto bytes = util::read_file(file);
   if (!bytes) return "<figure><figcaption>" + escape(caption) + " (missing)</figcaption></figure>";
   return fmt::format("<figure><img src=\"data:image/png;base64,{}\" width=\"240\"><figcaption>{}</figcaption></figure>",
@@ -205,9 +214,18 @@ std::map<std::pair<std::string, std::string>, std::vector<CostRow>> worst_view_f
     });
   return out;
 }
+
+// The front is recomputed, never taken from the file: a hand-edited `pareto: true` on a row without an error
+// (or a dominated one) would otherwise reach the report.
+CostTable with_recomputed_front(const CostTable& from_file) {
+  CostTable t = from_file;
+  table::mark_pareto(t);
+  return t;
+}
 }  // namespace
 
-std::string markdown_report(const CostTable& t) {
+std::string markdown_report(const CostTable& from_file) {
+  const CostTable t = with_recomputed_front(from_file);
   std::ostringstream md;
   md << "# aovar sweep report\n\n" << kTimeNote << "\n\n";
   if (auto pruned = table::pruned_summary(t); !pruned.empty()) md << "## Scene profiles\n\n" << pruned.substr(1) << "\n";
@@ -235,7 +253,8 @@ std::string markdown_report(const CostTable& t) {
   return md.str();
 }
 
-std::string html_report(const CostTable& t, const fs::path& dir) {
+std::string html_report(const CostTable& from_file, const fs::path& dir) {
+  const CostTable t = with_recomputed_front(from_file);
   std::ostringstream h;
   h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>aovar sweep report</title><style>"
        "body{font-family:sans-serif;margin:24px;max-width:1200px}table{border-collapse:collapse}td,th{border:1px solid "
@@ -334,9 +353,9 @@ std::string html_report(const CostTable& t, const fs::path& dir) {
       fs::path preview = dir / r->images[1], heat = dir / r->images[2];
       // images/<backend>/<view>/<key>.png under measure/<scene>/: the reference is images/reference/<view>.png.
       fs::path scene_dir = preview.parent_path().parent_path().parent_path().parent_path();
-      h << "<div>" << image_tag(preview, r->variant + fmt::format(" ({:.2f} ms, RMSE {:.4f})", r->time_ms.decision(), r->error->rmse))
-        << image_tag(scene_dir / "images" / "reference" / (r->view + ".png"), "ray-traced reference")
-        << image_tag(heat, "error (red: too dark, blue: too light)") << "</div>";
+      h << "<div>" << image_tag(dir, preview, r->variant + fmt::format(" ({:.2f} ms, RMSE {:.4f})", r->time_ms.decision(), r->error->rmse))
+        << image_tag(dir, scene_dir / "images" / "reference" / (r->view + ".png"), "ray-traced reference")
+        << image_tag(dir, heat, "error (red: too dark, blue: too light)") << "</div>";
     }
     h << error_sources_html(rows);
   }

@@ -34,6 +34,7 @@
 
 #include "scene/detail.h"
 #include "util/fs.h"
+#include "util/path_names.h"
 
 namespace aovar::scene::detail {
 namespace fs = std::filesystem;
@@ -280,6 +281,10 @@ class ViewsFile {
     };
     const std::string label = v.name.empty() ? fmt::format("view {}", views.size() + 1) : "view '" + v.name + "'";
     if (v.name.empty()) error(at, label + " has no name (add name = \"overview\", \"closeup\", ...)");
+    // The name becomes the view's image file names (reference, every variant's image): one plain component.
+    if (std::string why = util::path_component_problem(v.name); !why.empty())
+      error(pos("name"), fmt::format("view name '{}' {}: it names the view's image files (use letters, digits, "
+                                     "'-', '_', '.')", util::printable_name(v.name), why));
     // NaN near/far means "not given" (start()), so a NaN written in the file (TOML nan) is caught here, by key.
     if (key_pos.count("near") && std::isnan(v.near_plane))
       error(pos("near"), label + ": near nan is not a number (e.g. near = 0.1)");
