@@ -202,6 +202,33 @@ TEST(Reference, DepthIsTraceDepthsAndTheCacheKeepsIt) {
   EXPECT_TRUE(fs::exists(depth_file)) << "stored for the next run";
 }
 
+// A damaged entry (cut short by a full disk, or by hand) is traced again and replaced, with a warning on
+// stderr; the cache is a speed-up, never a reason for a run to fail.
+TEST(Reference, DamagedCacheEntryIsTracedAgainAndReplaced) {
+  TempDir dir;
+  const scene::View view = floor_view();
+  auto sc = quad_scene({kFloor, {{-20.0f, 0.0f, -2.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 0.5f, 0.0f}}}, view, 1.0f);
+  auto o = options({32, 18}, 1.0f, 16);
+  o.cache_dir = dir.path();
+  const auto first = reference::trace_reference(sc, view, o);
+  for (const char* suffix : {".pfm", ".stderr.pfm", ".depth.pfm"}) {
+    const fs::path file = dir / ("reference/" + first.key + suffix);
+    const auto size = fs::file_size(file);
+    fs::resize_file(file, size / 2);
+    const auto traces = reference::detail::trace_calls.load();
+    testing::internal::CaptureStderr();
+    const auto again = reference::trace_reference(sc, view, o);
+    const std::string warning = testing::internal::GetCapturedStderr();
+    EXPECT_NE(warning.find("warning: "), std::string::npos) << suffix;
+    EXPECT_NE(warning.find("tracing it again"), std::string::npos) << suffix << ": " << warning;
+    EXPECT_FALSE(again.from_cache) << suffix;
+    EXPECT_EQ(reference::detail::trace_calls.load(), traces + 1) << suffix;
+    EXPECT_EQ(again.visibility.pixels, first.visibility.pixels) << suffix;
+    EXPECT_EQ(fs::file_size(file), size) << suffix << ": replaced";
+    EXPECT_TRUE(reference::trace_reference(sc, view, o).from_cache) << suffix;
+  }
+}
+
 TEST(Reference, CacheReturnsTheStoredImageBitIdenticalWithoutTracing) {
   TempDir dir;
   const scene::View view = floor_view();

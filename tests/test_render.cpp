@@ -241,6 +241,10 @@ TEST(MeasureCli, BadInputGetsOneLineErrors) {
       {"--variants 'nothing-like-this-*'", "no variant matches"},
       {"--backend metal --variants 'alchemy-s04-*'", "unknown backend 'metal'"},
       {"--param ao.nonsense=2 --variants 'alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp'", "ao.nonsense"},
+      // Outside the manifest's [0, 10]: refused with the parameter, the range and the manifest line.
+      {"--param ao.intensity=1e9 --variants 'alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp'",
+       "outside the range [0, 10] that "},
+      {"--param ao.intensity=-1 --variants 'alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp'", "[0, 10]"},
   };
   for (const auto& [args, expected] : cases) {
     auto r = run_aovar(std::string("measure ") + args);

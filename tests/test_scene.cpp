@@ -11,6 +11,7 @@
 #include <numeric>
 #include <sstream>
 
+#include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "scene/scene.h"
@@ -621,6 +622,53 @@ TEST(GltfScenes, BrokenFilesGiveOneLineErrorsWithFileAndOffset) {
   write(dir / "empty.gltf", R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[]}],"scene":0})");
   e = load_error(dir / "empty.gltf");
   EXPECT_TRUE(one_line(e) && contains(e, "empty.gltf") && contains(e, "no triangles")) << e;
+}
+
+// The triangle file with its node list replaced by `nodes` (JSON array body) and the scene's roots by `roots`.
+std::string with_nodes(const std::string& roots, const std::string& nodes) {
+  std::string json = triangle_gltf(0, true, true).json;
+  std::size_t scenes = json.find("\"scenes\":[{\"nodes\":[");
+  std::size_t list = json.find("\"nodes\":[{", scenes + 10), meshes = json.find("],\"meshes\"");
+  return json.substr(0, scenes) + "\"scenes\":[{\"nodes\":[" + roots + "]}]," + json.substr(list, 9) + nodes +
+         json.substr(meshes);
+}
+
+TEST(GltfScenes, SharedChildrenAreCountedBeforeTheyAreBuilt) {
+  test::TempDir dir;
+  // Node i has node i+1 twice as its children: 2^48 instances of the one triangle from 49 nodes.
+  std::string nodes;
+  for (int i = 0; i < 48; ++i) nodes += fmt::format("{{\"children\":[{0},{0}]}},", i + 1);
+  write(dir / "bomb.gltf", with_nodes("0", nodes + "{\"mesh\":0}"));
+  std::string e = load_error(dir / "bomb.gltf");
+  EXPECT_TRUE(one_line(e) && contains(e, "bomb.gltf: error: the node graph expands to 281474976710656 mesh instances") &&
+              contains(e, "give each node one parent"))
+      << e;
+
+  // Sharing within the limit is instancing, and the instances land where their paths put them.
+  write(dir / "twice.gltf", with_nodes("0", R"({"children":[1,1]},{"translation":[5,0,0],"mesh":0})"));
+  Scene s = load_scene((dir / "twice.gltf").string());
+  EXPECT_EQ(s.triangle_count(), 2u);
+  EXPECT_NEAR(s.bounds.min.x, 5.0f, 1e-5f);
+}
+
+TEST(GltfScenes, DeepChainsAndCyclesGiveOneLineErrorsNotACrash) {
+  test::TempDir dir;
+  // 300,000 nested nodes: a recursive walk overflows the default 8 MiB stack long before the end.
+  std::string nodes;
+  const int depth = 300'000;
+  for (int i = 0; i < depth; ++i) nodes += fmt::format("{{\"children\":[{}]}},", i + 1);
+  write(dir / "deep.gltf", with_nodes("0", nodes + "{\"translation\":[0,0,3],\"mesh\":0}"));
+  Scene s = load_scene((dir / "deep.gltf").string());
+  EXPECT_EQ(s.triangle_count(), 1u);
+  EXPECT_NEAR(s.bounds.min.z, 3.0f, 1e-5f);
+
+  write(dir / "cycle.gltf", with_nodes("0", R"({"children":[1]},{"children":[2],"mesh":0},{"children":[1]})"));
+  std::string e = load_error(dir / "cycle.gltf");
+  EXPECT_TRUE(one_line(e) && contains(e, "cycle.gltf: error: node 1 is its own ancestor")) << e;
+
+  write(dir / "dangling.gltf", with_nodes("0", R"({"children":[7]},{"mesh":0})"));
+  e = load_error(dir / "dangling.gltf");
+  EXPECT_TRUE(one_line(e) && contains(e, "node 0 has child 7, which does not exist")) << e;
 }
 
 // ---- views ----

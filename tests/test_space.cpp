@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <set>
+#include <string>
+
+#include <fmt/format.h>
 
 #include "test_support.h"
 #include "variants/manifest.h"
@@ -26,6 +29,51 @@ TEST(Space, CountsFollowTheProductAndTheRules) {
   EXPECT_LE(s.collapsed, s.after_rules);
   EXPECT_GE(s.variants.size(), 700u) << "issue 2: at least 700 Alchemy variants";
   for (std::size_t r = 0; r < m.rules.size(); ++r) EXPECT_GT(s.rule_drops[r], 0u) << "rule " << r;
+}
+
+// Sets an environment variable for one scope (tests run one per process under ctest, but not under a
+// plain test-binary run).
+struct ScopedEnv {
+  std::string name;
+  ScopedEnv(const char* n, const char* value) : name(n) { setenv(n, value, 1); }
+  ~ScopedEnv() { unsetenv(name.c_str()); }
+};
+
+std::string space_error(const Manifest& m) {
+  try {
+    build_space(m);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Space, AProductAboveTheCapIsRefusedBeforeItIsEnumerated) {
+  Manifest m = default_manifest();
+  const std::uint64_t product = build_space(m).space;
+  ASSERT_LT(product, kDefaultMaxSpacePoints) << "the default manifest fits the default cap";
+  {
+    ScopedEnv cap(kMaxSpaceVariable, std::to_string(product - 1).c_str());
+    const std::string e = space_error(m);
+    EXPECT_NE(e.find("aovar.toml:"), std::string::npos) << e;
+    EXPECT_NE(e.find(fmt::format("the axes multiply to {} points, more than the {}", product, product - 1)),
+              std::string::npos) << e;
+    EXPECT_NE(e.find("raise the cap with AOVAR_MAX_SPACE=N"), std::string::npos) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
+  {
+    ScopedEnv cap(kMaxSpaceVariable, std::to_string(product).c_str());
+    EXPECT_EQ(build_space(m).space, product) << "the cap is inclusive";
+  }
+  for (const char* bad : {"-5", "0", "lots", "12x"}) {
+    ScopedEnv cap(kMaxSpaceVariable, bad);
+    EXPECT_NE(space_error(m).find("AOVAR_MAX_SPACE="), std::string::npos) << bad;
+  }
+  // 128 values on each of the 10 axes (2^70) overflow 64 bits: still one line, no wrap-around to a small product.
+  Manifest wide = m;
+  for (auto& values : wide.values) values.resize(128, values.front());
+  const std::string e = space_error(wide);
+  EXPECT_NE(e.find("over 2^64 points"), std::string::npos) << e;
 }
 
 TEST(Space, RulesDropWhatTheySayAndNothingElse) {

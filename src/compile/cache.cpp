@@ -91,7 +91,7 @@ void CompileCache::store(const std::string& hash, const CompileOutput& out) cons
   }
   put_str(s, std::string_view(reinterpret_cast<const char*>(out.spirv.data()), out.spirv.size() * 4));
   try {
-    util::write_atomic(entry(hash), s);
+    util::write_atomic(entry(hash), s, util::Durability::replaceable);
   } catch (const std::exception&) {
     // A read-only or full cache folder only costs speed, never correctness.
   }

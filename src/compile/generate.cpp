@@ -308,6 +308,10 @@ void record_outputs(const OutputOptions& o, const std::string& print, const std:
 }
 
 OutputReport write_outputs(const CompiledSpace& c, const OutputOptions& o) {
+  if (!o.check) {  // what a killed earlier run was writing, in the folders generate writes (not the user's tree)
+    util::remove_stale_temps(o.out, false);
+    for (variants::Target t : c.targets) util::remove_stale_temps(o.out / std::string(variants::target_name(t)), false);
+  }
   std::map<fs::path, std::string> files;
   if (o.emit & emit_index) files[o.out / "variants.json"] = index_json(c);
   for (std::size_t t = 0; t < c.targets.size(); ++t) {
@@ -339,7 +343,7 @@ OutputReport write_outputs(const CompiledSpace& c, const OutputOptions& o) {
       else r.changed.push_back(util::display_path(path) + (old ? " (differs)" : " (missing)"));
       continue;
     }
-    if (util::write_if_changed(path, content) == util::WriteResult::written) {
+    if (util::write_if_changed(path, content, util::Durability::replaceable) == util::WriteResult::written) {
       ++r.written;
       r.changed.push_back(util::display_path(path));
     } else {

@@ -37,10 +37,11 @@ FloatImage read_pfm(const std::filesystem::path& path) {
       std::string(magic) != "Pf" || img.width <= 0 || img.height <= 0 || scale >= 0)
     throw std::runtime_error(fmt::format("{}: error: not a little-endian greyscale PFM", util::display_path(path)));
   std::size_t start = static_cast<std::size_t>(consumed) + 1;  // one whitespace byte after the scale
-  std::size_t n = static_cast<std::size_t>(img.width) * img.height;
-  if (bytes->size() < start + n * sizeof(float))
+  std::size_t n = static_cast<std::size_t>(img.width) * img.height;  // both below 2^31: no overflow
+  const std::size_t have = bytes->size() > start ? bytes->size() - start : 0;
+  if (have / sizeof(float) < n)  // divided, not n * 4: a forged header must not wrap the product
     throw std::runtime_error(fmt::format("{}: error: truncated PFM ({} of {} pixel bytes)", util::display_path(path),
-                                         bytes->size() - start, n * sizeof(float)));
+                                         have, n * sizeof(float)));
   img.pixels.resize(n);
   std::memcpy(img.pixels.data(), bytes->data() + start, n * sizeof(float));
   return img;

@@ -41,11 +41,14 @@ std::map<std::string, json> BatchMeasurer::unproduced_rows(const std::vector<con
   for (int v : sel_.measured) produced.insert(c_.space.variants[v].key);
   produced.insert(c_.space.variants[sel_.baseline].key);
   std::map<std::string, json> kept;
-  for (const auto& [hash, r] : earlier_.rows)
+  for (const auto& entry : earlier_.rows) {  // not a structured binding: clang 14 cannot capture one
+    const auto& [hash, r] = entry;
+    const std::string& view = r.view;
     if (!produced.count(r.variant) ||
         std::find(o_.backends.begin(), o_.backends.end(), r.backend) == o_.backends.end() ||
-        std::none_of(views.begin(), views.end(), [&](const scene::View* v) { return v->name == r.view; }))
+        std::none_of(views.begin(), views.end(), [&](const scene::View* v) { return v->name == view; }))
       kept.emplace(hash, earlier_.text.at(hash));
+  }
   return kept;
 }
 

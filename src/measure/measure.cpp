@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <set>
 
 #include <fmt/format.h>
@@ -81,15 +82,33 @@ Selection select_variants(const compile::CompiledSpace& c, const MeasureOptions&
 }
 
 // --param: each override must be a parameter of at least one selected variant (variants without it, e.g.
-// blur.radius_px on an unblurred one, simply do not take it).
+// blur.radius_px on an unblurred one, simply do not take it) and inside the manifest's [min, max] for it
+// (the shaders and the stress suite assume the range; calibration files are checked the same way).
 void check_params(const compile::CompiledSpace& c, const Selection& s, const render::ParamOverrides& params) {
-  std::set<std::string> parameters;
-  for (int v : s.measured)
-    for (auto& key : render::parameter_keys(c, v)) parameters.insert(std::move(key));
-  for (const auto& [key, value] : params)
-    if (!parameters.count(key))
+  std::map<std::string, const variants::Param*> parameters;
+  for (int v : s.measured) {
+    const auto& entry = c.space.variants.at(v);
+    for (std::size_t i = 0; i < c.manifest.passes.size(); ++i)
+      for (int program : entry.passes[i])
+        if (program >= 0)
+          for (const auto& param : c.space.programs[program].params)
+            parameters.emplace(c.manifest.passes[i].name + "." + param.name, &param);
+  }
+  for (const auto& [key, value] : params) {
+    auto p = parameters.find(key);
+    if (p == parameters.end()) {
+      std::vector<std::string> names;
+      for (const auto& [name, param] : parameters) names.push_back(name);
       throw std::runtime_error(fmt::format("--param {}: no selected variant has this parameter (they have: {})", key,
-                                           fmt::join(parameters, ", ")));
+                                           fmt::join(names, ", ")));
+    }
+    const variants::Param& param = *p->second;
+    if (!(value >= param.min && value <= param.max))
+      throw std::runtime_error(fmt::format("--param {}={}: outside the range [{}, {}] that {}:{} gives it (pass a value "
+                                           "inside it, or widen min/max in the manifest)",
+                                           key, value, param.min, param.max, c.manifest.error_prefix(),
+                                           param.pos.line));
+  }
 }
 
 }  // namespace
@@ -200,6 +219,7 @@ MeasureResult MeasureRun::run() {
   check_params(c, sel, o_.params);
   res_.counts = compile::counts_line(c);
 
+  if (!o_.out.empty()) util::remove_stale_temps(o_.out);  // what a killed earlier run was writing
   earlier_ = o_.reuse && !o_.out.empty() ? read_previous(o_.out, o_.images, progress_) : PreviousRun{};
   BatchMeasurer measurer(o_, c, scene_, sel, earlier_, res_, progress_);
   res_.kept_rows = json::array();

@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <cstring>
+#include <iostream>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -144,6 +146,30 @@ ReferenceImage load_reference(const fs::path& stem) {
   return ref;
 }
 
+namespace {
+
+// The cached reference at `entry`, or nullopt when there is none or it is damaged (truncated, another
+// size, unreadable): a damaged entry is traced again and replaced, with a warning, as the compile cache
+// recompiles; the cache is a speed-up, never a reason to fail.
+std::optional<ReferenceImage> cached_reference(const fs::path& entry, const scene::Scene& scene,
+                                               const scene::View& view, const ReferenceOptions& o) {
+  if (!fs::exists(with_suffix(entry, ".pfm"))) return std::nullopt;
+  try {
+    ReferenceImage ref = load_reference(entry);
+    if (ref.visibility.width != o.size.width || ref.visibility.height != o.size.height)
+      throw std::runtime_error(fmt::format("{}: error: cached reference is {}x{}, expected {}x{}",
+                                           util::display_path(with_suffix(entry, ".pfm")), ref.visibility.width,
+                                           ref.visibility.height, o.size.width, o.size.height));
+    ref.depth = cached_depth(entry, scene, view, o);
+    return ref;
+  } catch (const std::exception& e) {
+    std::cerr << "aovar: warning: " << e.what() << " (a damaged reference cache entry: tracing it again)\n";
+    return std::nullopt;
+  }
+}
+
+}  // namespace
+
 ReferenceImage trace_reference(const scene::Scene& scene, const scene::View& view, const ReferenceOptions& options,
                                const Progress& progress) {
   check_options(options);
@@ -152,23 +178,11 @@ ReferenceImage trace_reference(const scene::Scene& scene, const scene::View& vie
   fs::path entry;
   if (!options.cache_dir.empty()) {
     entry = options.cache_dir / "reference" / key;
-    if (fs::exists(with_suffix(entry, ".pfm"))) {
-      ReferenceImage ref;
-      try {
-        ref = load_reference(entry);
-        ref.depth = cached_depth(entry, scene, view, options);
-      } catch (const std::exception& e) {
-        throw std::runtime_error(std::string(e.what()) + " (a broken reference cache entry: delete it, or use --no-cache)");
-      }
-      if (ref.visibility.width != options.size.width || ref.visibility.height != options.size.height)
-        throw std::runtime_error(fmt::format(
-            "{}: error: cached reference is {}x{}, expected {}x{} (a broken cache entry: delete it, or use --no-cache)",
-            util::display_path(with_suffix(entry, ".pfm")), ref.visibility.width, ref.visibility.height,
-            options.size.width, options.size.height));
-      ref.key = key;
-      ref.from_cache = true;
+    if (std::optional<ReferenceImage> cached = cached_reference(entry, scene, view, options)) {
+      cached->key = key;
+      cached->from_cache = true;
       if (progress) progress(1.0, 0.0);
-      return ref;
+      return std::move(*cached);
     }
   }
   ReferenceImage ref = detail::trace(scene, view, options, progress);

@@ -111,6 +111,19 @@ struct Instance {
   glm::mat4 world;
 };
 
+// What a node (or the whole scene) expands to; sums saturate instead of wrapping.
+struct Expansion {
+  std::uint64_t instances = 0, vertices = 0, indices = 0;
+  Expansion& operator+=(const Expansion& o) {
+    auto add = [](std::uint64_t a, std::uint64_t b) { return b > UINT64_MAX - a ? UINT64_MAX : a + b; };
+    instances = add(instances, o.instances), vertices = add(vertices, o.vertices), indices = add(indices, o.indices);
+    return *this;
+  }
+};
+// More mesh instances than any real scene places (Sponza has 1, the Bistro ~3,000); each costs a world
+// matrix and its copy of the mesh, and check_size bounds the triangles separately.
+inline constexpr std::uint64_t kMaxInstances = 1'000'000;
+
 // A typed, bounds-checked view of an accessor's elements.
 struct Stream {
   const unsigned char* data = nullptr;
@@ -170,39 +183,76 @@ class Loader {
   Loader(const Model& m, const std::string& display, std::optional<std::size_t> bin)
       : m_(m), display_(display), bin_(bin) {}
 
-  std::vector<Instance> instances() {
-    std::vector<Instance> out;
+  // The default scene's root nodes (every node that is nobody's child when the file has no scenes).
+  std::vector<int> roots() const {
     int scene = m_.defaultScene >= 0 ? m_.defaultScene : (m_.scenes.empty() ? -1 : 0);
     if (scene >= static_cast<int>(m_.scenes.size())) error(fmt::format("default scene {} does not exist", scene));
-    std::vector<int> roots;
-    if (scene >= 0) {
-      roots = m_.scenes[scene].nodes;
-    } else {  // no scenes: every node that is nobody's child
-      std::vector<char> child(m_.nodes.size(), 0);
-      for (const tinygltf::Node& n : m_.nodes)
-        for (int c : n.children)
-          if (c >= 0 && c < static_cast<int>(child.size())) child[c] = 1;
-      for (std::size_t i = 0; i < child.size(); ++i)
-        if (!child[i]) roots.push_back(static_cast<int>(i));
-    }
-    for (int r : roots) walk(r, glm::mat4(1.0f), 0, out);
+    if (scene >= 0) return m_.scenes[scene].nodes;
+    std::vector<char> child(m_.nodes.size(), 0);
+    for (const tinygltf::Node& n : m_.nodes)
+      for (int c : n.children)
+        if (c >= 0 && c < static_cast<int>(child.size())) child[c] = 1;
+    std::vector<int> out;
+    for (std::size_t i = 0; i < child.size(); ++i)
+      if (!child[i]) out.push_back(static_cast<int>(i));
     return out;
   }
 
-  // Vertices and indices that `instances` will produce (for the memory check before any copy).
-  std::pair<std::uint64_t, std::uint64_t> counts(const std::vector<Instance>& instances) {
-    std::uint64_t vertices = 0, indices = 0;
-    for (const Instance& in : instances)
-      for (const tinygltf::Primitive& p : m_.meshes[in.mesh].primitives) {
-        auto pos = p.attributes.find("POSITION");
-        if (!triangles(p) || pos == p.attributes.end()) continue;
-        std::uint64_t n = accessor(pos->second, "POSITION").count;
-        std::uint64_t corners = p.indices >= 0 ? accessor(p.indices, "indices").count : n;
-        vertices += n;
-        indices +=
-            p.mode == TINYGLTF_MODE_TRIANGLES || p.mode < 0 ? corners : 3 * (std::max<std::uint64_t>(corners, 2) - 2);
+  // Mesh instances, vertices and indices the roots expand to, counted on the node graph before anything is
+  // built: nodes that share children multiply (2^N instances from N nodes), so the expansion itself must not
+  // be the check. Iterative post-order walk (a deep chain must not overflow the stack); a node met again
+  // while still on the path is a cycle. Sums saturate at UINT64_MAX, which every limit refuses.
+  Expansion count(const std::vector<int>& roots) {
+    enum : char { kNew, kOnPath, kDone };
+    std::vector<char> state(m_.nodes.size(), kNew);
+    std::vector<Expansion> below(m_.nodes.size());
+    std::vector<std::pair<int, std::size_t>> path;  // node, next child to visit
+    Expansion total;
+    for (int root : roots) {
+      check_node(root, -1);
+      if (state[root] == kNew) state[root] = kOnPath, path.push_back({root, 0});
+      while (!path.empty()) {
+        auto& [node, next] = path.back();
+        const tinygltf::Node& n = m_.nodes[node];
+        if (next < n.children.size()) {
+          int c = n.children[next++];
+          check_node(c, node);
+          if (state[c] == kOnPath)
+            error(fmt::format("node {} is its own ancestor (the node tree has a cycle through node {})", c, node));
+          if (state[c] == kNew) state[c] = kOnPath, path.push_back({c, 0});
+          continue;
+        }
+        Expansion e = n.mesh >= 0 ? mesh_size(node, n.mesh) : Expansion{};
+        for (int c : n.children) e += below[c];
+        below[node] = e;
+        state[node] = kDone;
+        path.pop_back();
       }
-    return {vertices, indices};
+      total += below[root];
+    }
+    if (total.instances > kMaxInstances)
+      error(fmt::format("the node graph expands to {} mesh instances, more than aovar builds ({})",
+                        total.instances == UINT64_MAX ? std::string("over 2^64") : std::to_string(total.instances),
+                        kMaxInstances),
+            "nodes that share children multiply; give each node one parent");
+    return total;
+  }
+
+  // Every mesh instance with its world matrix, depth first in glTF order; only called after `count` has
+  // proved the graph acyclic and the expansion within limits.
+  std::vector<Instance> instances(const std::vector<int>& roots) const {
+    std::vector<Instance> out;
+    std::vector<std::pair<int, glm::mat4>> todo;  // node, its parent's world matrix
+    for (auto r = roots.rbegin(); r != roots.rend(); ++r) todo.push_back({*r, glm::mat4(1.0f)});
+    while (!todo.empty()) {
+      auto [node, parent] = todo.back();
+      todo.pop_back();
+      const tinygltf::Node& n = m_.nodes[node];
+      const glm::mat4 world = parent * local_matrix(n);
+      if (n.mesh >= 0) out.push_back({n.mesh, world});
+      for (auto c = n.children.rbegin(); c != n.children.rend(); ++c) todo.push_back({*c, world});
+    }
+    return out;
   }
 
   void emit(const Instance& in, Scene& s) {
@@ -301,17 +351,30 @@ class Loader {
     fail(fmt::format("{}: error: {} ({})", display_, what, todo));
   }
 
-  void walk(int node, const glm::mat4& parent, std::size_t depth, std::vector<Instance>& out) {
-    if (node < 0 || node >= static_cast<int>(m_.nodes.size())) error(fmt::format("node {} does not exist", node));
-    if (depth > m_.nodes.size()) error(fmt::format("node {} is its own ancestor (the node tree has a cycle)", node));
-    const tinygltf::Node& n = m_.nodes[node];
-    glm::mat4 world = parent * local_matrix(n);
-    if (n.mesh >= 0) {
-      if (n.mesh >= static_cast<int>(m_.meshes.size()))
-        error(fmt::format("node {} uses mesh {}, which does not exist", node, n.mesh));
-      out.push_back({n.mesh, world});
+  void check_node(int node, int parent) const {
+    if (node >= 0 && node < static_cast<int>(m_.nodes.size())) return;
+    if (parent < 0) error(fmt::format("the scene's root node {} does not exist", node));
+    error(fmt::format("node {} has child {}, which does not exist", parent, node));
+  }
+
+  // Vertices and indices one instance of `mesh` adds (triangle primitives only); memoised per mesh.
+  Expansion mesh_size(int node, int mesh) {
+    if (mesh >= static_cast<int>(m_.meshes.size()))
+      error(fmt::format("node {} uses mesh {}, which does not exist", node, mesh));
+    if (mesh_sizes_.empty()) mesh_sizes_.resize(m_.meshes.size());
+    std::optional<Expansion>& memo = mesh_sizes_[mesh];
+    if (memo) return *memo;
+    Expansion e{1, 0, 0};
+    for (const tinygltf::Primitive& p : m_.meshes[mesh].primitives) {
+      auto pos = p.attributes.find("POSITION");
+      if (!triangles(p) || pos == p.attributes.end()) continue;
+      std::uint64_t n = accessor(pos->second, "POSITION").count;
+      std::uint64_t corners = p.indices >= 0 ? accessor(p.indices, "indices").count : n;
+      e.vertices += n;
+      e.indices +=
+          p.mode == TINYGLTF_MODE_TRIANGLES || p.mode < 0 ? corners : 3 * (std::max<std::uint64_t>(corners, 2) - 2);
     }
-    for (int c : n.children) walk(c, world, depth + 1, out);
+    return *(memo = e);
   }
 
   const tinygltf::Accessor& accessor(int index, const char* what) const {
@@ -362,6 +425,7 @@ class Loader {
   const std::string& display_;
   std::optional<std::size_t> bin_;
   std::string where_;
+  std::vector<std::optional<Expansion>> mesh_sizes_;
 };
 
 }  // namespace
@@ -403,13 +467,14 @@ Scene load_gltf(const std::filesystem::path& path, const std::string& display, c
                      err.empty() ? "tinygltf could not load the file" : one_line(err)));
 
   Loader loader(model, display, bin);
-  std::vector<Instance> instances = loader.instances();
-  auto [vertices, indices] = loader.counts(instances);
-  check_size(display, vertices, indices, options);
+  const std::vector<int> roots = loader.roots();
+  const Expansion expansion = loader.count(roots);
+  check_size(display, expansion.vertices, expansion.indices, options);
+  std::vector<Instance> instances = loader.instances(roots);
   Scene scene;
-  scene.positions.reserve(vertices);
-  scene.normals.reserve(vertices);
-  scene.indices.reserve(indices);
+  scene.positions.reserve(expansion.vertices);
+  scene.normals.reserve(expansion.vertices);
+  scene.indices.reserve(expansion.indices);
   for (const Instance& in : instances) loader.emit(in, scene);
   if (scene.indices.empty())
     fail(

@@ -349,7 +349,9 @@ std::vector<View> parse_toml(const std::string& text, const std::string& display
     View v = vf.start();
     bool has_eye = false, has_target = false;
     std::map<std::string, Pos> key_pos;
-    for (auto&& [key, node] : t) {
+    for (auto&& entry : t) {  // not a structured binding: clang 14 cannot capture one in the lambdas below
+      const toml::key& key = entry.first;
+      const toml::node& node = entry.second;
       const std::string k(key.str());
       const Pos p = pos_of(key.source());
       key_pos[k] = p;

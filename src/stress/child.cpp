@@ -2,6 +2,7 @@
 
 #include <cstring>
 #include <exception>
+#include <optional>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -26,9 +27,12 @@ int render_and_stream(const Run& run, const std::string& backend_name, const std
   }
 }
 
-ChildEnd ending(const util::ChildOutcome& how, const std::string& error) {
+ChildEnd ending(const util::ChildOutcome& how, const std::string& error, const std::string& garbled) {
   ChildEnd end;
-  if (how.signal != 0) {
+  if (!garbled.empty()) {  // a whole line that is not a check: the child's memory is not to be trusted
+    end.crashed = true;
+    end.message = fmt::format("the renderer sent a line that is not a check ({})", garbled);
+  } else if (how.signal != 0) {
     end.crashed = true;
     end.message = fmt::format("the renderer crashed (signal {}, {})", how.signal, strsignal(how.signal));
   } else if (how.cut_off) {  // died mid-write without a signal: the check in flight is lost, as in a crash
@@ -45,17 +49,25 @@ ChildEnd ending(const util::ChildOutcome& how, const std::string& error) {
 
 ChildEnd render_in_child(const Run& run, const std::string& backend_name, const std::vector<Group>& groups,
                          const Starting& starting, const Emit& emit) {
-  std::string error;
+  std::string error, garbled;
   const auto how = util::run_isolated(
       [&](util::LineWriter& out) { return render_and_stream(run, backend_name, groups, out); },
       [&](const std::string& line) {
         if (line.size() < 2) return;
         const std::string rest(line, 2);  // after the tag and its space
         if (line[0] == 'v') starting(rest);
-        else if (line[0] == 'c') emit(check_from_json(nlohmann::json::parse(rest)));
+        else if (line[0] == 'c' && garbled.empty()) {
+          std::optional<Check> check;
+          try {
+            check = check_from_json(nlohmann::json::parse(rest));
+          } catch (const std::exception& e) {  // parse or field errors: a crashed slice, not a crashed run
+            garbled = fmt::format("{}: {}", rest.substr(0, 60), e.what());
+          }
+          if (check) emit(*check);
+        }
         else if (line[0] == 'e') error = rest;
       });
-  return ending(how, error);
+  return ending(how, error, garbled);
 }
 
 }  // namespace aovar::stress::detail

@@ -143,6 +143,7 @@ Result run_stress(const Options& o, const Progress& progress) {
     if (progress) progress(s);
   };
   const std::vector<Case> cases = checked_cases(o);
+  if (!o.out.empty()) util::remove_stale_temps(o.out);  // what a killed earlier run was writing
   const compile::CompiledSpace c = compile_selection(o);
   const std::vector<std::string> ship = ship_globs(c.manifest);
   const auto scenes = load_scenes(cases);

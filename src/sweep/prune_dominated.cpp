@@ -208,7 +208,8 @@ measure::MeasureResult measure_pruned(const SweepOptions& o, const measure::Meas
 void check_front(DominatedPruning& pruning, const std::vector<table::CostRow>& rows) {
   std::set<std::string> all_checked;
   for (const auto& [name, keys] : pruning.checked) all_checked.insert(keys.begin(), keys.end());
-  for (const auto& [name, keys] : pruning.checked) {
+  for (const auto& [name, checked_keys] : pruning.checked) {
+    const auto& keys = checked_keys;  // a plain reference: clang 14 cannot capture a structured binding
     std::vector<table::CostRow> without;
     for (const auto& row : rows)
       if (keys.count(row.variant) || !all_checked.count(row.variant)) without.push_back(row);

@@ -158,6 +158,7 @@ SweepResult run_sweep(const SweepOptions& o, const Progress& progress) {
   auto start = std::chrono::steady_clock::now();
   if (o.out.empty()) throw std::runtime_error("sweep: --out is required");
   if (o.scenes.empty()) throw std::runtime_error("sweep: give at least one --scene");
+  util::remove_stale_temps(o.out);  // what a killed earlier run was writing
   gpu::CostRequest gpu_request;  // only the families: checked before anything is measured
   gpu_request.families = o.measure.gpu_families;
   gpu::check_request(gpu_request);

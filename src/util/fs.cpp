@@ -1,10 +1,19 @@
 #include "util/fs.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
-#include <unistd.h>
+
+#include <fmt/format.h>
 
 namespace aovar::util {
 namespace fs = std::filesystem;
@@ -17,33 +26,99 @@ std::optional<std::string> read_file(const fs::path& path) {
   return std::move(s).str();
 }
 
-void write_atomic(const fs::path& path, std::string_view content) {
-  std::error_code ec;
-  if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
-  fs::path tmp = path;
-  tmp += ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out.write(content.data(), static_cast<std::streamsize>(content.size()));
-    out.flush();
-    if (!out) {
-      fs::remove(tmp, ec);
-      throw std::runtime_error(path.string() + ": cannot write file (check the folder exists and is writable)");
-    }
-  }
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error(path.string() + ": cannot replace file: " + ec.message());
-  }
+namespace {
+
+constexpr std::string_view kTempMarker = ".tmp.";
+
+std::runtime_error write_error(const fs::path& path, const char* what) {
+  return std::runtime_error(fmt::format("{}: cannot {}: {} (check the folder is writable and the disk not full)",
+                                        display_path(path), what, std::strerror(errno)));
 }
 
-WriteResult write_if_changed(const fs::path& path, std::string_view content) {
+bool write_all(int fd, std::string_view bytes) {
+  while (!bytes.empty()) {
+    const ssize_t n = ::write(fd, bytes.data(), bytes.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    bytes.remove_prefix(static_cast<std::size_t>(n));
+  }
+  return true;
+}
+
+// Makes the rename itself survive a power cut (POSIX: the directory entry is data of the folder).
+void sync_folder(const fs::path& folder) {
+  const int fd = ::open(folder.empty() ? "." : folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;  // not fatal: the file itself is complete and renamed
+  ::fsync(fd);
+  ::close(fd);
+}
+
+}  // namespace
+
+void write_atomic(const fs::path& path, std::string_view content, Durability durability) {
+  std::error_code ec;
+  if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
+  // "<name>.tmp.<pid>.XXXXXX": mkstemp makes the name unique across threads and processes, and the pid
+  // lets remove_stale_temps tell a dead writer's leftovers from a live one's.
+  std::string tmp = path.string() + std::string(kTempMarker) + std::to_string(::getpid()) + ".XXXXXX";
+  const int fd = ::mkstemp(tmp.data());
+  if (fd < 0) throw write_error(path, "create a temporary file beside it");
+  bool ok = write_all(fd, content);
+  if (ok && durability == Durability::durable) ok = ::fsync(fd) == 0;
+  ok = (::fchmod(fd, 0644) == 0) & (::close(fd) == 0) & ok;  // mkstemp's 0600 would hide results from others
+  if (!ok) {
+    const auto error = write_error(path, "write");
+    fs::remove(tmp, ec);
+    throw error;
+  }
+  if (::rename(tmp.c_str(), path.c_str()) != 0) {
+    const auto error = write_error(path, "replace the file");
+    fs::remove(tmp, ec);
+    throw error;
+  }
+  if (durability == Durability::durable) sync_folder(path.parent_path());
+}
+
+namespace {
+
+// "<name>.tmp.<pid>.XXXXXX" of a process that no longer exists (and not this one's).
+bool is_stale_temp(const std::string& name) {
+  const std::size_t at = name.rfind(kTempMarker);
+  if (at == std::string::npos) return false;
+  const std::string rest = name.substr(at + kTempMarker.size());  // "<pid>.XXXXXX"
+  const std::size_t dot = rest.find('.');
+  if (dot == std::string::npos || dot == 0 || rest.size() - dot - 1 != 6 || rest.find_first_not_of("0123456789") != dot)
+    return false;
+  const long pid = std::strtol(rest.c_str(), nullptr, 10);
+  if (pid == ::getpid()) return false;
+  return ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;  // EPERM: alive under another user
+}
+
+}  // namespace
+
+int remove_stale_temps(const fs::path& folder, bool recursive) {
+  std::error_code ec;
+  int removed = 0;
+  auto consider = [&](const fs::directory_entry& e) {
+    std::error_code rm;
+    if (is_stale_temp(e.path().filename().string()) && e.is_regular_file(rm) && fs::remove(e.path(), rm)) ++removed;
+  };
+  if (recursive) {
+    for (fs::recursive_directory_iterator it(folder, fs::directory_options::skip_permission_denied, ec), end;
+         !ec && it != end; it.increment(ec))
+      consider(*it);
+  } else {
+    for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) consider(*it);
+  }
+  return removed;
+}
+
+WriteResult write_if_changed(const fs::path& path, std::string_view content, Durability durability) {
   std::error_code ec;
   if (fs::file_size(path, ec) == content.size() && !ec) {
     if (auto old = read_file(path); old && *old == content) return WriteResult::unchanged;
   }
-  write_atomic(path, content);
+  write_atomic(path, content, durability);
   return WriteResult::written;
 }
 

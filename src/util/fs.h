@@ -12,13 +12,26 @@ std::optional<std::string> read_file(const std::filesystem::path& path);
 
 enum class WriteResult { unchanged, written };
 
-// Writes `content` to `path` through a temporary file and rename, so readers never see a partial file.
-// Leaves the file (and its mtime) alone when it already holds exactly `content`. Creates parent folders.
-// Throws std::runtime_error naming the path on failure.
-WriteResult write_if_changed(const std::filesystem::path& path, std::string_view content);
+// durable: the file and its folder entry are fsynced before the write returns (results, tables, stamps).
+// replaceable: no fsync, for files rebuilt from their inputs when lost or damaged (the compile cache,
+// generated sources): 2,274 fsync pairs cost ~1.2 s here, a third of a cold generate. Both are atomic.
+enum class Durability { durable, replaceable };
+
+// Writes `content` to `path` through a uniquely named temporary file beside it and rename, so readers
+// never see a partial file. Leaves the file (and its mtime) alone when it already holds exactly
+// `content`. Creates parent folders. Throws std::runtime_error naming the path on failure (the temporary
+// is removed, the old file untouched).
+WriteResult write_if_changed(const std::filesystem::path& path, std::string_view content,
+                             Durability durability = Durability::durable);
 
 // Same, but always rewrites (used for stamps whose mtime is the point).
-void write_atomic(const std::filesystem::path& path, std::string_view content);
+void write_atomic(const std::filesystem::path& path, std::string_view content,
+                  Durability durability = Durability::durable);
+
+// Removes the temporaries that killed writers left in and below `folder`: "<name>.tmp.<pid>.XXXXXX"
+// whose process no longer exists. Long runs call it on their output folder when they start or resume.
+// `recursive` = false: only `folder` itself. Returns how many it removed.
+int remove_stale_temps(const std::filesystem::path& folder, bool recursive = true);
 
 // `path` relative to the current directory when it lies below it, else as given: for messages.
 std::string display_path(const std::filesystem::path& path);

@@ -152,7 +152,7 @@ class Parser {
     for (auto&& [k, v] : t) {
       Axis a = axis_named(k.str(), pos_of(k.source()));
       const auto& list = m_.values[index(a)];
-      auto add = [&](const toml::node& e) {
+      auto add = [&, &k = k](const toml::node& e) {  // named: clang 14 cannot capture a structured binding
         AxisValue val = value_of(a, e);
         auto it = std::find(list.begin(), list.end(), val);
         if (it == list.end())

@@ -1,9 +1,14 @@
 #include "variants/space.h"
 
 #include <algorithm>
-#include <fmt/format.h>
+#include <cerrno>
+#include <cstdlib>
+#include <stdexcept>
+
 #include <map>
 #include <set>
+
+#include <fmt/format.h>
 
 #include "util/glob.h"
 
@@ -66,7 +71,39 @@ ProgramSpec make_program(const Manifest& m, const Pass& pass, StageKind kind, co
   return spec;
 }
 
+// The full product of the axes, refused above max_space_points(): every point is enumerated and checked
+// against the rules, so a product of 10^9 would run for many minutes before the first compile.
+std::uint64_t checked_product(const Manifest& m, const std::array<int, kAxisCount>& sizes) {
+  std::uint64_t product = 1;
+  bool overflow = false;
+  int widest = 0;
+  for (int a = 0; a < kAxisCount; ++a) {
+    if (sizes[a] > sizes[widest]) widest = a;
+    overflow |= __builtin_mul_overflow(product, static_cast<std::uint64_t>(sizes[a]), &product);
+  }
+  const std::uint64_t cap = max_space_points();
+  if (overflow || product > cap)
+    throw ManifestError(m.error_prefix(), m.axis_pos[widest],
+                        fmt::format("the axes multiply to {} points, more than the {} aovar enumerates (the widest "
+                                    "axis, '{}', has {} values; list fewer values, or raise the cap with {}=N)",
+                                    overflow ? std::string("over 2^64") : std::to_string(product), cap,
+                                    axis_info(axis_at(widest)).name, sizes[widest], kMaxSpaceVariable));
+  return product;
+}
+
 }  // namespace
+
+std::uint64_t max_space_points() {
+  const char* text = std::getenv(kMaxSpaceVariable);
+  if (!text || !*text) return kDefaultMaxSpacePoints;
+  char* end = nullptr;
+  errno = 0;
+  const unsigned long long v = std::strtoull(text, &end, 10);
+  if (errno != 0 || *end != '\0' || v == 0 || text[0] == '-')
+    throw std::runtime_error(fmt::format("{}={}: expected a positive whole number of product points", kMaxSpaceVariable,
+                                         text));
+  return v;
+}
 
 std::string variant_key(const Manifest& m, const Point& p) {
   std::string key;
@@ -99,11 +136,8 @@ VariantSpace build_space(const Manifest& m, const std::vector<std::string>& glob
   std::vector<std::uint64_t> would_drop(m.rules.size(), 0);  // each rule alone, for "matches nothing"
 
   std::array<int, kAxisCount> sizes{};
-  out.space = 1;
-  for (int a = 0; a < kAxisCount; ++a) {
-    sizes[a] = static_cast<int>(m.values[a].size());
-    out.space *= static_cast<std::uint64_t>(sizes[a]);
-  }
+  for (int a = 0; a < kAxisCount; ++a) sizes[a] = static_cast<int>(m.values[a].size());
+  out.space = checked_product(m, sizes);
 
   std::map<std::string, VariantEntry> variants;
   std::map<std::string, ProgramSpec> programs;

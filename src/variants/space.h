@@ -47,7 +47,15 @@ struct VariantSpace {
   std::uint64_t filtered_out = 0;      // variants removed by the --variants globs (and `exclude`)
 };
 
-// Throws ManifestError for a rule that drops no point of the full product.
+// The most product points build_space enumerates: kDefaultMaxSpacePoints, or the environment's
+// AOVAR_MAX_SPACE (a positive integer; std::runtime_error otherwise). The default manifest's product is
+// well below it; 10^8 points take about a minute to enumerate on one core.
+inline constexpr std::uint64_t kDefaultMaxSpacePoints = 100'000'000;
+inline constexpr const char* kMaxSpaceVariable = "AOVAR_MAX_SPACE";
+std::uint64_t max_space_points();
+
+// Throws ManifestError for a rule that drops no point of the full product, and for a product above
+// max_space_points() (naming the widest axis and how to raise the cap).
 // `globs` (shell patterns over variant keys) restricts the variants and programs; empty = all. `exclude`
 // (variant keys) leaves those out too: the variants a scene's profile drops are never compiled.
 VariantSpace build_space(const Manifest& m, const std::vector<std::string>& globs = {},
