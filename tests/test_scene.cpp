@@ -805,6 +805,8 @@ TEST(Views, BadSideFilesNameTheLine) {
                 "v.json:3:42: error: unknown key 'roll'"},
            Case{"{\"views\": [\n {\"name\": \"a\", \"target\": [0, 0, 0]}]}", "v.json:2:2: error: view 'a' has no eye"},
            Case{"{\"views\": [\n {\"name\": \"a\" \"eye\": [0, 0, 1]}]}", "v.json:2:19: error: parse error"},
+           // Found by scripts/fuzz: the JSON parser stops at a NUL, and what followed reached the key scanner.
+           Case{std::string("{\"views\": []}\n\0{\"views\": [[\"a\": 1]]}", 33), "v.json:2:1: error: a NUL byte"},
        }) {
     std::string e = json_error(c.text);
     EXPECT_TRUE(one_line(e)) << e;

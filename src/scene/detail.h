@@ -8,12 +8,13 @@
 #include <vector>
 
 #include "scene/scene.h"
+#include "util/text.h"
 
 namespace aovar::scene::detail {
 
 // Throws SceneError with `message` collapsed to one line (newlines and runs of blanks become one space).
 [[noreturn]] void fail(std::string_view message);
-std::string one_line(std::string_view text);
+using util::one_line;  // util/text.h
 std::string format_bytes(std::uint64_t bytes);  // "12.3 MiB"
 
 // Bytes a scene may take: options.memory_limit, or half of MemAvailable when it is 0.

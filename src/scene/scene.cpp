@@ -13,6 +13,7 @@
 #include "scene/detail.h"
 #include "util/fs.h"
 #include "util/hash.h"
+#include "util/text.h"
 
 namespace aovar::scene {
 namespace fs = std::filesystem;
@@ -21,22 +22,7 @@ static_assert(sizeof(glm::vec3) == 12, "positions and normals are hashed and upl
 
 namespace detail {
 
-std::string one_line(std::string_view text) {
-  std::string out;
-  bool blank = false;
-  for (char c : text) {
-    if (c == '\n' || c == '\r' || c == '\t' || c == ' ') {
-      blank = true;
-      continue;
-    }
-    if (blank && !out.empty()) out += ' ';
-    blank = false;
-    out += c;
-  }
-  return out;
-}
-
-void fail(std::string_view message) { throw SceneError(one_line(message)); }
+void fail(std::string_view message) { throw SceneError(util::one_line(message)); }
 
 std::string format_bytes(std::uint64_t bytes) {
   const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};

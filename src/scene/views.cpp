@@ -422,7 +422,8 @@ JsonLayout scan_json(const std::string& text) {
       while (j < text.size() && std::isspace(static_cast<unsigned char>(text[j]))) ++j;
       if (j < text.size() && text[j] == ':') {
         if (stack.size() == 1) root_key = s;
-        if (stack.size() == 3 && in_views) out.keys.back()[s] = start;
+        // A key of a view object (not of an array nested at the same depth: "[[...]]" has no keys).
+        if (stack.size() == 3 && in_views && stack.back() == '{' && !out.keys.empty()) out.keys.back()[s] = start;
       }
     } else if (ch == '{' || ch == '[') {
       stack += ch;
@@ -506,6 +507,12 @@ void apply_views_file(Scene& scene, const fs::path& path, float scale) {
   std::optional<std::string> text = util::read_file(path);
   if (!text) fail(fmt::format("{}: error: cannot open views file (check the path)", display));
   const std::string ext = lower(path.extension().string());
+  // nlohmann's parser stops at a NUL as at the end of the input, so text after one would be ignored.
+  if (const std::size_t nul = text->find('\0'); nul != std::string::npos) {
+    const Pos p = pos_at(*text, nul);
+    fail(fmt::format("{}:{}:{}: error: a NUL byte (a views file is text: export it again)", display, p.line,
+                     p.column));
+  }
   std::vector<View> views;
   if (ext == ".toml")
     views = parse_toml(*text, display);

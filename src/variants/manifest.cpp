@@ -6,13 +6,14 @@
 #include <toml++/toml.h>
 
 #include "util/fs.h"
+#include "util/text.h"
 
 namespace aovar::variants {
 namespace fs = std::filesystem;
 
 ManifestError::ManifestError(const std::string& file, SourcePos p, const std::string& what)
-    : std::runtime_error(p.line > 0 ? fmt::format("{}:{}:{}: error: {}", file, p.line, p.column, what)
-                                    : fmt::format("{}: error: {}", file, what)),
+    : std::runtime_error(p.line > 0 ? fmt::format("{}:{}:{}: error: {}", file, p.line, p.column, util::one_line(what))
+                                    : fmt::format("{}: error: {}", file, util::one_line(what))),
       pos(p) {}
 
 bool Predicate::matches(const Point& p) const {
