@@ -49,6 +49,9 @@ constexpr std::uint32_t kGlslFma = 50, kGlslLength = 66, kGlslDistance = 67, kGl
 struct Inst {
   std::uint32_t op;
   std::vector<std::uint32_t> w;  // operand words (without the opcode word)
+  // Operand `i`, or 0 (never a valid id or a meaningful count) past the end: a malformed module's short
+  // instruction then reads as "not what the analysis looks for" instead of out of bounds (found by fuzzing).
+  std::uint32_t at(std::size_t i) const { return i < w.size() ? w[i] : 0; }
 };
 
 struct Block {
@@ -98,10 +101,10 @@ struct Module {
   std::optional<long long> int_constant(std::uint32_t id) const {
     const Inst* i = def_of(id);
     if (!i || i->op != OpConstant || i->w.size() < 3) return std::nullopt;
-    auto t = int_types.find(i->w[0]);
+    auto t = int_types.find(i->at(0));
     if (t == int_types.end() || t->second.first != 32) return std::nullopt;
-    return t->second.second ? static_cast<long long>(static_cast<std::int32_t>(i->w[2]))
-                            : static_cast<long long>(i->w[2]);
+    return t->second.second ? static_cast<long long>(static_cast<std::int32_t>(i->at(2)))
+                            : static_cast<long long>(i->at(2));
   }
   int resolve_binding(std::uint32_t id) const {
     for (int guard = 0; guard < 32; ++guard) {
@@ -112,7 +115,7 @@ struct Module {
       switch (i->op) {
         case OpLoad: case OpSampledImage: case OpImage: case OpAccessChain: case OpInBoundsAccessChain:
         case OpCopyObject:
-          id = i->w[2];
+          id = i->at(2);
           break;
         default:
           return -1;
@@ -208,7 +211,7 @@ std::optional<long long> trip_count(const Module& m, const Function& f, const Lo
   auto exit_branch = [&](const Block& b) -> const Inst* {
     if (b.terminator < 0) return nullptr;
     const Inst& t = m.insts[b.terminator];
-    if (t.op == OpBranchConditional && (t.w[1] == h.merge || t.w[2] == h.merge)) return &t;
+    if (t.op == OpBranchConditional && (t.at(1) == h.merge || t.at(2) == h.merge)) return &t;
     return nullptr;
   };
   const Inst* br = exit_branch(h);
@@ -217,8 +220,8 @@ std::optional<long long> trip_count(const Module& m, const Function& f, const Lo
     if (it != f.block_of_label.end()) br = exit_branch(f.blocks[it->second]);
   }
   if (!br) return std::nullopt;
-  bool continue_on_true = br->w[1] != h.merge;
-  const Inst* cmp = m.def_of(br->w[0]);
+  bool continue_on_true = br->at(1) != h.merge;
+  const Inst* cmp = m.def_of(br->at(0));
   if (!cmp || cmp->w.size() < 4) return std::nullopt;
   enum Rel { lt, le, gt, ge, ne, eq };
   Rel rel;
@@ -230,7 +233,7 @@ std::optional<long long> trip_count(const Module& m, const Function& f, const Lo
     case OpINotEqual: rel = ne; break;
     default: return std::nullopt;
   }
-  std::uint32_t a = cmp->w[2], b = cmp->w[3];
+  std::uint32_t a = cmp->at(2), b = cmp->at(3);
   auto bound = m.int_constant(b);
   if (!bound) {  // constant on the left: B < i  <=>  i > B
     bound = m.int_constant(a);
@@ -250,7 +253,7 @@ std::optional<long long> trip_count(const Module& m, const Function& f, const Lo
   auto step_of = [&](std::uint32_t value, auto&& is_induction) -> std::optional<long long> {
     const Inst* add = m.def_of(value);
     if (!add || (add->op != OpIAdd && add->op != OpISub) || add->w.size() < 4) return std::nullopt;
-    std::uint32_t x = add->w[2], c = add->w[3];
+    std::uint32_t x = add->at(2), c = add->at(3);
     auto k = m.int_constant(c);
     if (!k && add->op == OpIAdd) { std::swap(x, c); k = m.int_constant(c); }
     if (!k || !is_induction(x)) return std::nullopt;
@@ -259,40 +262,40 @@ std::optional<long long> trip_count(const Module& m, const Function& f, const Lo
   const Inst* ind = m.def_of(a);
   if (!ind) return std::nullopt;
   if (ind->op == OpLoad) {
-    std::uint32_t var = ind->w[2];
+    std::uint32_t var = ind->at(2);
     const Inst* v = m.def_of(var);
     if (!v || v->op != OpVariable) return std::nullopt;
     auto loads_var = [&](std::uint32_t x) {
       const Inst* l = m.def_of(x);
-      return l && l->op == OpLoad && l->w[2] == var;
+      return l && l->op == OpLoad && l->at(2) == var;
     };
     int outside = 0;
     for (std::size_t fb = 0; fb < f.blocks.size(); ++fb)
       for (int ii : f.blocks[fb].insts) {
         const Inst& s = m.insts[ii];
-        if (s.op != OpStore || s.w[0] != var) continue;
+        if (s.op != OpStore || s.at(0) != var) continue;
         if (in_loop(ii)) {
-          auto k = step_of(s.w[1], loads_var);
+          auto k = step_of(s.at(1), loads_var);
           if (!k || (step && *step != *k)) return std::nullopt;
           step = k;
         } else {
           ++outside;
-          init = m.int_constant(s.w[1]);
+          init = m.int_constant(s.at(1));
         }
       }
     if (outside != 1) return std::nullopt;
   } else if (ind->op == OpPhi) {
     std::uint32_t phi = a;
     for (std::size_t i = 2; i + 1 < ind->w.size(); i += 2) {
-      auto pb = f.block_of_label.find(ind->w[i + 1]);
+      auto pb = f.block_of_label.find(ind->at(i + 1));
       if (pb == f.block_of_label.end()) return std::nullopt;
       if (loop.body.count(pb->second)) {
-        auto k = step_of(ind->w[i], [&](std::uint32_t x) { return x == phi; });
+        auto k = step_of(ind->at(i), [&](std::uint32_t x) { return x == phi; });
         if (!k || (step && *step != *k)) return std::nullopt;
         step = k;
       } else {
         if (init) return std::nullopt;
-        init = m.int_constant(ind->w[i]);
+        init = m.int_constant(ind->at(i));
       }
     }
   } else {
@@ -370,20 +373,20 @@ struct Analyzer {
       for (int ii : f.blocks[b].insts) {
         const Inst& in = m.insts[ii];
         std::uint32_t op = in.op;
-        if (is_texture_read(op) && in.w.size() >= 3) c.fetches[m.resolve_binding(in.w[2])] += k;
+        if (is_texture_read(op) && in.w.size() >= 3) c.fetches[m.resolve_binding(in.at(2))] += k;
         else if (is_alu(op)) {
           c.alu += k;
           if (is_div(op)) c.div += k;
         } else if (is_cmp_select(op)) c.cmp_select += k;
         else if (op == OpBranchConditional || op == OpSwitch) c.branches += k;
-        else if (op == OpExtInst && in.w.size() >= 4 && m.glsl_sets.count(in.w[2])) {
-          std::uint32_t g = in.w[3];
+        else if (op == OpExtInst && in.w.size() >= 4 && m.glsl_sets.count(in.at(2))) {
+          std::uint32_t g = in.at(3);
           c.alu += k;
           if (g == kGlslFma) c.fma += k;
           if (is_transcendental(g)) c.transcendental += k;
           if (g == kGlslLength || g == kGlslDistance || g == kGlslNormalize) c.normalize_length += k;
         } else if (op == OpFunctionCall && in.w.size() >= 3) {
-          std::uint32_t callee = in.w[2];
+          std::uint32_t callee = in.at(2);
           std::string name = fname(callee);
           c.calls += k;
           if (starts_with(name, "ao_view_position_from_depth(")) c.unprojections += k;
@@ -466,7 +469,7 @@ std::vector<std::uint32_t> read_words(const std::filesystem::path& p) {
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (bytes.size() % 4) throw std::runtime_error(p.string() + ": error: size is not a multiple of 4 bytes");
   std::vector<std::uint32_t> w(bytes.size() / 4);
-  std::memcpy(w.data(), bytes.data(), bytes.size());
+  if (!w.empty()) std::memcpy(w.data(), bytes.data(), bytes.size());
   return w;
 }
 

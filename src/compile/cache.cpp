@@ -69,7 +69,7 @@ std::optional<CompileOutput> CompileCache::load(const std::string& hash) const {
   std::string spirv = r.str();
   if (!r.ok || spirv.size() % 4) return std::nullopt;  // truncated or foreign: recompile
   out.spirv.resize(spirv.size() / 4);
-  std::memcpy(out.spirv.data(), spirv.data(), spirv.size());
+  if (!spirv.empty()) std::memcpy(out.spirv.data(), spirv.data(), spirv.size());  // no SPIR-V (gles30): data() may be null
   return out;
 }
 

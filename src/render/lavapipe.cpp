@@ -686,7 +686,7 @@ void LavapipeBackend::set_params(PreparedPipeline& pipeline, std::size_t draw, c
                                    params.size()));
   // The recorded frames read the block from host-visible memory: no frame may be in flight while it changes.
   check(vkQueueWaitIdle(dev_->queue), "vkQueueWaitIdle");
-  std::memcpy(static_cast<char*>(pp.params_ubo.mapped) + pp.states[draw].params_offset, params.data(),
+  if (!params.empty()) std::memcpy(static_cast<char*>(pp.params_ubo.mapped) + pp.states[draw].params_offset, params.data(),
               params.size() * sizeof(float));
   pp.draws[draw].params = params;
 }
