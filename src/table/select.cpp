@@ -262,8 +262,10 @@ void choose(Selection& s, const std::vector<Candidate>& ordered, std::size_t n_t
     s.tied.assign(ordered.begin() + 1, ordered.begin() + n_tied);
   }
   s.text = "choice: " + describe(c, q) + "\n";
-  const std::string within = q.budget_of.empty() ? fmt::format("within {:.3f} ms", *q.budget_ms)
-                                                  : "not slower than " + q.budget_of + " beyond the noise";
+  // Only a budget query has a budget: --max-error leaves budget_ms empty (found by _GLIBCXX_ASSERTIONS).
+  const std::string within = !budget                 ? std::string()
+                             : q.budget_of.empty() ? fmt::format("within {:.3f} ms", *q.budget_ms)
+                                                   : "not slower than " + q.budget_of + " beyond the noise";
   s.text += budget ? fmt::format("reason: lowest rmse of the {} of {} candidates {} ({})\n", ordered.size(), n_all,
                                  within, scope_of(q))
                    : fmt::format("reason: cheapest ({}) of the {} of {} candidates with rmse <= {:.5f} ({})\n",
