@@ -6,16 +6,50 @@
 # manifest or any template or include it read changes (depfile); unchanged outputs are not rewritten, so
 # the library only recompiles when a program really changed.
 #
-# Needs AOVAR_EXECUTABLE (path or generator expression of the aovar tool).
+# The tool is aovar::aovar: the imported executable of find_package(aovar CONFIG), or the build tree's target
+# when aovar is the project or a subproject (FetchContent, add_subdirectory). AOVAR_EXECUTABLE (a path)
+# overrides it. The step depends on the tool's file, so a new aovar regenerates every consumer's shaders.
+#
+# <target> becomes a C++ namespace and the names of the generated files, so it must be a C++ identifier.
 include_guard(GLOBAL)
+
+# One line naming the function and what to change when <target> cannot be a C++ namespace and file name.
+function(_aovar_check_target_name target)
+  set(keywords alignas alignof and and_eq asm auto bitand bitor bool break case catch char char8_t char16_t
+      char32_t class compl concept const consteval constexpr constinit const_cast continue co_await co_return
+      co_yield decltype default delete do double dynamic_cast else enum explicit export extern false float for
+      friend goto if inline int long mutable namespace new noexcept not not_eq nullptr operator or or_eq private
+      protected public register reinterpret_cast requires return short signed sizeof static static_assert
+      static_cast struct switch template this thread_local throw true try typedef typeid typename union
+      unsigned using virtual void volatile wchar_t while xor xor_eq std)
+  if(NOT target MATCHES "^[A-Za-z][A-Za-z0-9_]*$" OR target MATCHES "__")
+    message(FATAL_ERROR "aovar_add_shader_variants(${target}): the target name becomes a C++ namespace and file "
+                        "names, so it must be letters, digits and single underscores, starting with a letter "
+                        "(e.g. my_ssao)")
+  endif()
+  if(target IN_LIST keywords)
+    message(FATAL_ERROR "aovar_add_shader_variants(${target}): '${target}' is a C++ keyword and cannot name the "
+                        "generated namespace; choose another target name (e.g. ${target}_shaders)")
+  endif()
+endfunction()
 
 function(aovar_add_shader_variants target)
   cmake_parse_arguments(PARSE_ARGV 1 arg "WERROR" "MANIFEST;OUTPUT_DIR" "TARGETS;VARIANTS")
   if(NOT arg_MANIFEST)
     message(FATAL_ERROR "aovar_add_shader_variants(${target}): MANIFEST is required")
   endif()
-  if(NOT AOVAR_EXECUTABLE)
-    message(FATAL_ERROR "aovar_add_shader_variants(${target}): set AOVAR_EXECUTABLE to the aovar tool")
+  _aovar_check_target_name(${target})
+  if(AOVAR_EXECUTABLE)
+    set(tool "${AOVAR_EXECUTABLE}")
+    set(tool_depends "${AOVAR_EXECUTABLE}")
+  elseif(TARGET aovar::aovar)
+    # The target name gives the build order in a build tree and, for the imported executable, a file-level
+    # dependency on its location: an upgraded or rebuilt tool reruns the step.
+    set(tool aovar::aovar)
+    set(tool_depends aovar::aovar)
+  else()
+    message(FATAL_ERROR "aovar_add_shader_variants(${target}): no aovar tool: find_package(aovar CONFIG REQUIRED) "
+                        "first, or set AOVAR_EXECUTABLE to the aovar program")
   endif()
   get_filename_component(manifest "${arg_MANIFEST}" ABSOLUTE)
   if(NOT arg_OUTPUT_DIR)
@@ -40,8 +74,8 @@ function(aovar_add_shader_variants target)
   add_custom_command(
     OUTPUT "${out}/${target}.stamp"
     BYPRODUCTS "${out}/${target}.h" "${out}/${target}.cpp"
-    COMMAND ${AOVAR_EXECUTABLE} ${args}
-    DEPENDS "${manifest}" ${AOVAR_EXECUTABLE_TARGET}
+    COMMAND ${tool} ${args}
+    DEPENDS "${manifest}" ${tool_depends}
     DEPFILE "${out}/${target}.d"
     COMMENT "aovar: generating shader variants of ${arg_MANIFEST}"
     VERBATIM)

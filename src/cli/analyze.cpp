@@ -9,22 +9,11 @@
 #include "analyze/text.h"
 #include "cli/commands.h"
 #include "cli/options.h"
-#include "gpu/costs.h"
-#include "gpu/families.h"
-#include "gpu/gpu.h"
-#include "gpu/text.h"
+#include "cli/render_parts.h"
 #include "util/fs.h"
 
 namespace aovar::cli {
 namespace {
-
-struct AnalyzeArgs {
-  std::string in;
-  std::string gpu;  // --gpu FAMILY[,FAMILY...]
-  std::string out;  // --gpu: folder for gpu.json
-  std::string size = "1920x1080";  // --gpu: frame the roofline estimate is for
-  CommonOptions common;
-};
 
 int run_analyze(const std::string& dir) {
   auto a = analyze::analyze_folder(dir);
@@ -35,40 +24,15 @@ int run_analyze(const std::string& dir) {
   return 0;
 }
 
-// Exit 1 when a family failed (its error is in the table and gpu.json); the other families' results stand.
-int run_analyze_gpu(const AnalyzeArgs& a) {
-  const gpu::Frame frame = parse_size(a.size);
-  gpu::GpuOptions options;
-  options.families = gpu::parse_families(a.gpu);
-  options.icd = gpu::find_radeon_icd();  // before compiling: a missing driver is the first thing to say
-  compile::CompileOptions co = compile_options(a.common);
-  co.targets = {variants::Target::vulkan};
-  const auto compiled = compile::compile_space(a.common.manifest, co);
-  if (!report_diagnostics(compiled)) return 1;
-  std::vector<int> variants(compiled.space.variants.size());
-  for (std::size_t i = 0; i < variants.size(); ++i) variants[i] = static_cast<int>(i);
-  const gpu::GpuAnalysis result = gpu::analyze_gpu(compiled, variants, options);
-  const gpu::VariantCosts costs = gpu::costs_of(result, gpu::variant_loads(compiled, variants), frame);
-  std::cout << gpu::to_text(result, &costs);
-  if (!a.out.empty()) {
-    const auto path = std::filesystem::path(a.out) / "gpu.json";
-    std::filesystem::create_directories(a.out);
-    util::write_atomic(path, gpu::to_json(result, &costs));
-    std::cout << fmt::format("wrote {}\n", path.string());
-  }
-  for (const auto& f : result.families)
-    if (!f.ok()) return 1;
-  return 0;
-}
-
 }  // namespace
 
 Command add_analyze(CLI::App& app) {
-  auto a = std::make_shared<AnalyzeArgs>();
+  auto a = std::make_shared<GpuAnalyzeArgs>();
+  auto in_dir = std::make_shared<std::string>();
   auto* cmd = app.add_subcommand(
       "analyze", "static cost per program and variant: of a generated folder (SPIR-V), or on AMD GPUs (--gpu)");
-  auto* in = cmd->add_option("--in", a->in, "folder written by `aovar generate --emit index,spirv`");
-  auto* gpu = cmd->add_option("--gpu", a->gpu,
+  auto* in = cmd->add_option("--in", *in_dir, "folder written by `aovar generate --emit index,spirv`");
+  auto* gpu = cmd->add_option("--gpu", a->families,
                               "AMD GPU families (e.g. navi21,vangogh,polaris10): compile every pass on RADV's null "
                               "device and print ACO's statistics; variants from the manifest");
   cmd->add_option("--out", a->out, "with --gpu: write gpu.json to this folder")->needs(gpu);
@@ -81,10 +45,10 @@ Command add_analyze(CLI::App& app) {
   add_cache_dir(cmd, a->common.cache_dir, "compile cache");
   cmd->add_flag("--no-cache", a->common.no_cache, "compile everything, read and write no cache");
   in->excludes(gpu);
-  return {cmd, [a, cmd] {
+  return {cmd, [a, in_dir, cmd] {
             if (cmd->count("--gpu")) return run_analyze_gpu(*a);
-            if (a->in.empty()) throw std::runtime_error("analyze: give --in DIR (a generated folder) or --gpu FAMILY");
-            return run_analyze(a->in);
+            if (in_dir->empty()) throw std::runtime_error("analyze: give --in DIR (a generated folder) or --gpu FAMILY");
+            return run_analyze(*in_dir);
           }};
 }
 

@@ -10,6 +10,7 @@
 #include "calibrate/text.h"
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/render_options.h"
 #include "util/fs.h"
 
 namespace aovar::cli {

@@ -6,45 +6,29 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
-#include "cli/scene_profile.h"
-#include "profile/pruned_text.h"
+#include "cli/render_parts.h"
 #include "compile/text.h"
 
 namespace aovar::cli {
 namespace {
 
-struct ListArgs {
-  CommonOptions common;
-  bool show_pruned = false;
-  ProfileArgs profile;  // with --scene
-};
-
-int run_list(const ListArgs& a) {
+int run_list(const ListSceneArgs& a) {
   auto c = compile::compile_space(a.common.manifest, compile_options(a.common));
   if (!report_diagnostics(c)) return 1;
   std::cout << compile::list_text(c, a.show_pruned);
   return 0;
 }
 
-// --scene: the variants the scene's profile keeps; --pruned adds every dropped one with its reason.
-int run_list_scene(const ListArgs& a) {
-  const auto o = a.profile.resolve(a.common.manifest);
-  const auto s = run_scene_profile(o);
-  auto pruned = profile::prune(s.manifest, s.space, s.profile, a.common.globs);
-  std::cout << profile::list_text(s.manifest, s.space, pruned, o.scene, a.show_pruned);
-  return 0;
-}
-
 }  // namespace
 
 Command add_list(CLI::App& app) {
-  auto a = std::make_shared<ListArgs>();
+  auto a = std::make_shared<ListSceneArgs>();
   auto* cmd = app.add_subcommand("list", "print the variants after rules (one key a line) and the counts");
   add_common(cmd, a->common);
   cmd->add_flag("--pruned", a->show_pruned, "also print every dropped variant with the rule's reason");
-  cmd->add_option("--scene,-s", a->profile.options.scene,
+  cmd->add_option("--scene,-s", a->scene,
                   "keep only what this scene needs (aovar profile); --pruned prints each drop's reason");
-  cmd->add_option("--size", a->profile.size, "frame size the scene is profiled at")->capture_default_str();
+  cmd->add_option("--size", a->size, "frame size the scene is profiled at")->capture_default_str();
   return {cmd, [a, cmd] { return cmd->count("--scene") ? run_list_scene(*a) : run_list(*a); }};
 }
 

@@ -8,6 +8,7 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/render_options.h"
 #include "measure/measure.h"
 #include "measure/text.h"
 #include "profile/scene_prune.h"

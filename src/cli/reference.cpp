@@ -7,6 +7,7 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/render_options.h"
 #include "reference/reference.h"
 #include "reference/text.h"
 

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "cli/options.h"
+#include "cli/render_options.h"
 #include "profile/profile.h"
 #include "variants/manifest.h"
 #include "variants/space.h"

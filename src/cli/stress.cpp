@@ -10,6 +10,7 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/render_options.h"
 #include "stress/stress.h"
 #include "stress/text.h"
 #include "util/fs.h"

@@ -8,6 +8,7 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/render_options.h"
 #include "sweep/sweep.h"
 #include "sweep/text.h"
 #include "table/table.h"

@@ -1,0 +1,42 @@
+// aovar analyze --gpu: every pass of the selected variants compiled on RADV's null device per AMD family,
+// ACO's statistics and the roofline estimate -> text and gpu.json (docs/gpu-cost.md).
+#include <fmt/format.h>
+
+#include <iostream>
+
+#include "cli/render_options.h"
+#include "cli/render_parts.h"
+#include "gpu/costs.h"
+#include "gpu/families.h"
+#include "gpu/gpu.h"
+#include "gpu/text.h"
+#include "util/fs.h"
+
+namespace aovar::cli {
+
+int run_analyze_gpu(const GpuAnalyzeArgs& a) {
+  const gpu::Frame frame = parse_size(a.size);
+  gpu::GpuOptions options;
+  options.families = gpu::parse_families(a.families);
+  options.icd = gpu::find_radeon_icd();  // before compiling: a missing driver is the first thing to say
+  compile::CompileOptions co = compile_options(a.common);
+  co.targets = {variants::Target::vulkan};
+  const auto compiled = compile::compile_space(a.common.manifest, co);
+  if (!report_diagnostics(compiled)) return 1;
+  std::vector<int> variants(compiled.space.variants.size());
+  for (std::size_t i = 0; i < variants.size(); ++i) variants[i] = static_cast<int>(i);
+  const gpu::GpuAnalysis result = gpu::analyze_gpu(compiled, variants, options);
+  const gpu::VariantCosts costs = gpu::costs_of(result, gpu::variant_loads(compiled, variants), frame);
+  std::cout << gpu::to_text(result, &costs);
+  if (!a.out.empty()) {
+    const auto path = std::filesystem::path(a.out) / "gpu.json";
+    std::filesystem::create_directories(a.out);
+    util::write_atomic(path, gpu::to_json(result, &costs));
+    std::cout << fmt::format("wrote {}\n", path.string());
+  }
+  for (const auto& f : result.families)
+    if (!f.ok()) return 1;
+  return 0;
+}
+
+}  // namespace aovar::cli

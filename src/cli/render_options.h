@@ -1,0 +1,61 @@
+#pragma once
+// Option helpers of the rendering subcommands (measure, sweep, calibrate, reference, profile, stress,
+// analyze --gpu): each of their defaults is spelled here once (frame size, scene, reference mode,
+// calibration file), with the parser of --size. Built only with AOVAR_WITH_RENDER (src/CMakeLists.txt).
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "measure/measure.h"
+#include "render/frame.h"
+
+namespace aovar::cli {
+
+inline constexpr const char* default_scene = "builtin:atrium";  // measure, reference
+inline constexpr const char* default_reference_mode = "occlusion";  // measure, reference, calibrate
+
+// --calibration FILE and --no-calibration. The calibration file of a manifest is calibration.json next to
+// it: it applies, when it exists, unless another file (--calibration) or none (--no-calibration) is asked for.
+struct CalibrationOption {
+  std::string file;
+  bool none = false;
+
+  // The file that applies: empty with --no-calibration or when there is none.
+  std::filesystem::path resolve(const std::string& manifest) const;
+  // The values of resolve()'s file, checked against the manifest (calibrate::load_calibration), into
+  // `values`, and what measure.json and the cost table record about it into file / hash. Returns the file.
+  std::filesystem::path load(const std::string& manifest, std::map<std::string, render::ParamOverrides>& values,
+                             std::string& file, std::string& hash) const;
+};
+void add_calibration(CLI::App* cmd, CalibrationOption& o, const std::string& help);
+inline constexpr const char* calibration_help = "calibration file (default: calibration.json next to the manifest)";
+
+// --gpu FAMILY[,FAMILY...] and --gpu-size WxH (measure, sweep): the AMD families to estimate every row's
+// variant on (gpu/by_key.h) and the frame the estimate is for.
+struct GpuOption {
+  std::string families;
+  std::string frame = "1920x1080";
+  // The families (empty without --gpu) and the frame; throws std::runtime_error naming the option.
+  std::vector<std::string> family_list() const;
+  render::Extent frame_size() const;
+};
+void add_gpu(CLI::App* cmd, GpuOption& o);
+
+// --reps N|auto, --ci-target PCT and --reps-cap-s S (measure, sweep; measure::AutoReps). `reps` is the
+// subcommand's default: "10" for measure, "auto" for sweep.
+struct RepsOption {
+  std::string reps;
+  double ci_target_pct = 2;
+  double cap_s = 2;
+  // Sets options.reps and options.auto_reps; throws std::runtime_error naming --reps.
+  void apply(measure::MeasureOptions& options) const;
+};
+void add_reps(CLI::App* cmd, RepsOption& o);
+
+// "WxH" (1 to 16384 each) -> extent; throws std::runtime_error naming --size.
+render::Extent parse_size(const std::string& text);
+
+}  // namespace aovar::cli

@@ -1,0 +1,28 @@
+#pragma once
+// The parts of generator subcommands that need the rendering modules: `analyze --gpu` (RADV) and
+// `list --scene` (a scene profile). With AOVAR_WITH_RENDER they are analyze_gpu.cpp and list_scene.cpp;
+// a generator-only build links without_render.cpp instead, which says in one line that they are not in it.
+#include <string>
+
+#include "cli/options.h"
+
+namespace aovar::cli {
+
+struct GpuAnalyzeArgs {
+  std::string families;            // --gpu FAMILY[,FAMILY...]
+  std::string out;                 // folder for gpu.json (empty: none)
+  std::string size = "1920x1080";  // frame the roofline estimate is for
+  CommonOptions common;
+};
+// Exit 1 when a family failed (its error is in the table and gpu.json); the other families' results stand.
+int run_analyze_gpu(const GpuAnalyzeArgs& a);
+
+struct ListSceneArgs {
+  CommonOptions common;
+  std::string scene, size = default_size;
+  bool show_pruned = false;
+};
+// The variants the scene's profile keeps; show_pruned adds every dropped one with its reason.
+int run_list_scene(const ListSceneArgs& a);
+
+}  // namespace aovar::cli
