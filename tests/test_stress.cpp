@@ -138,6 +138,27 @@ TEST(Stress, ChildProcessesMatchOneProcessAndSurviveACrash) {
   EXPECT_EQ(read_json(dir / "again" / "stress.json").at("failed").get<int>(), 0);
 }
 
+// A whole line from the child that is not a check (bad JSON: the child's memory is not to be trusted) is a
+// crashed slice: that variant fails with the line quoted, its group renders again without it, the run goes on.
+TEST(Stress, AGarbledChildLineCostsOnlyThatVariant) {
+  TempDir dir;
+  const std::string variants = "--variants 'hbao-s04-p0-nrgb8-zdep-rst-d*-bbil-x1-*' --case baseline --no-reuse";
+  const std::string garbled = "hbao-s04-p0-nrgb8-zdep-rst-d16-bbil-x1-hp";
+  ::setenv("AOVAR_STRESS_TEST_GARBLE", garbled.c_str(), 1);
+  auto r = run_aovar("stress " + variants + " --renders-per-process 2 --out " + (dir / "garbled").string());
+  ::unsetenv("AOVAR_STRESS_TEST_GARBLE");
+  auto j = read_json(dir / "garbled" / "stress.json");
+  ASSERT_EQ(j.at("checks").size(), 3u) << r.output;
+  EXPECT_EQ(j.at("failed").get<int>(), 1) << r.output;
+  for (const auto& c : j.at("checks")) {
+    if (c.at("variant") == garbled)
+      EXPECT_NE(c.at("failure").get<std::string>().find("the renderer sent a line that is not a check"),
+                std::string::npos) << c;
+    else
+      EXPECT_EQ(c.at("failure"), "") << c;
+  }
+}
+
 // A crash costs only the variant it hits, wherever it sits in its partner group: the r32f highp form
 // (rendered first, since the others compare with it) or the r16f highp form (compared with the r32f form,
 // and itself the mediump form's partner). The crashed variant fails with the signal on the case in flight

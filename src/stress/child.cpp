@@ -1,5 +1,6 @@
 #include "stress/child.h"
 
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <optional>
@@ -16,10 +17,16 @@ namespace {
 // The child's side: render, one line per event; an exception becomes an 'e' line and status 2.
 int render_and_stream(const Run& run, const std::string& backend_name, const std::vector<Group>& groups,
                       util::LineWriter& out) {
+  // Test hook: a check line the parent cannot read (a child whose memory went bad) must cost that slice's
+  // variant, not the run (tests/test_stress.cpp).
+  const char* garble = std::getenv("AOVAR_STRESS_TEST_GARBLE");
   try {
     render_groups(
         run, backend_name, groups, [&](const std::string& key) { out.line("v " + key); },
-        [&](const Check& ch) { out.line("c " + check_json(ch).dump()); }, true);
+        [&](const Check& ch) {
+          out.line(garble && ch.variant == garble ? "c {\"variant\": \x01" : "c " + check_json(ch).dump());
+        },
+        true);
     return 0;
   } catch (const std::exception& e) {
     out.line(std::string("e ") + e.what());
@@ -53,10 +60,12 @@ ChildEnd render_in_child(const Run& run, const std::string& backend_name, const 
   const auto how = util::run_isolated(
       [&](util::LineWriter& out) { return render_and_stream(run, backend_name, groups, out); },
       [&](const std::string& line) {
-        if (line.size() < 2) return;
+        // After a garbled line nothing the child says counts: the slice ends there, and the variant it was
+        // rendering (the last 'v') is the one blamed.
+        if (line.size() < 2 || !garbled.empty()) return;
         const std::string rest(line, 2);  // after the tag and its space
         if (line[0] == 'v') starting(rest);
-        else if (line[0] == 'c' && garbled.empty()) {
+        else if (line[0] == 'c') {
           std::optional<Check> check;
           try {
             check = check_from_json(nlohmann::json::parse(rest));
