@@ -91,11 +91,10 @@ struct LocalSlurm {
 
 TEST(Distributed, SlurmArrayOfFourMergesToTheRowsOfOneProcess) {
   TempDir dir;
-  const fs::path cache = dir / "cache";
-  auto whole = run_aovar(sweep_args(cache, dir / "whole"));
+  const fs::path shards = dir / "shards";
+  auto whole = run_aovar(sweep_args(shards / "cache", dir / "whole"));  // the compile cache the shards use
   ASSERT_EQ(whole.status, 0) << whole.output;
   // The example batch scripts, as a user submits them (their environment: AOVAR, AOVAR_OUT, AOVAR_SWEEP_ARGS).
-  const fs::path shards = dir / "shards";
   setenv("AOVAR", AOVAR_EXE, 1);
   setenv("AOVAR_OUT", shards.c_str(), 1);
   setenv("AOVAR_SWEEP_ARGS", kSelection.c_str(), 1);
@@ -105,8 +104,7 @@ TEST(Distributed, SlurmArrayOfFourMergesToTheRowsOfOneProcess) {
   if (slurm.up) {
     // --cpus-per-task=1: two tasks at a time on this 2-core node instead of the script's one.
     array = run_command("sbatch --wait --array=0-3 --cpus-per-task=1 --output=" + (dir / "task-%a.log").string() + " " + sweep);
-    merged = run_command("sbatch --wait --output=" + (dir / "merge.log").string() + " " + merge);
-    for (const char* log : {"task-0.log", "task-1.log", "task-2.log", "task-3.log", "merge.log"})
+    for (const char* log : {"task-0.log", "task-1.log", "task-2.log", "task-3.log"})
       array.output += "\n--- " + std::string(log) + ":\n" + util::read_file(dir / log).value_or("(none)");
   } else {
     std::cout << "note: Slurm cannot run here, so the 4 shards run as concurrent local processes with "
@@ -116,8 +114,9 @@ TEST(Distributed, SlurmArrayOfFourMergesToTheRowsOfOneProcess) {
                       "bash " + sweep + " > " + (dir / "task-").string() + "$i.log 2>&1 & pids=\"$pids $!\"; done; rc=0; "
                       "for p in $pids; do wait $p || rc=1; done; cat " + (dir / "task-").string() + "*.log; exit $rc";
     array = run_command(cmd);
-    merged = run_command("bash " + merge);
   }
+  // The merge job's script, run here: through sbatch --wait it would only add a scheduler poll (10 s).
+  merged = run_command("bash " + merge);
   ASSERT_EQ(array.status, 0) << array.output;
   ASSERT_EQ(merged.status, 0) << merged.output << array.output;
   for (int i = 0; i < 4; ++i) {
@@ -126,9 +125,10 @@ TEST(Distributed, SlurmArrayOfFourMergesToTheRowsOfOneProcess) {
     EXPECT_EQ(m.at("shard").at("convention"), "Slurm array");
     EXPECT_TRUE(m.at("complete").get<bool>());
   }
-  EXPECT_EQ(rows_of(shards / "merged" / "cost_table.json"), rows_of(dir / "whole" / "cost_table.json"));
-  expect_images_exist(shards / "merged" / "cost_table.json");
-  EXPECT_TRUE(fs::exists(shards / "merged" / "report.html"));
+  EXPECT_EQ(rows_of(shards / "cost_table.json"), rows_of(dir / "whole" / "cost_table.json"));
+  expect_images_exist(shards / "cost_table.json");
+  EXPECT_TRUE(fs::exists(shards / "report.html"));
+  EXPECT_EQ(merged.output.find("not embedded"), std::string::npos) << "the report finds the shards' images: " << merged.output;
 }
 
 // Starts `aovar ARGS` and kills it with SIGKILL as soon as `file` exists (a checkpoint is written).
@@ -186,7 +186,7 @@ TEST(Distributed, AKilledShardIsRefusedThenResumesAndMerges) {
                          (dir / "s2-copy").string());
   EXPECT_NE(twice.status, 0);
   EXPECT_NE(twice.output.find("shard 2/2 is given twice"), std::string::npos) << twice.output;
-  auto other = run_aovar(sweep_args(cache, dir / "s2-other") + " --shard 2/2 --rays 4");  // other inputs
+  auto other = run_aovar(sweep_args(cache, dir / "s2-other") + " --shard 2/2 --threads 1");  // other inputs
   ASSERT_EQ(other.status, 0) << other.output;
   auto foreign = run_aovar("merge " + merged.string() + " " + (dir / "s1").string() + " " + (dir / "s2-other").string());
   EXPECT_NE(foreign.status, 0);
@@ -195,6 +195,63 @@ TEST(Distributed, AKilledShardIsRefusedThenResumesAndMerges) {
       << foreign.output;
   for (const auto* r : {&incomplete, &missing, &twice, &foreign})
     EXPECT_EQ(std::count(r->output.begin(), r->output.end(), '\n'), 1) << "one line: " << r->output;
+}
+
+json read_json(const fs::path& file) { return json::parse(util::read_file(file).value_or("{}")); }
+
+TEST(Distributed, StressShardsSplitTheCasesAndTogetherGiveEveryCheck) {
+  TempDir dir;
+  // scale-0.01 is compared with baseline: the two stay in one shard.
+  const std::string args = "stress --variants alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp --case baseline --case scale-0.01 "
+                           "--case far-inf --case grazing-0.5deg --size 32x18 --cache-dir " + (dir / "cache").string();
+  auto whole = run_aovar(args + " --out " + (dir / "whole").string());
+  ASSERT_EQ(whole.status, 0) << whole.output;
+  std::multiset<std::string> checks;
+  for (int k = 1; k <= 2; ++k) {
+    const fs::path out = dir / ("s" + std::to_string(k));
+    // GitLab's convention (1-based), as a `parallel: 2` job would see it.
+    auto shard = run_command("CI_NODE_INDEX=" + std::to_string(k) + " CI_NODE_TOTAL=2 " + std::string(AOVAR_EXE) + " " + args +
+                             " --shard auto --out " + out.string());
+    ASSERT_EQ(shard.status, 0) << shard.output;
+    EXPECT_NE(shard.output.find("from GitLab CI"), std::string::npos) << shard.output;
+    json m = read_json(out / "shard.json");
+    EXPECT_EQ(m.at("tool"), "stress");
+    EXPECT_TRUE(m.at("complete").get<bool>());
+    EXPECT_EQ(m.at("units"), k) << "1/2: baseline with its scaled copy (cost 2); 2/2: far-inf and grazing (1 each)";
+    const json shard_checks = read_json(out / "stress.json").at("checks");
+    for (const auto& c : shard_checks) checks.insert(c.dump());
+    EXPECT_EQ(m.at("done").get<std::size_t>(), shard_checks.size());
+  }
+  std::multiset<std::string> expected;
+  const json whole_checks = read_json(dir / "whole" / "stress.json").at("checks");
+  for (const auto& c : whole_checks) expected.insert(c.dump());
+  EXPECT_EQ(checks, expected);
+  EXPECT_EQ(expected.size(), 4u);
+}
+
+TEST(Distributed, GenerateShardsCompileDisjointVariantsThatTogetherAreTheSelection) {
+  TempDir dir;
+  const std::string args = "generate --variants alchemy-s04-p0-nrg8-zdep-rst-*-x1-hp --emit index --cache-dir " +
+                           (dir / "cache").string();
+  auto whole = run_aovar(args + " --out " + (dir / "whole").string());
+  ASSERT_EQ(whole.status, 0) << whole.output;
+  auto keys = [](const fs::path& index) {
+    std::vector<std::string> out;
+    const json variants = read_json(index).at("variants");
+    for (const auto& v : variants) out.push_back(v.at("key"));
+    return out;
+  };
+  std::multiset<std::string> sharded;
+  for (int k = 1; k <= 2; ++k) {
+    const fs::path out = dir / ("s" + std::to_string(k));
+    auto r = run_aovar(args + " --shard " + std::to_string(k) + "/2 --out " + out.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    for (const auto& key : keys(out / "variants.json")) sharded.insert(key);
+    EXPECT_TRUE(read_json(out / "shard.json").at("complete").get<bool>());
+  }
+  const auto all = keys(dir / "whole" / "variants.json");
+  EXPECT_GT(all.size(), 2u);
+  EXPECT_EQ(sharded, std::multiset<std::string>(all.begin(), all.end()));
 }
 
 // The aovar flags of every `aovar`, `$AOVAR` or `build/aovar` command line in a file.
