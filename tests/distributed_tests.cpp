@@ -199,6 +199,27 @@ TEST(Distributed, AKilledShardIsRefusedThenResumesAndMerges) {
 
 json read_json(const fs::path& file) { return json::parse(util::read_file(file).value_or("{}")); }
 
+TEST(Distributed, ShardTimesBalanceByAnEarlierTablesTimes) {
+  TempDir dir;
+  const fs::path cache = dir / "cache";
+  auto whole = run_aovar(sweep_args(cache, dir / "whole"));
+  ASSERT_EQ(whole.status, 0) << whole.output;
+  auto timed = run_aovar(sweep_args(cache, dir / "s1") + " --shard 1/2 --shard-times " + (dir / "whole" / "cost_table.json").string());
+  ASSERT_EQ(timed.status, 0) << timed.output;
+  const json plan = read_json(dir / "s1" / "shard.json").at("plan");
+  EXPECT_NE(plan.at("costs_from").get<std::string>().find("(5 of 5 units"), std::string::npos) << plan.dump();
+  EXPECT_NE(timed.output.find("# shard 1/2: "), std::string::npos) << timed.output;
+  // A table that shares no variant with the selection cannot balance anything: refused, one line.
+  auto other = run_aovar("sweep --scene builtin:stairs --view closeup --variants gtao-s08-p0-nrgb8-zdep-rst-d32-bsep-x1-hp "
+                         "--size 48x27 --rays 8 --reps 2 --warmup 0 --cache-dir " + cache.string() + " --out " +
+                         (dir / "other").string());
+  ASSERT_EQ(other.status, 0) << other.output;
+  auto refused = run_aovar(sweep_args(cache, dir / "s2") + " --shard 2/2 --shard-times " + (dir / "other" / "cost_table.json").string());
+  EXPECT_NE(refused.status, 0);
+  EXPECT_NE(refused.output.find("none of its measured rows is a selected variant"), std::string::npos) << refused.output;
+  EXPECT_EQ(std::count(refused.output.begin(), refused.output.end(), '\n'), 1) << refused.output;
+}
+
 TEST(Distributed, StressShardsSplitTheCasesAndTogetherGiveEveryCheck) {
   TempDir dir;
   // scale-0.01 is compared with baseline: the two stay in one shard.
