@@ -26,5 +26,6 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 CommandResult run_aovar(const std::string& args);  // runs the built CLI
+CommandResult run_command(const std::string& command);  // through sh
 
 }  // namespace aovar::test

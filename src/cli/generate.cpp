@@ -1,11 +1,15 @@
 // aovar generate: templates -> per-target sources, SPIR-V, variants.json and the C++ embedding; --check
 // writes nothing and exits 1 when an output would change.
+#include <fmt/format.h>
+
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "compile/shard_plan.h"
 #include "compile/text.h"
 #include "util/clock.h"
 
@@ -15,7 +19,7 @@ namespace {
 struct GenerateArgs {
   CommonOptions common;
   compile::OutputOptions out;
-  std::string out_dir, depfile, depfile_target, stamp, emit = "index,source,spirv,cpp";
+  std::string out_dir, depfile, depfile_target, stamp, emit = "index,source,spirv,cpp", shard;
 };
 
 // "index,source,spirv,cpp" -> compile::Emit bits; throws std::runtime_error naming an unknown item.
@@ -36,15 +40,29 @@ unsigned parse_emit(const std::string& emit) {
   return bits;
 }
 
-int generate(const CommonOptions& common, const compile::OutputOptions& out) {
+int generate(const CommonOptions& common, const compile::OutputOptions& out, const shard::ShardSpec& spec) {
   auto start = util::Clock::now();
   auto options = compile_options(common);
   auto c = compile::plan_space(common.manifest, options);
+  std::optional<compile::GenerateShard> shard;
+  if (spec.sharded()) {  // this shard's variants only: plan again without the others'
+    shard = compile::plan_generate_shard(c, options, spec.index, spec.count, spec.convention);
+    std::cerr << fmt::format("aovar: shard {}: {}\n", spec.label(), shard->balance);
+    options.exclude.insert(shard->excluded.begin(), shard->excluded.end());
+    c = compile::plan_space(common.manifest, options);
+    if (!out.check) compile::write_generate_manifest(out.out, *shard, 0, false, 0);
+  }
+  auto done = [&] {
+    if (shard && !out.check)
+      compile::write_generate_manifest(out.out, *shard, static_cast<int>(c.space.variants.size()), true,
+                                       util::seconds_since(start));
+  };
   std::string print = compile::fingerprint(c, options, out);
   if (!out.check) {
     if (auto summary = compile::fresh_outputs(c, print, out)) {
       compile::finish_outputs(c, out);
       std::cout << compile::up_to_date_text(*summary, out.out, util::seconds_since(start));
+      done();
       return 0;
     }
   }
@@ -60,6 +78,7 @@ int generate(const CommonOptions& common, const compile::OutputOptions& out) {
   std::string summary = compile::summary_table(c);
   compile::record_outputs(out, print, summary, r.files);
   std::cout << summary << compile::written_line(r, out.out, util::seconds_since(start));
+  done();
   return 0;
 }
 
@@ -69,7 +88,7 @@ int run_generate(GenerateArgs& a) {
   if (!a.depfile.empty()) a.out.depfile = a.depfile;
   if (!a.depfile_target.empty()) a.out.depfile_target = a.depfile_target;
   if (!a.stamp.empty()) a.out.stamp = a.stamp;
-  return generate(a.common, a.out);
+  return generate(a.common, a.out, shard_option(a.shard));
 }
 
 }  // namespace
@@ -85,6 +104,7 @@ Command add_generate(CLI::App& app) {
   cmd->add_option("--emit", a->emit, "what to write: index,source,spirv,cpp")->capture_default_str();
   cmd->add_option("--namespace", a->out.cpp_namespace, "C++ namespace and file name of the embedding")
       ->capture_default_str();
+  cmd->add_option("--shard", a->shard, shard_help);
   cmd->add_flag("--check", a->out.check, "write nothing; exit 1 when any output would change (CI staleness check)");
   return {cmd, [a] { return run_generate(*a); }};
 }

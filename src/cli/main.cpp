@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
   using namespace aovar::cli;
   CLI::App app{"aovar: generate, validate and measure SSAO shader variants"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("aovar 0.1.0 (") + aovar::compile::compiler_version() + ")");
+  app.set_version_flag("--version", aovar::compile::tool_version());
   const std::vector<Command> commands = {
       add_list(app),      add_profile(app), add_generate(app), add_measure(app), add_calibrate(app),
       add_reference(app), add_analyze(app), add_select(app),   add_diff(app),    add_merge(app),

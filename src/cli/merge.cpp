@@ -1,11 +1,11 @@
-// aovar merge: join shard cost tables into one (refuses conflicting duplicate rows).
+// aovar merge: join sweep shards (checked by their shard.json) or plain cost tables into one.
 #include <fmt/format.h>
 
 #include <iostream>
 #include <memory>
 
 #include "cli/commands.h"
-#include "table/compare.h"
+#include "sweep/merge.h"
 #include "table/table.h"
 #include "util/fs.h"
 
@@ -19,9 +19,11 @@ struct MergeArgs {
 
 int run_merge(const MergeArgs& a) {
   std::vector<std::filesystem::path> in(a.inputs.begin(), a.inputs.end());
-  auto t = table::merge_tables(in);
-  table::write_json(t, a.out);
-  std::cout << fmt::format("{} rows from {} tables -> {}\n", t.rows.size(), in.size(), util::display_path(a.out));
+  auto r = sweep::merge_shards(in, a.out);
+  table::write_json(r.table, a.out);
+  std::cout << fmt::format("{} rows from {} {} -> {}\n", r.table.rows.size(), in.size(), r.shards ? "shards" : "tables",
+                           util::display_path(a.out));
+  if (!r.balance.empty()) std::cout << "balance: " << r.balance << "\n";
   return 0;
 }
 
@@ -29,9 +31,11 @@ int run_merge(const MergeArgs& a) {
 
 Command add_merge(CLI::App& app) {
   auto a = std::make_shared<MergeArgs>();
-  auto* cmd = app.add_subcommand("merge", "join shard cost tables into one (refuses conflicting duplicate rows)");
+  auto* cmd = app.add_subcommand("merge", "join sweep shards (checked by their shard.json) or cost tables into one");
   cmd->add_option("OUT", a->out, "cost_table.json to write")->required();
-  cmd->add_option("IN", a->inputs, "shard cost_table.json files")->required();
+  cmd->add_option("IN", a->inputs,
+                  "shard output folders or their cost_table.json files (a sharded run: every shard exactly once)")
+      ->required();
   return {cmd, [a] { return run_merge(*a); }};
 }
 

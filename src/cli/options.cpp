@@ -68,12 +68,13 @@ bool report_diagnostics(const compile::CompiledSpace& c) {
   return false;
 }
 
-std::pair<int, int> parse_shard(const std::string& text) {
-  int k = 0, n = 0;
-  char slash = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d", &k, &slash, &n) != 3 || slash != '/' || n < 1 || k < 1 || k > n)
-    throw std::runtime_error("--shard: expected k/n with 1 <= k <= n (e.g. 2/4), got '" + text + "'");
-  return {k - 1, n};
+shard::ShardSpec shard_option(const std::string& text) {
+  shard::ShardSpec spec = shard::parse_shard_option(text, shard::process_env());
+  if (text == "auto") {
+    std::cerr << "aovar: " << spec.describe() << "\n";
+    shard::touch_status_file(spec);
+  }
+  return spec;
 }
 
 TerminalStatus::TerminalStatus() : tty(isatty(fileno(stderr))) {}

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "compile/generate.h"
+#include "shard/env.h"
 
 namespace aovar::cli {
 
@@ -49,8 +50,14 @@ compile::CompileOptions compile_options(const CommonOptions& o);
 // Prints the diagnostics to stderr; returns false (and says so) when anything failed.
 bool report_diagnostics(const compile::CompiledSpace& c);
 
-// "k/n" (1 <= k <= n) -> 0-based shard index and count; throws std::runtime_error naming --shard.
-std::pair<int, int> parse_shard(const std::string& text);
+// --shard "k/n" or "auto" (the scheduler's environment, shard/env.h) -> the shard; empty: not sharded. For
+// auto it says on stderr which convention it used, and touches Bazel's TEST_SHARD_STATUS_FILE.
+// Throws std::runtime_error naming --shard.
+shard::ShardSpec shard_option(const std::string& text);
+inline constexpr const char* shard_help =
+    "k/n: only the k-th of n shards of the work, balanced by cost (join with aovar merge); auto: k and n from "
+    "the scheduler (AOVAR_SHARD_INDEX/TOTAL, GitLab CI_NODE_*, Slurm SLURM_ARRAY_TASK_*, Kubernetes "
+    "JOB_COMPLETION_INDEX + AOVAR_SHARD_TOTAL, Bazel TEST_SHARD_*)";
 
 // A one-line status on stderr when it is a terminal: shown lines overwrite each other, kept lines stay.
 struct TerminalStatus {

@@ -21,7 +21,7 @@ namespace {
 struct StressArgs {
   CommonOptions common;
   stress::Options options;
-  std::string size = "96x54", out, scene, eye, target, up = "0,1,0";
+  std::string size = "96x54", out, scene, eye, target, up = "0,1,0", shard;
   std::vector<std::string> case_names;
   float fov = 60, near_plane = 0.1f, far_plane = 100, radius = 0;
   bool list_cases = false, no_reuse = false, mediump_fp32 = false;
@@ -78,6 +78,10 @@ stress::Options stress_options(const StressArgs& a) {
   std::string file, hash;  // stress records no calibration source
   a.calibration.load(a.common.manifest, o.calibration, file, hash);
   o.cases = selected_cases(a);
+  const shard::ShardSpec spec = shard_option(a.shard);
+  o.shard_index = spec.index;
+  o.shard_count = spec.count;
+  o.shard_convention = spec.convention;
   return o;
 }
 
@@ -91,6 +95,8 @@ int run_stress(const StressArgs& a) {
   auto r = with_status([&](const auto& progress) { return stress::run_stress(o, progress); });
   const auto cases = o.cases.empty() ? stress::default_cases() : o.cases;
   std::cout << stress::to_text(r, o, cases);
+  if (!r.shard_balance.empty())
+    std::cout << fmt::format("shard {}/{}: {}; OUT/shard.json written\n", o.shard_index + 1, o.shard_count, r.shard_balance);
   return r.shipped_failed > 0 ? 1 : 0;
 }
 
@@ -128,6 +134,7 @@ Command add_stress(CLI::App& app) {
   add_calibration(cmd, a->calibration, calibration_help);
   cmd->add_flag("--no-reuse", a->no_reuse, "check everything again (default: reuse checks whose inputs match OUT/stress.json)");
   cmd->add_option("--out,-o", a->out, "output folder: stress.json, stress.md");
+  cmd->add_option("--shard", a->shard, shard_help);
   cmd->add_flag("--mediump-fp32", a->mediump_fp32, "run mediump in fp32 on lavapipe (default: real fp16, as mobile GPUs)");
   cmd->add_option("--renders-per-process", so.renders_per_process,
                   "variant x case renders per child process (lavapipe keeps memory per render; 0: render in this process)")

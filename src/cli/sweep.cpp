@@ -37,7 +37,10 @@ int run_sweep(const SweepArgs& a) {
   m.jobs = a.common.jobs;
   m.size = parse_size(a.size);
   a.reps.apply(m);
-  if (!a.shard.empty()) std::tie(m.shard_index, m.shard_count) = parse_shard(a.shard);
+  const shard::ShardSpec shard = shard_option(a.shard);
+  m.shard_index = shard.index;
+  m.shard_count = shard.count;
+  o.shard_convention = shard.convention;
   if (m.reference_rays < 1) throw std::runtime_error("--rays must be at least 1");
   m.cache_dir = m.reference_cache = a.common.cache();
   m.gpu_families = a.gpu.family_list();
@@ -45,6 +48,8 @@ int run_sweep(const SweepArgs& a) {
   const auto cal_file = a.calibration.load(a.common.manifest, m.calibration, m.calibration_file, m.calibration_hash);
   auto r = with_status([&](const auto& progress) { return sweep::run_sweep(o, progress); });
   std::cout << table::to_markdown(r.table) << sweep::notes_text(r, o, cal_file);
+  if (!r.shard_balance.empty())
+    std::cout << fmt::format("# shard {}: {}; OUT/shard.json written\n", shard.label(), r.shard_balance);
   return 0;
 }
 
@@ -73,7 +78,9 @@ Command add_sweep(CLI::App& app) {
                   "least held-out Spearman of a cost model that may predict (--predict, --prune-dominated)")
       ->check(CLI::Range(-1.0, 1.0))
       ->capture_default_str();
-  cmd->add_option("--shard", a->shard, "k/n: measure only the k-th of n shards of the variants (join with aovar merge)");
+  cmd->add_option("--shard", a->shard, shard_help);
+  cmd->add_option("--shard-times", so.shard_times,
+                  "with --shard: balance the shards by the times of this earlier cost_table.json (default: static cost)");
   add_calibration(cmd, a->calibration, calibration_help);
   cmd->add_option("--views-file", so.measure.views_file, "views side file (TOML or JSON) for the scene(s)");
   cmd->add_option("--warmup", so.measure.warmup, "discarded frames after the first (JIT) frame")

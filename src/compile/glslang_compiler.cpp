@@ -25,6 +25,8 @@ std::string compiler_version() {
          v.flavor + " / " + spvSoftwareVersionString();
 }
 
+std::string tool_version() { return "aovar 0.1.0 (" + compiler_version() + ")"; }
+
 namespace {
 
 // glslang writes "ERROR: 3:42: 'x' : undeclared identifier"; we keep source string, line and text.

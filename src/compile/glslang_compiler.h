@@ -40,4 +40,7 @@ CompileOutput compile_program(const std::string& source, variants::StageKind sta
 // "glslang 12.0.0 / SPIRV-Tools ..." — part of every program's content hash.
 std::string compiler_version();
 
+// "aovar 0.1.0 (glslang ... / SPIRV-Tools ...)": --version, and the shard manifests' aovar_version.
+std::string tool_version();
+
 }  // namespace aovar::compile

@@ -62,7 +62,7 @@ Selection select_variants(const compile::CompiledSpace& c, const MeasureOptions&
     const std::string& key = c.space.variants[v].key;
     if (key == o.baseline) s.baseline = v;
     if (!util::glob_any(o.globs, key) || o.skip.count(key) || (pruning && pruning->drops(key))) continue;
-    if (o.shard_count > 1 && shard_of(key, o.shard_count) != o.shard_index) continue;
+    if (!o.in_shard(key)) continue;
     auto [it, fresh] = representative.emplace(canonical(v), v);
     if (fresh) s.measured.push_back(v);
     else s.duplicates[it->second].push_back(key);
@@ -290,6 +290,11 @@ void keep_heap_mapped() {
     return true;
   }();
   (void)once;
+}
+
+bool MeasureOptions::in_shard(const std::string& key) const {
+  if (shard_count <= 1) return true;
+  return shard_keys ? shard_keys->count(key) > 0 : shard_of(key, shard_count) == shard_index;
 }
 
 int shard_of(const std::string& key, int shard_count) {

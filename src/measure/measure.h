@@ -64,6 +64,10 @@ struct MeasureOptions {
   // Shard k of n (0-based k): only selected variants whose key hashes to k (stable across machines), so
   // n machines split one selection without overlap (the baseline is timed in every shard regardless).
   int shard_index = 0, shard_count = 1;
+  // The keys this shard measures when a plan chose them (sweep's cost-balanced shard_plan.h); null: the
+  // hash of shard_of. Use in_shard().
+  std::shared_ptr<const std::set<std::string>> shard_keys;
+  bool in_shard(const std::string& key) const;
   // Variant keys the globs select but not to measure (sweep --prune-dominated); the baseline is still timed.
   std::set<std::string> skip;
   bool contact_sheets = true;              // with images; false leaves the earlier sheets (sweep's pruning phases)

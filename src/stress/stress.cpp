@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -21,6 +22,7 @@
 #include "stress/partners.h"
 #include "stress/report.h"
 #include "stress/slices.h"
+#include "stress/shard.h"
 #include "util/clock.h"
 #include "util/fs.h"
 #include "util/glob.h"
@@ -142,9 +144,17 @@ Result run_stress(const Options& o, const Progress& progress) {
   const Progress say = [&](const std::string& s) {
     if (progress) progress(s);
   };
-  const std::vector<Case> cases = checked_cases(o);
+  std::vector<Case> cases = checked_cases(o);
+  if (o.shard_count > 1 && o.out.empty()) throw std::runtime_error("stress: --shard needs --out (the shard's checks and shard.json)");
   if (!o.out.empty()) util::remove_stale_temps(o.out);  // what a killed earlier run was writing
   const compile::CompiledSpace c = compile_selection(o);
+  std::optional<StressShard> shard;
+  if (o.shard_count > 1) {
+    shard = plan_shard(o, cases, c);
+    cases = shard->cases;
+    say(fmt::format("note: shard {}/{}: {}", o.shard_index + 1, o.shard_count, shard->balance));
+    write_shard_manifest(o, *shard, 0, false, 0);  // incomplete until stress.json is final
+  }
   const std::vector<std::string> ship = ship_globs(c.manifest);
   const auto scenes = load_scenes(cases);
   std::vector<std::string> keys;
@@ -156,6 +166,7 @@ Result run_stress(const Options& o, const Progress& progress) {
 
   const detail::Run run{o, c, cases, scenes, truth, keys, groups.front().front()};
   Result res;
+  if (shard) res.shard_balance = shard->balance;
   detail::Tally tally(start, keys.size() * o.backends.size(), progress);
   detail::Checkpoints checkpoints(o, keys, ship);
   for (const auto& backend : o.backends)
@@ -168,6 +179,7 @@ Result run_stress(const Options& o, const Progress& progress) {
     util::write_atomic(o.out / "stress.json", to_json(res, o).dump(1) + "\n");
     util::write_atomic(o.out / "stress.md", to_markdown(res, o));
   }
+  if (shard) write_shard_manifest(o, *shard, static_cast<int>(res.checks.size()), true, res.wall_s);
   return res;
 }
 

@@ -77,6 +77,10 @@ struct Options {
   // lavapipe runs mediump arithmetic in real fp16 (render::BackendOptions::mediump_as_fp16), as mobile GPUs
   // do; otherwise llvmpipe runs it in fp32 and mediump never differs from highp.
   bool mediump_fp16 = true;
+  // --shard: this shard's cases only (stress/shard.h), OUT/shard.json written; `shard_convention` says where
+  // k/n came from (shard::ShardSpec::convention).
+  int shard_index = 0, shard_count = 1;
+  std::string shard_convention = "--shard";
 };
 
 struct Check {  // one variant x case x backend
@@ -97,6 +101,7 @@ struct VariantReport {
 };
 
 struct Result {
+  std::string shard_balance;  // sharded: this shard's share of the cases (shard::balance_line), else empty
   std::vector<Check> checks;
   std::vector<VariantReport> variants;  // sorted by key (pointers into checks)
   int shipped_failed = 0, failed = 0, reused = 0;

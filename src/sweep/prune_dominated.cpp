@@ -51,7 +51,7 @@ Candidates candidates(const measure::MeasureOptions& mo, const std::map<std::str
   c.statics = &statics;
   for (const auto& [key, vs] : statics) {
     if (!util::glob_any(mo.globs, key) || (mo.pruning && mo.pruning->drops(key))) continue;
-    if (mo.shard_count > 1 && measure::shard_of(key, mo.shard_count) != mo.shard_index) continue;
+    if (!mo.in_shard(key)) continue;
     c.members[vs.same_as].push_back(key);
   }
   for (const auto& [g, keys] : c.members) c.order.push_back(g);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -19,6 +20,7 @@
 #include "scene/scene.h"
 #include "sweep/cost_models.h"
 #include "sweep/prune_dominated.h"
+#include "sweep/shard_plan.h"
 #include "sweep/static_costs.h"
 #include "util/clock.h"
 #include "util/fs.h"
@@ -102,7 +104,7 @@ std::vector<table::CostRow> predicted_rows(const SweepOptions& o, const std::vec
   std::vector<table::CostRow> predicted;
   for (const auto& [key, vs] : static_costs(o.measure, o.predict, plans.dropped_everywhere)) {
     if (measured.count(key) || measured_programs.count(vs.vulkan_programs)) continue;
-    if (o.measure.shard_count > 1 && measure::shard_of(key, o.measure.shard_count) != o.measure.shard_index) continue;
+    if (!o.measure.in_shard(key)) continue;
     for (const auto& [g, grows] : gm.groups) {
       const table::CostRow& like = grows.front();  // scene, view, backend, size, threads
       if (auto p = plans.pruning.find(like.scene); p != plans.pruning.end() && p->second->drops(key)) continue;
@@ -154,15 +156,25 @@ json table_meta(const SweepOptions& o, const SweepResult& res, const json& scene
 
 }  // namespace
 
-SweepResult run_sweep(const SweepOptions& o, const Progress& progress) {
+SweepResult run_sweep(const SweepOptions& options, const Progress& progress) {
   auto start = std::chrono::steady_clock::now();
-  if (o.out.empty()) throw std::runtime_error("sweep: --out is required");
-  if (o.scenes.empty()) throw std::runtime_error("sweep: give at least one --scene");
-  util::remove_stale_temps(o.out);  // what a killed earlier run was writing
+  if (options.out.empty()) throw std::runtime_error("sweep: --out is required");
+  if (options.scenes.empty()) throw std::runtime_error("sweep: give at least one --scene");
+  util::remove_stale_temps(options.out);  // what a killed earlier run was writing
   gpu::CostRequest gpu_request;  // only the families: checked before anything is measured
-  gpu_request.families = o.measure.gpu_families;
+  gpu_request.families = options.measure.gpu_families;
   gpu::check_request(gpu_request);
   SweepResult res;
+  SweepOptions o = options;  // a shard's plan chooses its variants
+  std::optional<ShardPlan> shard_plan;
+  if (o.measure.shard_count > 1) {
+    if (progress) progress("planning the shards: static cost of the selected variants");
+    shard_plan = plan_shards(o);
+    o.measure.shard_keys = shard_plan->keys;
+    res.shard_balance = shard::balance_line(shard_plan->assignment, o.measure.shard_index) + ", by " + shard_plan->costs_from;
+    if (progress) progress(fmt::format("note: shard {}/{}: {}", o.measure.shard_index + 1, o.measure.shard_count, res.shard_balance));
+    write_sweep_manifest(o, *shard_plan, 0, false, 0);  // incomplete until the table is written
+  }
   json scenes = json::array(), dominated = json::array(), profile_pruned = json::array();
   auto say_for = [&](std::size_t i) -> measure::Progress {
     return [&, where = fmt::format("scene {}/{} {}", i + 1, o.scenes.size(), o.scenes[i])](const std::string& line) {
@@ -228,6 +240,7 @@ SweepResult run_sweep(const SweepOptions& o, const Progress& progress) {
   table::write_table_files(res.table, o.out);
   report::write_reports(res.table, o.out);
   res.wall_s = util::seconds_since(start);
+  if (shard_plan) write_sweep_manifest(o, *shard_plan, static_cast<int>(res.table.rows.size()), true, res.wall_s);
   return res;
 }
 

@@ -4,7 +4,8 @@
 // Resumable: each scene's measurements live in OUT/measure/<scene>/measure.json, rewritten atomically
 // after every batch and reused row by row, so an interrupted sweep loses at most one batch and a re-run
 // measures only what is missing (a repeat of a finished sweep measures and traces nothing).
-// --shard k/n splits the variants over machines; `aovar merge` joins.
+// --shard k/n splits the variants over machines by cost (shard_plan.h) and writes OUT/shard.json;
+// `aovar merge` checks the shards and joins them.
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -31,6 +32,11 @@ struct SweepOptions {
   // rounded up) anyway and report how many would have reached the Pareto front.
   bool prune_dominated = false;
   int prune_check = 2;
+  // Sharding (measure.shard_index / shard_count > 1): the variants are split by cost (shard_plan.h), from
+  // the static cost or, with shard_times, an earlier cost_table.json's times; `shard_convention` says where
+  // k/n came from (shard::ShardSpec::convention), for OUT/shard.json.
+  std::filesystem::path shard_times;
+  std::string shard_convention = "--shard";
 };
 
 struct SweepResult {
@@ -42,6 +48,7 @@ struct SweepResult {
   int profiles_reused = 0;  // read back from OUT/measure/<scene>/profile.json
   double wall_s = 0;
   measure::RepsReached reps;  // over every scene's timed rows (meta.reps_reached)
+  std::string shard_balance;  // sharded: this shard's share of the plan (shard::balance_line), else empty
 };
 
 // Throws std::runtime_error (and the scene/manifest/backend errors) with one-line messages.

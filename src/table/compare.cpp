@@ -196,18 +196,25 @@ std::string format_diff(const TableDiff& d, const std::string& name_a, const std
   return s;
 }
 
-CostTable merge_tables(const std::vector<std::filesystem::path>& inputs) {
-  if (inputs.empty()) throw std::runtime_error("merge: no input tables");
+CostTable merge_tables(const std::vector<std::filesystem::path>& inputs, const std::vector<std::string>& per_shard) {
+  std::vector<std::pair<std::string, CostTable>> tables;
+  for (const auto& in : inputs) tables.emplace_back(util::display_path(in), read_table(in));
+  return merge_tables(std::move(tables), per_shard);
+}
+
+CostTable merge_tables(std::vector<std::pair<std::string, CostTable>> tables, const std::vector<std::string>& per_shard) {
+  if (tables.empty()) throw std::runtime_error("merge: no input tables");
   CostTable out;
   nlohmann::json first_meta;
   std::map<std::string, std::pair<nlohmann::json, std::string>> seen;  // key -> row json, file
   nlohmann::json from = nlohmann::json::array();
-  for (std::size_t i = 0; i < inputs.size(); ++i) {
-    std::string name = util::display_path(inputs[i]);
-    CostTable t = read_table(inputs[i]);
+  for (std::size_t i = 0; i < tables.size(); ++i) {
+    auto& [name, t] = tables[i];
     nlohmann::json meta = t.meta;
     if (meta.is_object()) meta.erase("shard");
     if (meta.is_object()) meta.erase("reps_reached");  // what each shard's timing reached: its own
+    for (const auto& k : per_shard)
+      if (meta.is_object()) meta.erase(k);
     if (i == 0) {
       first_meta = meta;
     } else if (meta != first_meta) {
@@ -218,7 +225,7 @@ CostTable merge_tables(const std::vector<std::filesystem::path>& inputs) {
         for (const auto& [k, v] : meta.items())
           if (!first_meta.contains(k)) { field = k; break; }
       throw std::runtime_error(fmt::format("merge: {} and {} come from different runs (meta '{}' differs)",
-                                           util::display_path(inputs[0]), name, field));
+                                           tables[0].first, name, field));
     }
     from.push_back(name);
     for (auto& r : t.rows) {

@@ -1,0 +1,136 @@
+// OUT/shard.json and the checks `aovar merge` runs on a set of them.
+#include "shard/manifest.h"
+
+#include <algorithm>
+#include <map>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "util/fs.h"
+#include "util/hash.h"
+
+namespace aovar::shard {
+using json = nlohmann::json;
+
+std::string ShardManifest::label() const { return fmt::format("{}/{}", index + 1, count); }
+
+json ShardManifest::to_json() const {
+  return {{"schema_version", kManifestSchemaVersion},
+          {"tool", tool},
+          {"aovar_version", version},
+          {"input_hash", input_hash},
+          {"inputs", inputs},
+          {"shard", {{"index", index + 1}, {"count", count}, {"convention", convention}}},
+          {"units", units},
+          {"plan", plan},
+          {"done", done},
+          {"complete", complete},
+          {"wall_s", wall_s}};
+}
+
+ShardManifest ShardManifest::from_json(const json& j, const std::string& source) {
+  try {
+    if (j.at("schema_version").get<int>() != kManifestSchemaVersion)
+      throw std::runtime_error(fmt::format("schema_version {} (this aovar reads {})", j.at("schema_version").dump(),
+                                           kManifestSchemaVersion));
+    ShardManifest m;
+    m.tool = j.at("tool").get<std::string>();
+    m.version = j.at("aovar_version").get<std::string>();
+    m.input_hash = j.at("input_hash").get<std::string>();
+    m.inputs = j.at("inputs");
+    m.index = j.at("shard").at("index").get<int>() - 1;
+    m.count = j.at("shard").at("count").get<int>();
+    m.convention = j.at("shard").value("convention", "");
+    m.units = j.at("units").get<int>();
+    m.plan = j.value("plan", json());
+    m.done = j.at("done").get<int>();
+    m.complete = j.at("complete").get<bool>();
+    m.wall_s = j.value("wall_s", 0.0);
+    if (m.count < 1 || m.index < 0 || m.index >= m.count)
+      throw std::runtime_error(fmt::format("shard {} is outside 1..{}", m.index + 1, m.count));
+    return m;
+  } catch (const json::exception& e) {
+    throw std::runtime_error(fmt::format("{}: not a shard manifest ({}): rerun the shard", source, e.what()));
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(fmt::format("{}: {}: rerun the shard with this aovar", source, e.what()));
+  }
+}
+
+std::string hash_inputs(const json& inputs) { return util::hash_hex(inputs.dump()); }
+
+void write_manifest(const std::filesystem::path& out_dir, const ShardManifest& m) {
+  util::write_atomic(out_dir / kManifestFile, m.to_json().dump(1) + "\n");
+}
+
+ShardManifest read_manifest(const std::filesystem::path& file) {
+  const std::string name = util::display_path(file);
+  auto text = util::read_file(file);
+  if (!text) throw std::runtime_error(name + ": no shard manifest (was this folder written by a sharded run?)");
+  json j;
+  try {
+    j = json::parse(*text);
+  } catch (const json::parse_error& e) {
+    throw std::runtime_error(fmt::format("{}: not JSON (byte {}): rerun the shard", name, e.byte));
+  }
+  return ShardManifest::from_json(j, name);
+}
+
+namespace {
+
+// The first input whose hash differs between two manifests (for the message), or "" when none does.
+std::string differing_input(const ShardManifest& a, const ShardManifest& b) {
+  if (a.tool != b.tool) return "tool";
+  if (a.version != b.version) return "aovar_version";
+  for (const auto& [k, v] : a.inputs.items())
+    if (!b.inputs.contains(k) || b.inputs[k] != v) return k;
+  for (const auto& [k, v] : b.inputs.items())
+    if (!a.inputs.contains(k)) return k;
+  return a.input_hash != b.input_hash ? "input_hash" : "";
+}
+
+}  // namespace
+
+void check_shard_set(const std::vector<std::pair<std::string, ShardManifest>>& shards) {
+  if (shards.empty()) throw std::runtime_error("merge: no shards given");
+  const auto& [first_name, first] = shards.front();
+  std::map<int, std::string> by_index;
+  for (const auto& [name, m] : shards) {
+    if (std::string d = differing_input(first, m); !d.empty() || m.count != first.count)
+      throw std::runtime_error(fmt::format("merge: shard {} ({}) is from another run than {} ({}): its {} differs; "
+                                           "merge only shards of one command",
+                                           m.label(), name, first.label(), first_name,
+                                           d.empty() ? "shard count" : "'" + d + "'"));
+    if (auto [it, fresh] = by_index.emplace(m.index, name); !fresh)
+      throw std::runtime_error(fmt::format("merge: shard {} is given twice ({} and {}): give each shard once",
+                                           m.label(), it->second, name));
+  }
+  for (const auto& [name, m] : shards)
+    if (!m.complete)
+      throw std::runtime_error(fmt::format("merge: shard {} ({}) is incomplete ({} done when it stopped): rerun it "
+                                           "with the same command (it resumes), then merge",
+                                           m.label(), name, m.done));
+  for (int i = 0; i < first.count; ++i)
+    if (!by_index.count(i)) {
+      std::vector<std::string> have;
+      for (const auto& [k, name] : by_index) have.push_back(fmt::format("{}/{}", k + 1, first.count));
+      throw std::runtime_error(fmt::format("merge: shard {}/{} is missing (given: {}): run it, then merge all {}",
+                                           i + 1, first.count, fmt::join(have, ", "), first.count));
+    }
+}
+
+std::string balance_summary(const std::vector<std::pair<std::string, ShardManifest>>& shards) {
+  double planned = shards.front().second.plan.is_object() ? shards.front().second.plan.value("max_over_mean", 1.0) : 1.0;
+  double sum = 0, lo = 1e300, hi = 0;
+  for (const auto& [name, m] : shards) {
+    sum += m.wall_s;
+    lo = std::min(lo, m.wall_s);
+    hi = std::max(hi, m.wall_s);
+  }
+  double mean = sum / static_cast<double>(shards.size());
+  return fmt::format("{} shards: planned max/mean {:.2f}; wall max/mean {:.2f} ({:.1f} s .. {:.1f} s)", shards.size(),
+                     planned, mean > 0 ? hi / mean : 1.0, lo, hi);
+}
+
+}  // namespace aovar::shard

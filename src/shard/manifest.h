@@ -1,0 +1,54 @@
+#pragma once
+// The shard manifest (OUT/shard.json): what a shard was run on (a hash of each input), which shard it is,
+// what it was assigned and did, and whether it finished. Written incomplete when the shard starts and
+// complete when it ends, so a killed shard is recognisable; `aovar merge` checks a set of them.
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "shard/assign.h"
+#include "shard/env.h"
+
+namespace aovar::shard {
+
+inline constexpr int kManifestSchemaVersion = 1;
+inline constexpr const char* kManifestFile = "shard.json";
+
+struct ShardManifest {
+  std::string tool;        // "sweep", "stress", "generate"
+  std::string version;     // aovar's version string
+  // Hashes of each input (manifest, templates, scenes, views, options, ...) by name; input_hash covers them all.
+  nlohmann::json inputs = nlohmann::json::object();
+  std::string input_hash;
+  int index = 0, count = 1;  // 0-based
+  std::string convention;    // ShardSpec::convention
+  int units = 0;             // units assigned (variants with their identical ones, or case groups)
+  nlohmann::json plan;       // Assignment::to_json(): every shard's predicted load
+  int done = 0;              // rows (sweep), checks (stress) or variants (generate) this shard produced
+  bool complete = false;
+  double wall_s = 0;         // of the run that completed it
+
+  std::string label() const;  // "2/4"
+  nlohmann::json to_json() const;
+  static ShardManifest from_json(const nlohmann::json& j, const std::string& source);  // throws naming source
+};
+
+// inputs -> input_hash (a hash of the canonical JSON dump).
+std::string hash_inputs(const nlohmann::json& inputs);
+
+void write_manifest(const std::filesystem::path& out_dir, const ShardManifest& m);  // atomic
+// Throws std::runtime_error "FILE: ..." when it is missing or malformed.
+ShardManifest read_manifest(const std::filesystem::path& file);
+
+// The manifests of one sharded run, each with the name to report it by: throws std::runtime_error (one line
+// naming the shard) for a shard of other inputs, another tool or another count, a duplicated, an incomplete
+// or a missing shard.
+void check_shard_set(const std::vector<std::pair<std::string, ShardManifest>>& shards);
+
+// "planned max/mean 1.04; measured wall max/mean 1.21 (12.0 s .. 14.5 s)" over a checked set.
+std::string balance_summary(const std::vector<std::pair<std::string, ShardManifest>>& shards);
+
+}  // namespace aovar::shard

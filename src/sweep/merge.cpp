@@ -1,0 +1,71 @@
+// aovar merge: check the shard set, join the tables, refit the per-shard parts (merge.h).
+#include "sweep/merge.h"
+
+#include <set>
+#include <stdexcept>
+
+#include "shard/manifest.h"
+#include "sweep/cost_models.h"
+#include "table/compare.h"
+#include "util/fs.h"
+
+namespace aovar::sweep {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+// A shard's images are relative to its folder; the merged table's must be relative to its own.
+void rebase_images(table::CostTable& t, const fs::path& from_dir, const fs::path& to_dir) {
+  const fs::path from = fs::absolute(from_dir), to = fs::absolute(to_dir);
+  for (auto& row : t.rows)
+    for (auto& image : row.images) image = (from / image).lexically_normal().lexically_relative(to).generic_string();
+}
+
+}  // namespace
+
+MergeResult merge_shards(const std::vector<fs::path>& inputs, const fs::path& out) {
+  std::vector<fs::path> dirs, tables;
+  std::vector<std::pair<std::string, shard::ShardManifest>> shards;
+  std::vector<std::string> plain;  // inputs without a manifest
+  for (const auto& in : inputs) {
+    const bool folder = fs::is_directory(in);
+    dirs.push_back(folder ? in : (in.has_parent_path() ? in.parent_path() : fs::path(".")));
+    tables.push_back(folder ? in / "cost_table.json" : in);
+    if (fs::exists(dirs.back() / shard::kManifestFile))
+      shards.emplace_back(util::display_path(dirs.back()), shard::read_manifest(dirs.back() / shard::kManifestFile));
+    else
+      plain.push_back(util::display_path(in));
+  }
+  MergeResult res;
+  if (!shards.empty()) {
+    if (!plain.empty())
+      throw std::runtime_error("merge: " + plain.front() + " has no " + shard::kManifestFile +
+                               " next to it while other inputs are shards: merge only the shards of one sharded run");
+    shard::check_shard_set(shards);  // before the tables: an incomplete shard may have none yet
+    res.shards = static_cast<int>(shards.size());
+    res.balance = shard::balance_summary(shards);
+  }
+  std::vector<std::pair<std::string, table::CostTable>> read;
+  json scenes = json::array();
+  std::set<std::string> seen_scenes;
+  for (std::size_t i = 0; i < tables.size(); ++i) {
+    read.emplace_back(util::display_path(tables[i]), table::read_table(tables[i]));
+    rebase_images(read.back().second, dirs[i], out.has_parent_path() ? out.parent_path() : fs::path("."));
+    for (const auto& s : read.back().second.meta.value("scenes", json::array()))
+      if (seen_scenes.insert(s.value("scene", "")).second) scenes.push_back(s);
+  }
+  // Shards checked by their manifests each have their own cost models, scenes list (a shard may hold no
+  // variant of a scene) and pruning counts; plain tables must agree in all of them as before.
+  const std::vector<std::string> per_shard = shards.empty() ? std::vector<std::string>{}
+                                                            : std::vector<std::string>{"cost_models", "prune", "scenes"};
+  res.table = table::merge_tables(std::move(read), per_shard);
+  if (!shards.empty()) {
+    res.table.meta["scenes"] = scenes;
+    res.table.meta["cost_models"] = to_json(fit_group_models(res.table.rows).models);
+    res.table.meta["shards"] = res.shards;
+  }
+  return res;
+}
+
+}  // namespace aovar::sweep
