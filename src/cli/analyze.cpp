@@ -26,17 +26,17 @@ struct AnalyzeArgs {
   CommonOptions common;
 };
 
-int run_analyze(const std::string& dir) {
+ExitCode run_analyze(const std::string& dir) {
   auto a = analyze::analyze_folder(dir);
   std::cout << analyze::program_table(a);
   auto out = std::filesystem::path(dir) / "analysis.json";
   util::write_if_changed(out, analyze::analysis_json(a));
   std::cout << analyze::summary_line(a, out);
-  return 0;
+  return ExitCode::ok;
 }
 
-// Exit 1 when a family failed (its error is in the table and gpu.json); the other families' results stand.
-int run_analyze_gpu(const AnalyzeArgs& a) {
+// Exit 2 (an error) when a family failed (its error is in the table and gpu.json); the other families' results stand.
+ExitCode run_analyze_gpu(const AnalyzeArgs& a) {
   const gpu::Frame frame = parse_size(a.size);
   gpu::GpuOptions options;
   options.families = gpu::parse_families(a.gpu);
@@ -44,7 +44,7 @@ int run_analyze_gpu(const AnalyzeArgs& a) {
   compile::CompileOptions co = compile_options(a.common);
   co.targets = {variants::Target::vulkan};
   const auto compiled = compile::compile_space(a.common.manifest, co);
-  if (!report_diagnostics(compiled)) return 1;
+  if (!report_diagnostics(compiled)) return ExitCode::error;  // the diagnostics are printed
   std::vector<int> variants(compiled.space.variants.size());
   for (std::size_t i = 0; i < variants.size(); ++i) variants[i] = static_cast<int>(i);
   const gpu::GpuAnalysis result = gpu::analyze_gpu(compiled, variants, options);
@@ -57,8 +57,8 @@ int run_analyze_gpu(const AnalyzeArgs& a) {
     std::cout << fmt::format("wrote {}\n", path.string());
   }
   for (const auto& f : result.families)
-    if (!f.ok()) return 1;
-  return 0;
+    if (!f.ok()) return ExitCode::error;
+  return ExitCode::ok;
 }
 
 }  // namespace

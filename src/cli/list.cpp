@@ -1,4 +1,5 @@
-// aovar list: the variants after rules and the counts; with --scene only those the scene's profile keeps.
+// aovar list: the variants after rules and the counts; with --scene only those the scene's profile keeps;
+// --json: the same as one JSON document.
 #include <fmt/format.h>
 
 #include <iostream>
@@ -7,6 +8,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/scene_profile.h"
+#include "compile/list_json.h"
 #include "profile/pruned_text.h"
 #include "compile/text.h"
 
@@ -15,24 +17,26 @@ namespace {
 
 struct ListArgs {
   CommonOptions common;
-  bool show_pruned = false;
+  bool show_pruned = false, json = false;
   ProfileArgs profile;  // with --scene
 };
 
-int run_list(const ListArgs& a) {
+ExitCode run_list(const ListArgs& a) {
   auto c = compile::compile_space(a.common.manifest, compile_options(a.common));
-  if (!report_diagnostics(c)) return 1;
-  std::cout << compile::list_text(c, a.show_pruned);
-  return 0;
+  if (!report_diagnostics(c)) return ExitCode::error;  // the diagnostics are printed
+  if (a.json) std::cout << compile::list_json(c, a.show_pruned).dump(1) << "\n";
+  else std::cout << compile::list_text(c, a.show_pruned);
+  return ExitCode::ok;
 }
 
 // --scene: the variants the scene's profile keeps; --pruned adds every dropped one with its reason.
-int run_list_scene(const ListArgs& a) {
+ExitCode run_list_scene(const ListArgs& a) {
   const auto o = a.profile.resolve(a.common.manifest);
   const auto s = run_scene_profile(o);
   auto pruned = profile::prune(s.manifest, s.space, s.profile, a.common.globs);
-  std::cout << profile::list_text(s.manifest, s.space, pruned, o.scene, a.show_pruned);
-  return 0;
+  if (a.json) std::cout << profile::list_json(s.manifest, s.space, pruned, o.scene, a.show_pruned).dump(1) << "\n";
+  else std::cout << profile::list_text(s.manifest, s.space, pruned, o.scene, a.show_pruned);
+  return ExitCode::ok;
 }
 
 }  // namespace
@@ -45,6 +49,7 @@ Command add_list(CLI::App& app) {
   cmd->add_option("--scene,-s", a->profile.options.scene,
                   "keep only what this scene needs (aovar profile); --pruned prints each drop's reason");
   cmd->add_option("--size", a->profile.size, "frame size the scene is profiled at")->capture_default_str();
+  add_json(cmd, a->json);
   return {cmd, [a, cmd] { return cmd->count("--scene") ? run_list_scene(*a) : run_list(*a); }};
 }
 

@@ -17,12 +17,12 @@ struct MergeArgs {
   std::vector<std::string> inputs;
 };
 
-int run_merge(const MergeArgs& a) {
+ExitCode run_merge(const MergeArgs& a) {
   std::vector<std::filesystem::path> in(a.inputs.begin(), a.inputs.end());
   auto t = table::merge_tables(in);
   table::write_json(t, a.out);
   std::cout << fmt::format("{} rows from {} tables -> {}\n", t.rows.size(), in.size(), util::display_path(a.out));
-  return 0;
+  return ExitCode::ok;
 }
 
 }  // namespace

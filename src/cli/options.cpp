@@ -8,13 +8,16 @@
 #include <cstdio>
 #include <iostream>
 #include <stdexcept>
-#include <unistd.h>
 
 #include "compile/cache.h"
 #include "gpu/families.h"
 #include "compile/text.h"
 
 namespace aovar::cli {
+
+void add_json(CLI::App* cmd, bool& json) {
+  cmd->add_flag("--json", json, "print one JSON document (with schema_version) instead of the text");
+}
 
 void add_manifest(CLI::App* cmd, std::string& manifest) {
   cmd->add_option("--manifest,-m", manifest, "manifest file")->capture_default_str();
@@ -150,26 +153,12 @@ std::pair<int, int> parse_shard(const std::string& text) {
   return {k - 1, n};
 }
 
-TerminalStatus::TerminalStatus() : tty(isatty(fileno(stderr))) {}
-
-void TerminalStatus::show(const std::string& line) const {
-  if (tty) std::cerr << "\r\033[K" << line << std::flush;
-}
-
-void TerminalStatus::keep(const std::string& line) const {
-  std::cerr << (tty ? "\r\033[K" : "") << line << "\n";
-}
-
-void TerminalStatus::clear() const {
-  if (tty) std::cerr << "\r\033[K";
-}
-
-int run_guarded(const std::function<int()>& run) {
+ExitCode run_guarded(const std::function<ExitCode()>& run) {
   try {
     return run();
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
-    return 1;
+    return ExitCode::error;
   }
 }
 

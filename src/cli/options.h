@@ -1,7 +1,7 @@
 #pragma once
 // Option helpers shared by the subcommands: each default of the CLI is spelled here once (manifest, cache
-// folder, calibration file, frame size), with the parsers of --size and --shard, the terminal status
-// line and the exception -> exit code rule.
+// folder, calibration file, frame size), with the parsers of --size and --shard, the progress on
+// stderr and the exception -> exit code rule.
 #include <CLI/CLI.hpp>
 
 #include <filesystem>
@@ -11,9 +11,11 @@
 #include <utility>
 #include <vector>
 
+#include "cli/exit_code.h"
 #include "compile/generate.h"
 #include "measure/measure.h"
 #include "render/frame.h"
+#include "util/progress.h"
 
 namespace aovar::cli {
 
@@ -23,6 +25,9 @@ inline constexpr const char* default_scene = "builtin:atrium";  // measure, refe
 inline constexpr const char* default_reference_mode = "occlusion";  // measure, reference, calibrate
 // Help text of --cache-dir, after what the folder holds: where it is when the option is not given.
 inline constexpr const char* cache_dir_default_help = "(default: $AOVAR_CACHE_DIR or ~/.cache/aovar)";
+
+// --json: one JSON document on stdout (with schema_version) instead of the text (list, select, diff).
+void add_json(CLI::App* cmd, bool& json);
 
 // --manifest,-m with its default shown in --help.
 void add_manifest(CLI::App* cmd, std::string& manifest);
@@ -92,32 +97,24 @@ render::Extent parse_size(const std::string& text);
 // "k/n" (1 <= k <= n) -> 0-based shard index and count; throws std::runtime_error naming --shard.
 std::pair<int, int> parse_shard(const std::string& text);
 
-// A one-line status on stderr when it is a terminal: shown lines overwrite each other, kept lines stay.
-struct TerminalStatus {
-  bool tty;
-  TerminalStatus();
-  void show(const std::string& line) const;  // overwritten by the next line (nothing when not a terminal)
-  void keep(const std::string& line) const;  // a line of its own
-  void clear() const;                        // erases a shown line
-};
-
-// Runs work(progress) with a status line: progress lines overwrite each other, lines that start with
-// "note: " stay, and the status is cleared when the work ends or throws (so an error gets a line of its own).
+// Runs work(progress) with progress on stderr (util::ProgressReporter: a status line on a terminal, else a
+// line every few seconds): lines that start with "note: " stay, and a terminal's status line is cleared when
+// the work ends or throws (so an error gets a line of its own).
 template <class Work>
 auto with_status(Work&& work) {
-  const TerminalStatus status;
+  auto status = util::ProgressReporter::for_stderr();
   std::function<void(const std::string&)> progress = [&status](const std::string& line) {
     if (line.rfind("note: ", 0) == 0) status.keep(line);
-    else status.show(line);
+    else status.update(line);
   };
   struct Clear {
-    const TerminalStatus& status;
+    util::ProgressReporter& status;
     ~Clear() { status.clear(); }
   } clear{status};
   return work(progress);
 }
 
-// Runs a subcommand: a std::exception becomes its message on stderr and exit code 1.
-int run_guarded(const std::function<int()>& run);
+// Runs a subcommand: a std::exception becomes its message on stderr and ExitCode::error.
+ExitCode run_guarded(const std::function<ExitCode()>& run);
 
 }  // namespace aovar::cli

@@ -81,16 +81,16 @@ stress::Options stress_options(const StressArgs& a) {
 }
 
 // Per-variant pass/fail over the stress cases; exit 1 when a shipped variant fails.
-int run_stress(const StressArgs& a) {
+ExitCode run_stress(const StressArgs& a) {
   if (a.list_cases) {
     std::cout << stress::cases_text(stress::default_cases());
-    return 0;
+    return ExitCode::ok;
   }
   const auto o = stress_options(a);
   auto r = with_status([&](const auto& progress) { return stress::run_stress(o, progress); });
   const auto cases = o.cases.empty() ? stress::default_cases() : o.cases;
   std::cout << stress::to_text(r, o, cases);
-  return r.shipped_failed > 0 ? 1 : 0;
+  return r.shipped_failed > 0 ? ExitCode::check_failed : ExitCode::ok;
 }
 
 void add_custom_case(CLI::App* cmd, StressArgs& a) {

@@ -26,7 +26,7 @@ struct SweepArgs {
   RepsOption reps{"auto"};  // the sweep's default: each row timed until its interval is narrow
 };
 
-int run_sweep(const SweepArgs& a) {
+ExitCode run_sweep(const SweepArgs& a) {
   sweep::SweepOptions o = a.options;
   o.out = a.out;
   measure::MeasureOptions& m = o.measure;
@@ -44,7 +44,7 @@ int run_sweep(const SweepArgs& a) {
   const auto cal_file = a.calibration.load(a.common.manifest, m.calibration, m.calibration_file, m.calibration_hash);
   auto r = with_status([&](const auto& progress) { return sweep::run_sweep(o, progress); });
   std::cout << table::to_markdown(r.table) << sweep::notes_text(r, o, cal_file);
-  return 0;
+  return ExitCode::ok;
 }
 
 }  // namespace
