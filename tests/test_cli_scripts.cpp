@@ -105,16 +105,8 @@ TEST(CliScripts, RuntimeErrorsExitTwoWithOneLine) {
   EXPECT_NE(r.output.find("missing.json"), std::string::npos) << r.output;
 }
 
-TEST(CliScripts, SelectFindingNothingExitsOneAndFindingOneZero) {
-  test::TempDir dir;
-  const std::string table = write_table(dir, "cost_table.json").string();
-  auto none = test::run_aovar("select --table " + table + " --max-error 0.001");
-  EXPECT_EQ(none.status, exit_status(ExitCode::check_failed)) << none.output;
-  EXPECT_NE(none.output.find("no variant reaches rmse <= 0.00100"), std::string::npos) << none.output;
-  auto pick = test::run_aovar("select --table " + table + " --max-error 0.05");
-  EXPECT_EQ(pick.status, 0) << pick.output;
-  EXPECT_EQ(pick.output.rfind("choice: middle", 0), 0u) << pick.output;
-}
+// select: exit 0 with a choice, 1 when nothing satisfies, 2 for a missing table: Select.CliExitsOneAndNamesTheNearest
+// (test_table.cpp).
 
 TEST(CliScripts, GenerateCheckExitsOneWhenStaleAndZeroWhenCurrent) {
   test::TempDir dir;
