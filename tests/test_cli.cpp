@@ -1,4 +1,5 @@
-// The CLI as users meet it: one-line errors with non-zero exit, list output, generate's no-op path.
+// The CLI as users meet it: one-line errors with exit 2 (every exit status: test_cli_scripts.cpp), list output,
+// generate's no-op path.
 #include <gtest/gtest.h>
 
 #include "test_support.h"
@@ -17,12 +18,12 @@ TEST(Cli, ListPrintsOneKeyPerLineAndTheCounts) {
   EXPECT_NE(r.output.find(" / dedup "), std::string::npos);
 }
 
-TEST(Cli, BadManifestGivesOneLineErrorAndExitOne) {
+TEST(Cli, BadManifestGivesOneLineErrorAndExitTwo) {
   test::TempDir dir;
   fs::path manifest = test::copy_shader_src(dir);
   test::replace_in_file(manifest, "normals      = [\"rgb8\"", "normals      = [\"rgb9\"");
   auto r = test::run_aovar("list --manifest " + manifest.string());
-  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("aovar.toml:"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find(": error: 'rgb9' is not a value of axis 'normals'"), std::string::npos) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
@@ -34,7 +35,7 @@ TEST(Cli, CompileErrorsExitNonZeroAndWriteNothing) {
   test::append_line(dir / "shader_src/passes/progressive.frag", "this is not glsl;");
   auto r = test::run_aovar("generate --no-cache --targets gles30 --manifest " + manifest.string() + " --out " +
                            (dir / "out").string());
-  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("passes/progressive.frag:"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("nothing was written"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "out"));

@@ -363,7 +363,7 @@ TEST(Reference, CliWritesImagesAndJson) {
   EXPECT_EQ(loaded.visibility.width, 64);
 }
 
-TEST(Reference, CliBadInputGivesOneLineErrorAndExitOne) {
+TEST(Reference, CliBadInputGivesOneLineErrorAndExitTwo) {
   TempDir dir;
   const std::string out = " --no-cache --size 32x18 --out " + (dir / "out").string();
   struct Case {
@@ -378,7 +378,7 @@ TEST(Reference, CliBadInputGivesOneLineErrorAndExitOne) {
            {"--scene " + (dir / "missing.obj").string(), "missing.obj"},
        }) {
     auto r = run_aovar("reference " + c.args + out);
-    EXPECT_EQ(r.status, 1) << c.args << "\n" << r.output;
+    EXPECT_EQ(r.status, 2) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.args << "\n" << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << c.args << "\n" << r.output;
     EXPECT_FALSE(fs::exists(dir / "out")) << c.args;

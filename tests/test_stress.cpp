@@ -15,6 +15,7 @@
 #include "stress/stress.h"
 #include "test_support.h"
 #include "util/fs.h"
+#include "util/shell.h"
 
 namespace aovar::test {
 namespace {
@@ -67,11 +68,13 @@ TEST(Stress, ShippedVariantsPassEveryCaseOnBothBackends) {
 // the surface curves away or a tap falls off an edge. The suite must fail the shipped variant and print a
 // command that reproduces the failure on its own. (Removing the final max(0, ...) alone, or Alchemy's
 // epsilon alone, changes nothing here: the other guard catches what it lets through — llvmpipe's max()
-// returns the non-NaN operand — which is the point of guarding in depth.)
+// returns the non-NaN operand — which is the point of guarding in depth.) The copy's folder name holds a
+// space and a quote: the reproducer must paste back into a shell (util::shell_quote). Exit 1: a check failed.
 TEST(Stress, RemovingAGuardFailsWithAReproducer) {
   TempDir dir;
-  fs::copy(fs::path(AOVAR_SOURCE_DIR) / "shader_src", dir / "shader_src", fs::copy_options::recursive);
-  const fs::path alchemy = dir / "shader_src" / "ao" / "alchemy.glsl";
+  const fs::path src = dir / "shader src's";
+  fs::copy(fs::path(AOVAR_SOURCE_DIR) / "shader_src", src, fs::copy_options::recursive);
+  const fs::path alchemy = src / "ao" / "alchemy.glsl";
   std::string text = util::read_file(alchemy).value();
   const std::string guarded = "sum += max(0.0, dot(v, n) - z_bias) / (dot(v, v) + epsilon);";
   auto at = text.find(guarded);
@@ -79,7 +82,7 @@ TEST(Stress, RemovingAGuardFailsWithAReproducer) {
   text.replace(at, guarded.size(), "sum += (dot(v, n) - z_bias) / (dot(v, v) + epsilon);");
   util::write_atomic(alchemy, text);
 
-  const std::string manifest = (dir / "shader_src" / "aovar.toml").string();
+  const std::string manifest = util::shell_quote((src / "aovar.toml").string());
   const std::string key = "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
   auto r = run_aovar("stress --manifest " + manifest + " --variants " + key + " --case baseline --case screen-edges");
   EXPECT_EQ(r.status, 1) << r.output;

@@ -380,6 +380,7 @@ TEST(Select, UsesTheWorstViewUnlessAViewIsGiven) {
   EXPECT_EQ(s.choice->variant, "spiky");
 }
 
+// Exit 0 with a choice, 1 (the check asked for failed) when nothing satisfies, 2 (an error) for a missing table.
 TEST(Select, CliExitsOneAndNamesTheNearest) {
   test::TempDir dir;
   write_json(select_table(), dir / "cost_table.json");
@@ -396,7 +397,7 @@ TEST(Select, CliExitsOneAndNamesTheNearest) {
   EXPECT_EQ(strict.status, 1) << strict.output;
   EXPECT_NE(strict.output.find("the lowest error is best"), std::string::npos) << strict.output;
   auto missing = test::run_aovar("select --table " + (dir / "nope.json").string() + " --budget-ms 1");
-  EXPECT_EQ(missing.status, 1);
+  EXPECT_EQ(missing.status, 2);
   EXPECT_NE(missing.output.find("nope.json"), std::string::npos) << missing.output;
 }
 
@@ -474,7 +475,7 @@ TEST(Merge, DisjointShardsJoinAndConflictsAreRefused) {
   write_json(s3, dir / "s3.json");
   auto c = test::run_aovar("merge " + (dir / "out2.json").string() + " " + (dir / "s1.json").string() + " " +
                            (dir / "s3.json").string());
-  EXPECT_EQ(c.status, 1);
+  EXPECT_EQ(c.status, 2) << "an error, not a failed check";
   EXPECT_NE(c.output.find("conflicting rows for fast|"), std::string::npos) << c.output;
   EXPECT_NE(c.output.find("s1.json"), std::string::npos) << c.output;
   EXPECT_NE(c.output.find("s3.json"), std::string::npos) << c.output;

@@ -1,6 +1,7 @@
 // SPIR-V static cost walker: see analyze.h. The module is read word by word (no SPIRV-Tools opt IR: its
 // headers are not installed); SPIR-V 1.x opcode numbers below are from the unified spec.
 #include "analyze/analyze.h"
+#include "util/schema.h"
 
 #include <fmt/format.h>
 
@@ -535,6 +536,7 @@ Analysis analyze_folder(const std::filesystem::path& dir) {
   } catch (const std::exception& e) {
     throw std::runtime_error(index_path.string() + ": error: " + e.what());
   }
+  util::check_schema(idx, index_path);
   if (!idx.contains("programs") || !idx["programs"].contains("vulkan"))
     throw std::runtime_error(index_path.string() + ": error: no vulkan programs (generate with --targets vulkan)");
   Analysis a;
@@ -584,6 +586,7 @@ Analysis analyze_folder(const std::filesystem::path& dir) {
 
 std::string analysis_json(const Analysis& a) {
   nlohmann::ordered_json j;
+  j["schema_version"] = util::kSchemaVersion;
   j["note"] = "static counts per pixel of each program's pass, loops multiplied through (upper bounds: "
               "branches that skip work are counted); variant totals sum each pass's fragment program once";
   nlohmann::ordered_json progs = nlohmann::ordered_json::array();

@@ -11,6 +11,7 @@
 #include "util/fs.h"
 #include "util/hash.h"
 #include "variants/key.h"
+#include "util/schema.h"
 
 namespace aovar::calibrate {
 namespace fs = std::filesystem;
@@ -76,7 +77,8 @@ render::ParamOverrides checked_params(const json& params, const variants::Algori
 void write_calibration(const fs::path& path, const Calibration& cal) {
   json algorithms = json::object(), variants = json::object();
   for (const auto& f : cal.fits) (f.per_variant ? variants[f.variant] : algorithms[f.algorithm]) = fit_json(f);
-  json doc = {{"tool", "aovar calibrate"},
+  json doc = {{"schema_version", util::kSchemaVersion},
+              {"tool", "aovar calibrate"},
               {"backend", cal.backend},
               {"size", fmt::format("{}x{}", cal.size.width, cal.size.height)},
               {"rays", cal.rays},
@@ -97,6 +99,9 @@ std::map<std::string, render::ParamOverrides> load_calibration(const fs::path& p
     doc = json::parse(*text);
     if (!doc.is_object() || !doc.contains("algorithms") || !doc.at("algorithms").is_object())
       throw std::runtime_error("no \"algorithms\" object");
+    util::check_schema(doc, path);
+  } catch (const util::NewerSchema&) {
+    throw;  // already names the file and what to do
   } catch (const std::exception& e) {
     throw std::runtime_error(
         fmt::format("{}: error: not a calibration file ({}); write one with aovar calibrate", display, e.what()));

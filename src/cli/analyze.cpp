@@ -15,13 +15,13 @@
 namespace aovar::cli {
 namespace {
 
-int run_analyze(const std::string& dir) {
+ExitCode run_analyze(const std::string& dir) {
   auto a = analyze::analyze_folder(dir);
   std::cout << analyze::program_table(a);
   auto out = std::filesystem::path(dir) / "analysis.json";
   util::write_if_changed(out, analyze::analysis_json(a));
   std::cout << analyze::summary_line(a, out);
-  return 0;
+  return ExitCode::ok;
 }
 
 }  // namespace

@@ -14,7 +14,7 @@
 
 namespace aovar::cli {
 
-int run_analyze_gpu(const GpuAnalyzeArgs& a) {
+ExitCode run_analyze_gpu(const GpuAnalyzeArgs& a) {
   const gpu::Frame frame = parse_size(a.size);
   gpu::GpuOptions options;
   options.families = gpu::parse_families(a.families);
@@ -22,7 +22,7 @@ int run_analyze_gpu(const GpuAnalyzeArgs& a) {
   compile::CompileOptions co = compile_options(a.common);
   co.targets = {variants::Target::vulkan};
   const auto compiled = compile::compile_space(a.common.manifest, co);
-  if (!report_diagnostics(compiled)) return 1;
+  if (!report_diagnostics(compiled)) return ExitCode::error;  // the diagnostics are printed
   std::vector<int> variants(compiled.space.variants.size());
   for (std::size_t i = 0; i < variants.size(); ++i) variants[i] = static_cast<int>(i);
   const gpu::GpuAnalysis result = gpu::analyze_gpu(compiled, variants, options);
@@ -35,8 +35,8 @@ int run_analyze_gpu(const GpuAnalyzeArgs& a) {
     std::cout << fmt::format("wrote {}\n", path.string());
   }
   for (const auto& f : result.families)
-    if (!f.ok()) return 1;
-  return 0;
+    if (!f.ok()) return ExitCode::error;
+  return ExitCode::ok;
 }
 
 }  // namespace aovar::cli

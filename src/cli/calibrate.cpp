@@ -22,7 +22,7 @@ struct CalibrateArgs {
   std::vector<std::string> scenes, views, holdout_views;
 };
 
-int run_calibrate(const CalibrateArgs& a) {
+ExitCode run_calibrate(const CalibrateArgs& a) {
   calibrate::CalibrateOptions o = a.options;
   o.manifest = a.manifest;
   o.size = parse_size(a.size);
@@ -38,7 +38,7 @@ int run_calibrate(const CalibrateArgs& a) {
   auto c = with_status([&](const auto& progress) { return calibrate::calibrate(o, progress); });
   calibrate::write_calibration(a.out, c);
   std::cout << calibrate::to_text(c, a.out);
-  return 0;
+  return ExitCode::ok;
 }
 
 }  // namespace

@@ -5,11 +5,13 @@
 
 #include <functional>
 
+#include "cli/exit_code.h"
+
 namespace aovar::cli {
 
 struct Command {
   CLI::App* app;             // the subcommand: app->parsed() when it was given
-  std::function<int()> run;  // the exit code; throws std::exception for errors (see run_guarded)
+  std::function<ExitCode()> run;  // ok or check_failed; throws std::exception for errors (see run_guarded)
 };
 
 Command add_list(CLI::App& app);

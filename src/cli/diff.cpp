@@ -1,8 +1,10 @@
-// aovar diff: per-variant deltas between two cost tables (helped / hurt / inconclusive).
+// aovar diff: per-variant deltas between two cost tables (helped / hurt / inconclusive); --json: as one JSON
+// document with every row's verdict. Exit 0 whatever changed: diff reports, it checks nothing.
 #include <iostream>
 #include <memory>
 
 #include "cli/commands.h"
+#include "cli/options.h"
 #include "table/compare.h"
 #include "table/table.h"
 
@@ -11,12 +13,14 @@ namespace {
 
 struct DiffArgs {
   std::string a, b;
+  bool json = false;
 };
 
-int run_diff(const DiffArgs& args) {
+ExitCode run_diff(const DiffArgs& args) {
   auto d = table::diff_tables(table::read_table(args.a), table::read_table(args.b));
-  std::cout << table::format_diff(d, args.a, args.b);
-  return 0;
+  if (args.json) std::cout << table::to_json(d, args.a, args.b).dump(1) << "\n";
+  else std::cout << table::format_diff(d, args.a, args.b);
+  return ExitCode::ok;
 }
 
 }  // namespace
@@ -26,6 +30,7 @@ Command add_diff(CLI::App& app) {
   auto* cmd = app.add_subcommand("diff", "per-variant deltas between two cost tables (helped / hurt beyond the noise, inconclusive)");
   cmd->add_option("A", a->a, "the old cost_table.json")->required();
   cmd->add_option("B", a->b, "the new cost_table.json")->required();
+  add_json(cmd, a->json);
   return {cmd, [a] { return run_diff(*a); }};
 }
 

@@ -40,7 +40,7 @@ unsigned parse_emit(const std::string& emit) {
   return bits;
 }
 
-int generate(const CommonOptions& common, const compile::OutputOptions& out, const shard::ShardSpec& spec) {
+ExitCode generate(const CommonOptions& common, const compile::OutputOptions& out, const shard::ShardSpec& spec) {
   auto start = util::Clock::now();
   auto options = compile_options(common);
   auto c = compile::plan_space(common.manifest, options);
@@ -63,26 +63,26 @@ int generate(const CommonOptions& common, const compile::OutputOptions& out, con
       compile::finish_outputs(c, out);
       std::cout << compile::up_to_date_text(*summary, out.out, util::seconds_since(start));
       done();
-      return 0;
+      return ExitCode::ok;
     }
   }
   compile::build_programs(c, options);
-  if (!report_diagnostics(c)) return 1;
+  if (!report_diagnostics(c)) return ExitCode::error;  // the diagnostics are printed
   auto r = compile::write_outputs(c, out);
   if (out.check) {
     std::cerr << compile::stale_text(r, out.out);
-    if (!r.changed.empty()) return 1;
+    if (!r.changed.empty()) return ExitCode::check_failed;
     std::cout << compile::up_to_date_line(r, out.out);
-    return 0;
+    return ExitCode::ok;
   }
   std::string summary = compile::summary_table(c);
   compile::record_outputs(out, print, summary, r.files);
   std::cout << summary << compile::written_line(r, out.out, util::seconds_since(start));
   done();
-  return 0;
+  return ExitCode::ok;
 }
 
-int run_generate(GenerateArgs& a) {
+ExitCode run_generate(GenerateArgs& a) {
   a.out.out = a.out_dir;
   a.out.emit = parse_emit(a.emit);
   if (!a.depfile.empty()) a.out.depfile = a.depfile;

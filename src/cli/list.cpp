@@ -1,4 +1,5 @@
-// aovar list: the variants after rules and the counts; with --scene only those the scene's profile keeps.
+// aovar list: the variants after rules and the counts; with --scene only those the scene's profile keeps;
+// --json: the same as one JSON document.
 #include <fmt/format.h>
 
 #include <iostream>
@@ -7,16 +8,18 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render_parts.h"
+#include "compile/list_json.h"
 #include "compile/text.h"
 
 namespace aovar::cli {
 namespace {
 
-int run_list(const ListSceneArgs& a) {
+ExitCode run_list(const ListSceneArgs& a) {
   auto c = compile::compile_space(a.common.manifest, compile_options(a.common));
-  if (!report_diagnostics(c)) return 1;
-  std::cout << compile::list_text(c, a.show_pruned);
-  return 0;
+  if (!report_diagnostics(c)) return ExitCode::error;  // the diagnostics are printed
+  if (a.json) std::cout << compile::list_json(c, a.show_pruned).dump(1) << "\n";
+  else std::cout << compile::list_text(c, a.show_pruned);
+  return ExitCode::ok;
 }
 
 }  // namespace
@@ -29,6 +32,7 @@ Command add_list(CLI::App& app) {
   cmd->add_option("--scene,-s", a->scene,
                   "keep only what this scene needs (aovar profile); --pruned prints each drop's reason");
   cmd->add_option("--size", a->size, "frame size the scene is profiled at")->capture_default_str();
+  add_json(cmd, a->json);
   return {cmd, [a, cmd] { return cmd->count("--scene") ? run_list_scene(*a) : run_list(*a); }};
 }
 

@@ -7,15 +7,16 @@
 
 namespace aovar::cli {
 
-int run_list_scene(const ListSceneArgs& a) {
+ExitCode run_list_scene(const ListSceneArgs& a) {
   ProfileArgs args;
   args.options.scene = a.scene;
   args.size = a.size;
   const auto o = args.resolve(a.common.manifest);
   const auto s = run_scene_profile(o);
   auto pruned = profile::prune(s.manifest, s.space, s.profile, a.common.globs);
-  std::cout << profile::list_text(s.manifest, s.space, pruned, o.scene, a.show_pruned);
-  return 0;
+  if (a.json) std::cout << profile::list_json(s.manifest, s.space, pruned, o.scene, a.show_pruned).dump(1) << "\n";
+  else std::cout << profile::list_text(s.manifest, s.space, pruned, o.scene, a.show_pruned);
+  return ExitCode::ok;
 }
 
 }  // namespace aovar::cli

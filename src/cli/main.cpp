@@ -7,20 +7,28 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/exit_code.h"
 #include "cli/options.h"
 #include "compile/glslang_compiler.h"
 
 int main(int argc, char** argv) {
   using namespace aovar::cli;
   CLI::App app{"aovar: generate, validate and measure SSAO shader variants"};
+  app.footer("Exit status: 0 success; 1 the check asked for failed (select found no variant, stress found a failure, "
+             "generate --check found stale output); 2 error (usage or runtime).");
   app.require_subcommand(1);
   app.set_version_flag("--version", aovar::compile::tool_version());
   const std::vector<Command> commands = {
       add_list(app),      add_profile(app), add_generate(app), add_measure(app), add_calibrate(app),
       add_reference(app), add_analyze(app), add_select(app),   add_diff(app),    add_merge(app),
       add_report(app),    add_stress(app),  add_sweep(app)};
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // CLI11 prints help or the version (its code 0) or the usage error (its own codes, 100 and up).
+    return app.exit(e) == 0 ? exit_status(ExitCode::ok) : exit_status(ExitCode::error);
+  }
   for (const auto& c : commands)
-    if (c.app->parsed()) return run_guarded(c.run);
-  return 1;  // not reached: require_subcommand(1) makes the parse fail without one
+    if (c.app->parsed()) return exit_status(run_guarded(c.run));
+  return exit_status(ExitCode::error);  // not reached: require_subcommand(1) makes the parse fail without one
 }

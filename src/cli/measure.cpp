@@ -47,7 +47,7 @@ render::ParamOverrides parse_params(const std::vector<std::string>& items) {
   return out;
 }
 
-int run_measure(const MeasureArgs& a) {
+ExitCode run_measure(const MeasureArgs& a) {
   measure::MeasureOptions o = a.options;
   o.scene = a.scene;
   o.views_file = a.views_file;
@@ -70,7 +70,7 @@ int run_measure(const MeasureArgs& a) {
   o.gpu_frame = a.gpu.frame_size();
   auto r = with_status([&](const auto& progress) { return measure::run_measure(o, progress); });
   std::cout << measure::to_text(r) << measure::notes_text(r, o, cal_file);
-  return 0;
+  return ExitCode::ok;
 }
 
 }  // namespace

@@ -17,14 +17,14 @@ struct MergeArgs {
   std::vector<std::string> inputs;
 };
 
-int run_merge(const MergeArgs& a) {
+ExitCode run_merge(const MergeArgs& a) {
   std::vector<std::filesystem::path> in(a.inputs.begin(), a.inputs.end());
   auto r = sweep::merge_shards(in, a.out);
   table::write_json(r.table, a.out);
   std::cout << fmt::format("{} rows from {} {} -> {}\n", r.table.rows.size(), in.size(), r.shards ? "shards" : "tables",
                            util::display_path(a.out));
   if (!r.balance.empty()) std::cout << "balance: " << r.balance << "\n";
-  return 0;
+  return ExitCode::ok;
 }
 
 }  // namespace

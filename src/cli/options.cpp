@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <iostream>
 #include <stdexcept>
-#include <unistd.h>
 
 #include "compile/cache.h"
 #include "compile/text.h"
@@ -21,6 +20,10 @@ std::string default_manifest_path() {
   if (error) return default_manifest;
   const auto installed = exe.parent_path().parent_path() / "share/aovar/shader_src/aovar.toml";
   return std::filesystem::exists(installed) ? installed.string() : default_manifest;
+}
+
+void add_json(CLI::App* cmd, bool& json) {
+  cmd->add_flag("--json", json, "print one JSON document (with schema_version) instead of the text");
 }
 
 void add_manifest(CLI::App* cmd, std::string& manifest) {
@@ -77,26 +80,12 @@ shard::ShardSpec shard_option(const std::string& text) {
   return spec;
 }
 
-TerminalStatus::TerminalStatus() : tty(isatty(fileno(stderr))) {}
-
-void TerminalStatus::show(const std::string& line) const {
-  if (tty) std::cerr << "\r\033[K" << line << std::flush;
-}
-
-void TerminalStatus::keep(const std::string& line) const {
-  std::cerr << (tty ? "\r\033[K" : "") << line << "\n";
-}
-
-void TerminalStatus::clear() const {
-  if (tty) std::cerr << "\r\033[K";
-}
-
-int run_guarded(const std::function<int()>& run) {
+ExitCode run_guarded(const std::function<ExitCode()>& run) {
   try {
     return run();
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
-    return 1;
+    return ExitCode::error;
   }
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 // Option helpers shared by every subcommand, the generator's included (manifest, cache folder, variant
-// selection, --shard), the terminal status line and the exception -> exit code rule. The options of the
+// selection, --shard, --json), the progress on stderr and the exception -> exit code rule. The options of the
 // rendering subcommands are in cli/render_options.h (not built with AOVAR_WITH_RENDER=OFF).
 #include <CLI/CLI.hpp>
 
@@ -11,8 +11,10 @@
 #include <utility>
 #include <vector>
 
+#include "cli/exit_code.h"
 #include "compile/generate.h"
 #include "shard/env.h"
+#include "util/progress.h"
 
 namespace aovar::cli {
 
@@ -20,6 +22,9 @@ inline constexpr const char* default_manifest = "shader_src/aovar.toml";
 inline constexpr const char* default_size = "640x360";  // measure, sweep, reference, profile, list --scene
 // Help text of --cache-dir, after what the folder holds: where it is when the option is not given.
 inline constexpr const char* cache_dir_default_help = "(default: $AOVAR_CACHE_DIR or ~/.cache/aovar)";
+
+// --json: one JSON document on stdout (with schema_version) instead of the text (list, select, diff).
+void add_json(CLI::App* cmd, bool& json);
 
 // The manifest used when none is given: shader_src/aovar.toml in the working folder (a checkout of aovar),
 // else the one installed beside the tool (<prefix>/share/aovar/shader_src/aovar.toml), else the former
@@ -59,32 +64,24 @@ inline constexpr const char* shard_help =
     "the scheduler (AOVAR_SHARD_INDEX/TOTAL, GitLab CI_NODE_*, Slurm SLURM_ARRAY_TASK_*, Kubernetes "
     "JOB_COMPLETION_INDEX + AOVAR_SHARD_TOTAL, Bazel TEST_SHARD_*)";
 
-// A one-line status on stderr when it is a terminal: shown lines overwrite each other, kept lines stay.
-struct TerminalStatus {
-  bool tty;
-  TerminalStatus();
-  void show(const std::string& line) const;  // overwritten by the next line (nothing when not a terminal)
-  void keep(const std::string& line) const;  // a line of its own
-  void clear() const;                        // erases a shown line
-};
-
-// Runs work(progress) with a status line: progress lines overwrite each other, lines that start with
-// "note: " stay, and the status is cleared when the work ends or throws (so an error gets a line of its own).
+// Runs work(progress) with progress on stderr (util::ProgressReporter: a status line on a terminal, else a
+// line every few seconds): lines that start with "note: " stay, and a terminal's status line is cleared when
+// the work ends or throws (so an error gets a line of its own).
 template <class Work>
 auto with_status(Work&& work) {
-  const TerminalStatus status;
+  auto status = util::ProgressReporter::for_stderr();
   std::function<void(const std::string&)> progress = [&status](const std::string& line) {
     if (line.rfind("note: ", 0) == 0) status.keep(line);
-    else status.show(line);
+    else status.update(line);
   };
   struct Clear {
-    const TerminalStatus& status;
+    util::ProgressReporter& status;
     ~Clear() { status.clear(); }
   } clear{status};
   return work(progress);
 }
 
-// Runs a subcommand: a std::exception becomes its message on stderr and exit code 1.
-int run_guarded(const std::function<int()>& run);
+// Runs a subcommand: a std::exception becomes its message on stderr and ExitCode::error.
+ExitCode run_guarded(const std::function<ExitCode()>& run);
 
 }  // namespace aovar::cli

@@ -18,7 +18,7 @@ struct ProfileCommandArgs {
   std::string manifest = default_manifest;
 };
 
-int run_profile(const ProfileCommandArgs& a) {
+ExitCode run_profile(const ProfileCommandArgs& a) {
   const auto o = a.profile.resolve(a.manifest);
   const auto s = run_scene_profile(o);
   std::cout << profile::to_text(s.profile);
@@ -30,7 +30,7 @@ int run_profile(const ProfileCommandArgs& a) {
     j["dropped"] = pruned.dropped.size();
     util::write_atomic(std::filesystem::path(a.profile.out) / "profile.json", j.dump(1) + "\n");
   }
-  return 0;
+  return ExitCode::ok;
 }
 
 }  // namespace

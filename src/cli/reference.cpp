@@ -39,12 +39,12 @@ reference::RunOptions run_options(const ReferenceArgs& a) {
   return o;
 }
 
-int run_reference(const ReferenceArgs& a) {
+ExitCode run_reference(const ReferenceArgs& a) {
   const auto o = run_options(a);
-  const TerminalStatus terminal;
+  auto terminal = util::ProgressReporter::for_stderr();
   auto status = [&terminal](const std::string& line, bool final) {
     if (final) terminal.keep(line);
-    else terminal.show(line);
+    else terminal.update(line);
   };
   reference::RunResult r;
   try {
@@ -54,7 +54,7 @@ int run_reference(const ReferenceArgs& a) {
     throw;
   }
   std::cout << reference::to_text(r, o.out);
-  return 0;
+  return ExitCode::ok;
 }
 
 }  // namespace

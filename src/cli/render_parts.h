@@ -4,6 +4,7 @@
 // a generator-only build links without_render.cpp instead, which says in one line that they are not in it.
 #include <string>
 
+#include "cli/exit_code.h"
 #include "cli/options.h"
 
 namespace aovar::cli {
@@ -14,15 +15,16 @@ struct GpuAnalyzeArgs {
   std::string size = "1920x1080";  // frame the roofline estimate is for
   CommonOptions common;
 };
-// Exit 1 when a family failed (its error is in the table and gpu.json); the other families' results stand.
-int run_analyze_gpu(const GpuAnalyzeArgs& a);
+// An error when a family failed (its error is in the table and gpu.json); the other families' results stand.
+ExitCode run_analyze_gpu(const GpuAnalyzeArgs& a);
 
 struct ListSceneArgs {
   CommonOptions common;
   std::string scene, size = default_size;
-  bool show_pruned = false;
+  bool show_pruned = false, json = false;
 };
-// The variants the scene's profile keeps; show_pruned adds every dropped one with its reason.
-int run_list_scene(const ListSceneArgs& a);
+// The variants the scene's profile keeps; show_pruned adds every dropped one with its reason; json: as one
+// JSON document.
+ExitCode run_list_scene(const ListSceneArgs& a);
 
 }  // namespace aovar::cli

@@ -19,7 +19,7 @@ struct ReportArgs {
   std::string table, out;
 };
 
-int run_report(const ReportArgs& a) {
+ExitCode run_report(const ReportArgs& a) {
   auto t = table::read_table(a.table);
   std::filesystem::path images = std::filesystem::path(a.table).parent_path();
   std::filesystem::path dir = a.out.empty() ? images : std::filesystem::path(a.out);
@@ -31,7 +31,7 @@ int run_report(const ReportArgs& a) {
   report::write_reports(t, dir, images);
   std::cout << fmt::format("{} rows -> {} and {}\n", t.rows.size(), util::display_path(dir / "report.md"),
                            util::display_path(dir / "report.html"));
-  return 0;
+  return ExitCode::ok;
 }
 
 }  // namespace

@@ -1,10 +1,11 @@
 // aovar select: the variant to ship under a time budget or an error target, with the reason, the
-// runners-up and the margin; exit 1 when nothing satisfies.
+// runners-up and the margin (--json: as one JSON document); exit 1 when nothing satisfies.
 #include <iostream>
 #include <memory>
 
 #include "calibrate/file.h"
 #include "cli/commands.h"
+#include "cli/options.h"
 #include "table/select.h"
 #include "table/table.h"
 
@@ -14,16 +15,18 @@ namespace {
 struct SelectArgs {
   std::string table, calibration;
   table::SelectQuery query;
+  bool json = false;
 };
 
-int run_select(const SelectArgs& a) {
+ExitCode run_select(const SelectArgs& a) {
   const auto t = table::read_table(a.table);
   if (!a.calibration.empty())
     if (auto why = calibrate::measured_with(t.meta, calibrate::calibration_source(a.calibration), a.table); !why.empty())
       throw std::runtime_error(why);
   auto sel = table::select(t, a.query);
-  (sel.ok ? std::cout : std::cerr) << sel.text;
-  return sel.ok ? 0 : 1;
+  if (a.json) std::cout << table::to_json(sel).dump(1) << "\n";  // a script reads ok (or the exit status)
+  else (sel.ok ? std::cout : std::cerr) << sel.text;
+  return sel.ok ? ExitCode::ok : ExitCode::check_failed;
 }
 
 }  // namespace
@@ -53,6 +56,7 @@ Command add_select(CLI::App& app) {
                   "instead of the time measured here; errors still from the reference");
   cmd->add_option("--calibration", a->calibration,
                   "refuse a table not measured with this calibration file (aovar calibrate; compared by content hash)");
+  add_json(cmd, a->json);
   return {cmd, [a] { return run_select(*a); }};
 }
 

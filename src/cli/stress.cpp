@@ -86,10 +86,10 @@ stress::Options stress_options(const StressArgs& a) {
 }
 
 // Per-variant pass/fail over the stress cases; exit 1 when a shipped variant fails.
-int run_stress(const StressArgs& a) {
+ExitCode run_stress(const StressArgs& a) {
   if (a.list_cases) {
     std::cout << stress::cases_text(stress::default_cases());
-    return 0;
+    return ExitCode::ok;
   }
   const auto o = stress_options(a);
   auto r = with_status([&](const auto& progress) { return stress::run_stress(o, progress); });
@@ -97,7 +97,7 @@ int run_stress(const StressArgs& a) {
   std::cout << stress::to_text(r, o, cases);
   if (!r.shard_balance.empty())
     std::cout << fmt::format("shard {}/{}: {}; OUT/shard.json written\n", o.shard_index + 1, o.shard_count, r.shard_balance);
-  return r.shipped_failed > 0 ? 1 : 0;
+  return r.shipped_failed > 0 ? ExitCode::check_failed : ExitCode::ok;
 }
 
 void add_custom_case(CLI::App* cmd, StressArgs& a) {

@@ -27,7 +27,7 @@ struct SweepArgs {
   RepsOption reps{"auto"};  // the sweep's default: each row timed until its interval is narrow
 };
 
-int run_sweep(const SweepArgs& a) {
+ExitCode run_sweep(const SweepArgs& a) {
   sweep::SweepOptions o = a.options;
   o.out = a.out;
   measure::MeasureOptions& m = o.measure;
@@ -50,7 +50,7 @@ int run_sweep(const SweepArgs& a) {
   std::cout << table::to_markdown(r.table) << sweep::notes_text(r, o, cal_file);
   if (!r.shard_balance.empty())
     std::cout << fmt::format("# shard {}: {}; OUT/shard.json written\n", shard.label(), r.shard_balance);
-  return 0;
+  return ExitCode::ok;
 }
 
 }  // namespace

@@ -21,13 +21,13 @@ std::string without_render_message(const std::string& what) {
 Command unavailable(CLI::App& app, const std::string& name, const std::string& description) {
   auto* cmd = app.add_subcommand(name, description + " [not in this build: AOVAR_WITH_RENDER=OFF]");
   cmd->allow_extras();
-  return {cmd, [name]() -> int { throw std::runtime_error(without_render_message("aovar " + name)); }};
+  return {cmd, [name]() -> ExitCode { throw std::runtime_error(without_render_message("aovar " + name)); }};
 }
 
 }  // namespace
 
-int run_analyze_gpu(const GpuAnalyzeArgs&) { throw std::runtime_error(without_render_message("aovar analyze --gpu")); }
-int run_list_scene(const ListSceneArgs&) { throw std::runtime_error(without_render_message("aovar list --scene")); }
+ExitCode run_analyze_gpu(const GpuAnalyzeArgs&) { throw std::runtime_error(without_render_message("aovar analyze --gpu")); }
+ExitCode run_list_scene(const ListSceneArgs&) { throw std::runtime_error(without_render_message("aovar list --scene")); }
 
 Command add_profile(CLI::App& app) { return unavailable(app, "profile", "what a scene needs and what it lets you drop"); }
 Command add_measure(CLI::App& app) { return unavailable(app, "measure", "render and time variants on a scene"); }

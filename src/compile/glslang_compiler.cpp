@@ -1,5 +1,7 @@
 #include "compile/glslang_compiler.h"
 
+#include "util/version.h"  // generated: AOVAR_VERSION from project(aovar VERSION ...)
+
 #include <glslang/Public/ResourceLimits.h>
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
@@ -25,7 +27,7 @@ std::string compiler_version() {
          v.flavor + " / " + spvSoftwareVersionString();
 }
 
-std::string tool_version() { return "aovar 0.1.0 (" + compiler_version() + ")"; }
+std::string tool_version() { return std::string("aovar ") + AOVAR_VERSION + " (" + compiler_version() + ")"; }
 
 namespace {
 

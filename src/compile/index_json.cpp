@@ -6,6 +6,7 @@
 #include "compile/generate.h"
 #include "shadergen/expand.h"
 #include "util/hash.h"
+#include "util/schema.h"
 
 namespace aovar::compile {
 using json = nlohmann::ordered_json;
@@ -41,6 +42,7 @@ std::string lines(const std::vector<json>& items) {
 std::string index_json(const CompiledSpace& c) {
   const auto& m = c.manifest;
   json head;
+  head["schema_version"] = util::kSchemaVersion;
   head["generator"] = shadergen::generator_version();
   head["compiler"] = compiler_version();
   head["manifest"] = {{"name", m.name}, {"file", m.path.filename().string()}, {"hash", util::hash_hex(m.text)}};

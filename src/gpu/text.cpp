@@ -1,4 +1,5 @@
 #include "gpu/text.h"
+#include "util/schema.h"
 
 #include <cmath>
 
@@ -94,7 +95,8 @@ std::string to_json(const GpuAnalysis& a, const VariantCosts* costs) {
                         {"error", f.error},
                         {"variants", variants}});
   }
-  nlohmann::json j{{"source", "RADV null device, fragment executable, VK_KHR_pipeline_executable_properties"},
+  nlohmann::json j{{"schema_version", util::kSchemaVersion},
+                   {"source", "RADV null device, fragment executable, VK_KHR_pipeline_executable_properties"},
                    {"pipelines", a.pipelines},
                    {"families", families}};
   if (costs && !costs->empty() && !costs->begin()->second.empty())  // one frame for the whole run

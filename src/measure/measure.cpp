@@ -22,6 +22,7 @@
 #include "util/fs.h"
 #include "util/glob.h"
 #include "util/hash.h"
+#include "util/schema.h"
 
 namespace aovar::measure {
 namespace fs = std::filesystem;
@@ -349,7 +350,8 @@ json to_json(const MeasureResult& res, const MeasureOptions& o) {
                     {"readback_s", r.readback_s}});
   json rows = json::array();
   for (const auto& r : res.rows) rows.push_back(row_to_json(r, res));
-  return {{"tool", "aovar measure"},
+  return {{"schema_version", util::kSchemaVersion},
+          {"tool", "aovar measure"},
           {"scene", {{"name", res.scene}, {"hash", res.scene_hash}, {"triangles", res.triangles}}},
           {"manifest", util::display_path(o.manifest)},
           {"counts", res.counts},

@@ -8,6 +8,7 @@
 
 #include "table/time_compare.h"
 #include "util/fs.h"
+#include "util/schema.h"
 
 namespace aovar::measure {
 namespace fs = std::filesystem;
@@ -118,6 +119,7 @@ PreviousRun read_previous(const fs::path& out, bool need_images, const Progress&
   if (!text) return prev;
   try {
     json doc = json::parse(*text);
+    util::check_schema(doc, out / "measure.json");
     for (const char* list : {"rows", "kept_rows"})
       for (const auto& j : doc.value(list, json::array())) {
         MeasureRow r = row_from_json(j);
@@ -128,6 +130,8 @@ PreviousRun read_previous(const fs::path& out, bool need_images, const Progress&
       }
     prev.contact_sheets = doc.value("contact_sheets", std::vector<std::string>{});
     prev.contact_sheets_rows = doc.value("contact_sheets_rows", "");
+  } catch (const util::NewerSchema&) {
+    throw;  // a newer aovar's file: not ours to overwrite
   } catch (const std::exception& e) {
     prev = {};  // an older or damaged file: measure everything again
     if (say) say(fmt::format("note: {}: not reused ({}); measuring everything again",

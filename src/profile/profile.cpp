@@ -23,6 +23,7 @@
 #include "variants/key.h"
 #include "util/fs.h"
 #include "util/glob.h"
+#include "util/schema.h"
 
 namespace aovar::profile {
 namespace {
@@ -477,7 +478,7 @@ json to_json(const Profile& p) {
   json decisions = json::array();
   for (const auto& d : p.decisions)
     decisions.push_back({{"axis", d.axis}, {"value", d.value}, {"keep", d.keep}, {"reason", d.reason}});
-  return {{"tool", "aovar profile"}, {"scene", p.scene}, {"scene_hash", p.scene_hash}, {"radius", p.radius},
+  return {{"schema_version", util::kSchemaVersion}, {"tool", "aovar profile"}, {"scene", p.scene}, {"scene_hash", p.scene_hash}, {"radius", p.radius},
           {"size", fmt::format("{}x{}", p.size.width, p.size.height)}, {"flicker_pair", p.flicker_pair},
           {"views", views}, {"decisions", decisions}};
 }

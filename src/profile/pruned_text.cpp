@@ -2,7 +2,10 @@
 
 #include <fmt/format.h>
 
+#include "compile/list_json.h"
 #include "compile/text.h"
+#include "util/fs.h"
+#include "util/schema.h"
 
 namespace aovar::profile {
 
@@ -22,6 +25,33 @@ std::string list_text(const variants::Manifest& manifest, const variants::Varian
   return s + fmt::format("# space {} / rules {} / selected {} / scene {} keeps {} ({} dropped, with reasons: --pruned)\n",
                          space.space, space.collapsed, pruned.kept.size() + pruned.dropped.size(), scene,
                          pruned.kept.size(), pruned.dropped.size());
+}
+
+nlohmann::json list_json(const variants::Manifest& manifest, const variants::VariantSpace& space, const Pruned& pruned,
+                         const std::string& scene, bool with_drops) {
+  using nlohmann::json;
+  json variants = json::array();
+  for (const auto& k : pruned.kept) variants.push_back({{"key", k}});
+  json j = {{"schema_version", util::kSchemaVersion},
+            {"tool", "aovar list"},
+            {"manifest", util::display_path(manifest.path)},
+            {"scene", scene},
+            {"counts",
+             {{"space", space.space},
+              {"rules", space.collapsed},
+              {"selected", pruned.kept.size() + pruned.dropped.size()},
+              {"kept", pruned.kept.size()},
+              {"dropped", pruned.dropped.size()}}},
+            {"variants", variants}};
+  if (!with_drops) return j;
+  json drops = compile::rule_drops_json(manifest, space);
+  for (std::size_t i = 0; i < pruned.dropped.size(); ++i) {
+    json d = {{"key", pruned.dropped[i].first}, {"reason", pruned.dropped[i].second}};
+    if (i < pruned.rules.size()) d["scene_rule"] = pruned.rules[i];
+    drops.push_back(d);
+  }
+  j["pruned"] = drops;
+  return j;
 }
 
 }  // namespace aovar::profile

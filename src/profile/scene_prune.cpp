@@ -13,6 +13,7 @@
 #include "util/fs.h"
 #include "util/glob.h"
 #include "util/hash.h"
+#include "util/schema.h"
 
 namespace aovar::profile {
 namespace fs = std::filesystem;
@@ -92,7 +93,10 @@ ScenePruning prune_scene(const PruneOptions& o, const scene::Scene& sc, const st
   if (auto text = !file.empty() && o.reuse ? util::read_file(file) : std::nullopt) {
     try {
       json j = json::parse(*text);
+      util::check_schema(j, file);
       if (j.value("inputs_hash", "") == inputs) p = profile_from_json(j);
+    } catch (const util::NewerSchema&) {
+      throw;  // a newer aovar's file: not ours to overwrite
     } catch (const std::exception&) {
       p.reset();  // an older or damaged file: profile again
     }

@@ -10,6 +10,7 @@
 #include "reference/reference.h"
 #include "util/fs.h"
 #include "util/path_names.h"
+#include "util/schema.h"
 
 namespace aovar::reference {
 
@@ -79,6 +80,7 @@ RunResult run_reference(const RunOptions& o, const RunStatus& status) {
   res.scene_hash = sc.content_hash;
   res.triangles = sc.triangle_count();
   nlohmann::json doc;
+  doc["schema_version"] = util::kSchemaVersion;
   doc["scene"] = sc.name;
   doc["scene_hash"] = sc.content_hash;
   doc["triangles"] = sc.triangle_count();

@@ -1,6 +1,8 @@
 // OUT/shard.json and the checks `aovar merge` runs on a set of them.
 #include "shard/manifest.h"
 
+#include "util/schema.h"
+
 #include <algorithm>
 #include <map>
 #include <stdexcept>
@@ -17,7 +19,7 @@ using json = nlohmann::json;
 std::string ShardManifest::label() const { return fmt::format("{}/{}", index + 1, count); }
 
 json ShardManifest::to_json() const {
-  return {{"schema_version", kManifestSchemaVersion},
+  return {{"schema_version", util::kSchemaVersion},
           {"tool", tool},
           {"aovar_version", version},
           {"input_hash", input_hash},
@@ -32,9 +34,7 @@ json ShardManifest::to_json() const {
 
 ShardManifest ShardManifest::from_json(const json& j, const std::string& source) {
   try {
-    if (j.at("schema_version").get<int>() != kManifestSchemaVersion)
-      throw std::runtime_error(fmt::format("schema_version {} (this aovar reads {})", j.at("schema_version").dump(),
-                                           kManifestSchemaVersion));
+    util::check_schema_version(j.at("schema_version"), source);  // a newer aovar's shard: refused in one line
     ShardManifest m;
     m.tool = j.at("tool").get<std::string>();
     m.version = j.at("aovar_version").get<std::string>();
@@ -53,6 +53,8 @@ ShardManifest ShardManifest::from_json(const json& j, const std::string& source)
     return m;
   } catch (const json::exception& e) {
     throw std::runtime_error(fmt::format("{}: not a shard manifest ({}): rerun the shard", source, e.what()));
+  } catch (const util::NewerSchema&) {
+    throw;  // already one line naming the file
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(fmt::format("{}: {}: rerun the shard with this aovar", source, e.what()));
   }

@@ -14,7 +14,6 @@
 
 namespace aovar::shard {
 
-inline constexpr int kManifestSchemaVersion = 1;
 inline constexpr const char* kManifestFile = "shard.json";
 
 struct ShardManifest {

@@ -10,6 +10,7 @@
 #include "util/fs.h"
 #include "util/hash.h"
 #include "variants/key.h"
+#include "util/schema.h"
 
 namespace aovar::stress::detail {
 namespace {
@@ -52,10 +53,13 @@ Previous Previous::read(const std::filesystem::path& stress_json) {
   if (!text) return p;
   try {
     const auto j = nlohmann::json::parse(*text);  // bound: a temporary's member would dangle in the loop
+    util::check_schema(j, stress_json);
     for (const auto& r : j.at("checks")) {
       Check c = check_from_json(r);
       p.by_key_[check_key(c.variant, c.case_name, c.backend)] = c;
     }
+  } catch (const util::NewerSchema&) {
+    throw;  // a newer aovar's file: not ours to overwrite
   } catch (const std::exception&) {
     p.by_key_.clear();  // an older or damaged file: check everything again
   }

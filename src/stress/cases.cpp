@@ -9,6 +9,7 @@
 
 #include "stress/stress.h"
 #include "util/fs.h"
+#include "util/shell.h"
 
 namespace aovar::stress {
 namespace {
@@ -130,19 +131,19 @@ Case custom_case(const std::string& spec, glm::vec3 eye, glm::vec3 target, float
 }
 
 std::string case_arguments(const Case& c) {
-  if (c.name.rfind("custom(", 0) != 0) return "--case " + c.name;
-  return fmt::format("--scene {} --eye {} --target {} --up {} --fov {} --near {} --far {} --radius {}", c.scene,
-                     vec(c.view.eye), vec(c.view.target), vec(c.view.up), number(c.view.fov_y_deg),
+  if (c.name.rfind("custom(", 0) != 0) return "--case " + util::shell_quote(c.name);
+  return fmt::format("--scene {} --eye {} --target {} --up {} --fov {} --near {} --far {} --radius {}",
+                     util::shell_quote(c.scene), vec(c.view.eye), vec(c.view.target), vec(c.view.up), number(c.view.fov_y_deg),
                      number(c.view.near_plane), number(c.view.far_plane), number(c.radius));
 }
 
 std::string reproducer(const Options& o, const Check& check, const std::vector<Case>& cases) {
   auto it = std::find_if(cases.begin(), cases.end(), [&](const Case& c) { return c.name == check.case_name; });
-  std::string args = it == cases.end() ? "--case " + check.case_name : case_arguments(*it);
-  std::string variants = "--variants " + check.variant;
-  if (!check.partner.empty()) variants += " --variants " + check.partner;  // the comparison needs both
-  return fmt::format("aovar stress --manifest {} {} --backend {} --size {}x{}{} {}", util::display_path(o.manifest),
-                     variants, check.backend, o.size.width, o.size.height, o.mediump_fp16 ? "" : " --mediump-fp32", args);
+  std::string args = it == cases.end() ? "--case " + util::shell_quote(check.case_name) : case_arguments(*it);
+  std::string variants = "--variants " + util::shell_quote(check.variant);
+  if (!check.partner.empty()) variants += " --variants " + util::shell_quote(check.partner);  // the comparison needs both
+  return fmt::format("aovar stress --manifest {} {} --backend {} --size {}x{}{} {}",
+                     util::shell_quote(util::display_path(o.manifest)), variants, util::shell_quote(check.backend), o.size.width, o.size.height, o.mediump_fp16 ? "" : " --mediump-fp32", args);
 }
 
 }  // namespace aovar::stress

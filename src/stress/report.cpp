@@ -9,6 +9,7 @@
 
 #include "util/fs.h"
 #include "util/glob.h"
+#include "util/schema.h"
 
 namespace aovar::stress {
 namespace detail {
@@ -71,7 +72,7 @@ nlohmann::json to_json(const Result& r, const Options& o) {
     variants.push_back({{"variant", v.variant}, {"shipped", v.shipped}, {"checks", v.checks}, {"passed", v.failures.empty()},
                         {"failures", failing}});
   }
-  return {{"tool", "aovar stress"}, {"manifest", util::display_path(o.manifest)},
+  return {{"schema_version", util::kSchemaVersion}, {"tool", "aovar stress"}, {"manifest", util::display_path(o.manifest)},
           {"size", fmt::format("{}x{}", o.size.width, o.size.height)}, {"backends", o.backends},
           {"mediump", o.mediump_fp16 ? "fp16 on lavapipe (convert-relaxed-to-half), fp32 on osmesa" : "fp32"},
           {"pair_tolerance", o.pair_tolerance}, {"pair_share", o.pair_share}, {"failed", r.failed},

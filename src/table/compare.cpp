@@ -105,6 +105,9 @@ MetricDiff diff_metric(const Spec& s, const RowMap& ra, const RowMap& rb) {
     const Verdict v = s.judge(*x, *it->second);
     Delta dl{k, s.get(*x), s.get(*it->second), 0, v.pct_ci};
     dl.pct = std::isnan(v.pct) ? pct_of(dl.a, dl.b) : v.pct;
+    dl.verdict = v.sign > 0 ? "helped" : v.sign < 0 ? "hurt" : v.inconclusive ? "inconclusive" : "unchanged";
+    dl.by_threshold = v.by_threshold;
+    m.rows.push_back(dl);
     m.total_a += dl.a;
     m.total_b += dl.b;
     if (std::isfinite(dl.pct)) {

@@ -19,6 +19,8 @@ struct Delta {
   // Time: the 95 % interval of pct (from compare_time's interval of b / a); unknown where the row was
   // decided by the threshold (no rounds on either side) and for rmse and ssim (deterministic).
   util::Interval pct_ci;
+  const char* verdict = "unchanged";  // "helped", "hurt", "unchanged" or "inconclusive" (see MetricDiff)
+  bool by_threshold = false;          // time: decided by |change| > 2 % (no rounds on either side)
 };
 
 struct MetricDiff {
@@ -32,6 +34,7 @@ struct MetricDiff {
   double total_a = 0, total_b = 0;  // sums over the rows in both tables
   double mean_pct = 0;              // mean of the per-row percentages (finite ones)
   std::vector<Delta> top_helped, top_hurt;  // up to 10 each, largest relative change first
+  std::vector<Delta> rows;                  // every row in both tables, by key
 };
 
 struct TableDiff {
@@ -45,6 +48,8 @@ struct TableDiff {
 // absolute. Time skips predicted rows; error metrics skip rows without an error on either side.
 TableDiff diff_tables(const CostTable& a, const CostTable& b);
 std::string format_diff(const TableDiff& d, const std::string& name_a, const std::string& name_b);
+// `aovar diff --json`: the same as one JSON document, with every common row's verdict (not only the top 10).
+nlohmann::json to_json(const TableDiff& d, const std::string& name_a, const std::string& name_b);
 
 // Joins shard tables read from `inputs`: their meta must match except "shard"; rows with the same key
 // must be identical (else std::runtime_error "conflicting rows for KEY in A and B"). The result's

@@ -223,10 +223,11 @@ Selection nothing_fits(const std::vector<Candidate>& all, const SelectQuery& q, 
   std::vector<Candidate> sorted = all;
   std::sort(sorted.begin(), sorted.end(), budget ? by_time : by_error);
   s.nearest = sorted.front();
-  s.text = budget ? fmt::format("no variant fits the budget of {:.3f} ms ({} candidates, {}); the fastest is {}\n",
-                                *q.budget_ms, all.size(), scope_of(q), describe(*s.nearest, q))
-                  : fmt::format("no variant reaches rmse <= {:.5f} ({} candidates, {}); the lowest error is {}\n",
-                                *q.max_error, all.size(), scope_of(q), describe(*s.nearest, q));
+  s.reason = budget ? fmt::format("no variant fits the budget of {:.3f} ms ({} candidates, {}); the fastest is {}",
+                                  *q.budget_ms, all.size(), scope_of(q), describe(*s.nearest, q))
+                    : fmt::format("no variant reaches rmse <= {:.5f} ({} candidates, {}); the lowest error is {}",
+                                  *q.max_error, all.size(), scope_of(q), describe(*s.nearest, q));
+  s.text = s.reason + "\n";
   return s;
 }
 
@@ -266,11 +267,12 @@ void choose(Selection& s, const std::vector<Candidate>& ordered, std::size_t n_t
   const std::string within = !budget                 ? std::string()
                              : q.budget_of.empty() ? fmt::format("within {:.3f} ms", *q.budget_ms)
                                                    : "not slower than " + q.budget_of + " beyond the noise";
-  s.text += budget ? fmt::format("reason: lowest rmse of the {} of {} candidates {} ({})\n", ordered.size(), n_all,
-                                 within, scope_of(q))
-                   : fmt::format("reason: cheapest ({}) of the {} of {} candidates with rmse <= {:.5f} ({})\n",
-                                 q.target.empty() ? "paired time, within the noise" : "roofline estimate on " + q.target,
-                                 ordered.size(), n_all, *q.max_error, scope_of(q));
+  s.reason = budget ? fmt::format("lowest rmse of the {} of {} candidates {} ({})", ordered.size(), n_all, within,
+                                  scope_of(q))
+                    : fmt::format("cheapest ({}) of the {} of {} candidates with rmse <= {:.5f} ({})",
+                                  q.target.empty() ? "paired time, within the noise" : "roofline estimate on " + q.target,
+                                  ordered.size(), n_all, *q.max_error, scope_of(q));
+  s.text += "reason: " + s.reason + "\n";
   s.text += tied_line(s, budget);
   if (budget && q.budget_of.empty() && c.time_ci.known() && c.time_ci.hi > *q.budget_ms) {
     s.may_exceed_budget = true;
@@ -331,6 +333,7 @@ Selection select_within(const CostTable& table, const SelectQuery& q) {
 Selection select(const CostTable& table, const SelectQuery& query) {
   const SelectQuery q = with_budget_of(table, query);
   Selection s = select_within(table, q);
+  s.query = q;
   if (!q.budget_of.empty())
     s.text = fmt::format("budget: the time of {} ({:.3f} ms in this scope); variants tied with it fit too\n",
                          q.budget_of, *q.budget_ms) + s.text;

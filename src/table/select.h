@@ -45,7 +45,11 @@ struct Candidate {
 TimeComparison compare_candidates(const Candidate& a, const Candidate& b, const SelectQuery& q);
 
 struct Selection {
+  SelectQuery query;  // as answered: --budget-of resolved into budget_ms
   bool ok = false;
+  // Why: the choice's ("lowest rmse of the 5 of 12 candidates within 2.000 ms (...)") or, when nothing
+  // satisfies, what was asked and the nearest candidate.
+  std::string reason;
   std::optional<Candidate> choice;
   std::vector<Candidate> runners_up;  // the next 3 in the order that made the choice
   // The candidates the query cannot tell from the choice on time (their time ratio's interval holds 1).
@@ -71,5 +75,9 @@ std::vector<Candidate> candidates(const CostTable& table, const SelectQuery& q);
 // Throws std::runtime_error when the query is malformed (neither or both criteria), no row matches the
 // scene/view/backend filter, or no row has an estimate for the target (naming the families the table has).
 Selection select(const CostTable& table, const SelectQuery& q);
+
+// `aovar select --json`: the selection as one JSON document (schema_version, the query, ok, choice, reason,
+// interval, ties, runners-up, margin, consider, nearest); candidates with their times, intervals and errors.
+nlohmann::json to_json(const Selection& s);
 
 }  // namespace aovar::table

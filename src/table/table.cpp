@@ -10,6 +10,7 @@
 
 #include "table/detail.h"
 #include "util/fs.h"
+#include "util/schema.h"
 
 namespace aovar::table {
 namespace {
@@ -192,7 +193,7 @@ CostRow row_from_json(const json& j) {
 json to_json(const CostTable& t) {
   json rows = json::array();
   for (const auto& r : t.rows) rows.push_back(to_json(r));
-  return {{"meta", t.meta}, {"rows", rows}};
+  return {{"schema_version", util::kSchemaVersion}, {"meta", t.meta}, {"rows", rows}};
 }
 
 CostTable table_from_json(const json& j) {
@@ -208,7 +209,11 @@ CostTable read_table(const std::filesystem::path& path) {
   auto content = util::read_file(path);
   if (!content) throw std::runtime_error(util::display_path(path) + ": cannot read the cost table");
   try {
-    return table_from_json(json::parse(*content));
+    const json doc = json::parse(*content);
+    util::check_schema(doc, path);
+    return table_from_json(doc);
+  } catch (const util::NewerSchema&) {
+    throw;  // already names the file
   } catch (const std::exception& e) {
     throw std::runtime_error(util::display_path(path) + ": " + e.what());
   }

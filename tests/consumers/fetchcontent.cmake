@@ -13,8 +13,8 @@ consumer_expect_noop(${WORK}/build)
 set(tool ${WORK}/build/_deps/aovar-build/aovar)
 consumer_expect_regenerate(${WORK}/build ${tool})
 
-# A subcommand the generator-only build lacks: one line and the error exit code, not a usage error.
+# A subcommand the generator-only build lacks: one line and exit 2 (an error), not a usage message.
 execute_process(COMMAND ${tool} measure --scene builtin:atrium RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(rc EQUAL 0 OR NOT err MATCHES "^aovar measure is not in this build: .*AOVAR_WITH_RENDER=ON[^\n]*\n$")
+if(NOT rc EQUAL 2 OR NOT err MATCHES "^aovar measure is not in this build: .*AOVAR_WITH_RENDER=ON[^\n]*\n$")
   message(FATAL_ERROR "consumer: generator-only `aovar measure` did not say it is not in the build (${rc}): ${err}")
 endif()
