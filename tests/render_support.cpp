@@ -28,7 +28,7 @@ measure::MeasureOptions tiny_measure(const std::filesystem::path& dir, std::vect
 
 compile::CompiledSpace compile_variants(const std::vector<std::string>& keys) {
   compile::CompileOptions o;
-  o.targets = {variants::Target::vulkan, variants::Target::gl45};
+  o.targets = {variants::Target::vulkan, variants::Target::gl45, variants::Target::gles30};
   o.globs = keys;
   auto c = compile::compile_space(source_dir() / "shader_src" / "aovar.toml", o);
   if (!c.ok()) throw std::runtime_error("compile failed: " + (c.diagnostics.empty() ? "" : c.diagnostics[0]));
@@ -41,9 +41,7 @@ int variant_index(const compile::CompiledSpace& c, const std::string& key) {
   throw std::runtime_error("no variant " + key);
 }
 
-variants::Target target_of(const std::string& backend) {
-  return backend == "lavapipe" ? variants::Target::vulkan : variants::Target::gl45;
-}
+variants::Target target_of(const std::string& backend) { return render::target_of(backend); }
 
 scene::Scene quad_scene(const std::vector<Quad>& quads, const scene::View& view, float radius) {
   scene::Scene s;

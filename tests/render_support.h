@@ -12,7 +12,7 @@
 
 namespace aovar::test {
 
-// The default manifest compiled for vulkan and gl45, restricted to `keys` (exact keys or globs).
+// The default manifest compiled for vulkan, gl45 and gles30 (every backend's target), restricted to `keys` (exact keys or globs).
 compile::CompiledSpace compile_variants(const std::vector<std::string>& keys);
 
 // Tiny and fast measure options: builtin:stairs at 64x36, one timed round, no warm-up, compile and
