@@ -108,7 +108,11 @@ class EglPlatform final : public gl::Platform {
   EglPlatform(const EglPlatform&) = delete;
   EglPlatform& operator=(const EglPlatform&) = delete;
 
+  // Called only when another GL context was made current since (gl::Context tracks it). OSMesa switches Mesa's
+  // dispatch without telling libglvnd, which would then take this context for still current and skip the
+  // switch back (measured: the next call hit the OSMesa context), so it is released first.
   void make_current() override {
+    if (e_.eglGetCurrentContext() == ctx_) e_.eglMakeCurrent(e_.display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (!e_.eglMakeCurrent(e_.display, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx_))
       throw BackendError(fmt::format("gles: eglMakeCurrent failed (EGL error 0x{:04x}): {}", e_.eglGetError(), kInstall));
   }
