@@ -26,9 +26,10 @@ measure::MeasureOptions tiny_measure(const std::filesystem::path& dir, std::vect
   return o;
 }
 
-compile::CompiledSpace compile_variants(const std::vector<std::string>& keys) {
+compile::CompiledSpace compile_variants(const std::vector<std::string>& keys, bool with_gles) {
   compile::CompileOptions o;
-  o.targets = {variants::Target::vulkan, variants::Target::gl45, variants::Target::gles30};
+  o.targets = {variants::Target::vulkan, variants::Target::gl45};
+  if (with_gles) o.targets.push_back(variants::Target::gles30);
   o.globs = keys;
   auto c = compile::compile_space(source_dir() / "shader_src" / "aovar.toml", o);
   if (!c.ok()) throw std::runtime_error("compile failed: " + (c.diagnostics.empty() ? "" : c.diagnostics[0]));
@@ -110,11 +111,11 @@ ImageDiff compare(const image::FloatImage& a, const image::FloatImage& b) {
   return d;
 }
 
-PickedVariants pick_variants(const std::vector<std::vector<std::string>>& kinds) {
+PickedVariants pick_variants(const std::vector<std::vector<std::string>>& kinds, bool with_gles) {
   std::vector<std::string> globs;
   for (const auto& kind : kinds) globs.insert(globs.end(), kind.begin(), kind.end());
   PickedVariants picked;
-  picked.compiled = compile_variants(globs);
+  picked.compiled = compile_variants(globs, with_gles);
   const auto& all = picked.compiled.space.variants;
   for (std::size_t k = 0; k < kinds.size(); ++k)
     for (const auto& glob : kinds[k]) {

@@ -12,8 +12,9 @@
 
 namespace aovar::test {
 
-// The default manifest compiled for vulkan, gl45 and gles30 (every backend's target), restricted to `keys` (exact keys or globs).
-compile::CompiledSpace compile_variants(const std::vector<std::string>& keys);
+// The default manifest compiled for vulkan and gl45 (and gles30 for the gles backend, `with_gles`: the ES
+// programs add compile time most tests do not need), restricted to `keys` (exact keys or globs).
+compile::CompiledSpace compile_variants(const std::vector<std::string>& keys, bool with_gles = false);
 
 // Tiny and fast measure options: builtin:stairs at 64x36, one timed round, no warm-up, compile and
 // reference caches in `dir`, output in dir/m; `globs` selected, `baseline` timed in every round.
@@ -29,7 +30,7 @@ struct PickedVariants {
   compile::CompiledSpace compiled;
   std::map<int, std::string> keys;
 };
-PickedVariants pick_variants(const std::vector<std::vector<std::string>>& kinds);
+PickedVariants pick_variants(const std::vector<std::vector<std::string>>& kinds, bool with_gles = false);
 
 // The variant kinds a method's rendering tests use: a plain full-resolution 8-sample variant without blur
 // (the estimator alone), a blurred 16-sample one, and a progressive half-resolution mediump one on r16f

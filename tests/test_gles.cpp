@@ -24,7 +24,7 @@ const char* kMediump = "alchemy-s08-p1-ndep-zdep-rip-d16-bsep-x4-mp";
 const char* kHighp = "alchemy-s08-p1-ndep-zdep-rip-d16-bsep-x4-hp";
 
 const compile::CompiledSpace& twins() {
-  static const compile::CompiledSpace c = compile_variants({kMediump, kHighp});
+  static const compile::CompiledSpace c = compile_variants({kMediump, kHighp}, /*with_gles=*/true);
   return c;
 }
 

@@ -36,7 +36,7 @@ using MethodVariants = PickedVariants;
 const MethodVariants& method_variants(const std::string& algorithm) {
   static std::map<std::string, MethodVariants> cache;
   auto it = cache.find(algorithm);
-  if (it == cache.end()) it = cache.emplace(algorithm, pick_variants(method_kinds(algorithm))).first;
+  if (it == cache.end()) it = cache.emplace(algorithm, pick_variants(method_kinds(algorithm), /*with_gles=*/true)).first;
   return it->second;
 }
 
