@@ -31,7 +31,7 @@ struct BackendOptions {
   bool mediump_as_fp16 = false;
   // lavapipe (the Vulkan backend): which physical device to render on, "--device NAME|INDEX" (device_select.h):
   // empty = the CPU device lavapipe; a number = its index in vkEnumeratePhysicalDevices order; otherwise a
-  // case-insensitive substring of its name ("llvmpipe", "radeon"). osmesa ignores it.
+  // case-insensitive substring of its name ("llvmpipe", "radeon"). osmesa and gles ignore it.
   std::string device;
 };
 
