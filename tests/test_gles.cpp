@@ -4,10 +4,13 @@
 // both GL backends alive in one process.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
+#include "image/health.h"
 #include "render/backend.h"
 #include "render/gl_plan.h"
 #include "render/gles_internal.h"
@@ -118,6 +121,83 @@ TEST(Gles, EsOnlyCompileErrorNamesTheProgramAndTheTemplateLine) {
   EXPECT_NE(what.find(":41("), std::string::npos) << what;  // "<source>:<line>(<column>)"
   EXPECT_NE(what.find("precision"), std::string::npos) << what;
   EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+}
+
+// Read-back through ES (glReadPixels of RGBA/FLOAT from an FBO; ES has no glGetTexImage): row order, exact
+// values, NaN and Inf, at an odd width.
+TEST(Gles, ReadBackKeepsRowOrderExactValuesNaNAndInf) {
+  render::PipelinePlan plan;
+  plan.variant = "test-readback";
+  auto shader = [](const std::string& key, variants::StageKind stage, const std::string& glsl) {
+    render::Shader sh;
+    sh.program_key = key;
+    sh.stage = stage;
+    sh.glsl = glsl;
+    return sh;
+  };
+  plan.shaders = {
+      shader("fullscreen.vert", variants::StageKind::vertex,
+             "#version 300 es\nvoid main() { gl_Position = vec4(gl_VertexID == 1 ? 3.0 : -1.0, "
+             "gl_VertexID == 2 ? 3.0 : -1.0, 0.0, 1.0); }\n"),
+      // highp int too: ES fragment shaders default int to mediump, and float(mediump int) is mediump, which
+      // llvmpipe runs in fp16 (3001 came back as 3000 without it).
+      shader("pattern.frag", variants::StageKind::fragment, R"(#version 300 es
+precision highp float;
+precision highp int;
+layout(location = 0) out vec4 o_color;
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    float v = float(p.x) + 1000.0 * float(p.y);
+    if (p == ivec2(0, 0)) v = uintBitsToFloat(0x7fc00000u);   // NaN
+    if (p == ivec2(1, 0)) v = uintBitsToFloat(0x7f800000u);   // +Inf
+    if (p == ivec2(2, 0)) v = -uintBitsToFloat(0x7f800000u);  // -Inf
+    o_color = vec4(v, 0.0, 0.0, 1.0);
+}
+)")};
+  plan.textures = {render::Texture{"result", render::Format::r32f}};
+  render::Draw d;
+  d.name = d.pass = "pattern";
+  d.vertex = 0;
+  d.fragment = 1;
+  d.outputs = {render::TextureRef{0}};
+  plan.draws = {d};
+  plan.result = 0;
+  auto backend = render::make_backend("gles", {});
+  auto p = backend->prepare(plan, {37, 5});
+  scene::View view;
+  render::FrameSetup f;
+  f.view = &view;
+  backend->render(*p, f);
+  image::FloatImage img = backend->read_result(*p);
+  ASSERT_EQ(img.width, 37);
+  ASSERT_EQ(img.height, 5);
+  EXPECT_TRUE(std::isnan(img.at(0, 0)));
+  EXPECT_EQ(img.at(1, 0), std::numeric_limits<float>::infinity());
+  EXPECT_EQ(img.at(2, 0), -std::numeric_limits<float>::infinity());
+  for (int y = 0; y < 5; ++y)
+    for (int x = y == 0 ? 3 : 0; x < 37; ++x) ASSERT_EQ(img.at(x, y), float(x + 1000 * y)) << x << "," << y;
+}
+
+// SAO's z pyramid (one draw per MIP level reading the level below it alone, which ES does by narrowing the
+// texture's base and max level) with the progressive history, at a size that keeps five levels: gles
+// renders what osmesa renders.
+TEST(Gles, SaoPyramidAndProgressiveHistoryMatchOsmesaAtATinySize) {
+  const char* key = "sao-s12-p1-ndep-zdep-rst-d32-bbil-x4-hp";
+  static const compile::CompiledSpace c = compile_variants({key}, /*with_gles=*/true);
+  auto sc = scene::load_scene("builtin:stairs");
+  image::FloatImage images[2];
+  const char* backends[2] = {"gles", "osmesa"};
+  for (int b = 0; b < 2; ++b) {
+    auto backend = render::make_backend(backends[b], {});
+    backend->set_scene(sc);
+    images[b] = render_plan(*backend, render::plan_pipeline(c, variant_index(c, key), target_of(backends[b])),
+                            sc.views.front(), {96, 54}, sc.ao_radius, 3);
+  }
+  auto h = image::health(images[0]);
+  EXPECT_EQ(h.nan + h.inf + h.out_of_range, 0);
+  auto d = compare(images[0], images[1]);
+  EXPECT_LE(d.mean_abs, 1.0 / 255.0);
+  EXPECT_LE(d.max_abs, 0.1);
 }
 
 // OSMesa and EGL share Mesa's GL dispatch: interleaved calls on both, and pipelines that outlive their
