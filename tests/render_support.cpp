@@ -5,11 +5,35 @@
 #include <algorithm>
 
 #include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
 #include <stdexcept>
 
 #include "test_support.h"
 
 namespace aovar::test {
+
+const char* const kReadbackPatternMain = R"(
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    float v = float(p.x) + 1000.0 * float(p.y);
+    if (p == ivec2(0, 0)) v = uintBitsToFloat(0x7fc00000u);       // NaN
+    if (p == ivec2(1, 0)) v = uintBitsToFloat(0x7f800000u);       // +Inf
+    if (p == ivec2(2, 0)) v = -uintBitsToFloat(0x7f800000u);      // -Inf
+    o_color = vec4(v, 0.0, 0.0, 1.0);
+}
+)";
+
+void expect_readback_pattern(const image::FloatImage& img, int width, int height) {
+  ASSERT_EQ(img.width, width);
+  ASSERT_EQ(img.height, height);
+  EXPECT_TRUE(std::isnan(img.at(0, 0)));
+  EXPECT_EQ(img.at(1, 0), std::numeric_limits<float>::infinity());
+  EXPECT_EQ(img.at(2, 0), -std::numeric_limits<float>::infinity());
+  for (int y = 0; y < height; ++y)
+    for (int x = y == 0 ? 3 : 0; x < width; ++x) ASSERT_EQ(img.at(x, y), float(x + 1000 * y)) << x << "," << y;
+}
 
 measure::MeasureOptions tiny_measure(const std::filesystem::path& dir, std::vector<std::string> globs,
                                      const std::string& baseline) {

@@ -57,6 +57,11 @@ image::FloatImage render_plan(render::Backend& backend, const render::PipelinePl
 // Pixel (x, y; row 0 = bottom) where a world point lands in `view` at `size`.
 glm::ivec2 project(const scene::View& view, render::Extent size, glm::vec3 world);
 
+// The GL backends' read-back tests: a fragment main() writing x + 1000 y to o_color.r (pixel coordinates),
+// NaN at (0, 0), +Inf at (1, 0), -Inf at (2, 0); and the check of its image.
+extern const char* const kReadbackPatternMain;
+void expect_readback_pattern(const image::FloatImage& img, int width, int height);
+
 struct ImageDiff {
   double mean_abs = 0, max_abs = 0;
 };

@@ -141,19 +141,9 @@ TEST(Gles, ReadBackKeepsRowOrderExactValuesNaNAndInf) {
              "gl_VertexID == 2 ? 3.0 : -1.0, 0.0, 1.0); }\n"),
       // highp int too: ES fragment shaders default int to mediump, and float(mediump int) is mediump, which
       // llvmpipe runs in fp16 (3001 came back as 3000 without it).
-      shader("pattern.frag", variants::StageKind::fragment, R"(#version 300 es
-precision highp float;
-precision highp int;
-layout(location = 0) out vec4 o_color;
-void main() {
-    ivec2 p = ivec2(gl_FragCoord.xy);
-    float v = float(p.x) + 1000.0 * float(p.y);
-    if (p == ivec2(0, 0)) v = uintBitsToFloat(0x7fc00000u);   // NaN
-    if (p == ivec2(1, 0)) v = uintBitsToFloat(0x7f800000u);   // +Inf
-    if (p == ivec2(2, 0)) v = -uintBitsToFloat(0x7f800000u);  // -Inf
-    o_color = vec4(v, 0.0, 0.0, 1.0);
-}
-)")};
+      shader("pattern.frag", variants::StageKind::fragment,
+             std::string("#version 300 es\nprecision highp float;\nprecision highp int;\n"
+                         "layout(location = 0) out vec4 o_color;\n") + kReadbackPatternMain)};
   plan.textures = {render::Texture{"result", render::Format::r32f}};
   render::Draw d;
   d.name = d.pass = "pattern";
@@ -168,14 +158,7 @@ void main() {
   render::FrameSetup f;
   f.view = &view;
   backend->render(*p, f);
-  image::FloatImage img = backend->read_result(*p);
-  ASSERT_EQ(img.width, 37);
-  ASSERT_EQ(img.height, 5);
-  EXPECT_TRUE(std::isnan(img.at(0, 0)));
-  EXPECT_EQ(img.at(1, 0), std::numeric_limits<float>::infinity());
-  EXPECT_EQ(img.at(2, 0), -std::numeric_limits<float>::infinity());
-  for (int y = 0; y < 5; ++y)
-    for (int x = y == 0 ? 3 : 0; x < 37; ++x) ASSERT_EQ(img.at(x, y), float(x + 1000 * y)) << x << "," << y;
+  expect_readback_pattern(backend->read_result(*p), 37, 5);
 }
 
 // SAO's z pyramid (one draw per MIP level reading the level below it alone, which ES does by narrowing the
