@@ -39,7 +39,7 @@ install(FILES ${PROJECT_BINARY_DIR}/aovarConfig.cmake ${PROJECT_BINARY_DIR}/aova
         DESTINATION ${AOVAR_INSTALL_CMAKEDIR})
 
 # The Debian package. dpkg-shlibdeps declares the libraries the tool links (glslang is static; Embree, TBB,
-# OSMesa, the Vulkan loader, NLopt, ...); the Vulkan drivers and EGL are loaded at run time, so they are
+# OSMesa, the Vulkan loader, NLopt, ...); the Vulkan drivers and EGL (the gles backend) are loaded at run time, so they are
 # named by hand.
 set(CPACK_PACKAGE_NAME aovar)
 set(CPACK_PACKAGE_VENDOR "aovar")
@@ -52,7 +52,7 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION devel)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 if(AOVAR_WITH_RENDER)
-  set(CPACK_DEBIAN_PACKAGE_DEPENDS "mesa-vulkan-drivers")
+  set(CPACK_DEBIAN_PACKAGE_DEPENDS "mesa-vulkan-drivers, libegl1, libegl-mesa0, libgles2")
 endif()
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "cmake (>= 3.25), ninja-build")
 set(CPACK_STRIP_FILES ON)

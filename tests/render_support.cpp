@@ -5,11 +5,35 @@
 #include <algorithm>
 
 #include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
 #include <stdexcept>
 
 #include "test_support.h"
 
 namespace aovar::test {
+
+const char* const kReadbackPatternMain = R"(
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    float v = float(p.x) + 1000.0 * float(p.y);
+    if (p == ivec2(0, 0)) v = uintBitsToFloat(0x7fc00000u);       // NaN
+    if (p == ivec2(1, 0)) v = uintBitsToFloat(0x7f800000u);       // +Inf
+    if (p == ivec2(2, 0)) v = -uintBitsToFloat(0x7f800000u);      // -Inf
+    o_color = vec4(v, 0.0, 0.0, 1.0);
+}
+)";
+
+void expect_readback_pattern(const image::FloatImage& img, int width, int height) {
+  ASSERT_EQ(img.width, width);
+  ASSERT_EQ(img.height, height);
+  EXPECT_TRUE(std::isnan(img.at(0, 0)));
+  EXPECT_EQ(img.at(1, 0), std::numeric_limits<float>::infinity());
+  EXPECT_EQ(img.at(2, 0), -std::numeric_limits<float>::infinity());
+  for (int y = 0; y < height; ++y)
+    for (int x = y == 0 ? 3 : 0; x < width; ++x) ASSERT_EQ(img.at(x, y), float(x + 1000 * y)) << x << "," << y;
+}
 
 measure::MeasureOptions tiny_measure(const std::filesystem::path& dir, std::vector<std::string> globs,
                                      const std::string& baseline) {
@@ -26,9 +50,10 @@ measure::MeasureOptions tiny_measure(const std::filesystem::path& dir, std::vect
   return o;
 }
 
-compile::CompiledSpace compile_variants(const std::vector<std::string>& keys) {
+compile::CompiledSpace compile_variants(const std::vector<std::string>& keys, bool with_gles) {
   compile::CompileOptions o;
   o.targets = {variants::Target::vulkan, variants::Target::gl45};
+  if (with_gles) o.targets.push_back(variants::Target::gles30);
   o.globs = keys;
   auto c = compile::compile_space(source_dir() / "shader_src" / "aovar.toml", o);
   if (!c.ok()) throw std::runtime_error("compile failed: " + (c.diagnostics.empty() ? "" : c.diagnostics[0]));
@@ -41,9 +66,7 @@ int variant_index(const compile::CompiledSpace& c, const std::string& key) {
   throw std::runtime_error("no variant " + key);
 }
 
-variants::Target target_of(const std::string& backend) {
-  return backend == "lavapipe" ? variants::Target::vulkan : variants::Target::gl45;
-}
+variants::Target target_of(const std::string& backend) { return render::target_of(backend); }
 
 scene::Scene quad_scene(const std::vector<Quad>& quads, const scene::View& view, float radius) {
   scene::Scene s;
@@ -112,11 +135,11 @@ ImageDiff compare(const image::FloatImage& a, const image::FloatImage& b) {
   return d;
 }
 
-PickedVariants pick_variants(const std::vector<std::vector<std::string>>& kinds) {
+PickedVariants pick_variants(const std::vector<std::vector<std::string>>& kinds, bool with_gles) {
   std::vector<std::string> globs;
   for (const auto& kind : kinds) globs.insert(globs.end(), kind.begin(), kind.end());
   PickedVariants picked;
-  picked.compiled = compile_variants(globs);
+  picked.compiled = compile_variants(globs, with_gles);
   const auto& all = picked.compiled.space.variants;
   for (std::size_t k = 0; k < kinds.size(); ++k)
     for (const auto& glob : kinds[k]) {

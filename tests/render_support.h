@@ -12,8 +12,9 @@
 
 namespace aovar::test {
 
-// The default manifest compiled for vulkan and gl45, restricted to `keys` (exact keys or globs).
-compile::CompiledSpace compile_variants(const std::vector<std::string>& keys);
+// The default manifest compiled for vulkan and gl45 (and gles30 for the gles backend, `with_gles`: the ES
+// programs add compile time most tests do not need), restricted to `keys` (exact keys or globs).
+compile::CompiledSpace compile_variants(const std::vector<std::string>& keys, bool with_gles = false);
 
 // Tiny and fast measure options: builtin:stairs at 64x36, one timed round, no warm-up, compile and
 // reference caches in `dir`, output in dir/m; `globs` selected, `baseline` timed in every round.
@@ -29,7 +30,7 @@ struct PickedVariants {
   compile::CompiledSpace compiled;
   std::map<int, std::string> keys;
 };
-PickedVariants pick_variants(const std::vector<std::vector<std::string>>& kinds);
+PickedVariants pick_variants(const std::vector<std::vector<std::string>>& kinds, bool with_gles = false);
 
 // The variant kinds a method's rendering tests use: a plain full-resolution 8-sample variant without blur
 // (the estimator alone), a blurred 16-sample one, and a progressive half-resolution mediump one on r16f
@@ -55,6 +56,11 @@ image::FloatImage render_plan(render::Backend& backend, const render::PipelinePl
 
 // Pixel (x, y; row 0 = bottom) where a world point lands in `view` at `size`.
 glm::ivec2 project(const scene::View& view, render::Extent size, glm::vec3 world);
+
+// The GL backends' read-back tests: a fragment main() writing x + 1000 y to o_color.r (pixel coordinates),
+// NaN at (0, 0), +Inf at (1, 0), -Inf at (2, 0); and the check of its image.
+extern const char* const kReadbackPatternMain;
+void expect_readback_pattern(const image::FloatImage& img, int width, int height);
 
 struct ImageDiff {
   double mean_abs = 0, max_abs = 0;

@@ -11,6 +11,7 @@
 #include "render/backend.h"
 #include "render/osmesa_internal.h"
 #include "render/plan.h"
+#include "render_support.h"
 #include "scene/scene.h"
 
 namespace aovar::render {
@@ -265,16 +266,8 @@ TEST(Osmesa, ReadBackKeepsRowOrderExactValuesNaNAndInf) {
   PipelinePlan plan;
   plan.variant = "test-readback";
   plan.shaders = {shader("fullscreen.vert", variants::StageKind::vertex, kFullscreenVert),
-                  shader("pattern.frag", variants::StageKind::fragment, std::string("#version 450 core\n") + kFrameBlock + R"(
-void main() {
-    ivec2 p = ivec2(gl_FragCoord.xy);
-    float v = float(p.x) + 1000.0 * float(p.y);
-    if (p == ivec2(0, 0)) v = uintBitsToFloat(0x7fc00000u);       // NaN
-    if (p == ivec2(1, 0)) v = uintBitsToFloat(0x7f800000u);       // +Inf
-    if (p == ivec2(2, 0)) v = -uintBitsToFloat(0x7f800000u);      // -Inf
-    o_color = vec4(v, 0.0, 0.0, 1.0);
-}
-)")};
+                  shader("pattern.frag", variants::StageKind::fragment,
+                         std::string("#version 450 core\n") + kFrameBlock + test::kReadbackPatternMain)};
   plan.textures = {Texture{"result", Format::r32f}};
   plan.draws = {fullscreen("pattern", 1, {}, 0)};
   plan.result = 0;
@@ -284,14 +277,7 @@ void main() {
   EXPECT_THROW(backend->read_result(*p), BackendError) << "nothing rendered yet";
   scene::View view = plain_view();
   backend->render(*p, frame_of(view, 0));
-  image::FloatImage img = backend->read_result(*p);
-  ASSERT_EQ(img.width, 37);
-  ASSERT_EQ(img.height, 5);
-  EXPECT_TRUE(std::isnan(img.at(0, 0)));
-  EXPECT_EQ(img.at(1, 0), std::numeric_limits<float>::infinity());
-  EXPECT_EQ(img.at(2, 0), -std::numeric_limits<float>::infinity());
-  for (int y = 0; y < 5; ++y)
-    for (int x = y == 0 ? 3 : 0; x < 37; ++x) ASSERT_EQ(img.at(x, y), float(x + 1000 * y)) << x << "," << y;
+  test::expect_readback_pattern(backend->read_result(*p), 37, 5);
 }
 
 TEST(Osmesa, DoubleBufferedTexturesAlternateByParityAndStartOpen) {

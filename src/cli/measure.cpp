@@ -1,4 +1,4 @@
-// aovar measure: render and time variants on a scene through lavapipe / OSMesa (measure.json with --out).
+// aovar measure: render and time variants on a scene through lavapipe / OSMesa / GLES (measure.json with --out).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -78,13 +78,13 @@ ExitCode run_measure(const MeasureArgs& a) {
 Command add_measure(CLI::App& app) {
   auto a = std::make_shared<MeasureArgs>();
   auto& mo = a->options;
-  auto* cmd = app.add_subcommand("measure", "render and time variants on a scene through lavapipe / OSMesa");
+  auto* cmd = app.add_subcommand("measure", "render and time variants on a scene through lavapipe / OSMesa / GLES");
   add_common(cmd, a->common);
   cmd->add_option("--scene,-s", a->scene, "builtin:atrium|spheres|stairs|cornell or an .obj/.gltf/.glb file")
       ->capture_default_str();
   cmd->add_option("--views-file", a->views_file, "views side file (TOML or JSON) for the scene");
   cmd->add_option("--view", mo.views, "view name (repeatable; default: the scene's first view)");
-  cmd->add_option("--backend,-b", mo.backends, "lavapipe, osmesa (repeatable or comma-separated)")
+  cmd->add_option("--backend,-b", mo.backends, "lavapipe, osmesa, gles (repeatable or comma-separated)")
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
   add_reps(cmd, a->reps);

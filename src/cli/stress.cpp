@@ -119,7 +119,7 @@ Command add_stress(CLI::App& app) {
   auto* cmd = app.add_subcommand("stress", "numerical stability: every variant under extreme cameras, radii, geometry "
                                            "and formats; exit 1 when a shipped variant has NaN, Inf or out-of-range AO");
   add_common(cmd, a->common);
-  cmd->add_option("--backend,-b", so.backends, "lavapipe, osmesa (repeatable or comma-separated)")
+  cmd->add_option("--backend,-b", so.backends, "lavapipe, osmesa, gles (repeatable or comma-separated)")
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
   cmd->add_option("--threads", so.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();

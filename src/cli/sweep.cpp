@@ -63,7 +63,7 @@ Command add_sweep(CLI::App& app) {
   cmd->add_option("--scene,-s", so.scenes, "scenes (repeatable): builtin:atrium|spheres|stairs|cornell or a mesh file")
       ->capture_default_str();
   cmd->add_option("--view", so.measure.views, "view name (repeatable; default: every view of each scene)");
-  cmd->add_option("--backend,-b", so.measure.backends, "lavapipe, osmesa (repeatable or comma-separated)")
+  cmd->add_option("--backend,-b", so.measure.backends, "lavapipe, osmesa, gles (repeatable or comma-separated)")
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
   add_reps(cmd, a->reps);

@@ -1,6 +1,6 @@
 #pragma once
-// One interface over Mesa's two CPU drivers: "lavapipe" (Vulkan 1.3 through the loader) and "osmesa"
-// (OpenGL 4.5 core through OSMesa). A backend uploads a scene, prepares a variant's PipelinePlan, renders
+// One interface over Mesa's CPU drivers: "lavapipe" (Vulkan 1.3 through the loader), "osmesa" (OpenGL 4.5
+// core through OSMesa) and "gles" (OpenGL ES 3.0 through EGL surfaceless; shares osmesa's GL code, gl_plan.h). A backend uploads a scene, prepares a variant's PipelinePlan, renders
 // frames with a time per draw, and reads the result back as floats.
 #include <memory>
 #include <stdexcept>
@@ -26,25 +26,26 @@ struct BackendOptions {
   int threads = 2;          // LP_NUM_THREADS, set before the driver loads
   bool validation = false;  // lavapipe: enable VK_LAYER_KHRONOS_validation; errors throw BackendError
   // lavapipe: run mediump (RelaxedPrecision) arithmetic in real fp16, as mobile GPUs do, instead of llvmpipe's
-  // fp32 (compile/relaxed_fp16.h); needs shaderFloat16. osmesa rejects it (its GLSL has no such rewrite).
+  // fp32 (compile/relaxed_fp16.h); needs shaderFloat16. osmesa and gles reject it (their GLSL has no such rewrite).
   // For images only: llvmpipe converts around every fp16 op, so mediump draws get 2-7x slower, not faster.
   bool mediump_as_fp16 = false;
   // lavapipe (the Vulkan backend): which physical device to render on, "--device NAME|INDEX" (device_select.h):
   // empty = the CPU device lavapipe; a number = its index in vkEnumeratePhysicalDevices order; otherwise a
-  // case-insensitive substring of its name ("llvmpipe", "radeon"). osmesa ignores it.
+  // case-insensitive substring of its name ("llvmpipe", "radeon"). osmesa and gles ignore it.
   std::string device;
 };
 
 struct DeviceInfo {
-  std::string backend;      // "lavapipe" / "osmesa"
+  std::string backend;      // "lavapipe" / "osmesa" / "gles"
   std::string device;       // "llvmpipe (LLVM 15.0.6, 256 bits)"
-  std::string api_version;  // "Vulkan 1.3.230" / "OpenGL 4.5 (Core Profile) Mesa 22.3.6"
+  std::string api_version;  // "Vulkan 1.3.230" / "OpenGL 4.5 (Core Profile) Mesa 22.3.6" / "OpenGL ES 3.2 Mesa 22.3.6"
   std::string driver;       // "Mesa 22.3.6"
   int threads = 0;          // LP_NUM_THREADS in effect
   bool mediump_fp16 = false;  // mediump arithmetic runs in fp16 (BackendOptions::mediump_as_fp16)
   // The device runs mediump in fp32 (it ignores SPIR-V's RelaxedPrecision; desktop GLSL gives precision
   // qualifiers no meaning, GLSL 4.50 section 4.7): a mediump variant and its highp twin run the same code and
-  // are measured once (measure/same_code.h). `precision` says so for measure.json's devices[].
+  // are measured once (measure/same_code.h). gles measures it (gl_precision.cpp: ES lets mediump be fp16).
+  // `precision` says so for measure.json's devices[].
   bool ignores_relaxed_precision = false;
   std::string precision;    // "mediump runs in fp32 (...)" / "mediump honoured (...)"
   // How draws are timed: "timestamp queries", or for a device without valid ones "wall clock per frame ..."
@@ -73,7 +74,8 @@ class Backend {
   virtual std::unique_ptr<PreparedPipeline> prepare(const PipelinePlan& plan, Extent size) = 0;
 
   // Renders one frame and waits for it. Returns the time of each draw in ms, in plan.draws order:
-  // lavapipe from timestamp queries (a wall clock per frame where the device has none: DeviceInfo::timing), osmesa from a wall clock around each draw plus glFinish.
+  // lavapipe from timestamp queries (a wall clock per frame where the device has none: DeviceInfo::timing),
+  // osmesa and gles from a wall clock around each draw plus glFinish.
   virtual std::vector<double> render(PreparedPipeline& pipeline, const FrameSetup& frame) = 0;
 
   // The result texture of the last rendered frame, as floats, row 0 = bottom of the view.
@@ -85,17 +87,18 @@ class Backend {
   virtual void set_params(PreparedPipeline& pipeline, std::size_t draw, const std::vector<float>& params) = 0;
 };
 
-std::vector<std::string> backend_names();  // {"lavapipe", "osmesa"}
+std::vector<std::string> backend_names();  // {"lavapipe", "osmesa", "gles"}
 
-// The shader target a backend runs: lavapipe the Vulkan SPIR-V, osmesa the GL 4.5 GLSL. Throws BackendError
+// The shader target a backend runs: lavapipe the Vulkan SPIR-V, osmesa the GL 4.5 GLSL, gles the GLSL ES 3.00. Throws BackendError
 // naming the backends for an unknown name.
 variants::Target target_of(std::string_view backend);
 
 // Throws BackendError (unknown name, missing driver, failed context) with what to do.
 std::unique_ptr<Backend> make_backend(std::string_view name, const BackendOptions& options);
 
-// Implementations (render/lavapipe.cpp, render/osmesa.cpp).
+// Implementations (render/lavapipe.cpp, render/osmesa.cpp, render/gles.cpp).
 std::unique_ptr<Backend> make_lavapipe_backend(const BackendOptions& options);
 std::unique_ptr<Backend> make_osmesa_backend(const BackendOptions& options);
+std::unique_ptr<Backend> make_gles_backend(const BackendOptions& options);
 
 }  // namespace aovar::render

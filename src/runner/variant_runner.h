@@ -1,6 +1,6 @@
 #pragma once
 // The one variant runner: what measure, stress, calibrate and profile share between a compiled selection
-// and an image. It owns a backend (lavapipe or osmesa, with the programs of that backend's target), keeps
+// and an image. It owns a backend (lavapipe, osmesa or gles, with the programs of that backend's target), keeps
 // the scene uploaded, plans variants with their algorithm's calibrated parameters and the caller's
 // overrides, prepares them, renders a still frame or a camera path, reads the result back with its health,
 // and scores it against a ray-traced reference. Timing stays with its caller (measure/timing.h interleaves

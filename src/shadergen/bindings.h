@@ -20,4 +20,12 @@ inline constexpr int kSamplerCount = kCount - kFirstSampler;
 
 constexpr bool is_sampler(int b) { return b >= kFirstSampler && b < kCount; }
 
+// The names GLSL ES 3.00 programs are bound by (it has no binding qualifiers): block names, then sampler names.
+constexpr const char* name(int b) {
+  constexpr const char* kNames[kCount] = {"AOFrame",         "AOParams",       "ao_depth_tex",
+                                          "ao_normal_tex",   "ao_position_tex", "ao_input_tex",
+                                          "ao_history_tex",  "ao_prefilter_tex"};
+  return b >= 0 && b < kCount ? kNames[b] : "";
+}
+
 }  // namespace aovar::shadergen::binding

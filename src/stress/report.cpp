@@ -74,7 +74,7 @@ nlohmann::json to_json(const Result& r, const Options& o) {
   }
   return {{"schema_version", util::kSchemaVersion}, {"tool", "aovar stress"}, {"manifest", util::display_path(o.manifest)},
           {"size", fmt::format("{}x{}", o.size.width, o.size.height)}, {"backends", o.backends},
-          {"mediump", o.mediump_fp16 ? "fp16 on lavapipe (convert-relaxed-to-half), fp32 on osmesa" : "fp32"},
+          {"mediump", o.mediump_fp16 ? "fp16 on lavapipe (convert-relaxed-to-half), fp32 on osmesa, the driver's on gles" : "fp32"},
           {"pair_tolerance", o.pair_tolerance}, {"pair_share", o.pair_share}, {"failed", r.failed},
           {"shipped_failed", r.shipped_failed}, {"variants", variants}, {"checks", checks}};
 }
@@ -84,7 +84,7 @@ std::string to_markdown(const Result& r, const Options& o) {
   std::string s = fmt::format("# aovar stress\n\n{} variants, {} checks ({} cases x backends), {} failed ({} shipped).\n\n",
                               r.variants.size(), r.checks.size(), cases.size(), r.failed, r.shipped_failed);
   s += o.mediump_fp16 ? "mediump arithmetic runs in fp16 on lavapipe (SPIRV-Tools convert-relaxed-to-half, shaderFloat16), "
-                        "as on mobile GPUs; OSMesa runs it in fp32.\n\n"
+                        "as on mobile GPUs; OSMesa runs it in fp32, GLES as its driver does (the device's precision in measure.json).\n\n"
                       : "mediump arithmetic runs in fp32 (--mediump-fp32): mediump cannot differ from highp.\n\n";
   s += "| variant | shipped | checks | result | failing cases |\n|---|:---:|---:|---|---|\n";
   for (const auto& v : r.variants) {

@@ -44,7 +44,9 @@ std::vector<variants::Target> targets_of(const std::vector<std::string>& backend
   if (backends.empty()) throw std::runtime_error("stress: give at least one --backend");
   std::vector<variants::Target> targets;
   for (const auto& b : backends) {
-    if (b != "lavapipe" && b != "osmesa") throw std::runtime_error("stress: unknown backend '" + b + "' (lavapipe, osmesa)");
+    const auto names = render::backend_names();
+    if (std::find(names.begin(), names.end(), b) == names.end())
+      throw std::runtime_error("stress: unknown backend '" + b + "' (lavapipe, osmesa, gles)");
     if (std::find(targets.begin(), targets.end(), render::target_of(b)) == targets.end())
       targets.push_back(render::target_of(b));
   }

@@ -1,14 +1,18 @@
 #pragma once
-// OpenGL 4.5 core entry points of the osmesa backend, loaded through OSMesaGetProcAddress: libOSMesa
-// exports only some gl* symbols, so nothing here links against them directly. Internal to src/render.
-#include <GL/glcorearb.h>  // before osmesa.h: its gl.h then adds nothing the core header lacks
-#include <GL/osmesa.h>
+// The OpenGL entry points of the two GL backends (osmesa: GL 4.5 core; gles: OpenGL ES 3.0), loaded
+// through the platform's GetProcAddress so nothing links against libGL / libGLESv2 directly. Only the
+// OpenGL ES 3.0 subset is used: every one of these is also core GL 4.5 with the same enums, so one plan
+// executor (gl_plan.cpp) serves both. Internal to src/render; include it only where no desktop GL header is.
+#define GL_GLES_PROTOTYPES 0
+#include <GLES3/gl3.h>
 
-namespace aovar::render::osmesa {
+namespace aovar::render::gl {
 
-// Every GL function the backend calls. Direct state access (4.5) keeps object setup free of bind points.
 #define AOVAR_GL_FUNCTIONS(X)                                          \
   X(PFNGLGETSTRINGPROC, GetString)                                     \
+  X(PFNGLGETSTRINGIPROC, GetStringi)                                   \
+  X(PFNGLGETINTEGERVPROC, GetIntegerv)                                 \
+  X(PFNGLGETSHADERPRECISIONFORMATPROC, GetShaderPrecisionFormat)       \
   X(PFNGLGETERRORPROC, GetError)                                       \
   X(PFNGLFINISHPROC, Finish)                                           \
   X(PFNGLENABLEPROC, Enable)                                           \
@@ -17,38 +21,36 @@ namespace aovar::render::osmesa {
   X(PFNGLDEPTHMASKPROC, DepthMask)                                     \
   X(PFNGLVIEWPORTPROC, Viewport)                                       \
   X(PFNGLPIXELSTOREIPROC, PixelStorei)                                 \
-  X(PFNGLCREATEBUFFERSPROC, CreateBuffers)                             \
-  X(PFNGLNAMEDBUFFERSTORAGEPROC, NamedBufferStorage)                   \
-  X(PFNGLNAMEDBUFFERSUBDATAPROC, NamedBufferSubData)                   \
+  X(PFNGLREADBUFFERPROC, ReadBuffer)                                   \
+  X(PFNGLREADPIXELSPROC, ReadPixels)                                   \
+  X(PFNGLGENBUFFERSPROC, GenBuffers)                                   \
+  X(PFNGLBINDBUFFERPROC, BindBuffer)                                   \
+  X(PFNGLBUFFERDATAPROC, BufferData)                                   \
+  X(PFNGLBUFFERSUBDATAPROC, BufferSubData)                             \
   X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                             \
   X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                           \
-  X(PFNGLCREATEVERTEXARRAYSPROC, CreateVertexArrays)                   \
+  X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                         \
   X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                   \
   X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                         \
-  X(PFNGLVERTEXARRAYVERTEXBUFFERPROC, VertexArrayVertexBuffer)         \
-  X(PFNGLVERTEXARRAYELEMENTBUFFERPROC, VertexArrayElementBuffer)       \
-  X(PFNGLVERTEXARRAYATTRIBFORMATPROC, VertexArrayAttribFormat)         \
-  X(PFNGLVERTEXARRAYATTRIBBINDINGPROC, VertexArrayAttribBinding)       \
-  X(PFNGLENABLEVERTEXARRAYATTRIBPROC, EnableVertexArrayAttrib)         \
-  X(PFNGLCREATETEXTURESPROC, CreateTextures)                           \
-  X(PFNGLTEXTURESTORAGE2DPROC, TextureStorage2D)                       \
-  X(PFNGLTEXTUREPARAMETERIPROC, TextureParameteri)                     \
+  X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                 \
+  X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)         \
   X(PFNGLGENTEXTURESPROC, GenTextures)                                 \
-  X(PFNGLTEXTUREVIEWPROC, TextureView)                                 \
-  X(PFNGLCLEARTEXIMAGEPROC, ClearTexImage)                             \
-  X(PFNGLGETTEXTUREIMAGEPROC, GetTextureImage)                         \
+  X(PFNGLBINDTEXTUREPROC, BindTexture)                                 \
+  X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                             \
+  X(PFNGLTEXSTORAGE2DPROC, TexStorage2D)                               \
+  X(PFNGLTEXPARAMETERIPROC, TexParameteri)                             \
   X(PFNGLDELETETEXTURESPROC, DeleteTextures)                           \
-  X(PFNGLBINDTEXTURESPROC, BindTextures)                               \
-  X(PFNGLCREATERENDERBUFFERSPROC, CreateRenderbuffers)                 \
-  X(PFNGLNAMEDRENDERBUFFERSTORAGEPROC, NamedRenderbufferStorage)       \
+  X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                       \
+  X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                       \
+  X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)                 \
   X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                 \
-  X(PFNGLCREATEFRAMEBUFFERSPROC, CreateFramebuffers)                   \
-  X(PFNGLNAMEDFRAMEBUFFERTEXTUREPROC, NamedFramebufferTexture)         \
-  X(PFNGLNAMEDFRAMEBUFFERRENDERBUFFERPROC, NamedFramebufferRenderbuffer) \
-  X(PFNGLNAMEDFRAMEBUFFERDRAWBUFFERSPROC, NamedFramebufferDrawBuffers) \
-  X(PFNGLCHECKNAMEDFRAMEBUFFERSTATUSPROC, CheckNamedFramebufferStatus) \
-  X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                   \
+  X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                         \
   X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                         \
+  X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)               \
+  X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)         \
+  X(PFNGLDRAWBUFFERSPROC, DrawBuffers)                                 \
+  X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)           \
+  X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                   \
   X(PFNGLCLEARBUFFERFVPROC, ClearBufferfv)                             \
   X(PFNGLCREATESHADERPROC, CreateShader)                               \
   X(PFNGLSHADERSOURCEPROC, ShaderSource)                               \
@@ -59,11 +61,16 @@ namespace aovar::render::osmesa {
   X(PFNGLCREATEPROGRAMPROC, CreateProgram)                             \
   X(PFNGLATTACHSHADERPROC, AttachShader)                               \
   X(PFNGLDETACHSHADERPROC, DetachShader)                               \
+  X(PFNGLBINDATTRIBLOCATIONPROC, BindAttribLocation)                   \
   X(PFNGLLINKPROGRAMPROC, LinkProgram)                                 \
   X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                               \
   X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)                     \
   X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                             \
   X(PFNGLUSEPROGRAMPROC, UseProgram)                                   \
+  X(PFNGLGETUNIFORMBLOCKINDEXPROC, GetUniformBlockIndex)               \
+  X(PFNGLUNIFORMBLOCKBINDINGPROC, UniformBlockBinding)                 \
+  X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                   \
+  X(PFNGLUNIFORM1IPROC, Uniform1i)                                     \
   X(PFNGLDRAWARRAYSPROC, DrawArrays)                                   \
   X(PFNGLDRAWELEMENTSPROC, DrawElements)                               \
   X(PFNGLISTEXTUREPROC, IsTexture)                                     \
@@ -73,14 +80,10 @@ namespace aovar::render::osmesa {
   X(PFNGLISPROGRAMPROC, IsProgram)                                     \
   X(PFNGLISSHADERPROC, IsShader)
 
-struct GlFunctions {
+struct Functions {
 #define AOVAR_GL_MEMBER(type, name) type name = nullptr;
   AOVAR_GL_FUNCTIONS(AOVAR_GL_MEMBER)
 #undef AOVAR_GL_MEMBER
 };
 
-// Fills every entry ("gl" + member name). Returns the name of the first entry point OSMesa does not
-// provide, or nullptr when all were found. Needs a current context.
-const char* load_gl_functions(GlFunctions& gl);
-
-}  // namespace aovar::render::osmesa
+}  // namespace aovar::render::gl
