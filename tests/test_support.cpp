@@ -42,8 +42,12 @@ void replace_in_file(const fs::path& file, const std::string& from, const std::s
   util::write_atomic(file, text);
 }
 
-CommandResult run_aovar(const std::string& args) {
-  std::string cmd = std::string(AOVAR_EXE) + " " + args + " 2>&1";
+std::filesystem::path aovar_executable() { return AOVAR_EXE; }
+
+CommandResult run_aovar(const std::string& args) { return run_command(std::string(AOVAR_EXE) + " " + args); }
+
+CommandResult run_command(const std::string& command) {
+  std::string cmd = command + " 2>&1";
   CommandResult r;
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) return r;

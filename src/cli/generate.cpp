@@ -7,6 +7,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "compile/text.h"
+#include "compile/up_to_date.h"
 #include "util/clock.h"
 
 namespace aovar::cli {
@@ -39,15 +40,16 @@ unsigned parse_emit(const std::string& emit) {
 int generate(const CommonOptions& common, const compile::OutputOptions& out) {
   auto start = util::Clock::now();
   auto options = compile_options(common);
-  auto c = compile::plan_space(common.manifest, options);
-  std::string print = compile::fingerprint(c, options, out);
+  // Up to date: proven from the recorded inputs' hashes, before parsing the manifest or expanding anything.
+  std::string settings = compile::run_settings(compile::tool_identity(), common.manifest, options, out);
   if (!out.check) {
-    if (auto summary = compile::fresh_outputs(c, print, out)) {
-      compile::finish_outputs(c, out);
-      std::cout << compile::up_to_date_text(*summary, out.out, util::seconds_since(start));
+    if (auto recorded = compile::recorded_if_current(settings, out)) {
+      compile::finish_outputs(recorded->manifest, recorded->files, out);
+      std::cout << compile::up_to_date_text(recorded->summary, out.out, util::seconds_since(start));
       return 0;
     }
   }
+  auto c = compile::plan_space(common.manifest, options);
   compile::build_programs(c, options);
   if (!report_diagnostics(c)) return 1;
   auto r = compile::write_outputs(c, out);
@@ -58,7 +60,7 @@ int generate(const CommonOptions& common, const compile::OutputOptions& out) {
     return 0;
   }
   std::string summary = compile::summary_table(c);
-  compile::record_outputs(out, print, summary, r.files);
+  compile::record_run(settings, c, out, summary, r.files);
   std::cout << summary << compile::written_line(r, out.out, util::seconds_since(start));
   return 0;
 }
@@ -66,6 +68,7 @@ int generate(const CommonOptions& common, const compile::OutputOptions& out) {
 int run_generate(GenerateArgs& a) {
   a.out.out = a.out_dir;
   a.out.emit = parse_emit(a.emit);
+  a.out.jobs = a.common.jobs;
   if (!a.depfile.empty()) a.out.depfile = a.depfile;
   if (!a.depfile_target.empty()) a.out.depfile_target = a.depfile_target;
   if (!a.stamp.empty()) a.out.stamp = a.stamp;
