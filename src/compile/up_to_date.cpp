@@ -29,7 +29,7 @@ std::string content_hash(const fs::path& path) {
   return text ? util::hash_hex(*text) : "missing";
 }
 
-// "<tag> <field> <rest of line>": splits off the tag and, when `fields` is 2, one more word.
+// "<tag> <field> <rest of line>" (or "<tag> <rest>" without a field); the rest is a path and may hold spaces.
 bool split(const std::string& line, std::string& tag, std::string& field, std::string& rest, bool with_field) {
   std::size_t a = line.find(' ');
   if (a == std::string::npos) return false;
