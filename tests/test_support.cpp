@@ -42,6 +42,8 @@ void replace_in_file(const fs::path& file, const std::string& from, const std::s
   util::write_atomic(file, text);
 }
 
+std::filesystem::path aovar_executable() { return AOVAR_EXE; }
+
 CommandResult run_aovar(const std::string& args) { return run_command(std::string(AOVAR_EXE) + " " + args); }
 
 CommandResult run_command(const std::string& command) {

@@ -26,6 +26,7 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 CommandResult run_aovar(const std::string& args);  // runs the built CLI
-CommandResult run_command(const std::string& command);  // through sh
+CommandResult run_command(const std::string& command);  // a shell command line
+std::filesystem::path aovar_executable();             // the built CLI's path
 
 }  // namespace aovar::test

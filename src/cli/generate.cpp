@@ -11,6 +11,7 @@
 #include "cli/options.h"
 #include "compile/shard_plan.h"
 #include "compile/text.h"
+#include "compile/up_to_date.h"
 #include "util/clock.h"
 
 namespace aovar::cli {
@@ -43,6 +44,18 @@ unsigned parse_emit(const std::string& emit) {
 ExitCode generate(const CommonOptions& common, const compile::OutputOptions& out, const shard::ShardSpec& spec) {
   auto start = util::Clock::now();
   auto options = compile_options(common);
+  // The shard is part of what was run: a shard's outputs never pass for the whole selection's, or another's.
+  const std::string settings = compile::run_settings(compile::tool_identity(), common.manifest, options, out) +
+                               (spec.sharded() ? "\nshard " + spec.label() : std::string());
+  // Up to date: proven from the recorded inputs' hashes, before parsing the manifest or expanding anything.
+  // A shard always plans (its shard.json is written from the plan); shards run once each on fresh machines.
+  if (!out.check && !spec.sharded()) {
+    if (auto recorded = compile::recorded_if_current(settings, out)) {
+      compile::finish_outputs(recorded->manifest, recorded->files, out);
+      std::cout << compile::up_to_date_text(recorded->summary, out.out, util::seconds_since(start));
+      return ExitCode::ok;
+    }
+  }
   auto c = compile::plan_space(common.manifest, options);
   std::optional<compile::GenerateShard> shard;
   if (spec.sharded()) {  // this shard's variants only: plan again without the others'
@@ -51,20 +64,6 @@ ExitCode generate(const CommonOptions& common, const compile::OutputOptions& out
     options.exclude.insert(shard->excluded.begin(), shard->excluded.end());
     c = compile::plan_space(common.manifest, options);
     if (!out.check) compile::write_generate_manifest(out.out, *shard, 0, false, 0);
-  }
-  auto done = [&] {
-    if (shard && !out.check)
-      compile::write_generate_manifest(out.out, *shard, static_cast<int>(c.space.variants.size()), true,
-                                       util::seconds_since(start));
-  };
-  std::string print = compile::fingerprint(c, options, out);
-  if (!out.check) {
-    if (auto summary = compile::fresh_outputs(c, print, out)) {
-      compile::finish_outputs(c, out);
-      std::cout << compile::up_to_date_text(*summary, out.out, util::seconds_since(start));
-      done();
-      return ExitCode::ok;
-    }
   }
   compile::build_programs(c, options);
   if (!report_diagnostics(c)) return ExitCode::error;  // the diagnostics are printed
@@ -76,15 +75,18 @@ ExitCode generate(const CommonOptions& common, const compile::OutputOptions& out
     return ExitCode::ok;
   }
   std::string summary = compile::summary_table(c);
-  compile::record_outputs(out, print, summary, r.files);
+  compile::record_run(settings, c, out, summary, r.files);
   std::cout << summary << compile::written_line(r, out.out, util::seconds_since(start));
-  done();
+  if (shard)
+    compile::write_generate_manifest(out.out, *shard, static_cast<int>(c.space.variants.size()), true,
+                                     util::seconds_since(start));
   return ExitCode::ok;
 }
 
 ExitCode run_generate(GenerateArgs& a) {
   a.out.out = a.out_dir;
   a.out.emit = parse_emit(a.emit);
+  a.out.jobs = a.common.jobs;
   if (!a.depfile.empty()) a.out.depfile = a.depfile;
   if (!a.depfile_target.empty()) a.out.depfile_target = a.depfile_target;
   if (!a.stamp.empty()) a.out.stamp = a.stamp;

@@ -1,21 +1,20 @@
 #include "compile/generate.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <chrono>
-#include <functional>
 #include <fmt/format.h>
 #include <map>
 #include <set>
 #include <sstream>
-#include <thread>
+#include <exception>
 
 #include "compile/cache.h"
 #include "shadergen/expand.h"
 #include "util/clock.h"
 #include "util/fs.h"
 #include "util/hash.h"
+#include "util/parallel.h"
 #include "util/path_names.h"
 
 namespace aovar::compile {
@@ -54,19 +53,6 @@ std::string program_hash(const std::string& text, variants::StageKind stage, Tar
   return h.hex();
 }
 
-void run_parallel(std::size_t count, int jobs, const std::function<void(std::size_t)>& task) {
-  unsigned n = jobs > 0 ? static_cast<unsigned>(jobs) : std::max(1u, std::thread::hardware_concurrency());
-  n = static_cast<unsigned>(std::min<std::size_t>(n, count));
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    for (std::size_t i = next++; i < count; i = next++) task(i);
-  };
-  std::vector<std::thread> threads;
-  for (unsigned i = 1; i < n; ++i) threads.emplace_back(worker);
-  worker();
-  for (auto& t : threads) t.join();
-}
-
 struct GroupedDiagnostic {  // one message at one place on one target, and how many programs share it
   std::string line;
   std::string first_program;
@@ -85,23 +71,34 @@ CompiledSpace plan_space(const fs::path& manifest_path, const CompileOptions& op
   const auto& programs = c.space.programs;
   const std::string manifest_display = c.manifest.error_prefix();
 
-  // Expand every program for every target on this thread: cheap, and it fixes the set of files read.
+  // Expand and hash every program for every target on the pool. A template error names the first failing
+  // program in (target, program) order, as a serial run would, whichever thread met it first.
   shadergen::TemplateReader reader(c.manifest.root);
-  std::vector<std::vector<shadergen::ExpandedSource>> expanded(c.targets.size());
-  for (std::size_t t = 0; t < c.targets.size(); ++t)
-    for (const auto& spec : programs) expanded[t].push_back(shadergen::expand(reader, spec, c.targets[t], manifest_display));
+  const std::size_t count = c.targets.size() * programs.size();
+  std::vector<shadergen::ExpandedSource> expanded(count);
+  std::vector<std::exception_ptr> failed(count);
+  c.builds.assign(c.targets.size(), std::vector<ProgramBuild>(programs.size()));
+  util::run_parallel(count, options.jobs, [&](std::size_t i) {
+    std::size_t t = i / programs.size(), p = i % programs.size();
+    try {
+      expanded[i] = shadergen::expand(reader, programs[p], c.targets[t], manifest_display);
+      c.builds[t][p].hash = program_hash(expanded[i].text, programs[p].stage, c.targets[t]);
+    } catch (...) {
+      failed[i] = std::current_exception();
+    }
+  });
+  for (const auto& e : failed)
+    if (e) std::rethrow_exception(e);
   c.files = reader.files_read();
+  for (const auto& f : c.files) c.file_hashes.push_back(util::hash_hex(*reader.read(f)));
+  c.files_missing = reader.files_missing();
   std::map<fs::path, int> file_index;
   for (std::size_t i = 0; i < c.files.size(); ++i) file_index[c.files[i]] = static_cast<int>(i);
-
-  c.builds.assign(c.targets.size(), std::vector<ProgramBuild>(programs.size()));
-  for (std::size_t t = 0; t < c.targets.size(); ++t)
-    for (std::size_t p = 0; p < programs.size(); ++p) {
-      ProgramBuild& b = c.builds[t][p];
-      b.source = std::move(expanded[t][p].text);
-      for (const auto& f : expanded[t][p].files) b.files.push_back(file_index.at(f));
-      b.hash = program_hash(b.source, programs[p].stage, c.targets[t]);
-    }
+  for (std::size_t i = 0; i < count; ++i) {
+    ProgramBuild& b = c.builds[i / programs.size()][i % programs.size()];
+    b.source = std::move(expanded[i].text);
+    for (const auto& f : expanded[i].files) b.files.push_back(file_index.at(f));
+  }
 
   c.seconds_compile = util::seconds_since(start);
   return c;
@@ -112,13 +109,14 @@ void build_programs(CompiledSpace& c, const CompileOptions& options) {
   const auto& programs = c.space.programs;
   const std::string manifest_display = c.manifest.error_prefix();
   CompileCache cache(options.cache_dir);
-  run_parallel(c.targets.size() * programs.size(), options.jobs, [&](std::size_t i) {
+  ValidationMemo validated;
+  util::run_parallel(c.targets.size() * programs.size(), options.jobs, [&](std::size_t i) {
     std::size_t t = i / programs.size(), p = i % programs.size();
     ProgramBuild& b = c.builds[t][p];
     if (auto hit = cache.load(b.hash)) {
       b.output = std::move(*hit);
     } else {
-      b.output = compile_program(b.source, programs[p].stage, c.targets[t]);
+      b.output = compile_program(b.source, programs[p].stage, c.targets[t], &validated);
       b.compiled = true;
       cache.store(b.hash, b.output);
     }
@@ -231,31 +229,6 @@ CompiledSpace compile_space(const fs::path& manifest_path, const CompileOptions&
 }
 
 namespace {
-std::string file_signature(const fs::path& p) {
-  std::error_code ec;
-  auto size = fs::file_size(p, ec);
-  if (ec) return "missing";
-  auto time = fs::last_write_time(p, ec).time_since_epoch().count();
-  return std::to_string(size) + "@" + std::to_string(time);
-}
-}  // namespace
-
-std::string fingerprint(const CompiledSpace& c, const CompileOptions& co, const OutputOptions& o) {
-  util::Hasher h;
-  h.add(file_signature("/proc/self/exe"));  // a rebuilt generator may emit differently
-  h.add(shadergen::generator_version()).add(compiler_version()).add(c.manifest.text);
-  for (auto t : c.targets) h.add(variants::target_name(t));
-  h.add(o.emit).add(o.cpp_namespace).add(co.werror ? 1 : 0);
-  for (const auto& g : co.globs) h.add(g);
-  for (const auto& k : co.exclude) h.add("exclude").add(k);
-  for (const auto& target : c.builds)
-    for (const auto& b : target) h.add(b.hash);
-  return h.hex();
-}
-
-namespace {
-constexpr const char* kStateFile = ".aovar-state";
-
 // The namespace is both a C++ namespace and the embedding's file names (NS.h, NS.cpp): a plain identifier,
 // not a keyword, not one the standard reserves (a leading underscore and capital, or two underscores).
 void check_cpp_namespace(const std::string& ns) {
@@ -281,31 +254,6 @@ void check_cpp_namespace(const std::string& ns) {
                                          "(e.g. my_ssao)", util::printable_name(ns), why));
 }
 }  // namespace
-
-std::optional<std::string> fresh_outputs(const CompiledSpace& planned, const std::string& print,
-                                         const OutputOptions& o) {
-  auto state = util::read_file(o.out / kStateFile);
-  if (!state) return std::nullopt;
-  std::istringstream in(*state);
-  std::string line, summary;
-  if (!std::getline(in, line) || line != print) return std::nullopt;
-  while (std::getline(in, line) && line != "--") summary += line + "\n";
-  while (std::getline(in, line)) {  // "<signature> <relative path>"
-    std::size_t space = line.find(' ');
-    if (space == std::string::npos || file_signature(o.out / line.substr(space + 1)) != line.substr(0, space))
-      return std::nullopt;
-  }
-  return summary;
-}
-
-void record_outputs(const OutputOptions& o, const std::string& print, const std::string& summary,
-                    const std::vector<fs::path>& files) {
-  std::string state = print + "\n" + summary;
-  if (!summary.empty() && summary.back() != '\n') state += "\n";
-  state += "--\n";
-  for (const auto& f : files) state += file_signature(f) + " " + f.lexically_relative(o.out).string() + "\n";
-  util::write_if_changed(o.out / kStateFile, state);
-}
 
 OutputReport write_outputs(const CompiledSpace& c, const OutputOptions& o) {
   if (!o.check) {  // what a killed earlier run was writing, in the folders generate writes (not the user's tree)
@@ -334,20 +282,37 @@ OutputReport write_outputs(const CompiledSpace& c, const OutputOptions& o) {
     files[o.out / (o.cpp_namespace + ".cpp")] = std::move(source);
   }
 
-  OutputReport r;
-  for (const auto& [path, content] : files) {
-    r.files.push_back(path);
+  // Written (or, with check, compared) on the thread pool: thousands of small files, each a read of the old
+  // one and an atomic write, are I/O and system time that one thread would serialise after the compile.
+  std::vector<const std::pair<const fs::path, std::string>*> entries;
+  for (const auto& entry : files) entries.push_back(&entry);
+  if (!o.check) {  // the folders first, so the writers do not race to create them
+    std::set<fs::path> folders;
+    for (const auto* entry : entries) folders.insert(entry->first.parent_path());
+    for (const auto& folder : folders) fs::create_directories(folder);
+  }
+  enum Outcome : char { unchanged, written, differs, missing };
+  std::vector<Outcome> outcome(entries.size(), unchanged);
+  util::run_parallel(entries.size(), o.jobs, [&](std::size_t i) {
+    const auto& [path, content] = *entries[i];
     if (o.check) {
       auto old = util::read_file(path);
-      if (old && *old == content) ++r.unchanged;
-      else r.changed.push_back(util::display_path(path) + (old ? " (differs)" : " (missing)"));
-      continue;
+      outcome[i] = !old ? missing : *old == content ? unchanged : differs;
+    } else if (util::write_if_changed(path, content, util::Durability::replaceable) == util::WriteResult::written) {
+      outcome[i] = written;
     }
-    if (util::write_if_changed(path, content, util::Durability::replaceable) == util::WriteResult::written) {
+  });
+  OutputReport r;
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const fs::path& path = entries[i]->first;
+    r.files.push_back(path);
+    if (outcome[i] == unchanged) {
+      ++r.unchanged;
+    } else if (o.check) {
+      r.changed.push_back(util::display_path(path) + (outcome[i] == missing ? " (missing)" : " (differs)"));
+    } else {
       ++r.written;
       r.changed.push_back(util::display_path(path));
-    } else {
-      ++r.unchanged;
     }
   }
   // Programs that no longer exist leave no stale files behind in the folders this run owns.
@@ -366,11 +331,11 @@ OutputReport write_outputs(const CompiledSpace& c, const OutputOptions& o) {
     }
   }
   if (o.check) return r;
-  finish_outputs(c, o);
+  finish_outputs(c.manifest.path, c.files, o);
   return r;
 }
 
-void finish_outputs(const CompiledSpace& c, const OutputOptions& o) {
+void finish_outputs(const fs::path& manifest, const std::vector<fs::path>& files, const OutputOptions& o) {
   if (o.depfile) {  // gcc-style: <output>: <manifest> <templates and includes>
     auto escape = [](const fs::path& p) {
       std::string s, raw = fs::absolute(p).lexically_normal().string();
@@ -382,8 +347,8 @@ void finish_outputs(const CompiledSpace& c, const OutputOptions& o) {
       return s;
     };
     std::string dep = escape(o.depfile_target.value_or(o.out / "variants.json")) + ":";
-    dep += " \\\n  " + escape(c.manifest.path);
-    for (const auto& f : c.files) dep += " \\\n  " + escape(f);
+    dep += " \\\n  " + escape(manifest);
+    for (const auto& f : files) dep += " \\\n  " + escape(f);
     dep += "\n";
     util::write_if_changed(*o.depfile, dep);
   }

@@ -43,6 +43,8 @@ struct CompiledSpace {
   std::vector<variants::Target> targets;
   std::vector<std::vector<ProgramBuild>> builds;  // [target][program]
   std::vector<std::filesystem::path> files;       // every template and include read, sorted
+  std::vector<std::string> file_hashes;           // content hash of files[i] as this run read it
+  std::vector<std::filesystem::path> files_missing;  // include paths looked up and not found
   std::vector<int> variant_same_as;               // per variant: -1, or index of the variant it duplicates
   std::uint64_t dedup = 0;                        // variants left after dedup
   std::vector<TargetStats> stats;                 // per target
@@ -78,6 +80,7 @@ struct OutputOptions {
   std::optional<std::filesystem::path> depfile_target;  // default: <out>/variants.json
   std::optional<std::filesystem::path> stamp;
   bool check = false;  // compare only: write nothing, list what would change
+  int jobs = 0;        // threads writing the files (0 = hardware threads)
 };
 
 struct OutputReport {
@@ -87,17 +90,10 @@ struct OutputReport {
 };
 
 OutputReport write_outputs(const CompiledSpace& compiled, const OutputOptions& options);
-// The depfile and stamp (write_outputs calls it; a no-op run calls it alone).
-void finish_outputs(const CompiledSpace& planned, const OutputOptions& options);
-
-// No-op detection: a fingerprint of everything the outputs depend on (program hashes, manifest, options).
-// record_outputs stores it with each output's size and mtime; fresh_outputs returns the stored summary
-// when the fingerprint matches and no output was touched since, so a no-op run compiles and writes nothing.
-std::string fingerprint(const CompiledSpace& planned, const CompileOptions& co, const OutputOptions& o);
-std::optional<std::string> fresh_outputs(const CompiledSpace& planned, const std::string& print,
-                                         const OutputOptions& o);
-void record_outputs(const OutputOptions& o, const std::string& print, const std::string& summary,
-                    const std::vector<std::filesystem::path>& files);
+// The depfile (the manifest and every template and include read) and the stamp: write_outputs calls it, a
+// no-op run (compile/up_to_date.h) calls it alone with the recorded inputs.
+void finish_outputs(const std::filesystem::path& manifest, const std::vector<std::filesystem::path>& files,
+                    const OutputOptions& options);
 
 // The counts line: "space N / rules R / dedup D".
 std::string counts_line(const CompiledSpace& c);

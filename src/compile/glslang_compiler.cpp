@@ -73,9 +73,36 @@ EShLanguage language(StageKind s) { return s == StageKind::vertex ? EShLangVerte
 
 bool is_float_type(int gl_type) { return gl_type == 0x1406; /* GL_FLOAT */ }
 
+// spirv-val's messages for `spirv` ("" when valid). Friendly names (%name instead of %42 in messages) cost a
+// second parse of the whole binary on every call, a quarter of the validation time, and only a failure
+// shows them: so valid binaries are checked without them and a failure is validated again with them, for
+// the same message as always.
+std::string validate_once(const std::vector<std::uint32_t>& spirv, spv_target_env env) {
+  spvtools::SpirvTools tools(env);
+  spvtools::ValidatorOptions quiet;
+  quiet.SetFriendlyNames(false);
+  if (tools.Validate(spirv.data(), spirv.size(), quiet)) return {};
+  std::string errors;
+  tools.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t& pos, const char* m) {
+    errors += "spirv-val: " + std::string(m) + " (word " + std::to_string(pos.index) + ")";
+  });
+  tools.Validate(spirv);
+  return errors.empty() ? "spirv-val failed" : errors;
+}
+
+std::string validate(const std::vector<std::uint32_t>& spirv, spv_target_env env, ValidationMemo* memo) {
+  if (!memo) return validate_once(spirv, env);
+  std::string key = std::to_string(static_cast<int>(env)) + ":" +
+                    util::hash_hex(std::string_view(reinterpret_cast<const char*>(spirv.data()), spirv.size() * 4));
+  if (auto known = memo->find(key)) return *known;
+  std::string errors = validate_once(spirv, env);
+  memo->remember(key, errors);
+  return errors;
+}
+
 // Parses, links and (optionally) emits and validates SPIR-V. Appends diagnostics; returns success.
 bool run(const std::string& source, StageKind stage, const FrontEnd& fe, CompileOutput& out, bool reflect,
-         std::string* preprocessed) {
+         std::string* preprocessed, ValidationMemo* memo) {
   EShLanguage lang = language(stage);
   glslang::TShader shader(lang);
   const char* text = source.c_str();
@@ -125,13 +152,8 @@ bool run(const std::string& source, StageKind stage, const FrontEnd& fe, Compile
   glslang::GlslangToSpv(*program.getIntermediate(lang), out.spirv, &logger, &options);
   if (std::string msg = logger.getAllMessages(); !msg.empty())
     out.diagnostics.push_back({Diagnostic::Severity::warning, -1, 0, "SPIR-V back end: " + msg});
-  spvtools::SpirvTools tools(fe.validate_env);
-  std::string errors;
-  tools.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t& pos, const char* m) {
-    errors += "spirv-val: " + std::string(m) + " (word " + std::to_string(pos.index) + ")";
-  });
-  if (!tools.Validate(out.spirv)) {
-    out.diagnostics.push_back({Diagnostic::Severity::error, -1, 0, errors.empty() ? "spirv-val failed" : errors});
+  if (std::string errors = validate(out.spirv, fe.validate_env, memo); !errors.empty()) {
+    out.diagnostics.push_back({Diagnostic::Severity::error, -1, 0, errors});
     return false;
   }
   return true;
@@ -139,7 +161,19 @@ bool run(const std::string& source, StageKind stage, const FrontEnd& fe, Compile
 
 }  // namespace
 
-CompileOutput compile_program(const std::string& source, StageKind stage, Target target) {
+std::optional<std::string> ValidationMemo::find(const std::string& key) const {
+  std::lock_guard lock(mutex_);
+  auto it = results_.find(key);
+  if (it == results_.end()) return std::nullopt;
+  return it->second;
+}
+
+void ValidationMemo::remember(const std::string& key, const std::string& errors) {
+  std::lock_guard lock(mutex_);
+  results_.emplace(key, errors);
+}
+
+CompileOutput compile_program(const std::string& source, StageKind stage, Target target, ValidationMemo* memo) {
   initialise_compiler();
   CompileOutput out;
   const auto cascading = static_cast<EShMessages>(EShMsgCascadingErrors);
@@ -148,7 +182,7 @@ CompileOutput compile_program(const std::string& source, StageKind stage, Target
       FrontEnd fe{glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2, glslang::EShTargetSpv_1_5,
                   static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules | cascading), true,
                   SPV_ENV_VULKAN_1_2};
-      out.ok = run(source, stage, fe, out, true, nullptr);
+      out.ok = run(source, stage, fe, out, true, nullptr, memo);
       break;
     }
     case Target::gl45: {
@@ -156,14 +190,14 @@ CompileOutput compile_program(const std::string& source, StageKind stage, Target
                     cascading, false, SPV_ENV_OPENGL_4_5};
       FrontEnd spirv{glslang::EShClientOpenGL, glslang::EShTargetOpenGL_450, glslang::EShTargetSpv_1_0,
                      static_cast<EShMessages>(EShMsgSpvRules | cascading), true, SPV_ENV_OPENGL_4_5};
-      out.ok = run(source, stage, glsl, out, true, nullptr) && run(source, stage, spirv, out, false, nullptr);
+      out.ok = run(source, stage, glsl, out, true, nullptr, memo) && run(source, stage, spirv, out, false, nullptr, memo);
       break;
     }
     case Target::gles30: {
       FrontEnd fe{glslang::EShClientNone, glslang::EShTargetClientVersion{}, glslang::EShTargetLanguageVersion{},
                   cascading, false, SPV_ENV_UNIVERSAL_1_0};
       std::string pre;
-      out.ok = run(source, stage, fe, out, true, &pre);
+      out.ok = run(source, stage, fe, out, true, &pre, memo);
       // Preprocessed text without #line/blank lines: equal text = same program whatever the defines were.
       std::string normalised;
       std::istringstream in(pre);

@@ -2,7 +2,10 @@
 // In-process glslang front end + SPIR-V back end + SPIRV-Tools validation for one program and target.
 // Thread-safe: call from any number of threads (initialise_compiler() runs glslang's process setup once).
 #include <cstdint>
+#include <mutex>
+#include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "variants/manifest.h"
@@ -32,10 +35,25 @@ struct CompileOutput {
 
 void initialise_compiler();
 
+// spirv-val's verdicts ("" = valid, else its messages) by target environment and SPIR-V hash, shared by the
+// programs of one run. spirv-val is a pure function of the environment and the words, and many programs
+// compile to the same binary (on gl45 most do), so each distinct binary is validated once. Thread-safe.
+class ValidationMemo {
+ public:
+  std::optional<std::string> find(const std::string& key) const;
+  void remember(const std::string& key, const std::string& errors);
+
+ private:
+  mutable std::mutex mutex_;
+  std::unordered_map<std::string, std::string> results_;
+};
+
 // vulkan: GLSL 450 -> SPIR-V 1.5 (Vulkan 1.2 rules), validated by spirv-val.
 // gl45: GLSL 450 core validated as OpenGL GLSL, plus GL SPIR-V (ARB_gl_spirv) validated by spirv-val.
 // gles30: GLSL ES 3.00 validated by glslang's ES front end; identity from the preprocessed text.
-CompileOutput compile_program(const std::string& source, variants::StageKind stage, variants::Target target);
+// `memo` (optional) skips validating a binary already validated in this run.
+CompileOutput compile_program(const std::string& source, variants::StageKind stage, variants::Target target,
+                              ValidationMemo* memo = nullptr);
 
 // "glslang 12.0.0 / SPIRV-Tools ..." — part of every program's content hash.
 std::string compiler_version();

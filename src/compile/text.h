@@ -8,7 +8,7 @@
 namespace aovar::compile {
 
 // The per-target table (programs, unique, compiled, cached, failed, SPIR-V bytes), then the counts line
-// and the variant count. generate prints it and records it with the outputs (record_outputs).
+// and the variant count. generate prints it and records it with the outputs (compile::record_run).
 std::string summary_table(const CompiledSpace& c);
 
 // `aovar list`: one variant key a line ("  same as KEY" when it duplicates another), with show_pruned every

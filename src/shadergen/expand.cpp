@@ -14,6 +14,7 @@ std::string generator_version() { return "aovar-shadergen 1"; }
 
 const std::string* TemplateReader::read(const fs::path& path) {
   fs::path full = (path.is_absolute() ? path : root_ / path).lexically_normal();
+  std::lock_guard lock(mutex_);  // held while a new file is read: each file is read once
   auto it = files_.find(full);
   if (it == files_.end()) {
     auto text = util::read_file(full);
@@ -23,9 +24,18 @@ const std::string* TemplateReader::read(const fs::path& path) {
 }
 
 std::vector<fs::path> TemplateReader::files_read() const {
+  std::lock_guard lock(mutex_);
   std::vector<fs::path> out;
   for (const auto& [p, text] : files_)
     if (text) out.push_back(p);
+  return out;
+}
+
+std::vector<fs::path> TemplateReader::files_missing() const {
+  std::lock_guard lock(mutex_);
+  std::vector<fs::path> out;
+  for (const auto& [p, text] : files_)
+    if (!text) out.push_back(p);
   return out;
 }
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -13,7 +14,8 @@
 
 namespace aovar::shadergen {
 
-// Reads template files once and remembers every file read (for the depfile).
+// Reads template files once and remembers every file read (for the depfile). Thread-safe: programs are
+// expanded on the compile pool; a returned text stays valid as long as the reader.
 class TemplateReader {
  public:
   explicit TemplateReader(const std::filesystem::path& root) : root_(std::filesystem::absolute(root).lexically_normal()) {}
@@ -21,9 +23,13 @@ class TemplateReader {
   // Contents of `path` (absolute or relative to root), or nullptr when missing.
   const std::string* read(const std::filesystem::path& path);
   std::vector<std::filesystem::path> files_read() const;
+  // Paths looked up and not found (an include tried beside its includer first): a file appearing at one
+  // changes the expansion, so a no-op check must see them still missing.
+  std::vector<std::filesystem::path> files_missing() const;
 
  private:
   std::filesystem::path root_;
+  mutable std::mutex mutex_;
   std::map<std::filesystem::path, std::unique_ptr<std::string>> files_;
 };
 
