@@ -48,17 +48,8 @@ GenerateShard plan_generate_shard(const CompiledSpace& c, const CompileOptions& 
 
 void write_generate_manifest(const std::filesystem::path& out, const GenerateShard& s, int variants, bool complete,
                              double wall_s) {
-  shard::ShardManifest m;
-  m.tool = "generate";
-  m.version = tool_version();
-  m.inputs = s.inputs;
-  m.input_hash = shard::hash_inputs(s.inputs);
-  m.index = s.index;
-  m.count = s.count;
-  m.convention = s.convention;
-  m.units = s.assignment.units.at(s.index);
-  m.plan = s.assignment.to_json();
-  m.plan["costs_from"] = "programs";
+  shard::ShardManifest m = shard::planned_manifest("generate", tool_version(), s.inputs, s.assignment,
+                                                   s.index, s.convention, "programs");
   m.done = variants;
   m.complete = complete;
   m.wall_s = wall_s;

@@ -60,6 +60,23 @@ ShardManifest ShardManifest::from_json(const json& j, const std::string& source)
   }
 }
 
+ShardManifest planned_manifest(const std::string& tool, const std::string& version, const json& inputs,
+                               const Assignment& assignment, int index, const std::string& convention,
+                               const std::string& costs_from) {
+  ShardManifest m;
+  m.tool = tool;
+  m.version = version;
+  m.inputs = inputs;
+  m.input_hash = hash_inputs(inputs);
+  m.index = index;
+  m.count = assignment.count;
+  m.convention = convention;
+  m.units = assignment.units.at(index);
+  m.plan = assignment.to_json();
+  m.plan["costs_from"] = costs_from;
+  return m;
+}
+
 std::string hash_inputs(const json& inputs) { return util::hash_hex(inputs.dump()); }
 
 void write_manifest(const std::filesystem::path& out_dir, const ShardManifest& m) {

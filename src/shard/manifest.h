@@ -35,6 +35,12 @@ struct ShardManifest {
   static ShardManifest from_json(const nlohmann::json& j, const std::string& source);  // throws naming source
 };
 
+// What every tool's shard writes, from its plan: the identity, inputs, the assignment and this shard's units,
+// with done = 0 and complete = false (the caller sets done, complete and wall_s as the run goes).
+ShardManifest planned_manifest(const std::string& tool, const std::string& version, const nlohmann::json& inputs,
+                               const Assignment& assignment, int index, const std::string& convention,
+                               const std::string& costs_from);
+
 // inputs -> input_hash (a hash of the canonical JSON dump).
 std::string hash_inputs(const nlohmann::json& inputs);
 

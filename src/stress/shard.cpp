@@ -64,17 +64,8 @@ StressShard plan_shard(const Options& o, const std::vector<Case>& all, const com
 }
 
 void write_shard_manifest(const Options& o, const StressShard& plan, int checks, bool complete, double wall_s) {
-  shard::ShardManifest m;
-  m.tool = "stress";
-  m.version = compile::tool_version();
-  m.inputs = plan.inputs;
-  m.input_hash = shard::hash_inputs(plan.inputs);
-  m.index = o.shard_index;
-  m.count = o.shard_count;
-  m.convention = o.shard_convention;
-  m.units = plan.assignment.units.at(m.index);
-  m.plan = plan.assignment.to_json();
-  m.plan["costs_from"] = "cases";
+  shard::ShardManifest m = shard::planned_manifest("stress", compile::tool_version(), plan.inputs, plan.assignment,
+                                                   o.shard_index, o.shard_convention, "cases");
   m.done = checks;
   m.complete = complete;
   m.wall_s = wall_s;

@@ -141,17 +141,8 @@ ShardPlan plan_shards(const SweepOptions& o) {
 }
 
 void write_sweep_manifest(const SweepOptions& o, const ShardPlan& plan, int rows, bool complete, double wall_s) {
-  shard::ShardManifest m;
-  m.tool = "sweep";
-  m.version = compile::tool_version();
-  m.inputs = plan.inputs;
-  m.input_hash = shard::hash_inputs(plan.inputs);
-  m.index = o.measure.shard_index;
-  m.count = o.measure.shard_count;
-  m.convention = o.shard_convention;
-  m.units = plan.assignment.units.at(m.index);
-  m.plan = plan.assignment.to_json();
-  m.plan["costs_from"] = plan.costs_from;
+  shard::ShardManifest m = shard::planned_manifest("sweep", compile::tool_version(), plan.inputs, plan.assignment,
+                                                   o.measure.shard_index, o.shard_convention, plan.costs_from);
   m.done = rows;
   m.complete = complete;
   m.wall_s = wall_s;
