@@ -14,7 +14,7 @@
 namespace aovar::cli {
 namespace {
 
-ExitCode run_list(const ListSceneArgs& a) {
+ExitCode run_list(const ListArgs& a) {
   auto c = compile::compile_space(a.common.manifest, compile_options(a.common));
   if (!report_diagnostics(c)) return ExitCode::error;  // the diagnostics are printed
   if (a.json) std::cout << compile::list_json(c, a.show_pruned).dump(1) << "\n";
@@ -25,7 +25,7 @@ ExitCode run_list(const ListSceneArgs& a) {
 }  // namespace
 
 Command add_list(CLI::App& app) {
-  auto a = std::make_shared<ListSceneArgs>();
+  auto a = std::make_shared<ListArgs>();
   auto* cmd = app.add_subcommand("list", "print the variants after rules (one key a line) and the counts");
   add_common(cmd, a->common);
   cmd->add_flag("--pruned", a->show_pruned, "also print every dropped variant with the rule's reason");

@@ -7,7 +7,7 @@
 
 namespace aovar::cli {
 
-ExitCode run_list_scene(const ListSceneArgs& a) {
+ExitCode run_list_scene(const ListArgs& a) {
   ProfileArgs args;
   args.options.scene = a.scene;
   args.size = a.size;

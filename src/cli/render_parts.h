@@ -18,13 +18,14 @@ struct GpuAnalyzeArgs {
 // An error when a family failed (its error is in the table and gpu.json); the other families' results stand.
 ExitCode run_analyze_gpu(const GpuAnalyzeArgs& a);
 
-struct ListSceneArgs {
+// aovar list's options; run_list_scene reads them with --scene.
+struct ListArgs {
   CommonOptions common;
   std::string scene, size = default_size;
   bool show_pruned = false, json = false;
 };
 // The variants the scene's profile keeps; show_pruned adds every dropped one with its reason; json: as one
 // JSON document.
-ExitCode run_list_scene(const ListSceneArgs& a);
+ExitCode run_list_scene(const ListArgs& a);
 
 }  // namespace aovar::cli
