@@ -27,6 +27,11 @@
 
 namespace aovar::profile {
 namespace {
+// A view where more than this share of the geometry pixels has buffered normals leaning over 10 degrees
+// from their faces shows a mesh smoothed across its edges (Sponza's overview: over 10 %; the built-in scenes,
+// the Stanford scans and the Van Gogh room: under 10 %; figures in docs/calibration.md).
+constexpr double kSmoothedNormalsShare = 0.10;
+
 
 using variants::Axis;
 using json = nlohmann::json;
@@ -105,7 +110,7 @@ ViewProfile profile_view(const scene::Scene& sc, const scene::View& view, const 
   // The view ray of each pixel has view-space z = -1: P = z * ray, so |P16 - P32| = |z16 - z| |ray|.
   const double tan_y = std::tan(glm::radians(static_cast<double>(view.fov_y_deg)) * 0.5);
   const double tan_x = tan_y * o.size.width / o.size.height;
-  std::vector<double> depths, errors, rpx;
+  std::vector<double> depths, errors, rpx, leans;
   const int w = o.size.width, h = o.size.height;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -115,6 +120,10 @@ ViewProfile profile_view(const scene::Scene& sc, const scene::View& view, const 
       depths.push_back(z);
       errors.push_back(std::abs(as_half(z) - z) * std::sqrt(nx * nx + ny * ny + 1.0));
       rpx.push_back(radius_px(view, radius, h, z));
+      const glm::vec3 shading = traced.shading_normal[static_cast<std::size_t>(y) * w + x];
+      if (glm::dot(shading, shading) > 0.0f)
+        leans.push_back(glm::degrees(std::acos(std::clamp(
+            static_cast<double>(glm::dot(shading, traced.normal[static_cast<std::size_t>(y) * w + x])), -1.0, 1.0))));
     }
   vp.r16f_normal_p95 = r16f_normal_p95(traced.depth, view, resolutions);
   const double pixels = static_cast<double>(w) * h;
@@ -125,6 +134,12 @@ ViewProfile profile_view(const scene::Scene& sc, const scene::View& view, const 
     vp.depth_p05 = percentile(depths, 0.05), vp.depth_p50 = percentile(depths, 0.5), vp.depth_p95 = percentile(depths, 0.95);
     vp.r16f_error_p99 = percentile(errors, 0.99);
     vp.r16f_error_max = *std::max_element(errors.begin(), errors.end());
+    if (!leans.empty()) {
+      vp.shading_normal_deg_p50 = percentile(leans, 0.5), vp.shading_normal_deg_p90 = percentile(leans, 0.9);
+      vp.shading_normal_share_over_10deg =
+          static_cast<double>(std::count_if(leans.begin(), leans.end(), [](double a) { return a > 10.0; })) /
+          static_cast<double>(leans.size());
+    }
     vp.radius_px_far = radius_px(view, radius, h, vp.depth_p95);
     vp.radius_px_median = radius_px(view, radius, h, vp.depth_p50);
     vp.radius_px_near = radius_px(view, radius, h, vp.depth_p05);
@@ -470,6 +485,8 @@ json to_json(const Profile& p) {
                                 {"max", v.depth_max}}},
                      {"r16f_position_error", {{"p99", v.r16f_error_p99}, {"max", v.r16f_error_max}}},
                      {"r16f_normal_error_deg_p95", normals},
+                     {"shading_normal_deg", {{"p50", v.shading_normal_deg_p50}, {"p90", v.shading_normal_deg_p90},
+                                             {"share_over_10", v.shading_normal_share_over_10deg}}},
                      {"radius_px", {{"far", v.radius_px_far}, {"median", v.radius_px_median}, {"near", v.radius_px_near}}},
                      {"sao_levels_used", v.sao_levels_used}, {"camera_step", v.camera_step},
                      {"flicker", {{"progressive", v.flicker_progressive}, {"full", v.flicker_full}}},
@@ -512,6 +529,11 @@ Profile profile_from_json(const json& j) {
     vp.r16f_error_p99 = v.at("r16f_position_error").at("p99");
     vp.r16f_error_max = v.at("r16f_position_error").at("max");
     vp.r16f_normal_p95 = pairs(v.at("r16f_normal_error_deg_p95"), "degrees");
+    if (v.contains("shading_normal_deg")) {  // absent from profiles written before it was measured
+      vp.shading_normal_deg_p50 = v.at("shading_normal_deg").at("p50");
+      vp.shading_normal_deg_p90 = v.at("shading_normal_deg").at("p90");
+      vp.shading_normal_share_over_10deg = v.at("shading_normal_deg").at("share_over_10");
+    }
     const json& r = v.at("radius_px");
     vp.radius_px_far = r.at("far"), vp.radius_px_median = r.at("median"), vp.radius_px_near = r.at("near");
     vp.sao_levels_used = v.at("sao_levels_used");
@@ -536,6 +558,13 @@ std::string to_text(const Profile& p) {
     for (const auto& [res, deg] : v.r16f_normal_p95) normals += fmt::format("{}{}x {:.1f}", normals.empty() ? "" : ", ", res, deg);
     s += fmt::format("  r16f: position error {:.3g} (p99), {:.3g} (max); depth-normal error (p95, deg) {}\n", v.r16f_error_p99,
                      v.r16f_error_max, normals);
+    if (v.shading_normal_deg_p50 >= 0)
+      s += fmt::format("  buffered normals lean from the faces the reference traces by {:.1f} / {:.1f} deg (p50 / p90), "
+                       "over 10 deg on {:.0f}% of the geometry{}\n",
+                       v.shading_normal_deg_p50, v.shading_normal_deg_p90, 100 * v.shading_normal_share_over_10deg,
+                       v.shading_normal_share_over_10deg > kSmoothedNormalsShare
+                           ? ": normals smoothed across edges, so normals = depth (the faces) matches the reference better"
+                           : "");
     s += fmt::format("  AO radius {:.1f} / {:.1f} / {:.1f} px (far / median / "
                      "near); SAO MIP levels used {}\n",
                      v.radius_px_far, v.radius_px_median, v.radius_px_near,

@@ -60,6 +60,12 @@ struct ViewProfile {
   // (forward differences one AO pixel apart, as the shaders' dFdx/dFdy), over pixels whose two neighbours
   // lie on the same surface.
   std::vector<std::pair<double, double>> r16f_normal_p95;
+  // The angle (degrees, p50 / p90 over the geometry pixels) between the mesh's interpolated vertex normals,
+  // what a normal buffer holds, and the faces the reference traces; -1 when not measured. Large where a
+  // mesh's normals are smoothed across edges: variants reading buffered normals then tilt their hemisphere
+  // away from the reference's, and normals derived from depth (the faces) match it better.
+  double shading_normal_deg_p50 = -1, shading_normal_deg_p90 = -1;
+  double shading_normal_share_over_10deg = -1;  // share of those pixels leaning more than 10 degrees
   // The AO radius in full-resolution pixels at the p95 / p50 / p05 depths (far, median, near).
   double radius_px_far = 0, radius_px_median = 0, radius_px_near = 0;
   int sao_levels_used = 0;           // MIP levels SAO's taps reach at the nearest 5 % of depths (1 = level 0)

@@ -383,6 +383,7 @@ DepthImage trace_depth(const scene::Scene& sc, const scene::View& view, render::
   DepthImage out;
   out.depth = {w, h, std::vector<float>(static_cast<std::size_t>(w) * h, detail::kInf)};
   out.normal.assign(out.depth.pixels.size(), glm::vec3(0.0f));
+  out.shading_normal.assign(out.depth.pixels.size(), glm::vec3(0.0f));
   const int n = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();
   std::unique_ptr<tbb::global_control> cap;
   if (threads > 0)
@@ -406,6 +407,12 @@ DepthImage trace_depth(const scene::Scene& sc, const scene::View& view, render::
           out.depth.pixels[i] = rh.ray.tfar;
           glm::vec3 ng = glm::normalize(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
           out.normal[i] = glm::dot(ng, dir) > 0.0f ? -ng : ng;
+          if (!sc.normals.empty()) {  // Embree's (u, v) weigh the triangle's second and third vertex
+            const std::uint32_t* tri = &sc.indices[3 * static_cast<std::size_t>(rh.hit.primID)];
+            const glm::vec3 s = (1.0f - rh.hit.u - rh.hit.v) * sc.normals[tri[0]] + rh.hit.u * sc.normals[tri[1]] +
+                                rh.hit.v * sc.normals[tri[2]];
+            if (glm::dot(s, s) > 0.0f) out.shading_normal[i] = glm::normalize(s);
+          }
         }
     });
     embree.check("tracing depth");
