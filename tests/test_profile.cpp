@@ -3,7 +3,9 @@
 // drops the variants that read them; the pruning log covers every variant; bad [renderer] input errors.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
+#include <glm/glm.hpp>
 #include <fmt/format.h>
 #include <map>
 #include <set>
@@ -122,6 +124,55 @@ TEST(Profile, R16fDecisionsReachOnlyWhatR16fDepthChanges) {
     ASSERT_FALSE(key.empty());
     EXPECT_FALSE(dropped.count(key)) << key << ": " << dropped[key];
   }
+}
+
+// A cube whose every `vn` leans 30 degrees from its face (as smoothing across the cube's edges would bend
+// them): the profile sees buffered normals leaning from the faces the reference traces on nearly every
+// geometry pixel and says so; the stairs' normals are their faces': no lean, no hint.
+TEST(Profile, BufferedNormalsLeaningFromTheFacesAreMeasuredAndNamed) {
+  TempDir dir;
+  const fs::path obj = dir / "bent_cube.obj";
+  {
+    std::ofstream f(obj);
+    const float c = std::cos(glm::radians(30.0f)), s = std::sin(glm::radians(30.0f));
+    // Per face: its outward axis n and a tangent t; corners (+-1) around n, vn = c n + s t.
+    const int axes[6][2] = {{0, 1}, {0, 1}, {1, 2}, {1, 2}, {2, 0}, {2, 0}};
+    int v = 1;
+    for (int face = 0; face < 6; ++face) {
+      const int a = axes[face][0], t = axes[face][1], b = 3 - a - t;
+      const float sign = face % 2 == 0 ? 1.0f : -1.0f;
+      const float corners[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+      for (const auto& k : corners) {
+        float p[3];
+        p[a] = sign, p[t] = k[0], p[b] = k[1];
+        f << fmt::format("v {} {} {}\n", p[0], p[1], p[2]);
+      }
+      float n[3] = {0, 0, 0};
+      n[a] = sign * c, n[t] = s;
+      f << fmt::format("vn {} {} {}\n", n[0], n[1], n[2]);
+      // Winding does not matter to the profile (it faces the geometric normal to the camera).
+      f << fmt::format("f {}//{} {}//{} {}//{}\nf {}//{} {}//{} {}//{}\n", v, face + 1, v + 1, face + 1, v + 2, face + 1,
+                       v, face + 1, v + 2, face + 1, v + 3, face + 1);
+      v += 4;
+    }
+  }
+  const auto bent = profile_of(obj.string());
+  const auto flat = profile_of("builtin:stairs");
+  for (const auto& view : bent.views) {
+    EXPECT_GT(view.shading_normal_share_over_10deg, 0.9) << view.view;
+    EXPECT_GT(view.shading_normal_deg_p50, 29.0) << view.view;  // 30 deg, or 150 seen from inside
+  }
+  EXPECT_NE(profile::to_text(bent).find("normals smoothed across edges"), std::string::npos) << profile::to_text(bent);
+  for (const auto& view : flat.views) {
+    EXPECT_LT(view.shading_normal_share_over_10deg, 0.02) << view.view;
+    EXPECT_LT(view.shading_normal_deg_p50, 1.0) << view.view;
+  }
+  EXPECT_EQ(profile::to_text(flat).find("normals smoothed across edges"), std::string::npos);
+  // The figures survive profile.json.
+  const auto back = profile::profile_from_json(profile::to_json(bent));
+  ASSERT_EQ(back.views.size(), bent.views.size());
+  EXPECT_DOUBLE_EQ(back.views[0].shading_normal_deg_p90, bent.views[0].shading_normal_deg_p90);
+  EXPECT_DOUBLE_EQ(back.views[0].shading_normal_share_over_10deg, bent.views[0].shading_normal_share_over_10deg);
 }
 
 TEST(Profile, RendererWithoutNormalOrPositionBuffersDropsTheirReaders) {
