@@ -139,6 +139,25 @@ TEST(Calibrate, FittingLowersTrainingErrorWithinTheManifestsRanges) {
 
 // The split for a user's scene: every third view held out by default, the rest of --view held out when
 // only training views are named, and one-line errors for what cannot be a split.
+// --normals depth fits each method with its depth-normal variant (for scenes whose vertex normals lean from
+// their faces); anything but buffer or depth is one line.
+TEST(Calibrate, DepthNormalsFitTheMethodsDepthNormalVariant) {
+  TempDir dir;
+  auto o = small_options(dir);
+  o.fit_normals = "depth";
+  o.budget.max_evaluations = 4;
+  auto cal = calibrate::calibrate(o);
+  ASSERT_EQ(cal.fits.size(), 1u);
+  EXPECT_EQ(cal.fits[0].variant, "alchemy-s16-p0-ndep-zdep-rst-d32-bsep-x1-hp");
+  o.fit_normals = "rgb8";
+  try {
+    calibrate::calibrate(o);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("--normals must be buffer or depth"), std::string::npos) << e.what();
+  }
+}
+
 TEST(CalibrateViews, DefaultSplitHoldsOutEveryThirdViewAndErrorsAreOneLine) {
   auto split = calibrate::split_views({"builtin:stairs"}, {}, {}, {});
   using VC = calibrate::ViewCase;

@@ -22,9 +22,12 @@ namespace aovar::calibrate {
 namespace {
 
 // The variant a method is fitted with: 16 samples, full resolution, separable blur, r32f depth, highp, the
-// buffered RGB8 normal when the method reads normals. Its values then apply to every variant of the method.
-std::vector<std::string> fit_globs(const std::string& algorithm) {
-  return {algorithm + "-s16-p0-nrgb8-zdep-rst-d32-bsep-x1-hp", algorithm + "-s16-p0-*-zdep-*-d32-bsep-x1-hp"};
+// buffered RGB8 normal when the method reads normals (normals "buffer") or normals from depth ("depth").
+// Its values then apply to every variant of the method.
+std::vector<std::string> fit_globs(const std::string& algorithm, const std::string& normals) {
+  const std::string token = normals == "depth" ? "ndep" : "nrgb8";
+  return {algorithm + "-s16-p0-" + token + "-zdep-rst-d32-bsep-x1-hp", algorithm + "-s16-p0-" + token + "-zdep-*-d32-bsep-x1-hp",
+          algorithm + "-s16-p0-*-zdep-*-d32-bsep-x1-hp"};
 }
 
 struct Case {
@@ -65,7 +68,7 @@ compile::CompiledSpace compile_fit_variants(const CalibrateOptions& o, const std
   co.globs = o.variants;
   if (co.globs.empty())
     for (const auto& a : algorithms)
-      for (auto& g : fit_globs(a)) co.globs.push_back(std::move(g));
+      for (auto& g : fit_globs(a, o.fit_normals)) co.globs.push_back(std::move(g));
   co.cache_dir = o.compile_cache;
   auto c = compile::compile_space(o.manifest, co);
   if (!c.ok()) throw std::runtime_error(c.diagnostics.empty() ? "compile failed" : c.diagnostics.front());
@@ -73,8 +76,9 @@ compile::CompiledSpace compile_fit_variants(const CalibrateOptions& o, const std
 }
 
 // Index of the variant `algorithm` is fitted with (the first fit_globs match).
-int fit_variant(const compile::CompiledSpace& c, const variants::Manifest& manifest, const std::string& algorithm) {
-  for (const auto& glob : fit_globs(algorithm))
+int fit_variant(const compile::CompiledSpace& c, const variants::Manifest& manifest, const std::string& algorithm,
+                const std::string& normals) {
+  for (const auto& glob : fit_globs(algorithm, normals))
     for (std::size_t v = 0; v < c.space.variants.size(); ++v)
       if (util::glob_match(glob, c.space.variants[v].key)) return static_cast<int>(v);
   throw std::runtime_error(fmt::format("{}: no 16-sample, full-resolution, separable-blur variant of '{}' to fit "
@@ -86,7 +90,7 @@ std::vector<Target> fit_targets(const CalibrateOptions& o, const compile::Compil
                                 const std::vector<std::string>& algorithms) {
   std::vector<Target> out;
   if (o.variants.empty()) {
-    for (const auto& a : algorithms) out.push_back({a, fit_variant(c, c.manifest, a), false});
+    for (const auto& a : algorithms) out.push_back({a, fit_variant(c, c.manifest, a, o.fit_normals), false});
     return out;
   }
   for (std::size_t v = 0; v < c.space.variants.size(); ++v) {
@@ -251,6 +255,8 @@ Fit fit_target(runner::VariantRunner& runner, const variants::Manifest& manifest
 
 Calibration calibrate(const CalibrateOptions& o, const Progress& progress) {
   const Progress say = [&](const std::string& s) { if (progress) progress(s); };
+  if (o.fit_normals != "buffer" && o.fit_normals != "depth")
+    throw std::runtime_error("calibrate: error: --normals must be buffer or depth, not '" + o.fit_normals + "'");
   const variants::Target target = render::target_of(o.backend);
   const auto manifest = variants::load_manifest(o.manifest);
   const std::vector<std::string> algorithms = algorithms_to_fit(o, manifest);

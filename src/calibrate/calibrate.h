@@ -47,6 +47,10 @@ struct CalibrateOptions {
   // Variant globs: each matching variant is fitted on its own (a "variants" entry of the file) instead of
   // one variant standing for its method. Empty: one fit per algorithm.
   std::vector<std::string> variants;
+  // The normals of the variant each method is fitted with (without `variants`): "buffer", the buffered RGB8
+  // normal where the method reads one; "depth", normals derived from depth (the faces), for scenes whose
+  // vertex normals lean from their faces (aovar profile measures it; docs/calibration.md).
+  std::string fit_normals = "buffer";
   std::string backend = "lavapipe";
   render::Extent size{320, 180};
   int rays = 256;

@@ -61,6 +61,10 @@ Command add_calibrate(CLI::App& app) {
                   "held-out view, reported but not fitted on (repeatable; default: the views not given to --view, "
                   "else every third view: background of the derived views)");
   cmd->add_option("--views-file", a->views_file, "views side file (TOML or JSON) for the scene(s)");
+  cmd->add_option("--normals", cal.fit_normals,
+                  "normals of the variant each method is fitted with: buffer (RGB8 where read) or depth")
+      ->check(CLI::IsMember({"buffer", "depth"}))
+      ->capture_default_str();
   cmd->add_option("--backend,-b", cal.backend, "lavapipe, osmesa or gles")->capture_default_str();
   cmd->add_option("--size", a->size, "render and reference size WxH")->capture_default_str();
   cmd->add_option("--rays", cal.rays, "reference rays per pixel")->capture_default_str();
