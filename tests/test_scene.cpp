@@ -398,7 +398,8 @@ TEST(ObjScenes, NormalsAreComputedWhenMissing) {
 }
 
 // A unit cube's 8 corners and 6 outward quads (1-based, counter-clockwise seen from outside).
-const float kCubePositions[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+const float kCubePositions[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                   {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
 const int kCubeQuads[6][4] = {{1, 4, 3, 2}, {5, 6, 7, 8}, {1, 2, 6, 5}, {4, 8, 7, 3}, {1, 5, 8, 4}, {2, 3, 7, 6}};
 
 // Every corner's normal equals its triangle's face normal (the faces are flat).

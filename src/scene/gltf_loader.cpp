@@ -309,7 +309,8 @@ class Loader {
       // keeps a box's faces flat.) Zero or broken normals from the file get the same treatment; vertices
       // whose corners part at a crease are copied after the primitive's own.
       if (!nrm) s.normals.resize(s.positions.size(), glm::vec3(0.0f));
-      const bool need = std::any_of(s.normals.begin() + base, s.normals.end(), [](const glm::vec3& n) { return n == glm::vec3(0.0f); });
+      const bool need = std::any_of(s.normals.begin() + base, s.normals.end(),
+                                    [](const glm::vec3& n) { return n == glm::vec3(0.0f); });
       const std::size_t first_index = s.indices.size();
       for (std::uint32_t t : tris) s.indices.push_back(base + t);
       if (need) {

@@ -202,7 +202,8 @@ Scene load_obj(const std::filesystem::path& path, const std::string& display, co
   // Distinct vertices are at most one per corner, and at most positions x (normals + 1) when every corner
   // has a normal (computed ones split at creases, up to one vertex per corner).
   const bool all_normals = n_nrm > 0 && std::all_of(shapes.begin(), shapes.end(), [](const tinyobj::shape_t& s) {
-    return std::all_of(s.mesh.indices.begin(), s.mesh.indices.end(), [](const tinyobj::index_t& i) { return i.normal_index >= 0; });
+    return std::all_of(s.mesh.indices.begin(), s.mesh.indices.end(),
+                       [](const tinyobj::index_t& i) { return i.normal_index >= 0; });
   });
   check_size(display, all_normals ? std::min<std::uint64_t>(corners, std::uint64_t{n_pos} * (n_nrm + 1)) : corners,
              corners, options);

@@ -166,7 +166,8 @@ std::vector<glm::vec3> crease_normals(std::span<const glm::vec3> positions, std:
   std::vector<glm::vec3> smooth;  // the whole-neighbourhood fallback, only computed when needed
   for (std::size_t k = 0; k < n; ++k) {
     const std::uint32_t p = indices[k];
-    std::span<const std::uint32_t> around(by_pos.corner.data() + by_pos.first[p], by_pos.first[p + 1] - by_pos.first[p]);
+    std::span<const std::uint32_t> around(by_pos.corner.data() + by_pos.first[p],
+                                          by_pos.first[p + 1] - by_pos.first[p]);
     // A non-degenerate face counts itself and only faces within the crease (under 90 degrees), so its sum
     // does not cancel. A degenerate face (no direction), or a fan too large for the pairwise test, keeps
     // the plain smooth normal with its fallbacks.
