@@ -382,11 +382,71 @@ TEST(ObjScenes, NormalsAreComputedWhenMissing) {
   EXPECT_EQ(s.positions.size(), 4u);
   EXPECT_EQ(s.mesh_count, 1);
   for (const glm::vec3& n : s.normals) EXPECT_NEAR(glm::distance(n, glm::vec3(0, 0, 1)), 0.0f, 1e-6f);
-  // Smooth across a fold: the shared edge's normals are the area-weighted average of both faces.
-  write(dir / "fold.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\n");
+  // Smooth across a gentle fold (30 degrees, under the crease): the shared edge's normals are the
+  // area-weighted average of both faces, and no vertex is split.
+  const float c30 = std::cos(glm::radians(30.0f)), s30 = std::sin(glm::radians(30.0f));
+  write(dir / "fold.obj", fmt::format("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 {} {}\nf 1 2 3\nf 1 4 2\n", -c30, s30));
   Scene fold = load_scene((dir / "fold.obj").string());
-  glm::vec3 shared = fold.normals[0];
-  EXPECT_NEAR(glm::distance(shared, glm::normalize(glm::vec3(0, 1, 1))), 0.0f, 1e-5f);
+  EXPECT_EQ(fold.positions.size(), 4u);
+  EXPECT_NEAR(glm::distance(fold.normals[0], glm::normalize(glm::vec3(0, 0, 1) + glm::vec3(0, s30, c30))), 0.0f, 1e-5f);
+  // A 90-degree fold is a crease: each face keeps its own normal, the two shared corners are copied.
+  write(dir / "crease.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\n");
+  Scene crease = load_scene((dir / "crease.obj").string());
+  EXPECT_EQ(crease.positions.size(), 6u);
+  EXPECT_NEAR(glm::distance(crease.normals[crease.indices[0]], glm::vec3(0, 0, 1)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::distance(crease.normals[crease.indices[3]], glm::vec3(0, 1, 0)), 0.0f, 1e-6f);
+}
+
+// A unit cube's 8 corners and 6 outward quads (1-based, counter-clockwise seen from outside).
+const float kCubePositions[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                   {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+const int kCubeQuads[6][4] = {{1, 4, 3, 2}, {5, 6, 7, 8}, {1, 2, 6, 5}, {4, 8, 7, 3}, {1, 5, 8, 4}, {2, 3, 7, 6}};
+
+// Every corner's normal equals its triangle's face normal (the faces are flat).
+void expect_flat_faces(const Scene& s) {
+  for (std::size_t t = 0; t < s.triangle_count(); ++t) {
+    std::uint32_t a = s.indices[3 * t], b = s.indices[3 * t + 1], c = s.indices[3 * t + 2];
+    glm::vec3 face = glm::normalize(glm::cross(s.positions[b] - s.positions[a], s.positions[c] - s.positions[a]));
+    for (std::uint32_t v : {a, b, c}) EXPECT_NEAR(glm::distance(s.normals[v], face), 0.0f, 1e-5f) << "triangle " << t;
+  }
+}
+
+TEST(ObjScenes, ComputedNormalsKeepABoxFlatAndASphereSmooth) {
+  test::TempDir dir;
+  std::string cube;
+  for (const auto& p : kCubePositions) cube += fmt::format("v {} {} {}\n", p[0], p[1], p[2]);
+  for (const auto& q : kCubeQuads) cube += fmt::format("f {} {} {} {}\n", q[0], q[1], q[2], q[3]);
+  write(dir / "cube.obj", cube);
+  Scene box = load_scene((dir / "cube.obj").string());
+  ASSERT_EQ(box.triangle_count(), 12u);
+  EXPECT_EQ(box.positions.size(), 24u) << "each corner once per face meeting there";
+  expect_flat_faces(box);
+  expect_sane(box, "cube.obj");
+
+  // A finely tessellated sphere (32 x 64, shared vertices, single-vertex poles): adjacent faces differ by a
+  // few degrees, so every position keeps one vertex, with a normal close to the radial direction (within
+  // 2 degrees: area weighting of the triangulated quads leans up to 1.4).
+  const int rings = 32, segs = 64;
+  std::string sphere = "v 0 1 0\n";
+  for (int r = 1; r < rings; ++r)
+    for (int k = 0; k < segs; ++k) {
+      float th = glm::pi<float>() * r / rings, ph = 2 * glm::pi<float>() * k / segs;
+      sphere += fmt::format("v {} {} {}\n", std::sin(th) * std::cos(ph), std::cos(th), -std::sin(th) * std::sin(ph));
+    }
+  sphere += "v 0 -1 0\n";
+  const int south = 2 + (rings - 1) * segs;
+  auto at = [&](int r, int k) { return 2 + (r - 1) * segs + (k % segs); };  // 1-based, rings 1 .. rings-1
+  for (int k = 0; k < segs; ++k) {
+    sphere += fmt::format("f 1 {} {}\n", at(1, k), at(1, k + 1));
+    for (int r = 1; r + 1 < rings; ++r)
+      sphere += fmt::format("f {} {} {} {}\n", at(r, k), at(r + 1, k), at(r + 1, k + 1), at(r, k + 1));
+    sphere += fmt::format("f {} {} {}\n", south, at(rings - 1, k + 1), at(rings - 1, k));
+  }
+  write(dir / "sphere.obj", sphere);
+  Scene ball = load_scene((dir / "sphere.obj").string());
+  EXPECT_EQ(ball.positions.size(), static_cast<std::size_t>(south)) << "one normal per position";
+  for (std::size_t v = 0; v < ball.positions.size(); ++v)
+    EXPECT_GT(glm::dot(ball.normals[v], glm::normalize(ball.positions[v])), std::cos(glm::radians(2.0f))) << v;
 }
 
 TEST(ObjScenes, FileNormalsAreUsedAndBrokenOnesNeverGiveNaN) {
@@ -594,6 +654,37 @@ TEST(GltfScenes, MissingNormalsAreComputedAndMirroringKeepsTheWinding) {
     glm::vec3 g = glm::cross(s.positions[b] - s.positions[a], s.positions[c] - s.positions[a]);
     EXPECT_GT(glm::dot(g, s.normals[a]), 0.0f) << t;
   }
+}
+
+// An indexed triangle mesh as a glTF without normals (one node, no transform, embedded buffer).
+std::string mesh_gltf(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices) {
+  std::string bin;
+  for (const glm::vec3& p : positions) append<float>(bin, {p.x, p.y, p.z});
+  const std::size_t index_at = bin.size();
+  for (std::uint32_t i : indices) append<std::uint32_t>(bin, {i});
+  return fmt::format(
+      R"({{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],)"
+      R"("meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1}}]}}],"accessors":[)"
+      R"({{"bufferView":0,"componentType":5126,"count":{},"type":"VEC3"}},)"
+      R"({{"bufferView":1,"componentType":5125,"count":{},"type":"SCALAR"}}],"bufferViews":[)"
+      R"({{"buffer":0,"byteOffset":0,"byteLength":{}}},{{"buffer":0,"byteOffset":{},"byteLength":{}}}],)"
+      R"("buffers":[{{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}}]}})",
+      positions.size(), indices.size(), index_at, index_at, bin.size() - index_at, bin.size(), base64(bin));
+}
+
+TEST(GltfScenes, ComputedNormalsKeepABoxFlatLikeTheObjLoader) {
+  test::TempDir dir;
+  std::vector<glm::vec3> positions;
+  for (const auto& p : kCubePositions) positions.emplace_back(p[0], p[1], p[2]);
+  std::vector<std::uint32_t> indices;
+  for (const auto& q : kCubeQuads)
+    for (int k : {0, 1, 2, 0, 2, 3}) indices.push_back(static_cast<std::uint32_t>(q[k] - 1));
+  write(dir / "cube.gltf", mesh_gltf(positions, indices));
+  Scene box = load_scene((dir / "cube.gltf").string());
+  ASSERT_EQ(box.triangle_count(), 12u);
+  EXPECT_EQ(box.positions.size(), 24u);
+  expect_flat_faces(box);
+  expect_sane(box, "cube.gltf");
 }
 
 TEST(GltfScenes, BrokenFilesGiveOneLineErrorsWithFileAndOffset) {

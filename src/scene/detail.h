@@ -33,6 +33,28 @@ glm::vec3 safe_normalize(const glm::vec3& v, const glm::vec3& fallback);
 // face normals cancel or are all degenerate takes its largest adjacent face's normal, then +Y: never NaN.
 std::vector<glm::vec3> smooth_normals(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices);
 
+// Crease angle for normals computed where a file has none: faces meeting at a sharper edge keep their
+// own normals (a box's 90-degree corners), gentler ones blend (scans, tessellated curves). 60 degrees is
+// Unity's default "Smoothing Angle" for calculated normals; Blender's auto smooth defaults to 30 and
+// assimp's GenSmoothNormals to 175 (no creases), but 30 splits noisy scan vertices and 175 is the
+// cross-edge smoothing this replaces. Any value between the scans' spread and 90 splits boxes.
+inline constexpr float kCreaseAngleDeg = 60.0f;
+// A position with more faces than this (a huge fan) skips the pairwise crease test, which is quadratic in
+// its face count, and keeps the plain smooth normal.
+inline constexpr std::size_t kMaxCreaseFan = 4096;
+
+// One unit normal per corner of the triangle list: the area-weighted sum of the normals of the faces
+// around its position whose normal is within `crease_deg` of its own face's normal. Corners of degenerate
+// faces take smooth_normals' result for their position (and its fallbacks): never NaN.
+std::vector<glm::vec3> crease_normals(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
+                                      float crease_deg = kCreaseAngleDeg);
+// Gives each vertex from `first_vertex` on with a zero normal the normal of the corners that use it
+// (corner k is scene.indices[first_index + k]); where its corners need different normals, the vertex is
+// copied (same position, own normal, appended) and those corners re-pointed. Vertices with a normal, and
+// those before first_vertex, are left as they are.
+void assign_corner_normals(Scene& scene, std::size_t first_vertex, std::size_t first_index,
+                           std::span<const glm::vec3> corner_normals);
+
 // Checks indices and positions, renormalises normals (fallback +Y) unless `keep_normals`, computes bounds
 // and the content hash.
 void finalize(Scene& scene, const std::string& display, bool keep_normals = false);

@@ -304,20 +304,19 @@ class Loader {
           s.normals.push_back(safe_normalize(n, glm::vec3(0.0f)));
         }
       }
-      // Smooth normals (per vertex index) where the file has none, computed in world space. (The glTF spec
-      // asks for flat normals there; smooth ones suit AO on scanned meshes and need no de-indexing.) Zero or
-      // broken normals from the file get the same treatment.
-      std::span<const glm::vec3> world(s.positions.data() + base, pos.count);
-      std::vector<glm::vec3> smooth;
-      for (std::size_t i = 0; i < pos.count; ++i) {
-        if (nrm && s.normals[base + i] != glm::vec3(0.0f)) continue;
-        if (smooth.empty()) smooth = smooth_normals(world, tris);
-        if (nrm)
-          s.normals[base + i] = smooth[i];
-        else
-          s.normals.push_back(smooth[i]);
-      }
+      // Crease-aware smooth normals (per vertex index) where the file has none, computed in world space.
+      // (The glTF spec asks for flat normals there; smooth ones suit AO on scanned meshes, and the crease
+      // keeps a box's faces flat.) Zero or broken normals from the file get the same treatment; vertices
+      // whose corners part at a crease are copied after the primitive's own.
+      if (!nrm) s.normals.resize(s.positions.size(), glm::vec3(0.0f));
+      const bool need = std::any_of(s.normals.begin() + base, s.normals.end(),
+                                    [](const glm::vec3& n) { return n == glm::vec3(0.0f); });
+      const std::size_t first_index = s.indices.size();
       for (std::uint32_t t : tris) s.indices.push_back(base + t);
+      if (need) {
+        std::span<const glm::vec3> world(s.positions.data() + base, pos.count);
+        assign_corner_normals(s, base, first_index, crease_normals(world, tris));
+      }
       ++s.mesh_count;
     }
   }
@@ -370,7 +369,8 @@ class Loader {
       if (!triangles(p) || pos == p.attributes.end()) continue;
       std::uint64_t n = accessor(pos->second, "POSITION").count;
       std::uint64_t corners = p.indices >= 0 ? accessor(p.indices, "indices").count : n;
-      e.vertices += n;
+      // Without NORMAL, computed normals may copy vertices at creases: up to one per corner.
+      e.vertices += p.attributes.count("NORMAL") ? n : std::max(n, corners);
       e.indices +=
           p.mode == TINYGLTF_MODE_TRIANGLES || p.mode < 0 ? corners : 3 * (std::max<std::uint64_t>(corners, 2) - 2);
     }

@@ -199,8 +199,14 @@ Scene load_obj(const std::filesystem::path& path, const std::string& display, co
     if (!std::isfinite(attrib.vertices[3 * v]) || !std::isfinite(attrib.vertices[3 * v + 1]) ||
         !std::isfinite(attrib.vertices[3 * v + 2]))
       fail_at(line_of(*text, "v", v), "non-finite vertex coordinate (fix the number)");
-  // Distinct vertices are at most one per corner and at most positions x (normals + 1).
-  check_size(display, std::min<std::uint64_t>(corners, std::uint64_t{n_pos} * (n_nrm + 1)), corners, options);
+  // Distinct vertices are at most one per corner, and at most positions x (normals + 1) when every corner
+  // has a normal (computed ones split at creases, up to one vertex per corner).
+  const bool all_normals = n_nrm > 0 && std::all_of(shapes.begin(), shapes.end(), [](const tinyobj::shape_t& s) {
+    return std::all_of(s.mesh.indices.begin(), s.mesh.indices.end(),
+                       [](const tinyobj::index_t& i) { return i.normal_index >= 0; });
+  });
+  check_size(display, all_normals ? std::min<std::uint64_t>(corners, std::uint64_t{n_pos} * (n_nrm + 1)) : corners,
+             corners, options);
   text.reset();  // only messages needed it; keep it out of the peak
 
   Scene scene;
@@ -237,15 +243,13 @@ Scene load_obj(const std::filesystem::path& path, const std::string& display, co
     }
   }
   if (need_smooth) {
-    // Smooth normals by position index, so faces sharing a position (but not a normal) blend.
+    // By position index, so faces sharing a position (but not a normal) blend, unless a crease parts them.
     std::vector<std::uint32_t> by_position(scene.indices.size());
     for (std::size_t k = 0; k < scene.indices.size(); ++k) by_position[k] = position_of[scene.indices[k]];
     std::vector<glm::vec3> positions(n_pos);
     for (std::size_t p = 0; p < n_pos; ++p)
       positions[p] = {attrib.vertices[3 * p], attrib.vertices[3 * p + 1], attrib.vertices[3 * p + 2]};
-    std::vector<glm::vec3> smooth = smooth_normals(positions, by_position);
-    for (std::size_t v = 0; v < scene.normals.size(); ++v)
-      if (scene.normals[v] == glm::vec3(0.0f)) scene.normals[v] = smooth[position_of[v]];
+    assign_corner_normals(scene, 0, 0, crease_normals(positions, by_position));
   }
   return scene;
 }

@@ -107,6 +107,112 @@ std::vector<glm::vec3> smooth_normals(std::span<const glm::vec3> positions, std:
   return sum;
 }
 
+namespace {
+
+// Corners of a triangle list grouped by the position they use (CSR: corners of p are
+// corner[first[p] .. first[p + 1])), so each position's faces are found without a search.
+struct CornersByPosition {
+  std::vector<std::uint32_t> first, corner;
+};
+CornersByPosition corners_by_position(std::size_t positions, std::span<const std::uint32_t> indices) {
+  CornersByPosition g;
+  g.first.assign(positions + 1, 0);
+  for (std::uint32_t v : indices) ++g.first[v + 1];
+  for (std::size_t p = 0; p < positions; ++p) g.first[p + 1] += g.first[p];
+  g.corner.resize(indices.size());
+  std::vector<std::uint32_t> fill(g.first.begin(), g.first.end() - 1);
+  for (std::size_t k = 0; k < indices.size(); ++k) g.corner[fill[indices[k]]++] = static_cast<std::uint32_t>(k);
+  return g;
+}
+
+// Per face: the cross product (its length is twice the area, the weight) and its unit direction (zero
+// for a degenerate face, which then has no direction to compare against a crease).
+struct FaceNormals {
+  std::vector<glm::vec3> weighted, unit;
+};
+FaceNormals face_normals(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices) {
+  FaceNormals f;
+  f.weighted.reserve(indices.size() / 3);
+  f.unit.reserve(indices.size() / 3);
+  for (std::size_t i = 0; i + 2 < indices.size(); i += 3) {
+    const glm::vec3& a = positions[indices[i]];
+    glm::vec3 n = glm::cross(positions[indices[i + 1]] - a, positions[indices[i + 2]] - a);
+    f.weighted.push_back(n);
+    f.unit.push_back(safe_normalize(n, glm::vec3(0.0f)));
+  }
+  return f;
+}
+
+// Area-weighted sum over the faces of `corners` (one position) whose unit normal is within the crease of
+// `face`'s. Summed in the same order for every corner, so corners with the same neighbour set get
+// bit-identical normals and share a vertex.
+glm::vec3 crease_sum(std::span<const std::uint32_t> corners, std::size_t face, const FaceNormals& f, float cos_crease) {
+  glm::vec3 sum(0.0f);
+  for (std::uint32_t k : corners)
+    if (glm::dot(f.unit[face], f.unit[k / 3]) >= cos_crease) sum += f.weighted[k / 3];
+  return sum;
+}
+
+}  // namespace
+
+std::vector<glm::vec3> crease_normals(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
+                                      float crease_deg) {
+  const std::size_t n = indices.size() / 3 * 3;
+  indices = indices.first(n);
+  const float cos_crease = std::cos(glm::radians(crease_deg));
+  const CornersByPosition by_pos = corners_by_position(positions.size(), indices);
+  const FaceNormals faces = face_normals(positions, indices);
+  std::vector<glm::vec3> out(n, glm::vec3(0.0f));
+  std::vector<glm::vec3> smooth;  // the whole-neighbourhood fallback, only computed when needed
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint32_t p = indices[k];
+    std::span<const std::uint32_t> around(by_pos.corner.data() + by_pos.first[p],
+                                          by_pos.first[p + 1] - by_pos.first[p]);
+    // A non-degenerate face counts itself and only faces within the crease (under 90 degrees), so its sum
+    // does not cancel. A degenerate face (no direction), or a fan too large for the pairwise test, keeps
+    // the plain smooth normal with its fallbacks.
+    if (faces.unit[k / 3] != glm::vec3(0.0f) && around.size() <= kMaxCreaseFan) {
+      out[k] = safe_normalize(crease_sum(around, k / 3, faces, cos_crease), faces.unit[k / 3]);
+      continue;
+    }
+    if (smooth.empty()) smooth = smooth_normals(positions, indices);
+    out[k] = smooth[p];
+  }
+  return out;
+}
+
+void assign_corner_normals(Scene& scene, std::size_t first_vertex, std::size_t first_index,
+                           std::span<const glm::vec3> corner_normals) {
+  // Copies made for a vertex are chained from it (next_copy), so a later corner finds the copy with its
+  // normal; chains stay short (one link per crease through the vertex). Tables cover only the vertices
+  // from first_vertex on, so a glTF file's many primitives cost linear time.
+  constexpr std::uint32_t kNone = 0xffffffffu;
+  const std::size_t n_vertices = scene.positions.size() - first_vertex;
+  std::vector<char> missing(n_vertices, 0), assigned(n_vertices, 0);
+  for (std::size_t v = 0; v < n_vertices; ++v) missing[v] = scene.normals[first_vertex + v] == glm::vec3(0.0f);
+  std::vector<std::uint32_t> next_copy(n_vertices, kNone);  // local index of the next copy
+  for (std::size_t k = 0; k < corner_normals.size(); ++k) {
+    std::uint32_t& index = scene.indices[first_index + k];
+    if (index < first_vertex || index - first_vertex >= n_vertices || !missing[index - first_vertex]) continue;
+    const std::size_t v = index - first_vertex;
+    const glm::vec3& n = corner_normals[k];
+    if (!assigned[v]) {
+      scene.normals[index] = n, assigned[v] = 1;
+      continue;
+    }
+    std::size_t c = v, last = v;
+    while (c != kNone && scene.normals[first_vertex + c] != n) last = c, c = next_copy[c];
+    if (c == kNone) {
+      c = scene.positions.size() - first_vertex;
+      scene.positions.push_back(scene.positions[index]);
+      scene.normals.push_back(n);
+      next_copy.push_back(kNone);
+      next_copy[last] = static_cast<std::uint32_t>(c);
+    }
+    index = static_cast<std::uint32_t>(first_vertex + c);
+  }
+}
+
 void finalize(Scene& scene, const std::string& display, bool keep_normals) {
   if (scene.indices.empty())
     fail(
