@@ -162,12 +162,12 @@ TEST(Profile, BufferedNormalsLeaningFromTheFacesAreMeasuredAndNamed) {
     EXPECT_GT(view.shading_normal_share_over_10deg, 0.9) << view.view;
     EXPECT_GT(view.shading_normal_deg_p50, 29.0) << view.view;  // 30 deg, or 150 seen from inside
   }
-  EXPECT_NE(profile::to_text(bent).find("normals smoothed across edges"), std::string::npos) << profile::to_text(bent);
+  EXPECT_NE(profile::to_text(bent).find("buffered normals off their faces"), std::string::npos) << profile::to_text(bent);
   for (const auto& view : flat.views) {
     EXPECT_LT(view.shading_normal_share_over_10deg, 0.02) << view.view;
     EXPECT_LT(view.shading_normal_deg_p50, 1.0) << view.view;
   }
-  EXPECT_EQ(profile::to_text(flat).find("normals smoothed across edges"), std::string::npos);
+  EXPECT_EQ(profile::to_text(flat).find("buffered normals off their faces"), std::string::npos);
   // The figures survive profile.json.
   const auto back = profile::profile_from_json(profile::to_json(bent));
   ASSERT_EQ(back.views.size(), bent.views.size());

@@ -563,7 +563,7 @@ std::string to_text(const Profile& p) {
                        "over 10 deg on {:.0f}% of the geometry{}\n",
                        v.shading_normal_deg_p50, v.shading_normal_deg_p90, 100 * v.shading_normal_share_over_10deg,
                        v.shading_normal_share_over_10deg > kSmoothedNormalsShare
-                           ? ": normals smoothed across edges, so normals = depth (the faces) matches the reference better"
+                           ? ": buffered normals off their faces (smoothed across edges, or faces seen from behind), so normals = depth matches the reference better"
                            : "");
     s += fmt::format("  AO radius {:.1f} / {:.1f} / {:.1f} px (far / median / "
                      "near); SAO MIP levels used {}\n",
