@@ -122,8 +122,9 @@ ViewProfile profile_view(const scene::Scene& sc, const scene::View& view, const 
       rpx.push_back(radius_px(view, radius, h, z));
       const glm::vec3 shading = traced.shading_normal[static_cast<std::size_t>(y) * w + x];
       if (glm::dot(shading, shading) > 0.0f)
-        leans.push_back(glm::degrees(std::acos(std::clamp(
-            static_cast<double>(glm::dot(shading, traced.normal[static_cast<std::size_t>(y) * w + x])), -1.0, 1.0))));
+        // |dot|: the G-buffer pass turns a normal to the camera's side of its face, as the reference does.
+        leans.push_back(glm::degrees(std::acos(std::min(
+            std::abs(static_cast<double>(glm::dot(shading, traced.normal[static_cast<std::size_t>(y) * w + x]))), 1.0))));
     }
   vp.r16f_normal_p95 = r16f_normal_p95(traced.depth, view, resolutions);
   const double pixels = static_cast<double>(w) * h;
@@ -563,7 +564,7 @@ std::string to_text(const Profile& p) {
                        "over 10 deg on {:.0f}% of the geometry{}\n",
                        v.shading_normal_deg_p50, v.shading_normal_deg_p90, 100 * v.shading_normal_share_over_10deg,
                        v.shading_normal_share_over_10deg > kSmoothedNormalsShare
-                           ? ": buffered normals off their faces (smoothed across edges, or faces seen from behind), so normals = depth matches the reference better"
+                           ? ": buffered normals off their faces (smoothed across edges), so normals = depth matches the reference better"
                            : "");
     s += fmt::format("  AO radius {:.1f} / {:.1f} / {:.1f} px (far / median / "
                      "near); SAO MIP levels used {}\n",

@@ -61,7 +61,8 @@ struct ViewProfile {
   // lie on the same surface.
   std::vector<std::pair<double, double>> r16f_normal_p95;
   // The angle (degrees, p50 / p90 over the geometry pixels) between the mesh's interpolated vertex normals,
-  // what a normal buffer holds, and the faces the reference traces; -1 when not measured. Large where a
+  // what a normal buffer holds (turned to the camera's side of their face, as the G-buffer pass does), and
+  // the faces the reference traces; -1 when not measured. Large where a
   // mesh's normals are smoothed across edges: variants reading buffered normals then tilt their hemisphere
   // away from the reference's, and normals derived from depth (the faces) match it better.
   double shading_normal_deg_p50 = -1, shading_normal_deg_p90 = -1;

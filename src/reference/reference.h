@@ -59,7 +59,7 @@ ReferenceImage trace_reference(const scene::Scene& scene, const scene::View& vie
 struct DepthImage {
   image::FloatImage depth;
   std::vector<glm::vec3> normal;  // geometric normal facing the camera (0 on background)
-  // The mesh's vertex normals interpolated at the hit and normalised, as a G-buffer stores them (0 on
+  // The mesh's vertex normals interpolated at the hit and normalised, not turned to the camera (0 on
   // background, and where they cancel): how far they lean from `normal` is what a method reading buffered
   // normals sees that the reference, which traces the faces, does not.
   std::vector<glm::vec3> shading_normal;
