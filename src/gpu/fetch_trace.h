@@ -43,6 +43,7 @@ inline TexelRead unpack_read(uint32_t w) {
 struct FetchTrace {
   std::string pass;                    // manifest pass ("ao", "blur", ...)
   int draw = 0;                        // index of the draw within the pass
+  int plan_draw = -1;                  // index of the draw in its variant's render plan
   int frame_width = 0, frame_height = 0;  // the draw's output extent
   int x0 = 0, y0 = 0, width = 0, height = 0;  // the traced rectangle
   int max_taps = 0;                    // slots per pixel

@@ -13,6 +13,11 @@ variants::Target target_of(std::string_view backend) {
   throw BackendError(fmt::format("unknown backend '{}' (use lavapipe, osmesa or gles)", backend));
 }
 
+std::vector<Backend::TracedDraw> Backend::read_traces(PreparedPipeline&) {
+  throw BackendError(fmt::format("{}: fetch traces run on lavapipe only (a storage buffer per traced draw)",
+                                 info().backend));
+}
+
 std::unique_ptr<Backend> make_backend(std::string_view name, const BackendOptions& options) {
   if (name == "lavapipe") return make_lavapipe_backend(options);
   if (name == "osmesa") return make_osmesa_backend(options);

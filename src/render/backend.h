@@ -85,6 +85,15 @@ class Backend {
   // again: calibration renders one pipeline with many parameter values, and re-preparing would JIT every
   // time. Takes effect from the next render(). Throws BackendError for a bad draw index or size.
   virtual void set_params(PreparedPipeline& pipeline, std::size_t draw, const std::vector<float>& params) = 0;
+
+  // Trace builds (trace/trace.h): the storage-buffer words of every draw with trace_words > 0, in draw
+  // order, as the last render() left them. Only lavapipe runs trace builds; the others throw BackendError.
+  struct TracedDraw {
+    std::string name, pass;
+    int level = 0;                     // MIP level the draw writes
+    std::vector<std::uint32_t> words;  // Draw::trace_words of them
+  };
+  virtual std::vector<TracedDraw> read_traces(PreparedPipeline& pipeline);
 };
 
 std::vector<std::string> backend_names();  // {"lavapipe", "osmesa", "gles"}

@@ -278,6 +278,10 @@ std::unique_ptr<PreparedPipeline> GlBackend::prepare(const PipelinePlan& full_pl
   if (size.width <= 0 || size.height <= 0)
     throw BackendError(fmt::format("{}: invalid output size {}x{}", name(), size.width, size.height));
   validate_plan(plan, name());
+  for (const Draw& d : plan.draws)
+    if (d.trace_words > 0)
+      throw BackendError(fmt::format("{}: draw {} of {} is a trace build, which runs on lavapipe only", name(),
+                                     d.name, plan.variant));
   check_formats(plan);
   // Built inside the pipeline object so that a throw part-way deletes what was already created.
   auto p = std::make_unique<GlPipeline>(c_, plan.variant);

@@ -52,6 +52,7 @@ struct DrawState {
   VkExtent2D extent{};
   VkDescriptorSet sets[2]{};  // per frame parity (one when nothing is double-buffered)
   VkDeviceSize params_offset = 0, params_range = 0;
+  Buffer trace;  // trace builds only: Draw::trace_words words at binding kTrace
 };
 
 class LavapipePipeline final : public PreparedPipeline {
@@ -118,8 +119,10 @@ LavapipePipeline::~LavapipePipeline() {
   if (fence) vkDestroyFence(d, fence, nullptr);
   if (queries) vkDestroyQueryPool(d, queries, nullptr);
   if (descriptor_pool) vkDestroyDescriptorPool(d, descriptor_pool, nullptr);  // frees the sets
-  for (DrawState& s : states)
+  for (DrawState& s : states) {
     if (s.pipeline) vkDestroyPipeline(d, s.pipeline, nullptr);
+    dev->destroy(s.trace);
+  }
   for (TextureImages& t : images)
     for (Image& i : t.copies) dev->destroy(i);
   for (Image& i : depth_buffers) dev->destroy(i);
@@ -277,6 +280,7 @@ class LavapipeBackend final : public Backend {
   std::unique_ptr<PreparedPipeline> prepare(const PipelinePlan& plan, Extent size) override;
   std::vector<double> render(PreparedPipeline& pipeline, const FrameSetup& frame) override;
   image::FloatImage read_result(PreparedPipeline& pipeline) override;
+  std::vector<TracedDraw> read_traces(PreparedPipeline& pipeline) override;
   void set_params(PreparedPipeline& pipeline, std::size_t draw, const std::vector<float>& params) override;
 
  private:
@@ -297,6 +301,7 @@ class LavapipeBackend final : public Backend {
   void create_uniform_buffers(const PipelinePlan& plan, LavapipePipeline& pp);
   void create_descriptor_sets(const PipelinePlan& plan, LavapipePipeline& pp);
   void write_descriptor_set(const Draw& draw, LavapipePipeline& pp, DrawState& s, int parity);
+  void write_trace_binding(const Draw& draw, LavapipePipeline& pp, DrawState& s, int parity);
   void create_pipelines(const PipelinePlan& plan, LavapipePipeline& pp);
   VkPipeline create_pipeline(const PipelinePlan& plan, const Draw& draw, VkExtent2D extent,
                              const std::vector<VkShaderModule>& modules);
@@ -521,11 +526,12 @@ void LavapipeBackend::create_uniform_buffers(const PipelinePlan& plan, LavapipeP
 // One descriptor set per draw and frame parity.
 void LavapipeBackend::create_descriptor_sets(const PipelinePlan& plan, LavapipePipeline& pp) {
   uint32_t sets = static_cast<uint32_t>(plan.draws.size()) * pp.parities;
-  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kFirstSampler * sets},
-                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, (kBindingCount - kFirstSampler) * sets}};
+  VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kFirstSampler * sets},
+                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, (kBindingCount - kFirstSampler) * sets},
+                                   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sets}};
   VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   dpci.maxSets = sets;
-  dpci.poolSizeCount = 2;
+  dpci.poolSizeCount = 3;
   dpci.pPoolSizes = sizes;
   check(vkCreateDescriptorPool(dev_->device, &dpci, nullptr, &pp.descriptor_pool), "vkCreateDescriptorPool");
   for (std::size_t i = 0; i < plan.draws.size(); ++i)
@@ -563,6 +569,33 @@ void LavapipeBackend::write_descriptor_set(const Draw& dr, LavapipePipeline& pp,
     }
   }
   vkUpdateDescriptorSets(dev_->device, kBindingCount, w, 0, nullptr);
+  if (dr.trace_words > 0) write_trace_binding(dr, pp, s, p);
+}
+
+// A traced draw's storage buffer at binding kTrace, filled with all-ones words (gpu::kNoRead) except word 0,
+// the overflow count: slots a pixel does not fill read as "no read".
+void LavapipeBackend::write_trace_binding(const Draw& dr, LavapipePipeline& pp, DrawState& s, int p) {
+  if (!dev_->fragment_stores)
+    throw BackendError(fmt::format("lavapipe: {} lacks fragmentStoresAndAtomics, which fetch traces need",
+                                   dev_->info.device));
+  const VkDeviceSize bytes = VkDeviceSize(dr.trace_words) * sizeof(std::uint32_t);
+  if (!s.trace.buffer) {
+    if (bytes > dev_->properties.limits.maxStorageBufferRange)
+      throw BackendError(fmt::format("lavapipe: the trace of draw {} needs {} MB, over the device's storage buffer "
+                                     "range of {} MB: trace a smaller window", dr.name, bytes >> 20,
+                                     dev_->properties.limits.maxStorageBufferRange >> 20));
+    s.trace = dev_->create_buffer(bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
+    std::memset(s.trace.mapped, 0xFF, bytes);
+    std::memset(s.trace.mapped, 0, sizeof(std::uint32_t));
+  }
+  VkDescriptorBufferInfo info{s.trace.buffer, 0, bytes};
+  VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  w.dstSet = s.sets[p];
+  w.dstBinding = kTraceBinding;
+  w.descriptorCount = 1;
+  w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  w.pBufferInfo = &info;
+  vkUpdateDescriptorSets(dev_->device, 1, &w, 0, nullptr);
 }
 
 // Timestamps, command buffers (one per parity and one for the read-back), fence, read-back buffer.
@@ -677,6 +710,20 @@ image::FloatImage LavapipeBackend::read_result(PreparedPipeline& pipeline) {
 }
 
 }  // namespace
+
+std::vector<Backend::TracedDraw> LavapipeBackend::read_traces(PreparedPipeline& pipeline) {
+  auto& pp = static_cast<LavapipePipeline&>(pipeline);
+  if (pp.last_parity < 0) throw BackendError("lavapipe: read_traces() before render()");
+  std::vector<TracedDraw> out;
+  for (std::size_t i = 0; i < pp.draws.size(); ++i) {
+    const Draw& d = pp.draws[i];
+    if (d.trace_words <= 0) continue;
+    // Host-coherent memory, read after render() waited on the frame's fence.
+    const auto* words = static_cast<const std::uint32_t*>(pp.states[i].trace.mapped);
+    out.push_back({d.name, d.pass, d.level, std::vector<std::uint32_t>(words, words + d.trace_words)});
+  }
+  return out;
+}
 
 void LavapipeBackend::set_params(PreparedPipeline& pipeline, std::size_t draw, const std::vector<float>& params) {
   LavapipePipeline& pp = ours(pipeline);

@@ -249,6 +249,7 @@ void Device::check_features(bool mediump_as_fp16) {
     throw BackendError(fmt::format("lavapipe: mediump as fp16 needs the shaderFloat16 feature, which {} ({}) "
                                    "lacks", info.device, info.driver));
   info.mediump_fp16 = mediump_as_fp16;
+  fragment_stores = have.features.fragmentStoresAndAtomics;
 }
 
 // llvmpipe (a CPU device) runs RelaxedPrecision arithmetic in fp32 unless it was rewritten to fp16; a GPU may
@@ -299,8 +300,12 @@ void Device::create_device(bool mediump_as_fp16) {
   VkPhysicalDeviceVulkan12Features want12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   want12.shaderFloat16 = mediump_as_fp16 ? VK_TRUE : VK_FALSE;
   want13.pNext = &want12;
+  // Trace builds write their texel reads from the fragment stage (trace/instrument.h); nothing else stores.
+  VkPhysicalDeviceFeatures want{};
+  want.fragmentStoresAndAtomics = fragment_stores ? VK_TRUE : VK_FALSE;
   VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   dci.pNext = &want13;
+  dci.pEnabledFeatures = &want;
   dci.queueCreateInfoCount = 1;
   dci.pQueueCreateInfos = &qci;
   check(vkCreateDevice(physical, &dci, nullptr, &device), "vkCreateDevice");
@@ -347,15 +352,18 @@ void Device::create_shared_objects() {
   sci.maxLod = 0.0f;
   check(vkCreateSampler(device, &sci, nullptr, &sampler), "vkCreateSampler");
 
-  VkDescriptorSetLayoutBinding b[kBindingCount]{};
-  for (uint32_t i = 0; i < kBindingCount; ++i) {
+  VkDescriptorSetLayoutBinding b[kLayoutBindings]{};
+  for (uint32_t i = 0; i < kLayoutBindings; ++i) {
     b[i].binding = i;
-    b[i].descriptorType = i < kFirstSampler ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    b[i].descriptorType = i < kFirstSampler   ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+                          : i < kBindingCount ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+                                              : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     b[i].descriptorCount = 1;
-    b[i].stageFlags = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+    b[i].stageFlags = i == kTraceBinding ? VK_SHADER_STAGE_FRAGMENT_BIT
+                                         : VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
   }
   VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  lci.bindingCount = kBindingCount;
+  lci.bindingCount = kLayoutBindings;
   lci.pBindings = b;
   check(vkCreateDescriptorSetLayout(device, &lci, nullptr, &set_layout), "vkCreateDescriptorSetLayout");
   VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};

@@ -44,6 +44,10 @@ struct Image {
 // kFirstSampler, combined image samplers from it on. Unsigned, as Vulkan counts bindings.
 inline constexpr uint32_t kBindingCount = shadergen::binding::kCount;
 inline constexpr uint32_t kFirstSampler = shadergen::binding::kFirstSampler;
+// After them, trace builds' storage buffer (shadergen::binding::kTrace); shipped programs never declare it, so
+// their sets leave it unwritten (Vulkan allows that for a binding a pipeline does not use statically).
+inline constexpr uint32_t kTraceBinding = shadergen::binding::kTrace;
+inline constexpr uint32_t kLayoutBindings = kTraceBinding + 1;
 
 class Device {
  public:
@@ -60,6 +64,7 @@ class Device {
   VkPhysicalDeviceProperties properties{};
   VkPhysicalDeviceMemoryProperties memory{};
   uint64_t timestamp_mask = ~0ull;  // timestampValidBits of the queue family
+  bool fragment_stores = false;  // fragmentStoresAndAtomics enabled: trace builds can run
   bool timestamps = true;  // valid timestamp queries on the queue; false: render() times frames by wall clock
   // Stage of each draw's start stamp: TOP_OF_PIPE on a CPU device (lavapipe.cpp, record_frame, says why),
   // ALL_COMMANDS elsewhere (written once the previous draw has finished).

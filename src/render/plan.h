@@ -92,6 +92,9 @@ struct Draw {
   int level = 0;                    // MIP level every output is written at (viewport shrinks with it)
   DepthUse depth = DepthUse::none;
   int depth_buffer = -1;            // index into PipelinePlan::depth_buffers (with depth != none)
+  // Trace builds only (trace/trace.h): 32-bit words of the storage buffer bound at binding::kTrace for this
+  // draw, 0 = not traced. Word 0 counts pixels whose reads overflowed; the reads follow. lavapipe only.
+  std::int64_t trace_words = 0;
 };
 
 inline constexpr int kZmipLevels = 6;  // SAO's z pyramid: levels 0..5 (McGuire et al. 2012, §3: MAX_MIP_LEVEL 5)

@@ -18,6 +18,10 @@ inline constexpr int kFirstSampler = kDepth;             // samplers are binding
 inline constexpr int kCount = kPrefilter + 1;            // every binding of the set
 inline constexpr int kSamplerCount = kCount - kFirstSampler;
 
+// Trace builds only (issue 33, trace/instrument.h): a storage buffer the instrumented fragment program writes
+// its texel reads to. Outside the set above: no shipped program declares it, and the analyser never sees it.
+inline constexpr int kTrace = kCount;
+
 constexpr bool is_sampler(int b) { return b >= kFirstSampler && b < kCount; }
 
 // The names GLSL ES 3.00 programs are bound by (it has no binding qualifiers): block names, then sampler names.

@@ -1,0 +1,61 @@
+#include "trace/trace_set.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "compile/spirv_fingerprint.h"
+
+namespace aovar::trace {
+
+TraceSet::TraceSet(runner::VariantRunner& runner, const scene::View& view, float radius, TraceOptions options)
+    : runner_(runner), view_(view), radius_(radius), options_(std::move(options)) {
+  options_.draws.clear();
+}
+
+std::string TraceSet::draw_key(const render::PipelinePlan& plan, int draw) {
+  const render::Draw& d = plan.draws.at(draw);
+  std::string key = fmt::format("{}|{}|{}|{}|{}", compile::executable_fingerprint(plan.shaders.at(d.fragment).spirv,
+                                                                                  compile::relaxed_precision_only()),
+                                d.full_resolution ? "full" : "ao", d.level, render::depth_use_name(d.depth),
+                                plan.resolution);
+  for (float p : d.params) key += fmt::format("|{}", p);  // e.g. the separable blur's axis
+  for (const auto& [binding, ref] : d.inputs) {
+    const render::Texture& t = plan.textures.at(ref.texture);
+    key += fmt::format("|{}:{}:{}:{}:{}", binding, render::format_name(t.format), t.full_resolution ? "full" : "ao",
+                       t.levels, ref.level);
+  }
+  return key;
+}
+
+std::vector<const gpu::FetchTrace*> TraceSet::of(int variant) {
+  const render::PipelinePlan plan = runner_.plan(variant);
+  const std::vector<int> draws = traceable_draws(plan);
+  std::vector<std::string> keys;
+  TraceOptions missing = options_;
+  for (int i : draws) {
+    keys.push_back(draw_key(plan, i));
+    if (traces_.count(keys.back()) == 0 &&
+        std::find(missing.draws.begin(), missing.draws.end(), i) == missing.draws.end()) {
+      bool duplicate_in_plan = false;  // two draws of one plan with one key (none today): trace the first
+      for (int j : missing.draws) duplicate_in_plan |= draw_key(plan, j) == keys.back();
+      if (!duplicate_in_plan) missing.draws.push_back(i);
+    }
+  }
+  shared_ += static_cast<int>(draws.size() - missing.draws.size());
+  if (!missing.draws.empty()) {
+    std::vector<gpu::FetchTrace> fresh = trace_variant(runner_, variant, view_, radius_, missing);
+    // One trace per traced draw the prepared plan kept (render::plan_for_size drops draws into missing levels).
+    for (gpu::FetchTrace& t : fresh)
+      traces_[draw_key(plan, t.plan_draw)] = std::make_unique<gpu::FetchTrace>(std::move(t));
+    traced_ += static_cast<int>(fresh.size());
+  }
+  std::vector<const gpu::FetchTrace*> out;
+  for (const std::string& k : keys) {
+    auto it = traces_.find(k);
+    if (it != traces_.end()) out.push_back(it->second.get());
+  }
+  return out;
+}
+
+}  // namespace aovar::trace

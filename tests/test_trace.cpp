@@ -1,0 +1,152 @@
+// Fetch traces (issue 33, src/trace): the trace build records what the shipped program reads, and leaves the
+// shipped program and its image alone.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <fnmatch.h>
+
+#include "analyze/analyze.h"
+#include "render_support.h"
+#include "runner/variant_runner.h"
+#include "scene/scene.h"
+#include "shadergen/bindings.h"
+#include "trace/instrument.h"
+#include "trace/trace.h"
+#include "trace/trace_set.h"
+
+namespace aovar {
+namespace {
+
+std::string first_match(const compile::CompiledSpace& c, const std::string& glob) {
+  for (const auto& v : c.space.variants)
+    if (fnmatch(glob.c_str(), v.key.c_str(), 0) == 0) return v.key;
+  throw std::runtime_error("no variant matches " + glob);
+}
+
+TEST(TraceInstrument, KeepsTheShippedTextAfterThePreludeAndRefusesWhatItCannotAddress) {
+  const std::string shipped = "#version 450\n#define AO_SAMPLES 8\nvoid main() {}\n";
+  const std::string traced = trace::instrument(shipped, {0, 0, 16, 8, 4}, true);
+  EXPECT_EQ(traced.rfind("#version 450\n", 0), 0u);
+  EXPECT_EQ(traced.substr(traced.size() - (shipped.size() - 13)), shipped.substr(13));
+  EXPECT_NE(traced.find("early_fragment_tests"), std::string::npos);
+  EXPECT_EQ(trace::instrument(shipped, {0, 0, 16, 8, 4}, false).find("early_fragment_tests"), std::string::npos);
+  EXPECT_THROW(trace::instrument("void main() {}\n", {0, 0, 16, 8, 4}, false), std::invalid_argument);
+  EXPECT_THROW(trace::instrument(shipped, {0, 0, 9000, 8, 4}, false), std::invalid_argument);
+  EXPECT_THROW(trace::instrument(shipped, {0, 0, 16, 8, 0}, false), std::invalid_argument);
+}
+
+TEST(TracePack, RoundTripsEveryField) {
+  for (gpu::TexelRead r : {gpu::TexelRead{0, 0, 0, 0}, gpu::TexelRead{6, 7, 8191, 8191}, gpu::TexelRead{3, 2, 1919, 1079}}) {
+    EXPECT_EQ(gpu::unpack_read(gpu::pack_read(r)), r);
+    EXPECT_NE(gpu::pack_read(r), gpu::kNoRead);
+  }
+}
+
+struct Traced {
+  compile::CompiledSpace compiled;
+  std::string key;
+};
+
+// For each method: every pixel reads at most the analyser's count per binding, the busiest pixels read
+// exactly it (taps all on screen), background pixels of a depth-tested pass read nothing, and rendering the
+// trace build leaves the shipped SPIR-V and the image bit for bit as they were.
+class TraceAgainstAnalyser : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(TraceAgainstAnalyser, ReadsPerPixelAreTheAnalysersAndNothingShippedChanges) {
+  compile::CompiledSpace compiled = test::compile_variants({GetParam()});
+  const std::string key = first_match(compiled, GetParam());
+  const int variant = test::variant_index(compiled, key);
+  const int vk = compiled.target_index(variants::Target::vulkan);
+  std::vector<std::vector<std::uint32_t>> spirv_before;
+  for (const auto& b : compiled.builds[vk]) spirv_before.push_back(b.output.spirv);
+
+  runner::RunnerOptions options;
+  options.size = {96, 54};
+  runner::VariantRunner runner(compiled, options);
+  const scene::Scene scene = scene::load_scene("builtin:atrium");
+  runner.use_scene(scene);
+  const scene::View& view = scene.views[0];
+
+  const render::PipelinePlan plan = runner.plan(variant);
+  auto shipped = runner.prepare(plan);
+  const runner::Still before = runner.render_still(*shipped, plan, view, scene.ao_radius);
+
+  image::FloatImage traced_image;
+  const std::vector<gpu::FetchTrace> traces =
+      trace::trace_variant(runner, variant, view, scene.ao_radius, {}, &traced_image);
+  for (std::size_t i = 0; i < compiled.builds[vk].size(); ++i)
+    EXPECT_EQ(compiled.builds[vk][i].output.spirv, spirv_before[i]) << compiled.space.programs[i].key;
+
+  const auto ao = std::find_if(traces.begin(), traces.end(), [](const gpu::FetchTrace& t) { return t.pass == "ao"; });
+  ASSERT_NE(ao, traces.end());
+  EXPECT_EQ(ao->overflowed_pixels, 0);
+  EXPECT_EQ(ao->width, ao->frame_width);  // the whole frame by default
+  const render::Draw& ao_draw = *std::find_if(plan.draws.begin(), plan.draws.end(),
+                                              [](const render::Draw& d) { return d.pass == "ao"; });
+  const analyze::ProgramCost cost = analyze::analyze_spirv(plan.shaders[ao_draw.fragment].spirv);
+  int busiest = 0, silent = 0;
+  for (int y = ao->y0; y < ao->y0 + ao->height; ++y)
+    for (int x = ao->x0; x < ao->x0 + ao->width; ++x) {
+      std::map<int, int> per_binding;
+      const std::uint32_t* p = ao->pixel(x, y);
+      const int n = ao->reads_of(x, y);
+      for (int k = 0; k < n; ++k) ++per_binding[gpu::unpack_read(p[k]).slot + shadergen::binding::kFirstSampler];
+      for (const auto& [binding, count] : per_binding)
+        EXPECT_LE(count, cost.fetch(binding)) << "binding " << binding << " at " << x << "," << y;
+      busiest = std::max(busiest, n);
+      silent += n == 0;
+    }
+  EXPECT_EQ(busiest, int(cost.total_fetches())) << key;
+  if (ao_draw.depth == render::DepthUse::skip_background) EXPECT_GT(silent, 0) << "the atrium's overview shows sky";
+
+  // The trace build computes the shipped image, bit for bit (one frame: a progressive variant's first half).
+  if (!plan.progressive) {
+    ASSERT_EQ(traced_image.pixels.size(), before.image.pixels.size());
+    EXPECT_TRUE(std::equal(before.image.pixels.begin(), before.image.pixels.end(), traced_image.pixels.begin(),
+                           [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }));
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, TraceAgainstAnalyser,
+                         ::testing::Values("alchemy-s08-p0-nrgb8-zdep-rst-d32-bno-x1-hp",
+                                           "sao-s08-p0-ndep-zdep-rst-d32-b*-x1-hp",
+                                           "hbao-s08-p0-nrgb8-zdep-rst-d32-bno-x1-hp"),
+                         [](const auto& info) { return std::string(1, 'A' + char(info.index)); });
+
+// A mediump twin runs the highp program's fetches (llvmpipe ignores RelaxedPrecision), and a bilateral-blur
+// variant the separable one's AO draw: the set traces each such draw once, and what it shares is what a
+// trace of its own would have recorded.
+TEST(TraceSet, TwinsAndBlursShareTheDrawsThatFetchAlike) {
+  const std::string base = "alchemy-s08-p0-nrg8-zdep-rst-d16-";
+  compile::CompiledSpace compiled =
+      test::compile_variants({base + "bsep-x1-hp", base + "bsep-x1-mp", base + "bbil-x1-hp"});
+  runner::RunnerOptions options;
+  options.size = {64, 36};
+  runner::VariantRunner runner(compiled, options);
+  const scene::Scene scene = scene::load_scene("builtin:atrium");
+  runner.use_scene(scene);
+  trace::TraceSet set(runner, scene.views[0], scene.ao_radius);
+
+  const auto hp = set.of(test::variant_index(compiled, base + "bsep-x1-hp"));
+  ASSERT_GE(hp.size(), 3u);  // ao, blur.h, blur.v (and upsample-free at x1)
+  EXPECT_EQ(set.traced_draws(), int(hp.size()));
+  EXPECT_EQ(set.shared_draws(), 0);
+
+  const int mp_index = test::variant_index(compiled, base + "bsep-x1-mp");
+  const auto mp = set.of(mp_index);
+  EXPECT_EQ(mp, hp);  // the same traces, not copies
+  EXPECT_EQ(set.traced_draws(), int(hp.size()));
+  const std::vector<gpu::FetchTrace> own = trace::trace_variant(runner, mp_index, scene.views[0], scene.ao_radius);
+  ASSERT_EQ(own.size(), mp.size());
+  for (std::size_t i = 0; i < own.size(); ++i) EXPECT_EQ(own[i].reads, mp[i]->reads) << own[i].pass;
+
+  const auto bil = set.of(test::variant_index(compiled, base + "bbil-x1-hp"));
+  ASSERT_FALSE(bil.empty());
+  EXPECT_EQ(bil.front(), hp.front());  // the AO draw
+  EXPECT_EQ(bil.front()->pass, "ao");
+  EXPECT_GT(set.traced_draws(), int(hp.size()));  // its blur is its own
+}
+
+}  // namespace
+}  // namespace aovar
