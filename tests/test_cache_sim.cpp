@@ -2,6 +2,7 @@
 // streams, and the per-product cache data it loads (src/gpu/families.json).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 #include "gpu/cache_sim.h"

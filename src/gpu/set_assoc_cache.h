@@ -34,13 +34,16 @@ class SetAssocCache {
   bool access(uint64_t line) {
     const uint64_t set = pow2_ ? line & set_mask_ : line % sets_;
     uint64_t* ways = tags_.data() + set * uint64_t(ways_);  // most recently used first
-    if (ways[0] == line) return true;
-    int i = 1;
-    while (i < ways_ && ways[i] != line) ++i;
-    const bool hit = i < ways_;
-    for (int j = (hit ? i : ways_ - 1); j > 0; --j) ways[j] = ways[j - 1];
-    ways[0] = line;
-    return hit;
+    // One pass finds the line and moves it to the front: each way takes the one before it until the
+    // line's old place (a hit) or the end (a miss: the least recently used falls out).
+    uint64_t carried = line;
+    for (int i = 0; i < ways_; ++i) {
+      const uint64_t here = ways[i];
+      ways[i] = carried;
+      if (here == line) return true;
+      carried = here;
+    }
+    return false;
   }
 
  private:

@@ -10,15 +10,6 @@ namespace {
 
 constexpr uint64_t kLevelAlignment = 64 * 1024;
 
-// Bits of a 6-bit coordinate spread to the even bit positions (x) of a 12-bit Morton index.
-constexpr std::array<uint32_t, TextureLayout::kTile> spread_table() {
-  std::array<uint32_t, TextureLayout::kTile> t{};
-  for (uint32_t v = 0; v < t.size(); ++v)
-    for (int b = 0; b < 6; ++b) t[v] |= ((v >> b) & 1u) << (2 * b);
-  return t;
-}
-constexpr auto kSpread = spread_table();
-
 uint32_t log2_of_texel_size(int bytes, const std::string& name) {
   for (uint32_t s = 0; s <= 4; ++s)
     if (bytes == 1 << s) return s;
@@ -56,19 +47,11 @@ TextureLayout::TextureLayout(const std::vector<TracedTexture>& textures) {
   total_bytes_ = next;
 }
 
-uint64_t TextureLayout::address(uint32_t packed_read) const {
-  const uint32_t x = packed_read & 8191u, y = packed_read >> 13 & 8191u;
-  const uint32_t lod = packed_read >> 26 & 7u, slot = packed_read >> 29;
-  const Level& l = levels_[slot < uint32_t(kMaxTraceSlots) ? slot * kMaxTraceLevels + lod : 0];
-  if (slot >= uint32_t(kMaxTraceSlots) || x >= l.width || y >= l.height) {
-    const TexelRead r = unpack_read(packed_read);
-    throw std::out_of_range("fetch trace: read of texel (" + std::to_string(r.x) + ", " + std::to_string(r.y) +
-                            ") at level " + std::to_string(r.lod) + " of slot " + std::to_string(r.slot) +
-                            " is outside every traced texture");
-  }
-  const uint64_t tile = uint64_t(y / kTile) * l.tiles_per_row + x / kTile;
-  const uint64_t morton = kSpread[x % kTile] | kSpread[y % kTile] << 1;
-  return l.base + ((tile * (kTile * kTile) + morton) << l.bpp_shift);
+void TextureLayout::outside(uint32_t packed_read) {
+  const TexelRead r = unpack_read(packed_read);
+  throw std::out_of_range("fetch trace: read of texel (" + std::to_string(r.x) + ", " + std::to_string(r.y) +
+                          ") at level " + std::to_string(r.lod) + " of slot " + std::to_string(r.slot) +
+                          " is outside every traced texture");
 }
 
 }  // namespace aovar::gpu

@@ -13,6 +13,17 @@
 
 namespace aovar::gpu {
 
+namespace layout_detail {
+// Bits of a 6-bit coordinate spread to the even bit positions of a 12-bit Morton index.
+constexpr std::array<uint32_t, 64> spread_table() {
+  std::array<uint32_t, 64> t{};
+  for (uint32_t v = 0; v < t.size(); ++v)
+    for (int b = 0; b < 6; ++b) t[v] |= ((v >> b) & 1u) << (2 * b);
+  return t;
+}
+inline constexpr std::array<uint32_t, 64> kSpread = spread_table();
+}  // namespace layout_detail
+
 class TextureLayout {
  public:
   // Throws std::invalid_argument for a slot outside 0..kMaxTraceSlots-1, a slot twice, a size outside
@@ -21,7 +32,15 @@ class TextureLayout {
 
   // The byte address of a read's texel. Throws std::out_of_range for a texture or level the layout does
   // not have, or a texel outside its level.
-  uint64_t address(uint32_t packed_read) const;
+  uint64_t address(uint32_t packed_read) const {
+    const uint32_t x = packed_read & 8191u, y = packed_read >> 13 & 8191u;
+    const uint32_t level = (packed_read >> 29) * kMaxTraceLevels + (packed_read >> 26 & 7u);
+    if (level >= levels_.size() || x >= levels_[level].width || y >= levels_[level].height) outside(packed_read);
+    const Level& l = levels_[level];
+    const uint64_t tile = uint64_t(y / kTile) * l.tiles_per_row + x / kTile;
+    const uint64_t morton = layout_detail::kSpread[x % kTile] | layout_detail::kSpread[y % kTile] << 1;
+    return l.base + ((tile * (kTile * kTile) + morton) << l.bpp_shift);
+  }
   uint64_t address(const TexelRead& r) const { return address(pack_read(r)); }
 
   // Bytes from address 0 to the end of the last level: every address is below it.
@@ -30,6 +49,8 @@ class TextureLayout {
   static constexpr int kTile = 64;  // tile edge, texels
 
  private:
+  [[noreturn]] static void outside(uint32_t packed_read);
+
   struct Level {
     uint64_t base = 0;
     uint32_t width = 0, height = 0;  // 0: no such texture or level
