@@ -99,16 +99,15 @@ class Replayer {
       SetAssocCache& cache = l.caches[l.scope == CacheScope::cu ? cu : l.scope == CacheScope::shader_array ? array : 0];
       const uint64_t line = cache.line_of(address);
       ++l.stats.accesses;
-      uint64_t& seen = l.seen[line >> 6];
-      const uint64_t bit = uint64_t(1) << (line & 63);
-      if (!(seen & bit)) {
-        seen |= bit;
-        ++l.stats.unique_lines;
-      }
       if (cache.access(line)) {
         ++l.stats.hits;
         return;
       }
+      // A line's first access is a miss (caches start empty), so only misses need the first-touch check.
+      uint64_t& seen = l.seen[line >> 6];
+      const uint64_t bit = uint64_t(1) << (line & 63);
+      l.stats.unique_lines += !(seen & bit);
+      seen |= bit;
     }
     dram_bytes_ += levels_.back().stats.line_bytes;
   }
@@ -161,6 +160,7 @@ CacheSimResult simulate(const FetchTrace& t, const CacheHierarchy& h, const Repl
   Replayer replayer(t, h);
   std::vector<size_t> next(arrays.size(), 0);
   std::vector<Lane> lanes;
+  std::vector<uint32_t> words;
   for (;;) {
     // The round: up to (the array's CUs x waves per CU) waves of every array, array after array.
     lanes.clear();
@@ -177,13 +177,18 @@ CacheSimResult simulate(const FetchTrace& t, const CacheHierarchy& h, const Repl
       }
     }
     if (lanes.empty()) break;
+    // The round's reads tap-major, so each tap walks memory in order instead of at a stride of max_taps.
+    const size_t n = lanes.size();
+    words.resize(n * size_t(t.max_taps));
+    for (size_t i = 0; i < n; ++i)
+      for (int tap = 0; tap < t.max_taps; ++tap) words[size_t(tap) * n + i] = t.reads[lanes[i].first_read + tap];
     for (int tap = 0; tap < t.max_taps; ++tap) {
       bool any = false;
-      for (const Lane& lane : lanes) {
-        const uint32_t word = t.reads[lane.first_read + tap];
-        if (word == kNoRead) continue;
+      const uint32_t* tap_words = words.data() + size_t(tap) * n;
+      for (size_t i = 0; i < n; ++i) {
+        if (tap_words[i] == kNoRead) continue;
         any = true;
-        replayer.read(word, lane.cu, lane.array);
+        replayer.read(tap_words[i], lanes[i].cu, lanes[i].array);
       }
       if (!any) break;  // reads end at a pixel's first kNoRead: no later tap has any
     }

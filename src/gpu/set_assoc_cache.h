@@ -10,10 +10,10 @@ namespace aovar::gpu {
 
 class SetAssocCache {
  public:
-  // Throws std::invalid_argument unless line_bytes is a power of two and size_bytes a whole number of
-  // sets of `ways` lines.
+  // Throws std::invalid_argument unless line_bytes is a power of two of at least 4 and size_bytes a whole
+  // number of sets of `ways` lines.
   SetAssocCache(int64_t size_bytes, int line_bytes, int ways) : ways_(ways) {
-    if (line_bytes < 1 || (line_bytes & (line_bytes - 1)) != 0 || ways < 1 || size_bytes < int64_t(line_bytes) * ways ||
+    if (line_bytes < 4 || (line_bytes & (line_bytes - 1)) != 0 || ways < 1 || size_bytes < int64_t(line_bytes) * ways ||
         size_bytes % (int64_t(line_bytes) * ways) != 0)
       throw std::invalid_argument("cache of " + std::to_string(size_bytes) + " bytes, " + std::to_string(line_bytes) +
                                   "-byte lines, " + std::to_string(ways) + " ways: not a whole number of sets");
@@ -31,14 +31,16 @@ class SetAssocCache {
 
   // Looks `line` up: true on a hit. Either way the line becomes its set's most recently used; a miss
   // evicts the least recently used. Sets are line mod sets (no hashing), which the tests rely on.
-  bool access(uint64_t line) {
-    const uint64_t set = pow2_ ? line & set_mask_ : line % sets_;
-    uint64_t* ways = tags_.data() + set * uint64_t(ways_);  // most recently used first
+  bool access(uint64_t line64) {
+    const uint32_t line = uint32_t(line64);  // see tags_
+    const uint64_t set = pow2_ ? line64 & set_mask_ : line64 % sets_;
+    const int n = ways_;  // a local: the stores below may alias the member
+    uint32_t* ways = tags_.data() + set * uint64_t(n);  // most recently used first
     // One pass finds the line and moves it to the front: each way takes the one before it until the
     // line's old place (a hit) or the end (a miss: the least recently used falls out).
-    uint64_t carried = line;
-    for (int i = 0; i < ways_; ++i) {
-      const uint64_t here = ways[i];
+    uint32_t carried = line;
+    for (int i = 0; i < n; ++i) {
+      const uint32_t here = ways[i];
       ways[i] = carried;
       if (here == line) return true;
       carried = here;
@@ -47,12 +49,14 @@ class SetAssocCache {
   }
 
  private:
-  static constexpr uint64_t kEmpty = ~uint64_t(0);
+  static constexpr uint32_t kEmpty = ~uint32_t(0);
   int ways_ = 1;
   int line_shift_ = 0;
   uint64_t sets_ = 1, set_mask_ = 0;
   bool pow2_ = true;
-  std::vector<uint64_t> tags_;  // sets x ways
+  // sets x ways. 32-bit line numbers halve the simulator's memory traffic: a trace's textures span at most
+  // 7 slots x 8192^2 texels x 16 bytes x 4/3 (MIP levels) < 11 GB, under 2^32 lines of 4 bytes or more.
+  std::vector<uint32_t> tags_;
 };
 
 }  // namespace aovar::gpu
