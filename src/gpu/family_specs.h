@@ -1,11 +1,27 @@
 #pragma once
-// One named product per AMD GPU family, for the roofline estimate (gpu/roofline.h): the public figures of
-// src/gpu/families.json, embedded into the binary at build time. A family without an entry gets
-// statistics but no estimate.
+// One named product per AMD GPU family, for the roofline estimate (gpu/roofline.h) and the cache simulator
+// (gpu/cache_sim.h): the public figures of src/gpu/families.json, embedded into the binary at build time. A
+// family without an entry gets statistics but no estimate.
+#include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
 namespace aovar::gpu {
+
+// Who shares one instance of a cache level: each CU (SM) has its own, each shader array, or the whole chip.
+enum class CacheScope { cu, shader_array, chip };
+
+// One level of a product's texture-path cache hierarchy. Sizes and bandwidth are per instance.
+struct CacheLevelSpec {
+  std::string name;  // "L0", "GL1", "L2", "Infinity Cache", "Texture cache"
+  CacheScope scope = CacheScope::cu;
+  int64_t size_bytes = 0;
+  int line_bytes = 0;      // a power of two
+  int ways = 0;            // set associativity; size_bytes / (line_bytes * ways) sets
+  double bytes_per_clock = 0;  // peak, per instance, at the product's clock_mhz
+  std::map<std::string, std::string> sources;  // figure ("size_kb", "ways", ...) -> key of cache_sources()
+};
 
 struct FamilySpec {
   std::string family;                // RADV's name ("navi21")
@@ -17,6 +33,11 @@ struct FamilySpec {
   double tmus = 0;                   // texture units (filtered fetches per clock)
   double bandwidth_gbs = 0;          // memory bandwidth, GB/s
   std::string source;                // public page the figures come from
+  std::string vendor = "amd";        // "nvidia" for a reference product
+  double shader_clock_mhz = 0;       // the ALUs' clock where it differs from clock_mhz (Fermi), else 0
+  int shader_engines = 1, shader_arrays_per_engine = 1;  // rasteriser groups: screen tiles go to arrays
+  std::vector<CacheLevelSpec> caches;  // texture path, nearest the shader first; DRAM after the last
+  int shader_arrays() const { return shader_engines * shader_arrays_per_engine; }
 };
 
 // Every family of the embedded data file, in file order. Parsed once; throws std::runtime_error naming the
@@ -25,5 +46,15 @@ const std::vector<FamilySpec>& family_specs();
 
 // The spec of `family` (or of a family it is an alias of); nullptr when the data file has none.
 const FamilySpec* family_spec(const std::string& family);
+
+// Products that are no RADV family (the GeForce GTX 580 of the SAO paper): the cache simulator can load them
+// by name, ISA statistics never see them (family_specs() does not list them).
+const std::vector<FamilySpec>& reference_products();
+
+// A family (family_spec) or else a reference product, by name or alias; nullptr when neither has it.
+const FamilySpec* product_spec(const std::string& name);
+
+// The data file's citations: key -> text (author, title, year, section, URL).
+const std::map<std::string, std::string>& cache_sources();
 
 }  // namespace aovar::gpu
