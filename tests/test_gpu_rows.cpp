@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "gpu/families.h"
+#include "gpu/family_specs.h"
 #include "table/table.h"
 #include "test_support.h"
 #include "util/fs.h"
@@ -45,8 +46,18 @@ TEST(GpuRows, SweepCarriesEstimatesIntoTableReportAndSelect) {
     EXPECT_FALSE(c.pass("ao")->bound.empty());
     EXPECT_EQ(c.pass("gbuffer"), nullptr) << "the G-buffer is the scene's, not estimated";
     EXPECT_FALSE(row.device.empty()) << "the timing device is recorded";
+    // Traced on the row's own view (issue 33): the traffic through each cache level of navi21.
+    EXPECT_EQ(c.view, "overview");
+    const auto& ao = *c.pass("ao");
+    ASSERT_EQ(ao.levels.size(), gpu::family_spec("navi21")->caches.size()) << row.variant;
+    EXPECT_EQ(ao.levels.front().name, "L0");
+    EXPECT_GT(ao.levels.front().hit_rate, 0);
+    EXPECT_LE(ao.levels.front().hit_rate, 1);
+    EXPECT_GT(ao.dram_bytes_per_pixel, 0);
+    EXPECT_GE(ao.est_ms, ao.dram_ms);
   }
   EXPECT_EQ(t.meta.at("gpu").at("families"), nlohmann::json::array({"navi21"}));
+  EXPECT_GT(t.meta.at("gpu").at("trace").at("traced_draws").get<int>(), 0);
   auto md = util::read_file(dir / "report.md").value();
   EXPECT_NE(md.find("## GPU estimate: navi21"), std::string::npos) << md;
   EXPECT_NE(util::read_file(dir / "cost_table.csv").value().find("gpu.navi21.est_ms"), std::string::npos);
@@ -67,6 +78,7 @@ TEST(GpuRows, MeasureWritesGpuIntoMeasureJson) {
                      "--variants 'alchemy-s08-p0-nrgb8-zdep-rst-d32-bsep-x1-hp' --out " + dir.path().string());
   ASSERT_EQ(r.status, 0) << r.output;
   auto j = nlohmann::json::parse(util::read_file(dir / "measure.json").value());
+  ASSERT_FALSE(j.at("rows").empty());
   for (const auto& row : j.at("rows")) {
     ASSERT_TRUE(row.at("gpu").contains("navi21")) << row.dump();
     EXPECT_GT(row.at("gpu").at("navi21").at("est_ms").get<double>(), 0);

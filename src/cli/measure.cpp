@@ -66,8 +66,7 @@ ExitCode run_measure(const MeasureArgs& a) {
   o.params = parse_params(a.params);
   o.out = a.out;
   o.cache_dir = a.common.cache();
-  o.gpu_families = a.gpu.family_list();
-  o.gpu_frame = a.gpu.frame_size();
+  a.gpu.apply(o);
   auto r = with_status([&](const auto& progress) { return measure::run_measure(o, progress); });
   std::cout << measure::to_text(r) << measure::notes_text(r, o, cal_file);
   return ExitCode::ok;

@@ -58,6 +58,20 @@ void add_gpu(CLI::App* cmd, GpuOption& o) {
                                    "AMD GPU families (e.g. navi21,vangogh,polaris10): every row's variant compiled on "
                                    "RADV's null device and estimated (gpu.<family> columns; docs/gpu-cost.md)");
   cmd->add_option("--gpu-size", o.frame, "frame size the --gpu estimate is for")->capture_default_str()->needs(families);
+  cmd->add_option("--gpu-trace", o.trace,
+                  "on: trace every row's texel fetches on its view (lavapipe) and estimate on each family's simulated "
+                  "caches; off: the view-free roofline")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, bool>{{"on", true}, {"off", false}}))
+      ->capture_default_str()->needs(families);
+  cmd->add_option("--gpu-window", o.window, "share of each draw's width and height traced (a centred window)")
+      ->check(CLI::Range(0.05, 1.0))->capture_default_str()->needs(families);
+}
+
+void GpuOption::apply(measure::MeasureOptions& o) const {
+  o.gpu_families = family_list();
+  o.gpu_frame = frame_size();
+  o.gpu_trace = trace;
+  o.gpu_window = window;
 }
 
 void RepsOption::apply(measure::MeasureOptions& o) const {

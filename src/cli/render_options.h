@@ -38,9 +38,12 @@ inline constexpr const char* calibration_help = "calibration file (default: cali
 struct GpuOption {
   std::string families;
   std::string frame = "1920x1080";
+  bool trace = true;          // --gpu-trace on|off: the estimate on each row's traced view (issue 33)
+  double window = 0.5;        // --gpu-window: share of each draw traced (trace::TraceOptions)
   // The families (empty without --gpu) and the frame; throws std::runtime_error naming the option.
   std::vector<std::string> family_list() const;
   render::Extent frame_size() const;
+  void apply(measure::MeasureOptions& o) const;  // families, frame, trace, window
 };
 void add_gpu(CLI::App* cmd, GpuOption& o);
 

@@ -43,8 +43,7 @@ ExitCode run_sweep(const SweepArgs& a) {
   o.shard_convention = shard.convention;
   if (m.reference_rays < 1) throw std::runtime_error("--rays must be at least 1");
   m.cache_dir = m.reference_cache = a.common.cache();
-  m.gpu_families = a.gpu.family_list();
-  m.gpu_frame = a.gpu.frame_size();
+  a.gpu.apply(m);
   const auto cal_file = a.calibration.load(a.common.manifest, m.calibration, m.calibration_file, m.calibration_hash);
   auto r = with_status([&](const auto& progress) { return sweep::run_sweep(o, progress); });
   std::cout << table::to_markdown(r.table) << sweep::notes_text(r, o, cal_file);

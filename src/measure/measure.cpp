@@ -257,15 +257,11 @@ void MeasureRun::finish() {
 }
 
 void MeasureRun::add_gpu_costs() {
-  gpu::CostRequest request{o_.gpu_families, o_.gpu_frame, o_.manifest, o_.cache_dir, o_.jobs};
-  std::set<std::string> keys;
-  for (const auto& r : res_.rows) keys.insert(r.variant);
-  say(fmt::format("analysing {} variants on RADV's null device ({})", keys.size(), fmt::join(o_.gpu_families, ", ")));
-  auto costs = gpu::costs_by_key(request, keys);
-  for (auto& r : res_.rows)
-    if (auto it = costs.by_variant.find(r.variant); it != costs.by_variant.end()) r.gpu = it->second;
-  for (const auto& e : costs.errors) say("note: --gpu " + e);
-  res_.gpu_errors = std::move(costs.errors);
+  std::vector<table::CostRow*> rows;
+  for (auto& r : res_.rows) rows.push_back(&r);
+  const trace::RowGpuResult gpu = trace::add_gpu_costs(rows, gpu_request(o_), [&](const std::string& line) { say(line); });
+  res_.gpu_errors = gpu.errors;
+  res_.gpu_meta = gpu.to_json();
 }
 
 // The scene profile's pruning: every selected variant it drops with its rule and reason (null: not pruned).
@@ -332,6 +328,21 @@ MeasureResult run_measure(const MeasureOptions& options, const Progress& progres
   return MeasureRun(options, progress).run();
 }
 
+trace::RowGpuRequest gpu_request(const MeasureOptions& o) {
+  trace::RowGpuRequest r;
+  r.costs = {o.gpu_families, o.gpu_frame, o.manifest, o.cache_dir, o.jobs};
+  r.trace = o.gpu_trace;
+  r.traffic.manifest = o.manifest;
+  r.traffic.cache_dir = o.cache_dir;
+  r.traffic.frame = o.gpu_frame;
+  r.traffic.window_share = o.gpu_window;
+  r.traffic.views_file = o.views_file;
+  r.traffic.radius = o.radius;
+  r.traffic.calibration = o.calibration;
+  r.traffic.threads = o.threads;
+  return r;
+}
+
 json calibration_json(const MeasureOptions& o) {
   if (o.calibration_file.empty()) return nullptr;
   return {{"file", o.calibration_file}, {"hash", o.calibration_hash}};
@@ -374,8 +385,10 @@ json to_json(const MeasureResult& res, const MeasureOptions& o) {
           {"rows", rows},
           {"kept_rows", res.kept_rows.is_null() ? json::array() : res.kept_rows},  // null: returned before selecting
           {"pruned", pruned_json(res, o)},
-          {"gpu", {{"families", o.gpu_families}, {"frame", fmt::format("{}x{}", o.gpu_frame.width, o.gpu_frame.height)},
-                   {"errors", res.gpu_errors}}}};
+          {"gpu", res.gpu_meta.is_null()
+                      ? json{{"families", o.gpu_families}, {"frame", fmt::format("{}x{}", o.gpu_frame.width, o.gpu_frame.height)},
+                             {"errors", res.gpu_errors}}
+                      : res.gpu_meta}};
 }
 
 }  // namespace aovar::measure

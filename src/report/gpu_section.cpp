@@ -166,12 +166,20 @@ Grid ranking_grid(const std::vector<MethodEstimate>& ranking) {
   return g;
 }
 
+// "L0 47% · L2 97%": each cache level's hit rate on the traced view ("" without a trace).
+std::string hit_rates(const table::GpuPassCost& p) {
+  std::string out;
+  for (const auto& l : p.levels)
+    out += fmt::format("{}{} {:.0f}%", out.empty() ? "" : " · ", l.name, 100 * l.hit_rate);
+  return out;
+}
+
 // One line per pass, as Radeon GPU Analyzer and the Mali Offline Compiler print a shader.
 Grid passes_grid(const CostTable& t, const std::string& family, const std::vector<std::string>& keys) {
   auto variants = variants_on(t, family);
   Grid g{{"variant", "pass", "VGPRs", "SGPRs", "waves/SIMD", "spills", "instr. (unrolled / shipped)", "VALU", "VMEM",
-          "fetches", "ALU ms", "texture ms", "bandwidth ms", "bound", "est. ms"},
-         {false, false, true, true, true, true, true, true, true, true, true, true, true, false, true},
+          "fetches", "ALU ms", "texture ms", "bandwidth ms", "DRAM B/px", "hit rates", "bound", "est. ms"},
+         {false, false, true, true, true, true, true, true, true, true, true, true, true, true, false, false, true},
          {}};
   for (const auto& key : keys) {
     const GpuCost& c = *variants.at(key).cost;
@@ -179,8 +187,9 @@ Grid passes_grid(const CostTable& t, const std::string& family, const std::vecto
       g.rows.push_back({key, p.pass, count(p.vgprs), count(p.sgprs), count(p.waves_per_simd),
                         count(p.spill_vgprs + p.spill_sgprs),
                         count(p.instructions) + " / " + count(p.shipped_instructions), count(p.valu), count(p.vmem),
-                        count(p.fetches * p.draws), ms(p.alu_ms), ms(p.texture_ms), ms(p.bandwidth_ms), p.bound,
-                        ms(p.est_ms)});
+                        count(p.fetches * p.draws), ms(p.alu_ms), ms(p.texture_ms), ms(p.bandwidth_ms),
+                        std::isfinite(p.dram_bytes_per_pixel) ? fmt::format("{:.1f}", p.dram_bytes_per_pixel) : "–",
+                        hit_rates(p), p.bound, ms(p.est_ms)});
   }
   return g;
 }
@@ -207,9 +216,14 @@ std::vector<Block> gpu_blocks(const CostTable& t) {
     const GpuCost& any = *variants.begin()->second.cost;
     blocks.push_back({fmt::format("GPU estimate: {} ({})", family, any.product),
                       fmt::format("Roofline estimate at {} from RADV's ISA statistics ({}): per pass the largest of the "
-                                  "ALU, texture-issue and bandwidth bounds (docs/gpu-cost.md); an estimate, not a "
+                                  "ALU, texture-issue and bandwidth bounds (docs/gpu-cost.md){}; an estimate, not a "
                                   "measurement. {}",
-                                  any.frame, any.mesa, pyramid_text(t, family)),
+                                  any.frame, any.mesa,
+                                  any.view.empty() ? ""
+                                                   : ", with each row's texel fetches traced on its view and replayed "
+                                                     "through this GPU's caches (DRAM bytes per pixel, hit rates, the "
+                                                     "bound that limits it: latency, a cache level or DRAM)",
+                                  pyramid_text(t, family)),
                       {}});
     std::vector<std::string> ranked;
     for (const auto& ranking : method_ranking(t, family)) {

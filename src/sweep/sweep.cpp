@@ -118,17 +118,11 @@ std::vector<table::CostRow> predicted_rows(const SweepOptions& o, const std::vec
 // --gpu: every row's variant (measured or predicted) analysed on RADV's null device per family and
 // estimated, once for all scenes: the estimate depends on the variant and the frame, not on the scene.
 json add_gpu_costs(const SweepOptions& o, std::vector<table::CostRow>& rows, const Progress& progress) {
-  const measure::MeasureOptions& m = o.measure;
-  std::set<std::string> keys;
-  for (const auto& r : rows) keys.insert(r.variant);
-  if (progress) progress(fmt::format("analysing {} variants on RADV's null device ({})", keys.size(), fmt::join(m.gpu_families, ", ")));
-  auto costs = gpu::costs_by_key({m.gpu_families, m.gpu_frame, m.manifest, m.cache_dir, m.jobs}, keys);
-  for (auto& r : rows)
-    if (auto it = costs.by_variant.find(r.variant); it != costs.by_variant.end()) r.gpu = it->second;
-  for (const auto& e : costs.errors)
-    if (progress) progress("note: --gpu " + e);
-  return {{"families", m.gpu_families}, {"frame", fmt::format("{}x{}", m.gpu_frame.width, m.gpu_frame.height)},
-          {"mesa", costs.mesa}, {"pipelines", costs.pipelines}, {"seconds", costs.seconds}, {"errors", costs.errors}};
+  std::vector<table::CostRow*> pointers;
+  for (auto& r : rows) pointers.push_back(&r);
+  return trace::add_gpu_costs(pointers, measure::gpu_request(o.measure), [&](const std::string& line) {
+           if (progress) progress(line);
+         }).to_json();
 }
 
 json table_meta(const SweepOptions& o, const SweepResult& res, const json& scenes, const json& models,

@@ -24,12 +24,13 @@ auto stats_of(Pass& p) {
   return std::tie(p.draws, p.pixel_share, p.vgprs, p.sgprs, p.spill_vgprs, p.spill_sgprs, p.waves_per_simd,
                   p.instructions, p.shipped_instructions, p.valu, p.salu, p.vmem, p.smem, p.latency,
                   p.inverse_throughput, p.code_size, p.fetches, p.bytes_per_pixel, p.alu_ms, p.texture_ms,
-                  p.bandwidth_ms, p.est_ms);
+                  p.bandwidth_ms, p.est_ms, p.dram_bytes_per_pixel, p.dram_ms, p.latency_ms);
 }
 constexpr const char* kStatNames[] = {"draws", "pixel_share", "vgprs", "sgprs", "spill_vgprs", "spill_sgprs",
                                       "waves_per_simd", "instructions", "shipped_instructions", "valu", "salu",
                                       "vmem", "smem", "latency", "inverse_throughput", "code_size", "fetches",
-                                      "bytes_per_pixel", "alu_ms", "texture_ms", "bandwidth_ms", "est_ms"};
+                                      "bytes_per_pixel", "alu_ms", "texture_ms", "bandwidth_ms", "est_ms",
+                                      "dram_bytes_per_pixel", "dram_ms", "latency_ms"};
 
 template <typename Tuple, typename F>
 void each_stat(Tuple&& t, F&& f) {
@@ -42,6 +43,13 @@ void each_stat(Tuple&& t, F&& f) {
 json pass_json(const GpuPassCost& p) {
   json j = {{"pass", p.pass}, {"bound", p.bound}};
   each_stat(stats_of(p), [&](const char* name, const double& v) { j[name] = number(v); });
+  if (!p.levels.empty()) {
+    json levels = json::array();
+    for (const auto& l : p.levels)
+      levels.push_back({{"name", l.name}, {"hit_rate", number(l.hit_rate)}, {"bytes_per_pixel", number(l.bytes_per_pixel)},
+                        {"ms", number(l.ms)}});
+    j["levels"] = levels;
+  }
   return j;
 }
 
@@ -50,13 +58,25 @@ GpuPassCost pass_from(const json& j) {
   p.pass = j.at("pass").get<std::string>();
   p.bound = j.value("bound", "");
   each_stat(stats_of(p), [&](const char* name, double& v) { v = number_from(j, name); });
+  if (j.contains("levels")) {
+    if (!j.at("levels").is_array()) throw std::runtime_error("gpu cost: 'levels' is not an array");
+    for (const auto& l : j.at("levels")) {
+      if (!l.is_object()) throw std::runtime_error("gpu cost: a level is not an object");
+      p.levels.push_back({l.value("name", ""), number_from(l, "hit_rate"), number_from(l, "bytes_per_pixel"),
+                          number_from(l, "ms")});
+    }
+  }
   return p;
 }
 
 }  // namespace
 
+bool GpuPassCost::Level::operator==(const Level& o) const {
+  return name == o.name && same(hit_rate, o.hit_rate) && same(bytes_per_pixel, o.bytes_per_pixel) && same(ms, o.ms);
+}
+
 bool GpuPassCost::operator==(const GpuPassCost& o) const {
-  if (pass != o.pass || bound != o.bound) return false;
+  if (pass != o.pass || bound != o.bound || levels != o.levels) return false;
   bool equal = true;
   auto a = stats_of(*this);
   auto b = stats_of(o);
@@ -67,7 +87,8 @@ bool GpuPassCost::operator==(const GpuPassCost& o) const {
 }
 
 bool GpuCost::operator==(const GpuCost& o) const {
-  return product == o.product && mesa == o.mesa && frame == o.frame && same(est_ms, o.est_ms) && passes == o.passes;
+  return product == o.product && mesa == o.mesa && frame == o.frame && view == o.view && same(est_ms, o.est_ms) &&
+         passes == o.passes;
 }
 
 const GpuPassCost* GpuCost::pass(const std::string& name) const {
@@ -100,8 +121,10 @@ double GpuCost::min_waves() const {
 json to_json(const GpuCost& c) {
   json passes = json::array();
   for (const auto& p : c.passes) passes.push_back(pass_json(p));
-  return {{"product", c.product}, {"mesa", c.mesa}, {"frame", c.frame}, {"est_ms", number(c.est_ms)},
-          {"passes", passes}};
+  json j = {{"product", c.product}, {"mesa", c.mesa}, {"frame", c.frame}, {"est_ms", number(c.est_ms)},
+            {"passes", passes}};
+  if (!c.view.empty()) j["view"] = c.view;
+  return j;
 }
 
 GpuCost gpu_cost_from_json(const json& j) {
@@ -110,6 +133,7 @@ GpuCost gpu_cost_from_json(const json& j) {
   c.product = j.value("product", "");
   c.mesa = j.value("mesa", "");
   c.frame = j.value("frame", "");
+  c.view = j.value("view", "");
   c.est_ms = number_from(j, "est_ms");
   if (j.contains("passes"))
     for (const auto& p : j.at("passes")) c.passes.push_back(pass_from(p));

@@ -24,7 +24,19 @@ struct GpuPassCost {
   double fetches = 0, bytes_per_pixel = 0;     // texture reads and bytes per pixel per draw (SPIR-V analyser)
   // The roofline: each bound's time for all of this pass's draws, the largest of them, and which it is.
   double alu_ms = NAN, texture_ms = NAN, bandwidth_ms = NAN, est_ms = NAN;
-  std::string bound;                           // "alu", "texture" or "bandwidth"
+  // "alu", "texture" or "bandwidth"; on a traced view (gpu/cache_estimate.h) "alu", "texture", "latency",
+  // a cache level's name ("L2", "Infinity Cache") or "dram".
+  std::string bound;
+  // The cache model on a traced view (issue 33; NaN / empty without one): DRAM bytes per shaded pixel, the
+  // DRAM and latency bounds, and per cache level (nearest first) its hit rate, the bytes per pixel through it
+  // and its bandwidth bound.
+  double dram_bytes_per_pixel = NAN, dram_ms = NAN, latency_ms = NAN;
+  struct Level {
+    std::string name;
+    double hit_rate = NAN, bytes_per_pixel = NAN, ms = NAN;
+    bool operator==(const Level&) const;  // NaN equals NaN
+  };
+  std::vector<Level> levels;
   bool operator==(const GpuPassCost&) const;   // NaN equals NaN: "not reported" on both sides
 };
 
@@ -32,6 +44,7 @@ struct GpuCost {
   std::string product;  // the family's product the estimate is for ("Radeon RX 6800 XT")
   std::string mesa;     // the RADV that compiled it ("Mesa 25.0.7-2~bpo12+1")
   std::string frame;    // "1920x1080"
+  std::string view;     // the scene view the traffic was traced on ("" for the view-free roofline)
   double est_ms = NAN;  // sum of the passes' est_ms
   std::vector<GpuPassCost> passes;  // draw order
   const GpuPassCost* pass(const std::string& name) const;

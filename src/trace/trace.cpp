@@ -16,6 +16,10 @@
 namespace aovar::trace {
 namespace {
 
+// Words of one draw's storage buffer in one band: 2^27 bytes, the maxStorageBufferRange every Vulkan device
+// must offer (lavapipe offers exactly that).
+constexpr std::int64_t kBandWords = (std::int64_t(1) << 27) / 4;
+
 int program_index(const compile::CompiledSpace& compiled, const std::string& key) {
   for (std::size_t i = 0; i < compiled.space.programs.size(); ++i)
     if (compiled.space.programs[i].key == key) return static_cast<int>(i);
@@ -71,28 +75,46 @@ DrawInputs inputs_of(const render::PipelinePlan& plan, const render::Draw& d, re
   return in;
 }
 
-gpu::FetchTrace to_trace(const render::Backend::TracedDraw& traced, const render::Draw& d, const Window& w,
-                         render::Extent extent, int draw_in_pass, DrawInputs inputs) {
+// An empty trace of draw `d` over window `w` (every slot kNoRead), to be filled band by band.
+gpu::FetchTrace empty_trace(const render::Draw& d, const Window& w, render::Extent extent, DrawInputs inputs) {
   gpu::FetchTrace t;
   t.pass = d.pass;
-  t.draw = draw_in_pass;
   t.frame_width = extent.width;
   t.frame_height = extent.height;
   t.x0 = w.x0, t.y0 = w.y0, t.width = w.width, t.height = w.height;
   t.max_taps = w.max_taps;
-  t.overflowed_pixels = traced.words.at(0);
-  t.reads.assign(traced.words.begin() + 1, traced.words.end());
-  if (!inputs.lod_offset.empty())
-    for (std::uint32_t& word : t.reads) {
-      if (word == gpu::kNoRead) continue;
-      gpu::TexelRead r = gpu::unpack_read(word);
-      auto it = inputs.lod_offset.find(r.slot);
-      if (it == inputs.lod_offset.end()) continue;
-      r.lod += it->second;
-      word = gpu::pack_read(r);
-    }
+  t.reads.assign(std::size_t(w.width) * w.height * w.max_taps, gpu::kNoRead);
   t.textures = std::move(inputs.textures);
   return t;
+}
+
+// Copies one band's storage-buffer words (overflow count, then the band's rows) into the trace, moving reads
+// of inputs bound to one level of a chain to that level, and keeping every read inside its level as
+// max(1, extent >> level) counts it (lavapipe's textureSize can report a level one texel larger at odd
+// sizes, so a template's own clamp may let a read one texel past the edge through).
+void fill_band(gpu::FetchTrace& t, const Window& band, const std::vector<std::uint32_t>& words,
+               const std::map<int, int>& lod_offset) {
+  t.overflowed_pixels += words.at(0);
+  const std::size_t offset = std::size_t(band.y0 - t.y0) * t.width * t.max_taps;
+  std::copy(words.begin() + 1, words.end(), t.reads.begin() + std::ptrdiff_t(offset));
+  std::map<int, const gpu::TracedTexture*> by_slot;
+  for (const gpu::TracedTexture& tex : t.textures) by_slot[tex.slot] = &tex;
+  for (std::size_t k = offset; k < offset + words.size() - 1; ++k) {
+    if (t.reads[k] == gpu::kNoRead) continue;
+    gpu::TexelRead r = gpu::unpack_read(t.reads[k]);
+    if (auto it = lod_offset.find(r.slot); it != lod_offset.end()) r.lod += it->second;
+    if (auto tex = by_slot.find(r.slot); tex != by_slot.end()) {
+      r.x = std::min(r.x, std::max(1, tex->second->width >> r.lod) - 1);
+      r.y = std::min(r.y, std::max(1, tex->second->height >> r.lod) - 1);
+    }
+    t.reads[k] = gpu::pack_read(r);
+  }
+}
+
+// Rows [b * h / n, (b + 1) * h / n) of window w: band b of n.
+Window band_of(const Window& w, int b, int n) {
+  const int first = int(std::int64_t(w.height) * b / n), last = int(std::int64_t(w.height) * (b + 1) / n);
+  return {w.x0, w.y0 + first, w.width, last - first, w.max_taps};
 }
 
 }  // namespace
@@ -115,41 +137,60 @@ std::vector<gpu::FetchTrace> trace_variant(runner::VariantRunner& runner, int va
   if (runner.device().backend != "lavapipe")
     throw render::BackendError(fmt::format("trace: fetch traces run on lavapipe, not {}", runner.device().backend));
   const compile::CompiledSpace& compiled = runner.compiled();
-  render::PipelinePlan plan = runner.plan(variant);
+  const render::PipelinePlan plan = runner.plan(variant);
   const render::Extent size = runner.size();
-  std::vector<Window> windows(plan.draws.size());
   const std::vector<int> all = traceable_draws(plan);
-  for (int i : options.draws.empty() ? all : options.draws) {
+  const std::vector<int> draws = options.draws.empty() ? all : options.draws;
+  std::vector<Window> windows(plan.draws.size());
+  int bands = 1;
+  for (int i : draws) {
     if (std::find(all.begin(), all.end(), i) == all.end())
       throw std::invalid_argument(fmt::format("trace: draw {} of {} cannot be traced", i, plan.variant));
-    render::Draw& d = plan.draws[i];
-    const int program = program_index(compiled, plan.shaders[d.fragment].program_key);
-    const Window w = centred_window(draw_extent(d, size, plan.resolution), options.window_share,
-                                    max_taps_of(plan.shaders[d.fragment].spirv));
-    render::Shader traced = plan.shaders[d.fragment];
-    traced.spirv = trace_build(compiled, program, w, d.depth == render::DepthUse::skip_background);
-    d.fragment = static_cast<int>(plan.shaders.size());
-    plan.shaders.push_back(std::move(traced));
-    d.trace_words = 1 + std::int64_t(w.width) * w.height * w.max_taps;
-    windows[i] = w;
+    const render::Draw& d = plan.draws[i];
+    windows[i] = centred_window(draw_extent(d, size, plan.resolution), options.window_share,
+                                max_taps_of(plan.shaders[d.fragment].spirv));
+    const std::int64_t row_words = std::int64_t(windows[i].width) * windows[i].max_taps;
+    bands = std::max<int>(bands, int((windows[i].height * row_words + kBandWords - 2) / (kBandWords - 1)));
   }
-  auto prepared = runner.prepare(plan);
-  runner.backend().render(*prepared, {&view, 0, true, radius});
-  std::vector<render::Backend::TracedDraw> traced = runner.backend().read_traces(*prepared);
-  if (image) *image = runner.backend().read_result(*prepared);
 
-  // The prepared plan is the plan at this size (render::plan_for_size may drop draws into missing MIP levels):
-  // match the traced draws to the plan's by name and level.
+  // Band by band (each draw's window cut into the same number of row bands, so that every storage buffer fits
+  // the range every Vulkan device offers), each band one render with its trace builds.
+  std::map<int, gpu::FetchTrace> traces;  // plan draw -> trace, for the draws the prepared plan kept
+  for (int b = 0; b < bands; ++b) {
+    render::PipelinePlan banded = plan;
+    for (int i : draws) {
+      render::Draw& d = banded.draws[i];
+      const Window w = band_of(windows[i], b, bands);
+      if (w.height <= 0) continue;  // a small draw (a deep MIP level) has fewer rows than there are bands
+      render::Shader traced = banded.shaders[d.fragment];
+      traced.spirv = trace_build(compiled, program_index(compiled, traced.program_key), w,
+                                 d.depth == render::DepthUse::skip_background);
+      d.fragment = static_cast<int>(banded.shaders.size());
+      banded.shaders.push_back(std::move(traced));
+      d.trace_words = 1 + std::int64_t(w.width) * w.height * w.max_taps;
+    }
+    auto prepared = runner.prepare(banded);
+    runner.backend().render(*prepared, {&view, 0, true, radius});
+    if (image && b == 0) *image = runner.backend().read_result(*prepared);
+    // The prepared plan is the plan at this size (render::plan_for_size may drop draws into missing MIP levels):
+    // the traced draws are matched to the plan's by name and level.
+    for (const render::Backend::TracedDraw& td : runner.backend().read_traces(*prepared)) {
+      std::size_t i = 0;
+      while (i < plan.draws.size() && !(plan.draws[i].name == td.name && plan.draws[i].level == td.level)) ++i;
+      if (i == plan.draws.size()) throw std::logic_error("trace: a traced draw is not in the plan: " + td.name);
+      const render::Draw& d = plan.draws[i];
+      DrawInputs inputs = inputs_of(plan, d, size);
+      auto [it, fresh] = traces.try_emplace(int(i));
+      if (fresh) it->second = empty_trace(d, windows[i], draw_extent(d, size, plan.resolution), inputs);
+      fill_band(it->second, band_of(windows[i], b, bands), td.words, inputs.lod_offset);
+    }
+  }
   std::vector<gpu::FetchTrace> out;
   std::map<std::string, int> draws_in_pass;
-  for (const render::Backend::TracedDraw& td : traced) {
-    std::size_t i = 0;
-    while (i < plan.draws.size() && !(plan.draws[i].name == td.name && plan.draws[i].level == td.level)) ++i;
-    if (i == plan.draws.size()) throw std::logic_error("trace: a traced draw is not in the plan: " + td.name);
-    const render::Draw& d = plan.draws[i];
-    out.push_back(to_trace(td, d, windows[i], draw_extent(d, size, plan.resolution), draws_in_pass[d.pass]++,
-                           inputs_of(plan, d, size)));
-    out.back().plan_draw = static_cast<int>(i);
+  for (auto& [i, t] : traces) {
+    t.draw = draws_in_pass[t.pass]++;
+    t.plan_draw = i;
+    out.push_back(std::move(t));
   }
   return out;
 }

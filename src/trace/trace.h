@@ -25,7 +25,9 @@ struct TraceOptions {
 
 // Traces variant `variant` (index into runner.compiled().space.variants; its plan with the runner's
 // calibration) on `view` with AO radius `radius`, at runner.size(). The runner must be a lavapipe runner whose
-// compiled space holds the variant's Vulkan builds, with the scene in use (VariantRunner::use_scene). Throws
+// compiled space holds the variant's Vulkan builds, with the scene in use (VariantRunner::use_scene). A trace
+// over 128 MB (2^27 bytes, the storage-buffer range every Vulkan device offers) is taken in row bands, one
+// render each. Throws
 // std::runtime_error (a trace build that does not compile, naming the program) or render::BackendError.
 // `image` (optional) receives the result the trace build rendered: the shipped pipeline's, bit for bit.
 std::vector<gpu::FetchTrace> trace_variant(runner::VariantRunner& runner, int variant, const scene::View& view,

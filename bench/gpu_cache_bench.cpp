@@ -1,0 +1,172 @@
+// bench/gpu_cache: the cache model against the papers (issue 33). Traces variants on a scene view through
+// lavapipe at the estimate's frame size, replays the traces through each product's caches, and prints per
+// variant and pass: reads and DRAM bytes per pixel, each level's hit rate, and (for RADV families) the
+// estimate on the traffic with its bound. Several radii in one run give the cost against the radius.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "compile/generate.h"
+#include "gpu/cache_sim.h"
+#include "gpu/costs.h"
+#include "gpu/family_specs.h"
+#include "gpu/gpu.h"
+#include "render/plan.h"
+#include "runner/variant_runner.h"
+#include "scene/scene.h"
+#include "trace/trace_set.h"
+#include "trace/traced_costs.h"
+
+using namespace aovar;
+
+namespace {
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  for (std::string item; std::getline(in, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// Reference products (no ISA statistics): the traffic of each pass only.
+// `output_pixels`: the pixels the traffic is counted per (the frame without its guard band).
+void print_reference_traffic(runner::VariantRunner& runner, const std::vector<int>& variants,
+                             const scene::View& view, float radius, const std::vector<std::string>& products,
+                             double window, double output_pixels) {
+  trace::TraceOptions options;
+  options.window_share = window;
+  trace::TraceSet set(runner, view, radius, options);
+  for (int v : variants) {
+    const auto traces = set.of(v);
+    for (const std::string& name : products) {
+      const gpu::FamilySpec* spec = gpu::product_spec(name);
+      if (!spec) throw std::runtime_error("no product " + name + " in src/gpu/families.json");
+      std::map<std::string, std::vector<gpu::CacheSimResult>> by_pass;
+      // The whole effect's DRAM traffic per output pixel, as McGuire et al. 2012 (Table 2) count it: every
+      // draw's read misses (a window's bytes scaled to its whole draw) plus its render-target writes.
+      const render::PipelinePlan plan = runner.plan(v);
+      double effect_bytes = 0;
+      for (const gpu::FetchTrace* t : traces) {
+        by_pass[t->pass].push_back(gpu::simulate(*t, gpu::hierarchy_of(*spec)));
+        const double draw_pixels = double(t->frame_width) * t->frame_height;
+        effect_bytes += by_pass[t->pass].back().dram_bytes_per_pixel() * draw_pixels;
+        for (const render::TextureRef& out : plan.draws.at(t->plan_draw).outputs)
+          if (out.texture >= 0) effect_bytes += render::format_bytes(plan.textures[out.texture].format) * draw_pixels;
+      }
+      fmt::print("{} | effect | {} | r {} | DRAM B/px {:.1f} (reads missing the last level + render-target writes)\n",
+                 runner.compiled().space.variants[v].key, spec->product, radius, effect_bytes / output_pixels);
+      for (const auto& [pass, sims] : by_pass) {
+        const gpu::CacheSimResult m = gpu::merge(sims);
+        std::string levels;
+        for (const auto& l : m.levels) levels += fmt::format(" {} {:.3f}", l.name, l.hit_rate());
+        fmt::print("{} | {} | {} | r {} | reads/px {:.2f} | DRAM B/px {:.1f} | hit{}\n",
+                   runner.compiled().space.variants[v].key, pass, spec->product, radius, m.fetches_per_pixel(),
+                   m.dram_bytes_per_pixel(), levels);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"bench/gpu_cache: traced texture traffic and the estimate on it"};
+  std::string scene_spec = "builtin:atrium", view_name = "overview", size = "1920x1080", manifest = "shader_src/aovar.toml";
+  std::string families = "navi21", products, radii;
+  std::vector<std::string> globs;
+  double window = 1.0;
+  int guard = 0;
+  app.add_option("--scene", scene_spec);
+  app.add_option("--view", view_name);
+  app.add_option("--size", size);
+  app.add_option("--manifest", manifest);
+  app.add_option("--families", families, "RADV families: statistics and the estimate on the traffic");
+  app.add_option("--products", products, "reference products (families.json): traffic only");
+  app.add_option("--radii", radii, "AO radii in scene units (default: the scene's)");
+  app.add_option("--window", window, "share of each draw traced (a centred window)");
+  app.add_option("--guard", guard, "guard band in pixels on every side (rendered and traced, not counted as output)");
+  app.add_option("--variants", globs)->required();
+  CLI11_PARSE(app, argc, argv);
+  try {
+    int w = 0, h = 0;
+    if (std::sscanf(size.c_str(), "%dx%d", &w, &h) != 2) throw std::runtime_error("--size WxH");
+    compile::CompileOptions co;
+    co.targets = {variants::Target::vulkan};
+    co.globs = globs;
+    const compile::CompiledSpace compiled = compile::compile_space(manifest, co);
+    if (!compiled.ok()) throw std::runtime_error("compile failed: " + compiled.diagnostics.front());
+    std::vector<int> variants;
+    for (std::size_t i = 0; i < compiled.space.variants.size(); ++i) variants.push_back(int(i));
+
+    const scene::Scene scene = scene::load_scene(scene_spec);
+    const scene::View* found = nullptr;
+    for (const auto& v : scene.views)
+      if (v.name == view_name) found = &v;
+    if (!found) throw std::runtime_error("no view " + view_name);
+    // A guard band widens the field of view so that the inner w x h pixels see what the view sees at w x h.
+    scene::View guarded = *found;
+    const double pi = 3.14159265358979323846;
+    guarded.fov_y_deg = float(2 * std::atan(std::tan(found->fov_y_deg * pi / 360) * (h + 2.0 * guard) / h) * 180 / pi);
+    const scene::View* view = &guarded;
+    runner::RunnerOptions ro;
+    ro.size = {w + 2 * guard, h + 2 * guard};
+    runner::VariantRunner runner(compiled, ro);
+    runner.use_scene(scene);
+    std::vector<double> rs;
+    for (const auto& r : split(radii)) rs.push_back(std::stod(r));
+    if (rs.empty()) rs.push_back(scene.ao_radius);
+
+    std::map<std::string, table::GpuCosts> base;
+    std::map<std::string, std::vector<gpu::PassLoad>> loads = gpu::variant_loads(compiled, variants);
+    const gpu::Frame frame{w, h};
+    if (!families.empty()) {
+      gpu::GpuOptions go;
+      go.families = split(families);
+      base = gpu::costs_of(gpu::analyze_gpu(compiled, variants, go), loads, frame);
+    }
+    fmt::print("bench/gpu_cache: {} ({}), {}x{} + {} px guard band, {} variants, window {}\n", scene_spec, view_name, w,
+               h, guard, variants.size(), window);
+    for (double r : rs) {
+      if (!products.empty()) print_reference_traffic(runner, variants, *view, float(r), split(products), window, double(w) * h);
+      if (base.empty()) continue;
+      auto costs = base;
+      trace::TraceOptions options;
+      options.window_share = window;
+      auto t0 = std::chrono::steady_clock::now();
+      const trace::TrafficStats st = trace::add_traffic(runner, variants, *view, float(r), loads, frame, costs, options);
+      for (const auto& [key, by_family] : costs)
+        for (const auto& [family, cost] : by_family)
+          for (const auto& p : cost.passes) {
+            std::string levels, bounds;
+            for (const auto& l : p.levels) {
+              levels += fmt::format(" {} {:.3f}", l.name, l.hit_rate);
+              bounds += fmt::format(" {} {:.4f}", l.name, l.ms);
+            }
+            fmt::print("{} | {} | {} | r {} | est {:.4f} ms ({}) | pass {:.4f} ms {} | DRAM B/px {:.1f} | hit{} | ms: alu "
+                       "{:.4f} texture {:.4f} latency {:.4f}{} dram {:.4f}\n",
+                       key, p.pass, family, r, cost.est_ms, cost.view, p.est_ms, p.bound, p.dram_bytes_per_pixel, levels,
+                       p.alu_ms, p.texture_ms, p.latency_ms, bounds, p.dram_ms);
+          }
+      fmt::print("radius {}: traced {} draws, shared {}, {} simulations; trace {:.1f} s, simulate {:.1f} s, total {:.1f} s\n",
+                 r, st.traced_draws, st.shared_draws, st.simulations, st.trace_seconds, st.simulate_seconds,
+                 seconds_since(t0));
+    }
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "bench/gpu_cache: {}\n", e.what());
+    return 2;
+  }
+  return 0;
+}

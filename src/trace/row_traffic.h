@@ -1,0 +1,57 @@
+#pragma once
+// The traced estimate on cost-table rows (issue 33): every row with GPU costs (gpu::costs_by_key) gets its
+// variant traced on the row's own scene and view at the estimate's frame size, and each family's estimate redone
+// on the simulated traffic (trace/traced_costs.h). measure --gpu and sweep --gpu call it after costs_by_key; a
+// row's estimate then names its view (table::GpuCost::view).
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "gpu/by_key.h"
+#include "render/plan.h"
+#include "table/table.h"
+#include "trace/traced_costs.h"
+
+namespace aovar::trace {
+
+struct RowTrafficRequest {
+  std::filesystem::path manifest, cache_dir;   // the rows' manifest; compile cache (empty: none)
+  gpu::Frame frame{1920, 1080};                 // the estimate's frame (the costs' own)
+  double window_share = 1.0;                    // TraceOptions::window_share
+  std::filesystem::path views_file;             // the scenes' views side file (as measured)
+  float radius = 0;                             // world units; 0 = each scene's default
+  std::map<std::string, render::ParamOverrides> calibration;  // as the rows were rendered
+  int threads = 2;
+};
+
+// Throws std::runtime_error (a scene or view that does not load, a variant that does not compile) or
+// render::BackendError (no lavapipe).
+TrafficStats add_row_traffic(const std::vector<table::CostRow*>& rows, const RowTrafficRequest& request);
+
+// `measure --gpu` and `sweep --gpu`: each row's ISA statistics and roofline per family (gpu::costs_by_key),
+// then, unless `trace` is off, the traced estimate on its view. `say` gets the progress lines.
+struct RowGpuRequest {
+  gpu::CostRequest costs;
+  RowTrafficRequest traffic;
+  bool trace = true;
+};
+struct RowGpuResult {
+  std::vector<std::string> errors;  // one line per family that failed (gpu::KeyedCosts::errors)
+  std::string mesa;
+  int pipelines = 0;
+  double seconds = 0;  // statistics
+  TrafficStats traffic;
+  std::vector<std::string> families;
+  std::string frame;         // "1920x1080"
+  bool traced = false;
+  double window_share = 1;
+  nlohmann::json to_json() const;  // the table's and measure.json's "gpu" meta, with the request's families and frame
+};
+RowGpuResult add_gpu_costs(const std::vector<table::CostRow*>& rows, const RowGpuRequest& request,
+                           const std::function<void(const std::string&)>& say);
+
+}  // namespace aovar::trace

@@ -1,0 +1,29 @@
+#pragma once
+// The GPU estimate of variants on one scene view (issue 33): each variant's fullscreen draws traced on the
+// view (trace/trace_set.h: a draw shared by several variants is traced once), each trace replayed through
+// each family's caches (gpu/cache_sim.h, memoised per trace and family), the draws of a pass merged, and the
+// pass's roofline redone on the simulated traffic (gpu/cache_estimate.h). The estimate then depends on the
+// scene and the view, and names the view it was traced on (table::GpuCost::view).
+#include <map>
+#include <string>
+#include <vector>
+
+#include "gpu/costs.h"
+#include "trace/trace_set.h"
+
+namespace aovar::trace {
+
+struct TrafficStats {
+  int traced_draws = 0, shared_draws = 0, simulations = 0;
+  double trace_seconds = 0, simulate_seconds = 0;
+};
+
+// `costs`: variant key -> family -> cost with statistics and roofline (gpu::costs_of) for the same variants
+// and frame; every family there with a product spec gets the traffic model, the others are left as they are.
+// `loads`: gpu::variant_loads of the same variants. The runner renders at the estimate's frame size.
+TrafficStats add_traffic(runner::VariantRunner& runner, const std::vector<int>& variants, const scene::View& view,
+                         float radius, const std::map<std::string, std::vector<gpu::PassLoad>>& loads,
+                         gpu::Frame frame, std::map<std::string, table::GpuCosts>& costs,
+                         const TraceOptions& options = {});
+
+}  // namespace aovar::trace

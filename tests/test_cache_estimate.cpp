@@ -1,0 +1,100 @@
+// The estimate on simulated traffic (src/gpu/cache_estimate.h) and its dependence on the radius through real
+// traces (src/trace): Alchemy's scattered taps miss more as the radius grows, SAO's z pyramid keeps its
+// traffic flat (McGuire et al. 2012, §3.2, Figure 5).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "gpu/cache_estimate.h"
+#include "gpu/cache_sim.h"
+#include "gpu/family_specs.h"
+#include "render_support.h"
+#include "runner/variant_runner.h"
+#include "trace/trace_set.h"
+
+namespace aovar {
+namespace {
+
+gpu::CacheLevelStats stats(const std::string& name, int64_t accesses, int64_t hits, int64_t bytes) {
+  gpu::CacheLevelStats s;
+  s.name = name;
+  s.accesses = accesses;
+  s.hits = hits;
+  s.bytes_requested = bytes;
+  return s;
+}
+
+TEST(CacheEstimate, EachBoundIsItsTrafficOverItsRateAndTheLargestWins) {
+  const gpu::FamilySpec& spec = *gpu::family_spec("navi21");
+  ASSERT_GE(spec.caches.size(), 2u);
+  gpu::CacheSimResult traffic;
+  traffic.pixels = 1000;
+  traffic.reads = 10000;  // 10 reads per pixel
+  traffic.dram_bytes = 64000;  // 64 B per pixel
+  for (std::size_t k = 0; k < spec.caches.size(); ++k)
+    traffic.levels.push_back(stats(spec.caches[k].name, 10000, 9000, k == 0 ? 40000 : 128000));
+  table::GpuPassCost cost;
+  cost.alu_ms = 0.001;
+  cost.latency = 1000;
+  cost.waves_per_simd = 8;
+  gpu::PassLoad load;
+  load.pass = "ao";
+  const gpu::Frame frame{1920, 1080};
+  gpu::apply_cache_model(cost, load, spec, frame, traffic);
+
+  const double pixels = 1920.0 * 1080.0, hz = spec.clock_mhz * 1e6;
+  EXPECT_NEAR(cost.texture_ms, 1e3 * 10 * pixels / (spec.tmus * hz), 1e-9);
+  EXPECT_NEAR(cost.dram_bytes_per_pixel, 64, 1e-12);
+  EXPECT_NEAR(cost.dram_ms, 1e3 * 64 * pixels / (spec.bandwidth_gbs * 1e9), 1e-9);
+  ASSERT_EQ(cost.levels.size(), spec.caches.size());
+  EXPECT_NEAR(cost.levels[0].hit_rate, 0.9, 1e-12);
+  EXPECT_NEAR(cost.levels[0].bytes_per_pixel, 40, 1e-12);
+  const int cus = spec.cus;
+  EXPECT_NEAR(cost.levels[0].ms, 1e3 * 40 * pixels / (cus * spec.caches[0].bytes_per_clock * hz), 1e-9);
+  EXPECT_NEAR(cost.latency_ms, 1e3 * 1000 * (pixels / spec.wave_size) / (cus * spec.simds_per_cu * 8) / hz, 1e-9);
+  double largest = std::max({cost.alu_ms, cost.texture_ms, cost.latency_ms, cost.dram_ms});
+  for (const auto& l : cost.levels) largest = std::max(largest, l.ms);
+  EXPECT_DOUBLE_EQ(cost.est_ms, largest);
+  EXPECT_FALSE(cost.bound.empty());
+
+  // More DRAM traffic, nothing else changed: only the DRAM bound moves, and it takes over once largest.
+  traffic.dram_bytes *= 1000;
+  table::GpuPassCost more = cost;
+  gpu::apply_cache_model(more, load, spec, frame, traffic);
+  EXPECT_NEAR(more.dram_ms, 1000 * cost.dram_ms, 1e-6);
+  EXPECT_EQ(more.bound, "dram");
+  EXPECT_DOUBLE_EQ(more.est_ms, more.dram_ms);
+}
+
+// Bytes per pixel the AO pass pulls from beyond the per-CU cache, on a wall-and-floor scene at radius r.
+double ao_traffic_past_l0(runner::VariantRunner& runner, int variant, const scene::View& view, float r) {
+  trace::TraceSet set(runner, view, r);
+  const gpu::CacheHierarchy h = gpu::hierarchy_of(*gpu::family_spec("navi21"));
+  for (const gpu::FetchTrace* t : set.of(variant))
+    if (t->pass == "ao") {
+      const gpu::CacheSimResult sim = gpu::simulate(*t, h);
+      return double(sim.levels.at(1).bytes_requested) / double(sim.pixels);
+    }
+  ADD_FAILURE() << "no AO draw";
+  return NAN;
+}
+
+TEST(CacheEstimate, AlchemysTrafficGrowsWithTheRadiusAndSaosDoesNot) {
+  const std::string alchemy = "alchemy-s08-p0-nrgb8-zdep-rst-d32-bno-x1-hp";
+  const std::string sao = "sao-s08-p0-ndep-zdep-rst-d32-bsep-x1-hp";
+  compile::CompiledSpace compiled = test::compile_variants({alchemy, sao});
+  runner::RunnerOptions options;
+  options.size = {480, 270};
+  runner::VariantRunner runner(compiled, options);
+  const scene::View view = test::floor_view();
+  const scene::Scene scene = test::quad_scene({test::kFloor, test::kWall}, view, 1.0f);
+  runner.use_scene(scene);
+  const int a = test::variant_index(compiled, alchemy), s = test::variant_index(compiled, sao);
+  const double a_small = ao_traffic_past_l0(runner, a, view, 0.25f), a_large = ao_traffic_past_l0(runner, a, view, 4.0f);
+  const double s_small = ao_traffic_past_l0(runner, s, view, 0.25f), s_large = ao_traffic_past_l0(runner, s, view, 4.0f);
+  EXPECT_GE(a_large, 2.0 * a_small) << a_small << " -> " << a_large;
+  EXPECT_LE(std::abs(s_large / s_small - 1.0), 0.25) << s_small << " -> " << s_large;
+}
+
+}  // namespace
+}  // namespace aovar
