@@ -56,11 +56,12 @@ precision highp sampler2D;
 // from the sample offset's length) and Bevy's GTAO do. Included by the depth_mip = on wrappers (ao/on/*.glsl)
 // before the method's own template, which then reads every position through ao_position_mip.
 //
-// The tap's view position keeps its off-path xy (the centre of its full-resolution G-buffer texel) and takes
-// z from the pyramid: level 0 holds exactly the G-buffer texel the AO pixel reads (passes/sao_zmip.frag, the
-// same ao_texel choice), so the centre (distance 0) and every tap within 2 q' = 16 AO pixels read the value
-// the off path reads, bit for bit at full resolution; farther taps read level m >= 1 (texel >> m). The
-// normal still comes from full-resolution normals (or from derivatives of that exact centre).
+// A tap reads texel (its AO pixel >> m) of level m and becomes the point whose depth that texel holds: level 0
+// holds exactly the G-buffer texel its AO pixel reads (passes/sao_zmip.frag, the same ao_texel choice), so
+// the centre (distance 0), and at full resolution every tap within 2 q' = 16 AO pixels, is the point the off
+// path reads, bit for bit; a farther tap moves to the G-buffer texel its level-m texel came from (at most
+// about 2^m texels away). The normal still comes from full-resolution normals (or from derivatives of that
+// exact centre).
 // Needs the `position` axis at `depth`: a position buffer has no pyramid (manifest rule).
 #line 1 4
 // Every G-buffer read of an AO method goes through these helpers: ao_depth (common/depth.glsl),
@@ -276,7 +277,7 @@ vec3 ao_normal(vec2 uv, vec3 view_pos) {
     return ao_decode_normal(texelFetch(ao_normal_tex, ao_texel(uv, textureSize(ao_normal_tex, 0)), 0));
 #endif
 }
-#line 14 3
+#line 15 3
 
 #if !defined(AO_POSITION_DEPTH)
 #error "aovar: common/depth_mip.glsl rebuilds positions from depth: the depth_mip axis needs position = depth"
@@ -294,19 +295,34 @@ int ao_mip_level(float tap_px) {
     return clamp(int(floor(log2(max(tap_px, 1.0)))) - AO_MIP_LOG_Q, 0, top);
 }
 
-// Linear depth at uv from the pyramid level of a tap tap_px AO pixels away.
-float ao_depth_mip(vec2 uv, float tap_px) {
-    int m = ao_mip_level(tap_px);
-    ivec2 texel = ao_texel(uv, textureSize(ao_prefilter_tex, 0)) >> m;
-    return texelFetch(ao_prefilter_tex, min(texel, textureSize(ao_prefilter_tex, m) - 1), m).r;
+// The level-0 texel that texel q of level m holds: passes/sao_zmip.frag's rotated-grid subsample followed back
+// down, with its clamp at odd sizes. A constant trip count (unrolled), so the analyser counts it exactly.
+ivec2 ao_mip_source(ivec2 q, int m) {
+    for (int k = AO_MIP_MAX - 1; k >= 0; --k) {
+        if (k < m) {
+            q = min(ivec2(2 * q.x + ((q.y & 1) ^ 1), 2 * q.y + ((q.x & 1) ^ 1)), textureSize(ao_prefilter_tex, k) - 1);
+        }
+    }
+    return q;
 }
 
-// View position of the G-buffer texel nearest to uv with its depth from the pyramid, for a tap of the AO
-// pixel at centre_uv.
-vec3 ao_position_mip(vec2 uv, vec2 centre_uv) {
+// View position of a tap at uv, tap_px AO pixels from its pixel, from the pyramid level its distance calls for.
+// Rebuilt at the centre of the G-buffer texel whose depth that pyramid texel holds, so that xy and z describe
+// the same point (common/depth.glsl, ao_texel_uv): a coarse z at the tap's own xy would lift the points of
+// every slanted surface off its plane, and the estimators would read that as occlusion.
+vec3 ao_position_at_level(vec2 uv, float tap_px) {
+    int m = ao_mip_level(tap_px);
+    ivec2 level0 = textureSize(ao_prefilter_tex, 0);
+    ivec2 q = min(ao_texel(uv, level0) >> m, textureSize(ao_prefilter_tex, m) - 1);
+    float z = texelFetch(ao_prefilter_tex, q, m).r;
     ivec2 size = textureSize(ao_depth_tex, 0);
-    float tap_px = length((uv - centre_uv) * frame.ao_size.xy);
-    return ao_view_position_from_depth(ao_texel_uv(ao_texel(uv, size), size), ao_depth_mip(uv, tap_px));
+    ivec2 source = ao_texel(ao_texel_uv(ao_mip_source(q, m), level0), size);  // as sao_zmip.frag's level 0 picks it
+    return ao_view_position_from_depth(ao_texel_uv(source, size), z);
+}
+
+// ao_position for a tap at uv of the AO pixel at centre_uv.
+vec3 ao_position_mip(vec2 uv, vec2 centre_uv) {
+    return ao_position_at_level(uv, length((uv - centre_uv) * frame.ao_size.xy));
 }
 
 // The method's template follows unchanged (its depth_mip = off source stays byte-identical): every
