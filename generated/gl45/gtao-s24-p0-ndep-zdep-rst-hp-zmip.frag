@@ -288,11 +288,20 @@ AO_BINDING(7) uniform sampler2D ao_prefilter_tex; // camera-space z pyramid, pos
 const int AO_MIP_LOG_Q = 3;   // q' = 8 AO pixels: the distance step at which a tap moves one level down
 const int AO_MIP_MAX = 5;     // kZmipLevels - 1 (src/render/plan.h)
 
-// Pyramid level of a tap tap_px AO pixels from its pixel: eq. 9 without findMSB (not in GLSL ES 3.00),
-// clamped to the levels a target of this size has (render::plan_for_size keeps floor(log2(max(w, h))) + 1).
-int ao_mip_level(float tap_px) {
-    int top = min(AO_MIP_MAX, int(floor(log2(max(frame.ao_size.x, frame.ao_size.y)))));
-    return clamp(int(floor(log2(max(tap_px, 1.0)))) - AO_MIP_LOG_Q, 0, top);
+// Pyramid level of a tap `offset` AO pixels from its pixel: eq. 9, m = floor(log2(|offset| / q')), clamped to
+// the levels a target of this size has (render::plan_for_size keeps floor(log2(max(w, h))) + 1). In integers,
+// |offset|^2 >= (q' 2^k)^2, so that every backend picks the same level for the same texels (a float log2 on
+// a level boundary flipped single pixels between lavapipe and GLES).
+int ao_mip_level(ivec2 offset) {
+    int d2 = offset.x * offset.x + offset.y * offset.y;
+    int extent = int(max(frame.ao_size.x, frame.ao_size.y));
+    int m = 0;
+    for (int k = 1; k <= AO_MIP_MAX; ++k) {
+        if (d2 >= (1 << (2 * (AO_MIP_LOG_Q + k))) && (1 << k) <= extent) {
+            m = k;
+        }
+    }
+    return m;
 }
 
 // The level-0 texel that texel q of level m holds: passes/sao_zmip.frag's rotated-grid subsample followed back
@@ -306,23 +315,19 @@ ivec2 ao_mip_source(ivec2 q, int m) {
     return q;
 }
 
-// View position of a tap at uv, tap_px AO pixels from its pixel, from the pyramid level its distance calls for.
+// View position of a tap at uv of the AO pixel at centre_uv, from the pyramid level its distance calls for.
 // Rebuilt at the centre of the G-buffer texel whose depth that pyramid texel holds, so that xy and z describe
 // the same point (common/depth.glsl, ao_texel_uv): a coarse z at the tap's own xy would lift the points of
 // every slanted surface off its plane, and the estimators would read that as occlusion.
-vec3 ao_position_at_level(vec2 uv, float tap_px) {
-    int m = ao_mip_level(tap_px);
+vec3 ao_position_mip(vec2 uv, vec2 centre_uv) {
     ivec2 level0 = textureSize(ao_prefilter_tex, 0);
-    ivec2 q = min(ao_texel(uv, level0) >> m, textureSize(ao_prefilter_tex, m) - 1);
+    ivec2 p = ao_texel(uv, level0);
+    int m = ao_mip_level(p - ao_texel(centre_uv, level0));
+    ivec2 q = min(p >> m, textureSize(ao_prefilter_tex, m) - 1);
     float z = texelFetch(ao_prefilter_tex, q, m).r;
     ivec2 size = textureSize(ao_depth_tex, 0);
     ivec2 source = ao_texel(ao_texel_uv(ao_mip_source(q, m), level0), size);  // as sao_zmip.frag's level 0 picks it
     return ao_view_position_from_depth(ao_texel_uv(source, size), z);
-}
-
-// ao_position for a tap at uv of the AO pixel at centre_uv.
-vec3 ao_position_mip(vec2 uv, vec2 centre_uv) {
-    return ao_position_at_level(uv, length((uv - centre_uv) * frame.ao_size.xy));
 }
 
 // The method's template follows unchanged (its depth_mip = off source stays byte-identical): every
