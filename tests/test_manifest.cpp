@@ -1,6 +1,7 @@
 // Manifest errors carry file, line and column; good manifests parse into the expected structure.
 #include <gtest/gtest.h>
 
+#include "variants/key.h"
 #include "variants/manifest.h"
 #include "variants/space.h"
 
@@ -75,6 +76,26 @@ TEST(Manifest, ParsesAxesRulesPassesAndParams) {
   EXPECT_EQ(m.rules[0].pos.line, 15);
   ASSERT_NE(m.algorithm("alchemy"), nullptr);
   EXPECT_EQ(m.algorithm("alchemy")->params.at(0).name, "intensity");
+}
+
+// depth_mip is the one optional axis (issue 33): a manifest written before it has it at "off" alone, no stage
+// reads it, and every key is spelled and parsed as before.
+TEST(Manifest, AManifestWithoutDepthMipKeepsItsKeys) {
+  Manifest m = parse_manifest(kBase, "m.toml");
+  ASSERT_EQ(m.axis_values(Axis::depth_mip).size(), 1u);
+  EXPECT_EQ(m.axis_values(Axis::depth_mip)[0].text, "off");
+  VariantSpace s = build_space(m);
+  ASSERT_FALSE(s.variants.empty());
+  for (const auto& v : s.variants) {
+    EXPECT_EQ(v.point[index(Axis::depth_mip)], -1) << v.key;
+    EXPECT_EQ(std::count(v.key.begin(), v.key.end(), '-'), 9) << v.key;
+    auto parsed = parse_key(m, v.key);
+    ASSERT_TRUE(parsed.has_value()) << v.key;
+    EXPECT_EQ(*parsed, v.point) << v.key;
+  }
+  EXPECT_FALSE(parse_key(m, s.variants.front().key + "-zmip").has_value()) << "the manifest has no on value";
+  // The other axes stay required.
+  expect_error(with("precision = [\"highp\"]\n", ""), 3, 1, "[axes] is missing axis 'precision'");
 }
 
 TEST(Manifest, UnknownAxisNamesItsPosition) {

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "test_support.h"
+#include "variants/key.h"
 #include "variants/manifest.h"
 #include "variants/space.h"
 
@@ -101,6 +102,7 @@ TEST(Space, AxesAnAlgorithmDoesNotReadCollapse) {
   // Alchemy alone (the first algorithm), pretending it read no normals and no precision: those axes
   // collapse to "_n" and "_f".
   m.values[index(Axis::algorithm)].resize(1);
+  m.values[index(Axis::depth_mip)].resize(1);  // off alone: its key token is left out either way
   ASSERT_EQ(m.algorithms.at(0).name, "alchemy");
   auto& reads = m.algorithms.at(0).reads;
   reads.erase(std::remove(reads.begin(), reads.end(), Axis::normals), reads.end());
@@ -168,6 +170,39 @@ TEST(Space, ProgramsAreSharedBetweenVariants) {
       EXPECT_TRUE(has_samples && has_progressive) << p.key;
     }
   }
+}
+
+// depth_mip (issue 33) is optional: off is left out of keys, defines and program keys, so every variant and
+// program from before the axis keeps its name and its source; on is "-zmip" and the wrapper ao/on/<method>.
+TEST(Space, DepthMipOffLeavesNamesAsTheyWereAndOnIsZmip) {
+  Manifest m = default_manifest();
+  VariantSpace s = build_space(m);
+  const std::set<std::string> far_samplers = {"alchemy", "hbao", "gtao", "vbao", "sc2"};
+  std::set<std::string> with_mip;
+  for (const auto& v : s.variants) {
+    const bool on = value_text(m, v.point, Axis::depth_mip) == "on";
+    EXPECT_EQ(v.key.ends_with("-zmip"), on) << v.key;
+    EXPECT_EQ(std::count(v.key.begin(), v.key.end(), '-'), on ? 10 : 9) << v.key;
+    auto parsed = parse_key(m, v.key);
+    ASSERT_TRUE(parsed.has_value()) << v.key;
+    EXPECT_EQ(*parsed, v.point) << v.key;
+    if (!on) continue;
+    with_mip.insert(value_text(m, v.point, Axis::algorithm));
+    EXPECT_EQ(value_text(m, v.point, Axis::position), "depth") << v.key;
+    auto off = with_axis(m, v.key, Axis::depth_mip, "off");
+    ASSERT_TRUE(off.has_value()) << v.key;
+    EXPECT_EQ(*off + "-zmip", v.key);
+  }
+  EXPECT_EQ(with_mip, far_samplers);
+  for (const auto& p : s.programs) {
+    const bool on = p.key.find("-zmip.") != std::string::npos;
+    bool defined = false;
+    for (const auto& [name, value] : p.defines) defined |= name.rfind("AO_DEPTH_MIP", 0) == 0;
+    EXPECT_EQ(defined, on) << p.key;
+    EXPECT_EQ(p.template_path.rfind("ao/on/", 0) == 0, on) << p.key << " from " << p.template_path;
+    EXPECT_EQ(p.template_path.find("//"), std::string::npos) << p.template_path;
+  }
+  EXPECT_FALSE(parse_key(m, "crytek-s08-p0-ndep-zdep-rst-d32-bsep-x1-hp-_m").has_value());
 }
 
 TEST(Space, GlobsSelectVariants) {

@@ -120,7 +120,8 @@ const Variant* find_variant(const Axes& a) {
         differs(Axis::reconstruct, v.axes.reconstruct != a.reconstruct) ||
         differs(Axis::depth_format, v.axes.depth_format != a.depth_format) || differs(Axis::blur, v.axes.blur != a.blur) ||
         differs(Axis::resolution, v.axes.resolution != a.resolution) ||
-        differs(Axis::precision, v.axes.precision != a.precision))
+        differs(Axis::precision, v.axes.precision != a.precision) ||
+        differs(Axis::depth_mip, v.axes.depth_mip != a.depth_mip))
       continue;
     return &v;
   }

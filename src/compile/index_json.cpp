@@ -48,7 +48,8 @@ std::string index_json(const CompiledSpace& c) {
   head["manifest"] = {{"name", m.name}, {"file", m.path.filename().string()}, {"hash", util::hash_hex(m.text)}};
   head["key_format"] =
       "algorithm-s<samples>-p<progressive 0/1>-n<normals>-z<position source>-r<reconstruction>-d<depth bits>-"
-      "b<blur>-x<1/resolution>-<precision>; '_<letter>' marks an axis the variant does not read";
+      "b<blur>-x<1/resolution>-<precision>[-zmip]; '_<letter>' marks an axis the variant does not read; the "
+      "optional depth_mip axis appears only as -zmip (on)";
   head["targets"] = json::array();
   for (auto t : c.targets) head["targets"].push_back(variants::target_name(t));
   json counts = {{"space", c.space.space}, {"after_rules", c.space.after_rules}, {"rules", c.space.collapsed},

@@ -199,19 +199,24 @@ class PlanBuilder {
       return fullscreen("depth_blur", "prefilter", *blur, {{kDepth, TextureRef{depth}}, {kPrefilter, TextureRef{h}}},
                         full_ao, {{"axis", 1.0f}}, false, Format::r32f, "unsharp_blur");
     }
-    if (const auto* zmip = pass("zmip")) {
-      // Level 0 converts depth to camera-space z; level l + 1 subsamples level l (McGuire et al. 2012, §2.2, table 1).
-      Texture t{"zmip", Format::r32f, full_ao, false, false, {}};
-      t.levels = kZmipLevels;
-      int z = texture(t);
-      for (int level = 0; level < kZmipLevels; ++level) {
-        std::vector<std::pair<int, TextureRef>> inputs = {{kDepth, TextureRef{depth}}};
-        if (level > 0) inputs.push_back({kPrefilter, TextureRef{z, false, level - 1}});
-        draw_into(fmt::format("zmip.{}", level), "prefilter", "zmip", *zmip, inputs, z, full_ao,
-                  {{"level", float(level)}}, level);
+    // SAO's pyramid, or the same pyramid for the far taps of a depth_mip = on variant (pass depth_mip).
+    for (const char* name : {"zmip", "depth_mip"})
+      if (const auto* zmip = pass(name)) {
+        // Level 0 converts depth to camera-space z; level l + 1 subsamples level l (McGuire et al. 2012, §2.2, table 1).
+        Texture t{"zmip", Format::r32f, full_ao, false, false, {}};
+        t.levels = kZmipLevels;
+        int z = texture(t);
+        for (int level = 0; level < kZmipLevels; ++level) {
+          std::vector<std::pair<int, TextureRef>> inputs = {{kDepth, TextureRef{depth}}};
+          if (level > 0) inputs.push_back({kPrefilter, TextureRef{z, false, level - 1}});
+          draw_into(fmt::format("zmip.{}", level), "prefilter", name, *zmip, inputs, z, full_ao,
+                    {{"level", float(level)}}, level);
+        }
+        return z;
       }
-      return z;
-    }
+    if (axis(Axis::depth_mip) == "on")
+      throw std::runtime_error(plan_.variant + ": depth_mip = on but the manifest has no depth_mip pass to build "
+                               "the z pyramid its taps read (shader_src/aovar.toml, [passes.depth_mip])");
     return -1;
   }
 

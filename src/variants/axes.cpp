@@ -23,6 +23,7 @@ const std::array<AxisInfo, kAxisCount>& table() {
       {Axis::blur, "blur", AxisKind::name, 'b', {{"none", "bno"}, {"separable", "bsep"}, {"bilateral", "bbil"}}},
       {Axis::resolution, "resolution", AxisKind::fraction, 'x', {}},
       {Axis::precision, "precision", AxisKind::name, 'f', {{"highp", "hp"}, {"mediump", "mp"}}},
+      {Axis::depth_mip, "depth_mip", AxisKind::name, 'm', {{"off", ""}, {"on", "zmip"}}},
   }};
   return t;
 }
@@ -37,6 +38,12 @@ int resolution_divisor(double r) {
 }  // namespace
 
 const AxisInfo& axis_info(Axis axis) { return table()[index(axis)]; }
+
+std::string_view omitted_value(Axis axis) {
+  for (const auto& [v, token] : axis_info(axis).tokens)
+    if (token.empty()) return v;
+  return {};
+}
 
 std::optional<Axis> find_axis(std::string_view name) {
   for (const auto& a : table())
@@ -71,7 +78,9 @@ std::string key_token(Axis axis, const AxisValue& value) {
   return value.text;
 }
 
-std::string collapsed_token(Axis axis) { return std::string("_") + axis_info(axis).letter; }
+std::string collapsed_token(Axis axis) {
+  return omitted_value(axis).empty() ? std::string("_") + axis_info(axis).letter : std::string();
+}
 
 std::string upper_identifier(std::string_view text) {
   std::string out;

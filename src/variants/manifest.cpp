@@ -139,11 +139,17 @@ class Parser {
         list.push_back(std::move(v));
       }
     }
-    for (int i = 0; i < kAxisCount; ++i)
-      if (!seen[i])
-        fail(pos_of(axes.source()),
-             fmt::format("[axes] is missing axis '{}': list the values to enumerate (one value fixes it)",
-                         axis_info(axis_at(i)).name));
+    for (int i = 0; i < kAxisCount; ++i) {
+      if (seen[i]) continue;
+      if (std::string_view omitted = omitted_value(axis_at(i)); !omitted.empty()) {
+        m_.values[i] = {AxisValue{std::string(omitted), 0}};  // an optional axis left out: its default alone
+        m_.axis_pos[i] = pos_of(axes.source());
+        continue;
+      }
+      fail(pos_of(axes.source()),
+           fmt::format("[axes] is missing axis '{}': list the values to enumerate (one value fixes it)",
+                       axis_info(axis_at(i)).name));
+    }
   }
 
   Predicate predicate(const toml::node& n, std::string_view what) {

@@ -21,14 +21,18 @@ const std::vector<Axis>& stage_reads(const Manifest& m, const Stage& s, const Po
   return m.algorithm(m.value(Axis::algorithm, p[index(Axis::algorithm)]).text)->reads;
 }
 
+// The template path of a stage at p. A placeholder of an optional axis's omitted value ("ao/{depth_mip}/x" at
+// depth_mip = off) expands to nothing, and the empty folder it leaves goes: the path from before the axis.
 std::string resolve_template(const Manifest& m, const Stage& s, const Point& p) {
   std::string out = s.template_pattern;
   for (Axis a : s.placeholders) {
     std::string token = "{" + std::string(axis_info(a).name) + "}";
-    const std::string& value = m.value(a, p[index(a)]).text;
+    const AxisValue& v = m.value(a, p[index(a)]);
+    const std::string value = v.text == omitted_value(a) ? std::string() : v.text;
     for (std::size_t at = out.find(token); at != std::string::npos; at = out.find(token, at + value.size()))
       out.replace(at, token.size(), value);
   }
+  for (std::size_t at = out.find("//"); at != std::string::npos; at = out.find("//", at)) out.erase(at, 1);
   return out;
 }
 
@@ -48,6 +52,7 @@ ProgramSpec make_program(const Manifest& m, const Pass& pass, StageKind kind, co
   spec.key = stem_of(spec.template_path);
   for (Axis a : stage_reads(m, s, p)) {
     const AxisValue& v = m.value(a, p[index(a)]);
+    if (v.text == omitted_value(a)) continue;  // the default of an optional axis: no token, no define
     spec.key += "-" + key_token(a, v);
     spec.defines.emplace_back(define_name(a, v), "1");
     switch (axis_info(a).kind) {
@@ -108,8 +113,10 @@ std::uint64_t max_space_points() {
 std::string variant_key(const Manifest& m, const Point& p) {
   std::string key;
   for (int a = 0; a < kAxisCount; ++a) {
-    if (a) key += '-';
-    key += p[a] < 0 ? collapsed_token(axis_at(a)) : key_token(axis_at(a), m.value(axis_at(a), p[a]));
+    std::string token = p[a] < 0 ? collapsed_token(axis_at(a)) : key_token(axis_at(a), m.value(axis_at(a), p[a]));
+    if (token.empty()) continue;  // an optional axis at its default, or collapsed
+    if (!key.empty()) key += '-';
+    key += token;
   }
   return key;
 }

@@ -1,0 +1,4 @@
+// VBAO with depth_mip = on: ao/vbao.glsl, its taps' depth read from the z pyramid (common/depth_mip.glsl).
+#include "common/target.glsl"
+#include "common/depth_mip.glsl"
+#include "ao/vbao.glsl"
