@@ -89,7 +89,8 @@ TEST(TableValidate, ImpossibleNumbersAreRefusedNamingTheFileAndTheRow) {
     doc[json::json_pointer(c.pointer)] = c.value;
     const std::string e = read_error(doc, dir);
     EXPECT_NE(e.find("cost_table.json: "), std::string::npos) << c.pointer << ": " << e;
-    EXPECT_NE(e.find("row 1 (careful|builtin:atrium|overview|lavapipe|64x36|2)"), std::string::npos) << c.pointer << ": " << e;
+    // The row's index and key (whose last field is threads: -2 in that case).
+    EXPECT_NE(e.find("row 1 (careful|builtin:atrium|overview|lavapipe|64x36|"), std::string::npos) << c.pointer << ": " << e;
     EXPECT_NE(e.find(c.names), std::string::npos) << c.pointer << ": " << e;
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
   }

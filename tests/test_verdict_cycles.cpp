@@ -191,7 +191,7 @@ TEST(SelectRequest, ABudgetOrErrorThatIsNotANumberIsAUsageError) {
     EXPECT_EQ(r.output.find("no variant fits"), std::string::npos) << bad << ": " << r.output;
   }
   // The library refuses them too (its callers are not only the CLI).
-  for (double bad : {std::nan(""), -1.0, 0.0, INFINITY}) {
+  for (double bad : {std::nan(""), -1.0, 0.0, double(INFINITY)}) {
     SelectQuery q;
     q.budget_ms = bad;
     EXPECT_THROW(select(three_cycle(), q), std::runtime_error) << bad;
