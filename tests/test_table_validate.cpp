@@ -11,6 +11,7 @@
 #include "table/table.h"
 #include "table/time_compare.h"
 #include "test_support.h"
+#include "timed_rows.h"
 #include "util/fs.h"
 
 namespace {
@@ -19,27 +20,11 @@ using namespace aovar::table;
 using json = nlohmann::json;
 
 CostRow measured(const std::string& variant, double ratio, double rmse) {
-  CostRow r;
-  r.variant = variant;
-  r.scene = "builtin:atrium";
-  r.view = "overview";
-  r.backend = "lavapipe";
-  r.size = "64x36";
-  r.threads = 2;
   std::vector<double> ratios;
   for (int i = 0; i < 10; ++i) ratios.push_back(ratio * (1 + 0.002 * i));
-  r.rel_time = ratios.front();
-  r.rel_time_median = ratios[5];
-  r.time_ms = {ratios.front(), ratios[5], ratios[9], 10};
-  r.time_ms.paired = ratios[5];
-  r.rounds = {"base@builtin:atrium/overview/lavapipe/llvmpipe/64x36/2", "b1", ratios};
-  metrics::ErrorStats e;
-  e.rmse = rmse;
-  e.mae = rmse / 2;
-  e.max = rmse * 4;
-  e.ssim = 0.9;
-  r.error = e;
-  set_intervals(r);
+  CostRow r = test::timed_row(variant, ratios, rmse);
+  r.error->mae = rmse / 2;
+  r.error->max = rmse * 4;
   return r;
 }
 

@@ -14,6 +14,7 @@
 #include "table/time_compare.h"
 #include "table/top_set.h"
 #include "test_support.h"
+#include "timed_rows.h"
 
 namespace {
 using namespace aovar;
@@ -99,26 +100,7 @@ TEST(SchwartzSet, MatchesTheDefinitionOnRandomRelations) {
 
 // A row of one batch timed in 3 rounds (too few for an interval: the medians of paired ratios decide).
 CostRow three_rounds(const std::string& variant, std::vector<double> ratios, double rmse) {
-  CostRow r;
-  r.variant = variant;
-  r.scene = "builtin:atrium";
-  r.view = "overview";
-  r.backend = "lavapipe";
-  r.size = "64x36";
-  r.threads = 2;
-  std::vector<double> sorted = ratios;
-  std::sort(sorted.begin(), sorted.end());
-  r.rel_time_median = sorted[1];
-  r.rel_time = sorted[0];
-  r.time_ms = {sorted[0], sorted[1], sorted[2], 3};
-  r.time_ms.paired = sorted[1];
-  r.rounds = {"base@builtin:atrium/overview/lavapipe/llvmpipe/64x36/2", "b1", std::move(ratios)};
-  metrics::ErrorStats e;
-  e.rmse = rmse;
-  e.ssim = 1 - rmse;
-  r.error = e;
-  set_intervals(r);
-  return r;
+  return test::timed_row(variant, std::move(ratios), rmse);
 }
 
 // Per round, the order of the variants rotates, so each wins against the next in two rounds of three.
