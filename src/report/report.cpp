@@ -402,10 +402,14 @@ std::string html_report(const CostTable& from_file, const fs::path& dir) {
   return html_with_front(with_recomputed_front(from_file), dir);
 }
 
-void write_reports(const CostTable& from_file, const fs::path& dir, const fs::path& images_dir) {
-  const CostTable t = with_recomputed_front(from_file);  // once for both reports: the front is the costly part
+void write_reports(CostTable&& t, const fs::path& dir, const fs::path& images_dir) {
+  table::mark_pareto(t);  // once for both reports: the front is the costly part
   util::write_atomic(dir / "report.md", markdown_with_front(t));
   util::write_atomic(dir / "report.html", html_with_front(t, images_dir));
+}
+
+void write_reports(const CostTable& from_file, const fs::path& dir, const fs::path& images_dir) {
+  write_reports(CostTable(from_file), dir, images_dir);
 }
 
 }  // namespace aovar::report
