@@ -12,6 +12,7 @@
 #include "table/select.h"
 #include "table/table.h"
 #include "table/time_compare.h"
+#include "timed_rows.h"
 
 namespace {
 using namespace aovar;
@@ -19,7 +20,6 @@ using namespace aovar::table;
 
 constexpr double kBaselineMs = 10;
 constexpr int kRounds = 15;
-const std::string kScale = "base@builtin:atrium/overview/lavapipe/llvmpipe/64x36/2";
 
 // Per round: `ratio` times a noise factor uniform in +-3.46 % (a 2 % standard deviation), from a generator
 // whose sequence the standard fixes (mt19937), so every library draws the same rounds.
@@ -32,34 +32,10 @@ std::vector<double> noisy_ratios(double ratio, std::mt19937& gen) {
   return out;
 }
 
-double median(std::vector<double> x) {
-  std::sort(x.begin(), x.end());
-  return x.size() % 2 ? x[x.size() / 2] : (x[x.size() / 2 - 1] + x[x.size() / 2]) / 2;
-}
-
-// A measured row as measure writes it: its rounds, the paired time (baseline min x median ratio) and the
-// intervals set_intervals derives from them.
+// A measured row as measure writes it (timed_rows.h), at this file's baseline time.
 CostRow timed(const std::string& variant, std::vector<double> ratios, double rmse, const std::string& batch = "b1",
               double baseline_ms = kBaselineMs) {
-  CostRow r;
-  r.variant = variant;
-  r.scene = "builtin:atrium";
-  r.view = "overview";
-  r.backend = "lavapipe";
-  r.size = "64x36";
-  r.threads = 2;
-  const double lo = *std::min_element(ratios.begin(), ratios.end());
-  r.rel_time_median = median(ratios);
-  r.rel_time = lo;
-  r.time_ms = {baseline_ms * lo, baseline_ms * r.rel_time_median, baseline_ms * lo * 1.1, kRounds};
-  r.time_ms.paired = baseline_ms * r.rel_time_median;
-  r.rounds = {kScale, batch, std::move(ratios)};
-  metrics::ErrorStats e;
-  e.rmse = rmse;
-  e.ssim = 1 - rmse;
-  r.error = e;
-  set_intervals(r);
-  return r;
+  return test::timed_row(variant, std::move(ratios), rmse, batch, baseline_ms);
 }
 
 std::string interval_ms(const util::Interval& ci) { return fmt::format("[{:.3f}, {:.3f}]", ci.lo, ci.hi); }

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <stdexcept>
@@ -24,6 +25,18 @@ std::string default_manifest_path() {
 
 void add_json(CLI::App* cmd, bool& json) {
   cmd->add_flag("--json", json, "print one JSON document (with schema_version) instead of the text");
+}
+
+CLI::Validator finite_number(double min, bool strict) {
+  const std::string bound = fmt::format("{} {}", strict ? ">" : ">=", min);
+  return CLI::Validator(
+      [min, strict, bound](std::string& text) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(text, v) || !std::isfinite(v) || (strict ? v <= min : v < min))
+          return fmt::format("'{}' is not a finite number {}", text, bound);
+        return "";
+      },
+      "NUMBER " + bound);
 }
 
 void add_manifest(CLI::App* cmd, std::string& manifest) {

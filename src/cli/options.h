@@ -81,6 +81,10 @@ auto with_status(Work&& work) {
   return work(progress);
 }
 
+// A finite number of at least `min` (above it when `strict`): CLI::PositiveNumber and CLI::Range let NaN
+// through (every comparison with it is false) and take "inf".
+CLI::Validator finite_number(double min, bool strict);
+
 // Runs a subcommand: a std::exception becomes its message on stderr and ExitCode::error.
 ExitCode run_guarded(const std::function<ExitCode()>& run);
 

@@ -28,8 +28,9 @@ ExitCode run_report(const ReportArgs& a) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw std::runtime_error(util::display_path(dir) + ": error: cannot create the output folder: " + ec.message());
-  report::write_reports(t, dir, images);
-  std::cout << fmt::format("{} rows -> {} and {}\n", t.rows.size(), util::display_path(dir / "report.md"),
+  const std::size_t rows = t.rows.size();
+  report::write_reports(std::move(t), dir, images);
+  std::cout << fmt::format("{} rows -> {} and {}\n", rows, util::display_path(dir / "report.md"),
                            util::display_path(dir / "report.html"));
   return ExitCode::ok;
 }

@@ -37,17 +37,21 @@ Command add_select(CLI::App& app) {
   auto* cmd = app.add_subcommand("select", "the variant to ship under a time budget or an error target, with the "
                                            "reason, the runners-up and the margin");
   cmd->add_option("--table,-t", a->table, "cost_table.json")->required();
-  auto* budget = cmd->add_option("--budget-ms", q.budget_ms, "lowest error with time (time_ms.paired, else min) <= this");
+  auto* budget = cmd->add_option("--budget-ms", q.budget_ms, "lowest error with time (time_ms.paired, else min) <= this")
+                     ->check(finite_number(0, true));
   auto* budget_of = cmd->add_option("--budget-of", q.budget_of,
                                     "a variant key: its time is the budget (variants not slower than it beyond the "
                                     "noise fit), the same on any machine")
                         ->excludes(budget);
-  cmd->add_option("--max-error", q.max_error, "cheapest variant with error.rmse <= this (time ties: lowest rmse)")->excludes(budget)->excludes(budget_of);
+  cmd->add_option("--max-error", q.max_error, "cheapest variant with error.rmse <= this (time ties: lowest rmse)")
+      ->check(finite_number(0, false))
+      ->excludes(budget)
+      ->excludes(budget_of);
   cmd->add_option("--tolerance", q.tolerance,
                   "name a variant faster beyond the noise (budget; >= 5% when the table has no rounds) or with >= 5% "
                   "less error (max-error) that gives up at most this share of the other criterion")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(finite_number(0, false) & CLI::Range(0.0, 1.0));
   cmd->add_option("--scene,-s", q.scene, "only this scene (default: all; worst over them)");
   cmd->add_option("--view", q.view, "only this view (default: each variant's worst view)");
   cmd->add_option("--backend,-b", q.backend, "only this backend (default: each separately)");

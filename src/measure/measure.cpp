@@ -82,6 +82,21 @@ Selection select_variants(const compile::CompiledSpace& c, const MeasureOptions&
   return s;
 }
 
+// Why nothing is left to measure, blaming what emptied it: the manifest's rules, the --variants globs, or
+// --skip and the scene's profile (a message about --variants when none was given sent people looking there).
+std::string empty_selection(const compile::CompiledSpace& c, const MeasureOptions& o) {
+  const std::string where = c.manifest.error_prefix();
+  if (c.space.collapsed == 0)
+    return fmt::format("{}: the rules drop all {} variants of the space (aovar list --pruned shows which rule drops "
+                       "what): loosen a rule",
+                       where, c.space.space);
+  if (!o.globs.empty() && c.space.variants.empty())
+    return fmt::format("{}: no variant matches --variants {} (aovar list shows the keys)", where, fmt::join(o.globs, " "));
+  return fmt::format("{}: every selected variant ({}{}) is left out by --skip or the scene's profile (aovar list "
+                     "--scene shows what the profile drops)",
+                     where, c.space.variants.size(), o.globs.empty() ? "" : " matching --variants " + fmt::format("{}", fmt::join(o.globs, " ")));
+}
+
 // --param: each override must be a parameter of at least one selected variant (variants without it, e.g.
 // blur.radius_px on an unblurred one, simply do not take it) and inside the manifest's [min, max] for it
 // (the shaders and the stress suite assume the range; calibration files are checked the same way).
@@ -214,9 +229,7 @@ MeasureResult MeasureRun::run() {
     say(fmt::format("note: shard {}/{} holds none of the selected variants", o_.shard_index + 1, o_.shard_count));
     return std::move(res_);
   }
-  if (sel.measured.empty())
-    throw std::runtime_error(fmt::format("{}: no variant matches --variants {} (aovar list shows the keys)",
-                                         c.manifest.error_prefix(), fmt::join(o_.globs, " ")));
+  if (sel.measured.empty()) throw std::runtime_error(empty_selection(c, o_));
   check_params(c, sel, o_.params);
   res_.counts = compile::counts_line(c);
 

@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "report/bounds.h"
 #include "report/error_sources.h"
 #include "report/gpu_section.h"
 #include "report/grid.h"
@@ -215,6 +216,13 @@ std::map<std::pair<std::string, std::string>, std::vector<CostRow>> worst_view_f
   return out;
 }
 
+std::vector<const CostRow*> front_of(const std::vector<const CostRow*>& rows) {
+  std::vector<const CostRow*> out;
+  for (const CostRow* r : rows)
+    if (r->pareto) out.push_back(r);
+  return out;
+}
+
 // The front is recomputed, never taken from the file: a hand-edited `pareto: true` on a row without an error
 // (or a dominated one) would otherwise reach the report.
 CostTable with_recomputed_front(const CostTable& from_file) {
@@ -224,8 +232,9 @@ CostTable with_recomputed_front(const CostTable& from_file) {
 }
 }  // namespace
 
-std::string markdown_report(const CostTable& from_file) {
-  const CostTable t = with_recomputed_front(from_file);
+namespace {
+
+std::string markdown_with_front(const CostTable& t) {
   std::ostringstream md;
   md << "# aovar sweep report\n\n" << kTimeNote << "\n\n";
   if (auto pruned = table::pruned_summary(t); !pruned.empty()) md << "## Scene profiles\n\n" << pruned.substr(1) << "\n";
@@ -233,18 +242,23 @@ std::string markdown_report(const CostTable& from_file) {
     md << fmt::format("## What to ship: {} / {}, worst view\n\nEach variant's worst view (max RMSE and max time over "
                       "{}); `aovar select` picks from this front:\n\n| variant | worst paired ms [95 % interval] | worst rmse | ssim |\n"
                       "|---|---:|---:|---:|\n", k.first, k.second, view_list(rows.front().view));
-    for (const auto& r : rows)
-      md << fmt::format("| {} | {} | {:.4f} | {:.3f} |\n", r.variant, time_with_interval(r), r.error->rmse, r.error->ssim);
+    for (std::size_t i = 0; i < std::min(rows.size(), kMaxListed); ++i)
+      md << fmt::format("| {} | {} | {:.4f} | {:.3f} |\n", rows[i].variant, time_with_interval(rows[i]), rows[i].error->rmse,
+                        rows[i].error->ssim);
+    if (const std::string note = left_out(kMaxListed, rows.size(), "rows on the front, fastest first"); !note.empty())
+      md << "\n" << note << "\n";
     md << "\n";
   }
   for (const auto& [g, rows] : groups_of(t)) {
     md << fmt::format("## {} / {} / {}\n\nPareto front (time against RMSE, fastest first):\n\n", std::get<0>(g), std::get<1>(g),
                       std::get<2>(g));
     md << "| variant | paired ms [95 % interval] | rmse | ssim |\n|---|---:|---:|---:|\n";
-    for (const CostRow* r : rows)
-      if (r->pareto)
-        md << fmt::format("| {} | {} | {:.4f} | {:.3f} |\n", r->variant, time_with_interval(*r), r->error->rmse, r->error->ssim);
-    md << "\n" << error_sources_markdown(rows);
+    const std::vector<const CostRow*> front = front_of(rows), listed = first(front, kMaxListed);
+    for (const CostRow* r : listed)
+      md << fmt::format("| {} | {} | {:.4f} | {:.3f} |\n", r->variant, time_with_interval(*r), r->error->rmse, r->error->ssim);
+    if (const std::string note = left_out(listed.size(), front.size(), "rows on the front, fastest first"); !note.empty())
+      md << "\n" << note << "\n";
+    md << "\n" << error_sources_markdown(listed);
   }
   md << "## The pairs the seeds compared, on these scenes\n\n" << kPairsNote << "\n\n"
      << markdown(pairs_grid(seed_pairs(t), "time"));
@@ -253,8 +267,7 @@ std::string markdown_report(const CostTable& from_file) {
   return md.str();
 }
 
-std::string html_report(const CostTable& from_file, const fs::path& dir) {
-  const CostTable t = with_recomputed_front(from_file);
+std::string html_with_front(const CostTable& t, const fs::path& dir) {
   std::ostringstream h;
   h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>aovar sweep report</title><style>"
        "body{font-family:sans-serif;margin:24px;max-width:1200px}table{border-collapse:collapse}td,th{border:1px solid "
@@ -306,17 +319,24 @@ std::string html_report(const CostTable& from_file, const fs::path& dir) {
     h << "<h2>What to ship: " << escape(k.first) << " / " << escape(k.second) << ", worst view</h2><p>Each variant's "
       << "worst view (max RMSE and max time over " << escape(view_list(rows.front().view)) << "); <code>aovar select</code> picks "
       << "from this front.</p><table><tr><th>variant</th><th>worst paired ms [95 % interval]</th><th>worst RMSE</th><th>SSIM</th></tr>";
-    for (const auto& r : rows)
-      h << fmt::format("<tr><td>{}</td><td>{}</td><td>{:.4f}</td><td>{:.3f}</td></tr>", escape(r.variant),
-                       time_with_interval(r), r.error->rmse, r.error->ssim);
+    for (std::size_t i = 0; i < std::min(rows.size(), kMaxListed); ++i)
+      h << fmt::format("<tr><td>{}</td><td>{}</td><td>{:.4f}</td><td>{:.3f}</td></tr>", escape(rows[i].variant),
+                       time_with_interval(rows[i]), rows[i].error->rmse, rows[i].error->ssim);
     h << "</table>";
+    if (const std::string note = left_out(kMaxListed, rows.size(), "rows on the front, fastest first"); !note.empty())
+      h << "<p>" << escape(note) << "</p>";
   }
   for (const auto& [g, rows] : groups_of(t)) {
     std::string name = fmt::format("{} / {} / {}", std::get<0>(g), std::get<1>(g), std::get<2>(g));
     h << "<h2>" << escape(name) << "</h2>";
     std::vector<Point> pts, statics;
     std::vector<std::pair<double, double>> front;
-    for (const CostRow* r : rows) {
+    const std::vector<const CostRow*> shown = charted(rows);
+    if (const std::string note = left_out(shown.size(), rows.size(), "rows in the charts: every front row first, then "
+                                                                       "rows spread evenly by time");
+        !note.empty())
+      h << "<p>" << escape(note) << "</p>";
+    for (const CostRow* r : shown) {
       std::string a = algorithm_of(*r);
       if (r->error) {
         pts.push_back({r->time_ms.decision(), r->error->rmse, colour(a), r->variant});
@@ -348,8 +368,11 @@ std::string html_report(const CostTable& from_file, const fs::path& dir) {
                        "measured paired time (ms)", "predicted by the model fitted without it (ms)", held, {{lo, lo}, {hi, hi}});
     }
     h << "<h3>The front: variant, reference, error</h3>";
-    for (const CostRow* r : rows) {
-      if (!r->pareto || r->images.size() < 3) continue;
+    const std::vector<const CostRow*> front_rows = front_of(rows);
+    std::size_t imaged = 0;
+    for (const CostRow* r : front_rows) {
+      if (r->images.size() < 3 || imaged == kMaxImaged) continue;
+      ++imaged;
       fs::path preview = dir / r->images[1], heat = dir / r->images[2];
       // images/<backend>/<view>/<key>.png under measure/<scene>/: the reference is images/reference/<view>.png.
       fs::path scene_dir = preview.parent_path().parent_path().parent_path().parent_path();
@@ -357,7 +380,11 @@ std::string html_report(const CostTable& from_file, const fs::path& dir) {
         << image_tag(dir, scene_dir / "images" / "reference" / (r->view + ".png"), "ray-traced reference")
         << image_tag(dir, heat, "error (red: too dark, blue: too light)") << "</div>";
     }
-    h << error_sources_html(rows);
+    if (std::size_t with_images = std::count_if(front_rows.begin(), front_rows.end(),
+                                                [](const CostRow* r) { return r->images.size() >= 3; });
+        imaged < with_images)
+      h << "<p>" << escape(left_out(imaged, with_images, "front rows with images, fastest first")) << "</p>";
+    h << error_sources_html(first(front_rows, kMaxListed));
   }
   h << "<h2>The pairs the seeds compared, on these scenes</h2><p>" << escape(kPairsNote) << "</p>"
     << html(pairs_grid(seed_pairs(t), "time"));
@@ -365,11 +392,24 @@ std::string html_report(const CostTable& from_file, const fs::path& dir) {
   return h.str();
 }
 
+}  // namespace
+
 void write_reports(const CostTable& t, const fs::path& dir) { write_reports(t, dir, dir); }
 
-void write_reports(const CostTable& t, const fs::path& dir, const fs::path& images_dir) {
-  util::write_atomic(dir / "report.md", markdown_report(t));
-  util::write_atomic(dir / "report.html", html_report(t, images_dir));
+std::string markdown_report(const CostTable& from_file) { return markdown_with_front(with_recomputed_front(from_file)); }
+
+std::string html_report(const CostTable& from_file, const fs::path& dir) {
+  return html_with_front(with_recomputed_front(from_file), dir);
+}
+
+void write_reports(CostTable&& t, const fs::path& dir, const fs::path& images_dir) {
+  table::mark_pareto(t);  // once for both reports: the front is the costly part
+  util::write_atomic(dir / "report.md", markdown_with_front(t));
+  util::write_atomic(dir / "report.html", html_with_front(t, images_dir));
+}
+
+void write_reports(const CostTable& from_file, const fs::path& dir, const fs::path& images_dir) {
+  write_reports(CostTable(from_file), dir, images_dir);
 }
 
 }  // namespace aovar::report

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include <fmt/format.h>
@@ -85,6 +86,11 @@ std::optional<Problem> find_bad_face(std::string_view text) {
         }
         long long idx = 0;
         auto [end, ec] = std::from_chars(num.data(), num.data() + num.size(), idx);
+        if (ec == std::errc::result_out_of_range) {
+          found = Problem{line, fmt::format("{} index '{}' in a face is past 64 bits (no file has that many; fix the "
+                                            "face)", names[slot], num)};
+          return false;
+        }
         if (ec != std::errc() || end != num.data() + num.size()) {
           found = Problem{line, fmt::format("bad {} index '{}' in a face (indices are integers)", names[slot], num)};
           return false;
@@ -107,6 +113,34 @@ std::optional<Problem> find_bad_face(std::string_view text) {
     if (corners < 3) {
       found = Problem{line, fmt::format("face with {} corner{} (a face needs at least 3 vertices)", corners,
                                         corners == 1 ? "" : "s")};
+      return false;
+    }
+    return true;
+  });
+  return found;
+}
+
+// The first coordinate of a "v", "vn" or "vt" line that is not a finite number a float holds.
+// tinyobjloader reads "NaN" and other words as 0 (so `v NaN 2 0` hashed like `v 0 2 0`) and 1e39 as inf.
+std::optional<Problem> find_bad_number(std::string_view text) {
+  std::optional<Problem> found;
+  for_each_line(text, [&](std::size_t line, std::string_view l) {
+    const std::string_view k = keyword(l);
+    if (k != "v" && k != "vn" && k != "vt") return true;
+    std::string_view rest = skip_blanks(l).substr(k.size());
+    while (!(rest = skip_blanks(rest)).empty() && rest.front() != '#') {
+      const std::size_t n = std::min(rest.find_first_of(" \t"), rest.size());
+      const std::string_view token = rest.substr(0, n);
+      rest.remove_prefix(n);
+      const std::string_view digits = token.front() == '+' ? token.substr(1) : token;  // from_chars takes no '+'
+      double v = 0;
+      auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
+      if (ec == std::errc() && end == digits.data() + digits.size() && std::isfinite(v) &&
+          std::fabs(v) <= std::numeric_limits<float>::max())
+        continue;
+      found = Problem{line, fmt::format("'{}' in a '{}' line is not a finite number a float holds (|x| <= {:.4g}; fix "
+                                        "the number)",
+                                        token, k, std::numeric_limits<float>::max())};
       return false;
     }
     return true;
@@ -178,6 +212,11 @@ Scene load_obj(const std::filesystem::path& path, const std::string& display, co
     fail_at(line_in_message(msg),
             fmt::format("{} (fix the file; tinyobjloader could not read it)", msg.empty() ? "unreadable OBJ" : msg));
   }
+
+  // Checked on every file, not only when tinyobjloader complains: it reads a NaN coordinate as 0 and wraps a
+  // face index past 64 bits, and says nothing.
+  if (auto p = find_bad_number(*text)) fail_at(p->line, p->what);
+  if (auto p = find_bad_face(*text)) fail_at(p->line, p->what);
 
   const tinyobj::attrib_t& attrib = reader.GetAttrib();
   const std::vector<tinyobj::shape_t>& shapes = reader.GetShapes();

@@ -24,6 +24,11 @@ nlohmann::json Assignment::to_json() const {
 
 Assignment assign(const std::vector<Unit>& units, int count) {
   if (count < 1) throw std::runtime_error(fmt::format("shard count {} < 1", count));
+  // Before anything per shard is allocated: a shard with no unit has nothing to do, and a count nobody
+  // could mean (1/1000000000) would allocate and write an entry per shard.
+  if (static_cast<std::size_t>(count) > units.size())
+    throw std::runtime_error(fmt::format("--shard: {} shards for {} unit{} of work; use at most {} shards", count,
+                                         units.size(), units.size() == 1 ? "" : "s", units.size()));
   std::set<std::string> ids;
   for (const auto& u : units) {
     if (!ids.insert(u.id).second) throw std::runtime_error("shard assignment: unit " + u.id + " appears twice");

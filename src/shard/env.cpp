@@ -2,6 +2,7 @@
 #include "shard/env.h"
 
 #include <cerrno>
+#include <charconv>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -76,6 +77,9 @@ std::optional<ShardSpec> read_convention(const Convention& c, const Env& env) {
     throw std::runtime_error(fmt::format("--shard auto: {}={} and {}={} give shard {} of {}, outside 1..{} ({})",
                                          c.index_var, env.at(c.index_var), c.count_var, env.at(c.count_var),
                                          index + 1, count, count, c.name));
+  if (count > kMaxShards)
+    throw std::runtime_error(fmt::format("--shard auto: {}={} asks for more than {} shards ({}): use fewer shards",
+                                         c.count_var, env.at(c.count_var), kMaxShards, c.name));
   ShardSpec s;
   s.index = static_cast<int>(index);
   s.count = static_cast<int>(count);
@@ -118,13 +122,20 @@ ShardSpec shard_from_env(const Env& env) {
 ShardSpec parse_shard_option(const std::string& text, const Env& env) {
   if (text.empty()) return {};
   if (text == "auto") return shard_from_env(env);
-  int k = 0, n = 0;
-  char slash = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &k, &slash, &n, &extra) != 3 || slash != '/' || n < 1 || k < 1 || k > n)
+  // from_chars, not sscanf's %d: a count past INT_MAX must be refused, not wrapped.
+  long long k = 0, n = 0;
+  const std::size_t slash = text.find('/');
+  auto whole = [&](std::size_t from, std::size_t to, long long& v) {
+    auto [end, ec] = std::from_chars(text.data() + from, text.data() + to, v);
+    return from < to && ec == std::errc() && end == text.data() + to;
+  };
+  if (slash == std::string::npos || !whole(0, slash, k) || !whole(slash + 1, text.size(), n) || n < 1 || k < 1 || k > n)
     throw std::runtime_error("--shard: expected k/n with 1 <= k <= n (e.g. 2/4) or auto, got '" + text + "'");
+  if (n > kMaxShards)
+    throw std::runtime_error(fmt::format("--shard {}: more than {} shards; use fewer shards", text, kMaxShards));
   ShardSpec s;
-  s.index = k - 1;
-  s.count = n;
+  s.index = static_cast<int>(k - 1);
+  s.count = static_cast<int>(n);
   s.convention = "--shard";
   return s;
 }

@@ -9,6 +9,11 @@ namespace aovar::shard {
 
 using Env = std::map<std::string, std::string>;
 
+// The most shards a run may have: far above any scheduler's array (GitHub's matrix stops at 256 jobs,
+// Slurm's default MaxArraySize at 1,001), and refused before anything is planned per shard. A count above
+// the units of work is refused too, by shard::assign.
+inline constexpr int kMaxShards = 10000;
+
 struct ShardSpec {
   int index = 0, count = 1;     // 0-based index of count shards
   std::string convention;       // "--shard", "aovar", "GitLab CI", "Slurm array", "Kubernetes Indexed Job", "Bazel"

@@ -4,6 +4,8 @@
 #include "util/schema.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <limits>
 #include <map>
 #include <stdexcept>
 
@@ -19,18 +21,33 @@ using json = nlohmann::json;
 std::string ShardManifest::label() const { return fmt::format("{}/{}", index + 1, count); }
 
 json ShardManifest::to_json() const {
-  return {{"schema_version", util::kSchemaVersion},
-          {"tool", tool},
-          {"aovar_version", version},
-          {"input_hash", input_hash},
-          {"inputs", inputs},
-          {"shard", {{"index", index + 1}, {"count", count}, {"convention", convention}}},
-          {"units", units},
-          {"plan", plan},
-          {"done", done},
-          {"complete", complete},
-          {"wall_s", wall_s}};
+  json j = {{"schema_version", util::kSchemaVersion},
+            {"tool", tool},
+            {"aovar_version", version},
+            {"input_hash", input_hash},
+            {"inputs", inputs},
+            {"shard", {{"index", index + 1}, {"count", count}, {"convention", convention}}},
+            {"units", units},
+            {"plan", plan},
+            {"done", done},
+            {"complete", complete},
+            {"wall_s", wall_s}};
+  if (!rows_hash.empty()) j["rows"] = {{"count", done}, {"keys_hash", rows_hash}};
+  return j;
 }
+
+namespace {
+
+// A count or a shard number: a JSON integer that fits an int. nlohmann's get<int>() truncates 2.5 to 2 and
+// wraps 2^40: a forged or mistyped shard.json would name another shard.
+int whole_number(const json& j, const char* field) {
+  if (!j.is_number_integer() || j.get<std::int64_t>() < 0 || j.get<std::int64_t>() > std::numeric_limits<int>::max())
+    throw std::runtime_error(fmt::format("'{}' is {}, not a whole number from 0 to {}", field, j.dump(),
+                                         std::numeric_limits<int>::max()));
+  return j.get<int>();
+}
+
+}  // namespace
 
 ShardManifest ShardManifest::from_json(const json& j, const std::string& source) {
   try {
@@ -40,14 +57,20 @@ ShardManifest ShardManifest::from_json(const json& j, const std::string& source)
     m.version = j.at("aovar_version").get<std::string>();
     m.input_hash = j.at("input_hash").get<std::string>();
     m.inputs = j.at("inputs");
-    m.index = j.at("shard").at("index").get<int>() - 1;
-    m.count = j.at("shard").at("count").get<int>();
+    m.index = whole_number(j.at("shard").at("index"), "shard.index") - 1;
+    m.count = whole_number(j.at("shard").at("count"), "shard.count");
     m.convention = j.at("shard").value("convention", "");
-    m.units = j.at("units").get<int>();
+    m.units = whole_number(j.at("units"), "units");
     m.plan = j.value("plan", json());
-    m.done = j.at("done").get<int>();
+    m.done = whole_number(j.at("done"), "done");
     m.complete = j.at("complete").get<bool>();
     m.wall_s = j.value("wall_s", 0.0);
+    if (j.contains("rows")) {
+      const json& rows = j.at("rows");
+      if (whole_number(rows.at("count"), "rows.count") != m.done)
+        throw std::runtime_error(fmt::format("rows.count {} differs from done {}", rows.at("count").dump(), m.done));
+      m.rows_hash = rows.at("keys_hash").get<std::string>();
+    }
     if (m.count < 1 || m.index < 0 || m.index >= m.count)
       throw std::runtime_error(fmt::format("shard {} is outside 1..{}", m.index + 1, m.count));
     return m;
@@ -75,6 +98,30 @@ ShardManifest planned_manifest(const std::string& tool, const std::string& versi
   m.plan = assignment.to_json();
   m.plan["costs_from"] = costs_from;
   return m;
+}
+
+std::string hash_row_keys(std::vector<std::string> keys) {
+  std::sort(keys.begin(), keys.end());
+  util::Hasher h;
+  for (const auto& k : keys) h.add(k).add("\n");
+  return h.hex();
+}
+
+void check_pinned_rows(const std::string& name, const ShardManifest& m, const std::string& table,
+                       const std::vector<std::string>& keys) {
+  if (m.tool != "sweep" || !m.complete) return;
+  if (m.rows_hash.empty())
+    throw std::runtime_error(fmt::format("merge: shard {} ({}): its {} pins no row set (written by an older aovar): "
+                                         "rerun the shard with this aovar",
+                                         m.label(), name, kManifestFile));
+  if (static_cast<std::size_t>(m.done) != keys.size())
+    throw std::runtime_error(fmt::format("merge: shard {} ({}): {} has {} rows, its {} says the shard wrote {}: rows "
+                                         "were removed or added since; rerun the shard",
+                                         m.label(), name, table, keys.size(), kManifestFile, m.done));
+  if (hash_row_keys(keys) != m.rows_hash)
+    throw std::runtime_error(fmt::format("merge: shard {} ({}): the rows of {} are not the ones its {} pins (same "
+                                         "count, other keys): rerun the shard",
+                                         m.label(), name, table, kManifestFile));
 }
 
 std::string hash_inputs(const json& inputs) { return util::hash_hex(inputs.dump()); }

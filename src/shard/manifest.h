@@ -27,6 +27,9 @@ struct ShardManifest {
   int units = 0;             // units assigned (variants with their identical ones, or case groups)
   nlohmann::json plan;       // Assignment::to_json(): every shard's predicted load
   int done = 0;              // rows (sweep), checks (stress) or variants (generate) this shard produced
+  // Sweep: the rows its cost_table.json holds, pinned when it completes (hash_row_keys of their keys), so
+  // merge refuses a table whose rows were removed or added since. Empty: not pinned (stress, generate).
+  std::string rows_hash;
   bool complete = false;
   double wall_s = 0;         // of the run that completed it
 
@@ -41,11 +44,19 @@ ShardManifest planned_manifest(const std::string& tool, const std::string& versi
                                const Assignment& assignment, int index, const std::string& convention,
                                const std::string& costs_from);
 
+// A row set's identity: the hash of its keys (table::CostRow::key), sorted, one a line.
+std::string hash_row_keys(std::vector<std::string> keys);
+// Throws std::runtime_error (one line naming the shard and its table) unless the table's rows are the ones the
+// manifest pins: their count (done) and the hash of their keys. A complete sweep shard must pin them.
+void check_pinned_rows(const std::string& name, const ShardManifest& m, const std::string& table,
+                       const std::vector<std::string>& keys);
+
 // inputs -> input_hash (a hash of the canonical JSON dump).
 std::string hash_inputs(const nlohmann::json& inputs);
 
 void write_manifest(const std::filesystem::path& out_dir, const ShardManifest& m);  // atomic
-// Throws std::runtime_error "FILE: ..." when it is missing or malformed.
+// Throws std::runtime_error "FILE: ..." when it is missing or malformed (a shard number that is not a
+// whole number, such as 2.5, included: JSON readers would truncate it).
 ShardManifest read_manifest(const std::filesystem::path& file);
 
 // The manifests of one sharded run, each with the name to report it by: throws std::runtime_error (one line

@@ -51,6 +51,11 @@ MergeResult merge_shards(const std::vector<fs::path>& inputs, const fs::path& ou
   std::set<std::string> seen_scenes;
   for (std::size_t i = 0; i < tables.size(); ++i) {
     read.emplace_back(util::display_path(tables[i]), table::read_table(tables[i]));
+    if (!shards.empty()) {  // every input is a shard (checked above), in input order
+      std::vector<std::string> keys;
+      for (const auto& r : read.back().second.rows) keys.push_back(r.key());
+      shard::check_pinned_rows(shards[i].first, shards[i].second, read.back().first, keys);
+    }
     rebase_images(read.back().second, dirs[i], out.has_parent_path() ? out.parent_path() : fs::path("."));
     for (const auto& s : read.back().second.meta.value("scenes", json::array()))
       if (seen_scenes.insert(s.value("scene", "")).second) scenes.push_back(s);

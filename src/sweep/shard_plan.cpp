@@ -140,10 +140,16 @@ ShardPlan plan_shards(const SweepOptions& o) {
   return plan;
 }
 
-void write_sweep_manifest(const SweepOptions& o, const ShardPlan& plan, int rows, bool complete, double wall_s) {
+void write_sweep_manifest(const SweepOptions& o, const ShardPlan& plan, const std::vector<table::CostRow>& rows,
+                          bool complete, double wall_s) {
   shard::ShardManifest m = shard::planned_manifest("sweep", compile::tool_version(), plan.inputs, plan.assignment,
                                                    o.measure.shard_index, o.shard_convention, plan.costs_from);
-  m.done = rows;
+  m.done = static_cast<int>(rows.size());
+  if (complete) {  // pins the table just written: merge refuses it with rows removed or added
+    std::vector<std::string> keys;
+    for (const auto& r : rows) keys.push_back(r.key());
+    m.rows_hash = shard::hash_row_keys(std::move(keys));
+  }
   m.complete = complete;
   m.wall_s = wall_s;
   shard::write_manifest(o.out, m);

@@ -28,6 +28,7 @@ struct ShardPlan {
 ShardPlan plan_shards(const SweepOptions& options);
 
 // The rows the sweep's table counts for the shard manifest are its own; this writes OUT/shard.json.
-void write_sweep_manifest(const SweepOptions& options, const ShardPlan& plan, int rows, bool complete, double wall_s);
+void write_sweep_manifest(const SweepOptions& options, const ShardPlan& plan, const std::vector<table::CostRow>& rows,
+                          bool complete, double wall_s);
 
 }  // namespace aovar::sweep

@@ -167,7 +167,7 @@ SweepResult run_sweep(const SweepOptions& options, const Progress& progress) {
     o.measure.shard_keys = shard_plan->keys;
     res.shard_balance = shard::balance_line(shard_plan->assignment, o.measure.shard_index) + ", by " + shard_plan->costs_from;
     if (progress) progress(fmt::format("note: shard {}/{}: {}", o.measure.shard_index + 1, o.measure.shard_count, res.shard_balance));
-    write_sweep_manifest(o, *shard_plan, 0, false, 0);  // incomplete until the table is written
+    write_sweep_manifest(o, *shard_plan, {}, false, 0);  // incomplete until the table is written
   }
   json scenes = json::array(), dominated = json::array(), profile_pruned = json::array();
   auto say_for = [&](std::size_t i) -> measure::Progress {
@@ -234,7 +234,7 @@ SweepResult run_sweep(const SweepOptions& options, const Progress& progress) {
   table::write_table_files(res.table, o.out);
   report::write_reports(res.table, o.out);
   res.wall_s = util::seconds_since(start);
-  if (shard_plan) write_sweep_manifest(o, *shard_plan, static_cast<int>(res.table.rows.size()), true, res.wall_s);
+  if (shard_plan) write_sweep_manifest(o, *shard_plan, res.table.rows, true, res.wall_s);
   return res;
 }
 

@@ -35,11 +35,16 @@ void mark_pareto(std::vector<CostRow>& rows) {
       double ta = a->time_ms.decision(), tb = b->time_ms.decision();
       return std::tie(a->error->rmse, ta, a->variant) < std::tie(b->error->rmse, tb, b->variant);
     });
+    // The fastest earlier row dominates most rows on its own: asking it first keeps a group of 100,000 rows
+    // near linear (the full scan runs only for the rows it does not dominate, about the front's size). The
+    // answer is the full scan's: the shortcut only ends it early when one dominator is found.
+    const CostRow* fastest = nullptr;
     for (std::size_t i = 0; i < members.size(); ++i) {
-      bool dominated = false;
+      bool dominated = fastest && dominates(*fastest, *members[i]);
       for (std::size_t j = 0; j < members.size() && members[j]->error->rmse <= members[i]->error->rmse && !dominated; ++j)
         dominated = j != i && dominates(*members[j], *members[i]);
       members[i]->pareto = !dominated;
+      if (!fastest || members[i]->time_ms.decision() < fastest->time_ms.decision()) fastest = members[i];
     }
   }
 }

@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "table/top_set.h"
+
 namespace aovar::table {
 
 namespace {
@@ -117,33 +119,38 @@ bool faster(const Candidate& a, const Candidate& b, const SelectQuery& q) {
   return compare_candidates(a, b, q).verdict == TimeVerdict::faster;
 }
 
-// The members of `pool` no member of `pool` is faster than beyond the noise: the candidates tied on time.
-// Ties do not chain (a ~ b, b ~ c, a faster than c), so each is checked against every member; only those
-// the fastest point does not beat can be minimal, which keeps this near linear on large tables.
+// The members of `pool` no member outside them is faster than beyond the noise: the candidates tied on
+// time. Ties do not chain (a ~ b, b ~ c, a faster than c) and the verdicts can form a cycle (a faster than
+// b, b than c, c than a: medians of paired ratios are not transitive), so this is the Schwartz set of the
+// "faster" verdicts (top_set.h, docs/confidence.md), never empty; without a cycle it is the candidates no
+// other is faster than. The fastest point goes first: it beats most of a large table at once.
 std::vector<Candidate> fastest_tied(const std::vector<Candidate>& pool, const SelectQuery& q) {
   if (pool.empty()) return {};
-  const Candidate& f = *std::min_element(pool.begin(), pool.end(), by_time);
+  const std::size_t fastest = static_cast<std::size_t>(std::min_element(pool.begin(), pool.end(), by_time) - pool.begin());
   std::vector<Candidate> out;
-  for (const auto& x : pool) {
-    if (&x != &f && faster(f, x, q)) continue;
-    bool beaten = false;
-    for (const auto& y : pool) beaten = beaten || (&y != &x && faster(y, x, q));
-    if (!beaten) out.push_back(x);
-  }
+  for (std::size_t i : schwartz_set(pool.size(), fastest,
+                                    [&](std::size_t a, std::size_t b) { return faster(pool[a], pool[b], q); }))
+    out.push_back(pool[i]);
   std::sort(out.begin(), out.end(), tie_order);
   return out;
 }
 
+// `first`, then the members of `rest` not in it (in their order). A set of keys, not a scan of `first`: on a
+// table of 100,000 candidates the scan was quadratic.
+std::vector<Candidate> first_then_rest(std::vector<Candidate> first, std::vector<Candidate>&& rest) {
+  std::set<std::pair<std::string, std::string>> placed;
+  for (const auto& c : first) placed.insert({c.variant, c.backend});
+  for (auto& c : rest)
+    if (!placed.count({c.variant, c.backend})) first.push_back(std::move(c));
+  return first;
+}
+
 // Max-error: the tied-fastest first (in tie order), then the rest by time.
 std::vector<Candidate> order_max_error(std::vector<Candidate> ok, const SelectQuery& q, std::size_t& n_tied) {
-  std::vector<Candidate> out = fastest_tied(ok, q);
-  n_tied = out.size();
+  std::vector<Candidate> tied = fastest_tied(ok, q);
+  n_tied = tied.size();
   std::sort(ok.begin(), ok.end(), by_time);
-  for (auto& c : ok)
-    if (std::none_of(out.begin(), out.begin() + n_tied,
-                     [&](const Candidate& t) { return t.variant == c.variant && t.backend == c.backend; }))
-      out.push_back(std::move(c));
-  return out;
+  return first_then_rest(std::move(tied), std::move(ok));
 }
 
 // Budget: by error; among the lowest-error ones (equal rmse), the tied-fastest first in tie order.
@@ -151,12 +158,7 @@ std::vector<Candidate> order_budget(std::vector<Candidate> ok, const SelectQuery
   std::sort(ok.begin(), ok.end(), by_error);
   auto group_end = std::find_if(ok.begin(), ok.end(), [&](const Candidate& c) { return c.rmse != ok.front().rmse; });
   std::vector<Candidate> group(ok.begin(), group_end);
-  std::vector<Candidate> out = fastest_tied(group, q);
-  for (auto it = ok.begin(); it != ok.end(); ++it)
-    if (std::none_of(out.begin(), out.end(),
-                     [&](const Candidate& t) { return t.variant == it->variant && t.backend == it->backend; }))
-      out.push_back(*it);
-  return out;
+  return first_then_rest(fastest_tied(group, q), std::move(ok));
 }
 
 std::string name_of(const Candidate& c, const Candidate& choice) {
@@ -234,6 +236,13 @@ Selection nothing_fits(const std::vector<Candidate>& all, const SelectQuery& q, 
 std::vector<Candidate> checked_candidates(const CostTable& table, const SelectQuery& q) {
   if (q.budget_ms.has_value() == q.max_error.has_value())
     throw std::runtime_error("select: give exactly one of --budget-ms and --max-error");
+  // NaN fits nothing and compares false everywhere: a malformed request, not "nothing fits".
+  if (q.budget_ms && !(std::isfinite(*q.budget_ms) && *q.budget_ms > 0))
+    throw std::runtime_error(fmt::format("select: --budget-ms {} is not a finite number of milliseconds > 0", *q.budget_ms));
+  if (q.max_error && !(std::isfinite(*q.max_error) && *q.max_error >= 0))
+    throw std::runtime_error(fmt::format("select: --max-error {} is not a finite rmse >= 0", *q.max_error));
+  if (!(std::isfinite(q.tolerance) && q.tolerance >= 0))
+    throw std::runtime_error(fmt::format("select: --tolerance {} is not a finite share >= 0", q.tolerance));
   std::vector<Candidate> all = candidates(table, q);
   if (all.empty() && !q.target.empty())
     throw std::runtime_error(fmt::format(

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "util/glob.h"
+#include "variants/rule_index.h"
 
 namespace aovar::variants {
 
@@ -140,7 +141,6 @@ std::array<bool, kAxisCount> read_axes(const Manifest& m, const Point& p) {
 VariantSpace build_space(const Manifest& m, const std::vector<std::string>& globs, const std::set<std::string>& exclude) {
   VariantSpace out;
   out.rule_drops.assign(m.rules.size(), 0);
-  std::vector<std::uint64_t> would_drop(m.rules.size(), 0);  // each rule alone, for "matches nothing"
 
   std::array<int, kAxisCount> sizes{};
   for (int a = 0; a < kAxisCount; ++a) sizes[a] = static_cast<int>(m.values[a].size());
@@ -149,24 +149,19 @@ VariantSpace build_space(const Manifest& m, const std::vector<std::string>& glob
   std::map<std::string, VariantEntry> variants;
   std::map<std::string, ProgramSpec> programs;
   std::map<std::string, std::vector<std::array<std::string, 2>>> pass_programs;  // variant -> program keys
-  auto drops = [](const Rule& r, const Point& p) {
-    return r.kind == Rule::Kind::skip ? r.match.matches(p) : (r.when.matches(p) && !r.match.matches(p));
-  };
+  RuleWalk rules(m);
 
+  // The product in mixed radix, last axis fastest; `first_changed` is the lowest axis the step carried into.
   Point p{};
+  int first_changed = 0;
   for (std::uint64_t n = 0; n < out.space; ++n) {
-    std::uint64_t rest = n;
-    for (int a = kAxisCount - 1; a >= 0; --a) {
-      p[a] = static_cast<int>(rest % sizes[a]);
-      rest /= sizes[a];
+    if (n > 0) {
+      int a = kAxisCount - 1;
+      while (++p[a] == sizes[a]) p[a--] = 0;
+      first_changed = a;
     }
-    int dropped_by = -1;
-    for (std::size_t r = 0; r < m.rules.size(); ++r) {
-      if (!drops(m.rules[r], p)) continue;
-      ++would_drop[r];
-      if (dropped_by < 0) dropped_by = static_cast<int>(r);
-    }
-    if (dropped_by >= 0) {
+    rules.move_to(p, first_changed);
+    if (const int dropped_by = rules.first_drop(); dropped_by >= 0) {
       ++out.rule_drops[dropped_by];
       out.pruned.push_back({variant_key(m, p), dropped_by});
       continue;
@@ -206,7 +201,7 @@ VariantSpace build_space(const Manifest& m, const std::vector<std::string>& glob
   }
 
   for (std::size_t r = 0; r < m.rules.size(); ++r)
-    if (would_drop[r] == 0)
+    if (!rules.ever_dropped(r))
       throw ManifestError(m.error_prefix(), m.rules[r].pos,
                           "this rule matches no variant of the space, so it drops nothing: check its axis values "
                           "against [axes] or remove it");

@@ -1,5 +1,7 @@
-// The cost-table reader, and what `report` and `select` do with what it returns.
+// The cost-table reader with its validator, and what `report` and `select` do with what it returns (the
+// selection over any verdict graph: issue 34's cycles).
 #include "fuzz_support.h"
+#include "table/select.h"
 #include "table/table.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -9,6 +11,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     aovar::table::mark_pareto(t);
     aovar::table::to_markdown(t);
     aovar::table::to_csv(t);
+    aovar::table::worst_view(t.rows);
+    aovar::table::SelectQuery q;
+    q.max_error = 0.15;
+    aovar::table::select(t, q);
+  });
+  aovar::fuzz::expect_clean([&] {
+    aovar::table::SelectQuery q;
+    q.budget_ms = 2;
+    aovar::table::select(aovar::table::read_table(path), q);
   });
   return 0;
 }
