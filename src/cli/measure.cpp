@@ -68,6 +68,7 @@ ExitCode run_measure(const MeasureArgs& a) {
   o.cache_dir = a.common.cache();
   o.gpu_families = a.gpu.family_list();
   o.gpu_frame = a.gpu.frame_size();
+  const auto lock = lock_output(o.out);
   auto r = with_status([&](const auto& progress) { return measure::run_measure(o, progress); });
   std::cout << measure::to_text(r) << measure::notes_text(r, o, cal_file);
   return ExitCode::ok;

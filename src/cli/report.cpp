@@ -28,6 +28,7 @@ ExitCode run_report(const ReportArgs& a) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw std::runtime_error(util::display_path(dir) + ": error: cannot create the output folder: " + ec.message());
+  const auto lock = lock_output(dir);
   report::write_reports(t, dir, images);
   std::cout << fmt::format("{} rows -> {} and {}\n", t.rows.size(), util::display_path(dir / "report.md"),
                            util::display_path(dir / "report.html"));

@@ -229,6 +229,12 @@ void finalize(Scene& scene, const std::string& display, bool keep_normals) {
     const glm::vec3& p = scene.positions[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       fail(fmt::format("{}: error: vertex {} has a non-finite position (fix the file)", display, i));
+    // The bounds' diagonal, the default AO radius and the reference's ray lengths square these in single
+    // precision: beyond 1e18 the square of a distance overflows to inf (a "radius inf" far from its cause).
+    if (std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) > kMaxCoordinate)
+      fail(fmt::format("{}: error: vertex {} is at ({:g}, {:g}, {:g}), beyond the {:g} world units a coordinate may "
+                       "reach (rescale the scene, e.g. {}@scale=0.001)",
+                       display, i, p.x, p.y, p.z, kMaxCoordinate, display));
     scene.bounds.extend(p);
     if (!keep_normals) scene.normals[i] = safe_normalize(scene.normals[i], {0.0f, 1.0f, 0.0f});
   }

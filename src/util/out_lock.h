@@ -1,0 +1,30 @@
+#pragma once
+// One writer per output folder. Two runs into one --out interleave their files (a sweep's rows lost, a
+// generate's folder matching neither selection), so every command that writes an output folder holds an
+// exclusive flock(2) on OUT/.aovar.lock while it runs; a second one is refused, naming the lock. The kernel
+// releases the lock when the process exits or is killed, so a killed run never leaves a stale lock and
+// kill-anywhere resumption keeps working. The lock file stays (empty): removing it would race with a
+// process that has just opened it.
+#include <filesystem>
+
+namespace aovar::util {
+
+inline constexpr const char* kLockFileName = ".aovar.lock";
+
+class OutputLock {
+ public:
+  // Creates `folder` when missing, then takes the lock. Throws std::runtime_error "<folder>/.aovar.lock:
+  // error: another aovar is writing into <folder> ..." when another process (or another OutputLock) holds it.
+  explicit OutputLock(const std::filesystem::path& folder);
+  ~OutputLock();
+  OutputLock(const OutputLock&) = delete;
+  OutputLock& operator=(const OutputLock&) = delete;
+
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+  int fd_ = -1;
+};
+
+}  // namespace aovar::util
