@@ -40,7 +40,7 @@ std::unique_ptr<util::OutputLock> lock_output(const std::filesystem::path& folde
 }
 
 std::unique_ptr<util::OutputLock> lock_output_of_file(const std::filesystem::path& file) {
-  return std::make_unique<util::OutputLock>(file.has_parent_path() ? file.parent_path() : ".");
+  return std::make_unique<util::OutputLock>(file.has_parent_path() ? file.parent_path() : ".", false);
 }
 
 std::filesystem::path cache_dir(const std::string& option, bool no_cache) {

@@ -87,7 +87,7 @@ fs::path resolve_resource(const fs::path& scene_file, const std::string& display
     if (segment == "..") refuse("it has a '..' segment");
   const fs::path folder = scene_file.has_parent_path() ? scene_file.parent_path() : fs::path(".");
   const fs::path file = (folder / relative).lexically_normal();
-  if (file == folder.lexically_normal() || decoded.back() == '/') refuse("it names a folder, not a file");
+  if (file.filename().empty() || file == folder.lexically_normal()) refuse("it names a folder, not a file");
   if (!util::is_inside(folder, file)) refuse("a symbolic link takes it outside the scene's folder");
   return file;
 }

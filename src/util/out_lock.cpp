@@ -16,7 +16,24 @@
 namespace aovar::util {
 namespace fs = std::filesystem;
 
-OutputLock::OutputLock(const fs::path& folder) : path_(folder / kLockFileName) {
+namespace {
+
+// The first symbolic link in or below `folder` (not following any), or empty. Bounded: an output folder
+// holds thousands of files (2,300 for a full generate); a report beside a table in a home folder must not
+// walk the whole home.
+fs::path first_link_below(const fs::path& folder) {
+  constexpr int kMaxEntries = 200'000;
+  std::error_code ec;
+  int seen = 0;
+  for (fs::recursive_directory_iterator it(folder, fs::directory_options::skip_permission_denied, ec), end;
+       !ec && it != end && seen < kMaxEntries; it.increment(ec), ++seen)
+    if (it->is_symlink(ec)) return it->path();
+  return {};
+}
+
+}  // namespace
+
+OutputLock::OutputLock(const fs::path& folder, bool refuse_links) : path_(folder / kLockFileName) {
   std::error_code ec;
   fs::create_directories(folder.empty() ? fs::path(".") : folder, ec);
   // O_CLOEXEC: programs aovar runs (a compiler, a browser) must not keep the folder locked after it exits.
@@ -39,6 +56,16 @@ OutputLock::OutputLock(const fs::path& folder) : path_(folder / kLockFileName) {
           display_path(path_), display_path(folder.empty() ? fs::path(".") : folder)));
     throw std::runtime_error(
         fmt::format("{}: error: cannot lock the output folder: {}", display_path(path_), std::strerror(error)));
+  }
+  if (const fs::path link = refuse_links ? first_link_below(folder.empty() ? fs::path(".") : folder) : fs::path();
+      !link.empty()) {
+    ::close(fd_);
+    fd_ = -1;
+    std::error_code ec;
+    throw std::runtime_error(fmt::format(
+        "{}: error: a symbolic link inside the output folder (to {}); aovar writes only below the folder it is "
+        "given: remove the link, or give its target as the output folder",
+        display_path(link), fs::read_symlink(link, ec).string()));
   }
 }
 

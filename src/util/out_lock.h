@@ -5,6 +5,11 @@
 // releases the lock when the process exits or is killed, so a killed run never leaves a stale lock and
 // kill-anywhere resumption keeps working. The lock file stays (empty): removing it would race with a
 // process that has just opened it.
+//
+// Symbolic links inside an output folder are refused when the lock is taken, naming the link: every writer
+// writes below the folder it was given (and `report` embeds only what resolves there), so a link such as
+// OUT/measure -> /elsewhere would send profile.json, measure.json and images out of it. The folder itself
+// may be a link (it is what the user named); aovar never makes links.
 #include <filesystem>
 
 namespace aovar::util {
@@ -14,8 +19,10 @@ inline constexpr const char* kLockFileName = ".aovar.lock";
 class OutputLock {
  public:
   // Creates `folder` when missing, then takes the lock. Throws std::runtime_error "<folder>/.aovar.lock:
-  // error: another aovar is writing into <folder> ..." when another process (or another OutputLock) holds it.
-  explicit OutputLock(const std::filesystem::path& folder);
+  // error: another aovar is writing into <folder> ..." when another process (or another OutputLock) holds it,
+  // and "<link>: error: a symbolic link inside the output folder ..." for the first link below `folder` when
+  // `refuse_links` (false for the folder of a one-file output: a rename replaces a link, never follows it).
+  explicit OutputLock(const std::filesystem::path& folder, bool refuse_links = true);
   ~OutputLock();
   OutputLock(const OutputLock&) = delete;
   OutputLock& operator=(const OutputLock&) = delete;
