@@ -97,13 +97,13 @@ TEST(CheckedReader, TemplateAndIncludeThatAreNotFilesNameTheirLine) {
   ASSERT_EQ(::mkfifo((dir / "shader_src/common/fifo.glsl").c_str(), 0644), 0);
   const std::pair<std::string, std::string> includes[] = {
       {"common", "shader_src/common: it is a directory"},  // an #include of a directory was read as empty text
-      {"", "shader_src/ao: it is a directory"},
+      {"../common/", "shader_src/common/: it is a directory"},
       {"/dev/zero", "/dev/zero: it is a character device"},
       {"common/fifo.glsl", "common/fifo.glsl: it is a FIFO"}};
   for (const auto& [target, why] : includes) {
     util::write_atomic(alchemy, original + "#include \"" + target + "\"\n");
     const std::string e = error_of([&] { compile::plan_space(manifest, one_variant()); });
-    EXPECT_TRUE(one_line(e)) << e;
+    EXPECT_TRUE(one_line(e)) << target << ": " << e;
     EXPECT_TRUE(contains(e, "alchemy.glsl:" + std::to_string(last) + ": error: #include \"" + target + "\" names "))
         << e;
     EXPECT_TRUE(contains(e, why)) << e;
@@ -115,11 +115,33 @@ TEST(CheckedReader, TemplateAndIncludeThatAreNotFilesNameTheirLine) {
   EXPECT_TRUE(contains(e, "error: template '/dev/zero' (/dev/zero): it is a character device")) << e;
 }
 
-// A populated output folder, and what it holds.
+TEST(CheckedReader, SceneAndViewsFilesThatAreNotFilesAreNamed) {
+  TempDir dir;
+  ASSERT_EQ(::mkfifo((dir / "s.obj").c_str(), 0644), 0);
+  fs::create_directory(dir / "d.gltf");
+  const std::pair<fs::path, const char*> scenes[] = {{dir / "s.obj", "a FIFO"}, {dir / "d.gltf", "a directory"}};
+  for (const auto& [path, kind] : scenes) {
+    const std::string e = error_of([&] { scene::load_scene(path.string()); });
+    EXPECT_TRUE(contains(e, util::display_path(path) + ": error: cannot read: it is " + kind)) << e;
+  }
+  for (const fs::path views : {fs::path("/dev/zero"), dir / "d.gltf", dir / "s.obj"}) {
+    scene::LoadOptions o;
+    o.views_file = views;
+    std::string e;
+    try {
+      scene::load_scene("builtin:stairs", o);
+    } catch (const scene::SceneError& error) {  // the scene's own error type, as for any views problem
+      e = error.what();
+    }
+    EXPECT_TRUE(contains(e, util::display_path(views) + ": error: cannot read: it is ")) << e;
+  }
+}
+
+// A populated output folder, and what it holds (but the folder's lock, which every writer takes first).
 std::map<std::string, std::string> contents(const fs::path& dir) {
   std::map<std::string, std::string> m;
   for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file()) m[e.path().lexically_relative(dir).string()] = util::read_file(e.path()).value();
+    if (e.is_regular_file() && e.path().filename() != ".aovar.lock") m[e.path().lexically_relative(dir).string()] = util::read_file(e.path()).value();
   return m;
 }
 
@@ -163,7 +185,7 @@ std::string views_error(const std::string& name, const std::string& text) {
 }
 
 TEST(ImpossibleNumbers, ViewsFileOverflowNamesTheFileAndPosition) {
-  for (const std::string& number : {"1e400", "-1e400", "1E+999"}) {
+  for (const std::string number : {"1e400", "-1e400", "1E+999"}) {
     const std::string e = views_error("v.json", "{\"views\": [\n  {\"name\": \"a\", \"eye\": [1, 1, 1], \"target\": "
                                                 "[0, 0, 0],\n   \"near\": " + number + "}]}");
     EXPECT_TRUE(one_line(e)) << e;
@@ -172,18 +194,18 @@ TEST(ImpossibleNumbers, ViewsFileOverflowNamesTheFileAndPosition) {
   }
   const std::string eye = views_error("v.json", R"({"views": [{"name": "a", "eye": [1e400, 1, 1], "target": [0, 0, 0]}]})");
   EXPECT_TRUE(contains(eye, "v.json:1:")) << eye;
-  const std::string toml = views_error("v.toml", "[[views]]\nname = \"a\"\neye = [1, 1, 1]\ntarget = [0, 0, 0]\nnear = 1e400\n");
+  const std::string toml = views_error("v.toml", "[[view]]\nname = \"a\"\neye = [1, 1, 1]\ntarget = [0, 0, 0]\nnear = 1e400\n");
   EXPECT_TRUE(one_line(toml) && contains(toml, "v.toml:5:")) << toml;
 }
 
 TEST(ImpossibleNumbers, PathFramesStatesTheRealCap) {
-  for (const std::string& frames : {"100000000", "100001", "0", "-3"}) {
-    const std::string e = views_error("v.toml", "[[views]]\nname = \"a\"\neye = [1, 1, 1]\ntarget = [0, 0, 0]\n"
+  for (const std::string frames : {"100000000", "100001", "0", "-3"}) {
+    const std::string e = views_error("v.toml", "[[view]]\nname = \"a\"\neye = [1, 1, 1]\ntarget = [0, 0, 0]\n"
                                                 "path_frames = " + frames + "\n");
     EXPECT_TRUE(contains(e, "v.toml:5:")) << e;
     EXPECT_TRUE(contains(e, "'path_frames' must be a whole number from 1 to 100000")) << e;
   }
-  EXPECT_EQ(views_error("v.toml", "[[views]]\nname = \"a\"\neye = [1, 1, 1]\ntarget = [0, 0, 0]\npath_frames = 100000\n"),
+  EXPECT_EQ(views_error("v.toml", "[[view]]\nname = \"a\"\neye = [1, 1, 1]\ntarget = [0, 0, 0]\npath_frames = 100000\n"),
             "");
 }
 

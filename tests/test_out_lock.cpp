@@ -35,13 +35,13 @@ pid_t hold_lock_in_child(const fs::path& folder) {
   if (pid == 0) {
     ::close(ready[0]);
     try {
-      util::OutputLock lock(folder);
+      new util::OutputLock(folder);  // never destroyed: only the kernel releases it (SIGKILL)
       (void)!::write(ready[1], "1", 1);
     } catch (...) {
       (void)!::write(ready[1], "0", 1);
       ::_exit(1);
     }
-    for (;;) ::pause();  // the lock object is never destroyed: only the kernel releases it (SIGKILL)
+    for (;;) ::pause();
   }
   ::close(ready[1]);
   char c = 0;
@@ -88,6 +88,32 @@ TEST(OutputLock, TwoProcessesIntoOneFolderAndAKilledHolderReleasesIt) {
   // kill -9 mid-run: nothing stale is left behind, the next run takes the folder.
   kill_and_reap(holder);
   EXPECT_EQ(error_of([&] { util::OutputLock next(out); }), "");
+}
+
+TEST(OutputLock, AnOrphanedForkedChildDoesNotKeepTheFolderLocked) {
+  TempDir dir;
+  const fs::path out = dir / "out";
+  int pipe_fds[2];
+  ASSERT_EQ(::pipe(pipe_fds), 0);
+  const pid_t holder = ::fork();
+  if (holder == 0) {  // a run that forks a worker (as stress does for its slices), then is killed
+    util::OutputLock lock(out);
+    if (::fork() == 0) {  // the worker says it runs once fork has returned in it
+      const pid_t self = ::getpid();
+      (void)!::write(pipe_fds[1], &self, sizeof self);
+      for (;;) ::pause();
+    }
+    for (;;) ::pause();
+  }
+  ::close(pipe_fds[1]);
+  pid_t worker = -1;
+  ASSERT_EQ(::read(pipe_fds[0], &worker, sizeof worker), static_cast<ssize_t>(sizeof worker));
+  ::close(pipe_fds[0]);
+  EXPECT_NE(error_of([&] { util::OutputLock busy(out); }), "");  // the run holds it
+  kill_and_reap(holder);
+  EXPECT_EQ(::kill(worker, 0), 0) << "the worker outlives the run";
+  EXPECT_EQ(error_of([&] { util::OutputLock next(out); }), "");  // ... and does not hold the folder
+  ::kill(worker, SIGKILL);
 }
 
 TEST(OutputLock, LinksInsideTheOutputFolderAreRefusedNamingTheLink) {

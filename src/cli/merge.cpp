@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "cli/options.h"
 #include "sweep/merge.h"
 #include "table/table.h"
 #include "util/fs.h"

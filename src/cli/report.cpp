@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include "cli/commands.h"
+#include "cli/options.h"
 #include "report/report.h"
 #include "table/table.h"
 #include "util/fs.h"

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -336,8 +337,11 @@ Scene load_scene(const std::string& full_spec, const LoadOptions& options) {
       fail(fmt::format("{}: error: unsupported scene format '{}' (supported: .obj, .gltf, .glb, or one of {})", display,
                        ext.empty() ? path.filename().string() : ext, names));
     }
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) fail(fmt::format("{}: error: cannot open (check the path)", display));
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) fail(fmt::format("{}: error: cannot open (check the path)", display));
+    if (!S_ISREG(st.st_mode))
+      fail(fmt::format("{}: error: cannot read: it is {}, not a regular file (name a scene file)", display,
+                       util::file_type_name(st.st_mode)));
     scene = ext == ".obj" ? load_obj(path, display, options) : load_gltf(path, display, options, ext == ".glb");
     scale_scene(scene, scale);
     scene.name = full_spec;

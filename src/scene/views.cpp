@@ -515,7 +515,12 @@ void scale_view(View& v, float f) {
 
 void apply_views_file(Scene& scene, const fs::path& path, float scale) {
   const std::string display = util::display_path(path);
-  std::optional<std::string> text = util::read_file(path);
+  std::optional<std::string> text;
+  try {
+    text = util::read_file(path);
+  } catch (const util::ReadError& e) {
+    fail(e.what());  // a SceneError, as every other problem of a scene's inputs
+  }
   if (!text) fail(fmt::format("{}: error: cannot open views file (check the path)", display));
   const std::string ext = lower(path.extension().string());
   // nlohmann's parser stops at a NUL as at the end of the input, so text after one would be ignored.

@@ -48,7 +48,12 @@ struct Fd {
 std::optional<std::string> read_file(const fs::path& path, std::uint64_t max_bytes) {
   // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer forever.
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
-  if (fd < 0) return std::nullopt;
+  if (fd < 0) {  // a socket cannot be opened at all (ENXIO): still say what it is
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+      throw ReadError(path, fmt::format("it is {}, not a regular file (name a file)", file_type_name(st.st_mode)));
+    return std::nullopt;
+  }
   const Fd guard{fd};
   struct stat st {};
   if (::fstat(fd, &st) != 0) return std::nullopt;

@@ -4,8 +4,11 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <mutex>
+#include <pthread.h>
 #include <stdexcept>
 #include <system_error>
 
@@ -29,6 +32,31 @@ fs::path first_link_below(const fs::path& folder) {
        !ec && it != end && seen < kMaxEntries; it.increment(ec), ++seen)
     if (it->is_symlink(ec)) return it->path();
   return {};
+}
+
+// The descriptors of this process's locks, for the fork handler (a child must not keep a folder locked).
+constexpr int kMaxLocks = 8;
+std::atomic<int> g_lock_fds[kMaxLocks] = {-1, -1, -1, -1, -1, -1, -1, -1};
+
+void close_locks_in_child() {
+  for (auto& fd : g_lock_fds)
+    if (const int f = fd.exchange(-1); f >= 0) ::close(f);
+}
+
+void track(int fd) {
+  static std::once_flag once;
+  std::call_once(once, [] { ::pthread_atfork(nullptr, nullptr, &close_locks_in_child); });
+  for (auto& slot : g_lock_fds) {
+    int empty = -1;
+    if (slot.compare_exchange_strong(empty, fd)) return;
+  }
+}
+
+void untrack(int fd) {
+  for (auto& slot : g_lock_fds) {
+    int mine = fd;
+    if (slot.compare_exchange_strong(mine, -1)) return;
+  }
 }
 
 }  // namespace
@@ -57,8 +85,11 @@ OutputLock::OutputLock(const fs::path& folder, bool refuse_links) : path_(folder
     throw std::runtime_error(
         fmt::format("{}: error: cannot lock the output folder: {}", display_path(path_), std::strerror(error)));
   }
+  owner_ = ::getpid();
+  track(fd_);
   if (const fs::path link = refuse_links ? first_link_below(folder.empty() ? fs::path(".") : folder) : fs::path();
       !link.empty()) {
+    untrack(fd_);
     ::close(fd_);
     fd_ = -1;
     std::error_code ec;
@@ -70,7 +101,9 @@ OutputLock::OutputLock(const fs::path& folder, bool refuse_links) : path_(folder
 }
 
 OutputLock::~OutputLock() {
-  if (fd_ >= 0) ::close(fd_);  // closing the last descriptor releases the flock
+  if (fd_ < 0 || ::getpid() != owner_) return;  // in a forked child the fork handler closed it already
+  untrack(fd_);
+  ::close(fd_);  // closing the last descriptor releases the flock
 }
 
 }  // namespace aovar::util

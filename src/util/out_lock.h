@@ -10,7 +10,13 @@
 // writes below the folder it was given (and `report` embeds only what resolves there), so a link such as
 // OUT/measure -> /elsewhere would send profile.json, measure.json and images out of it. The folder itself
 // may be a link (it is what the user named); aovar never makes links.
+//
+// Forked children (stress slices, util::run_isolated) close their copy of the descriptor right after fork
+// (pthread_atfork): the lock is the parent's alone, so a parent killed mid-run frees the folder at once even
+// while an orphaned child still renders.
 #include <filesystem>
+
+#include <sys/types.h>
 
 namespace aovar::util {
 
@@ -32,6 +38,7 @@ class OutputLock {
  private:
   std::filesystem::path path_;
   int fd_ = -1;
+  pid_t owner_ = -1;  // the process that took it: a forked copy of this object closes nothing
 };
 
 }  // namespace aovar::util
