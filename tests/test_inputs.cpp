@@ -20,21 +20,12 @@
 namespace {
 using namespace aovar;
 namespace fs = std::filesystem;
+using test::contains;
+using test::error_of;
 using test::TempDir;
 
 void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 bool one_line(const std::string& s) { return !s.empty() && s.find('\n') == std::string::npos; }
-
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
 
 // A listening Unix socket at `path` (closed by the caller).
 int make_socket(const fs::path& path) {
@@ -124,7 +115,7 @@ TEST(CheckedReader, SceneAndViewsFilesThatAreNotFilesAreNamed) {
     const std::string e = error_of([&] { scene::load_scene(path.string()); });
     EXPECT_TRUE(contains(e, util::display_path(path) + ": error: cannot read: it is " + kind)) << e;
   }
-  for (const fs::path views : {fs::path("/dev/zero"), dir / "d.gltf", dir / "s.obj"}) {
+  for (const fs::path& views : {fs::path("/dev/zero"), dir / "d.gltf", dir / "s.obj"}) {
     scene::LoadOptions o;
     o.views_file = views;
     std::string e;

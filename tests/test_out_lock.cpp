@@ -13,19 +13,10 @@
 namespace {
 using namespace aovar;
 namespace fs = std::filesystem;
+using test::contains;
+using test::error_of;
 using test::TempDir;
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
-
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
 
 // A child process that holds the lock of `folder` until it is killed; returns once it holds it.
 pid_t hold_lock_in_child(const fs::path& folder) {

@@ -14,22 +14,13 @@
 namespace {
 using namespace aovar;
 namespace fs = std::filesystem;
+using test::contains;
+using test::error_of;
 using test::TempDir;
 
 void write(const fs::path& p, const std::string& text) {
   fs::create_directories(p.parent_path());
   std::ofstream(p, std::ios::binary) << text;
-}
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
-
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
 }
 
 // One triangle's positions (36 bytes, floats) as a .bin.

@@ -15,9 +15,10 @@
 namespace {
 namespace fs = std::filesystem;
 
-// scene/ with a file, a subfolder and two links out of it; outside.bin beside it. Made once per process.
+// scene/ with a file, a subfolder and two links out of it; outside.bin beside it. Made once per process and
+// removed at exit (the path is never destroyed: the exit handler runs after static destructors would).
 const fs::path& scene_folder() {
-  static const fs::path folder = [] {
+  static const fs::path* const folder = new fs::path([] {
     const fs::path root = fs::path(fs::exists("/dev/shm") ? "/dev/shm" : "/tmp") /
                           ("aovar-fuzz-" + std::to_string(getpid()) + "-resources");
     fs::create_directories(root / "scene/sub");
@@ -32,8 +33,8 @@ const fs::path& scene_folder() {
       fs::remove_all(scene_folder().parent_path(), ignored);
     });
     return root / "scene";
-  }();
-  return folder;
+  }());
+  return *folder;
 }
 
 void expect_inside(const fs::path& p) {
