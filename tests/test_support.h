@@ -1,4 +1,5 @@
 #pragma once
+#include <exception>
 #include <filesystem>
 #include <string>
 
@@ -28,5 +29,18 @@ struct CommandResult {
 CommandResult run_aovar(const std::string& args);  // runs the built CLI
 CommandResult run_command(const std::string& command);  // a shell command line
 std::filesystem::path aovar_executable();             // the built CLI's path
+
+// The message of the std::exception that `f` throws ("" when it throws none).
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 }  // namespace aovar::test

@@ -1,13 +1,13 @@
 // SPIR-V static cost walker: see analyze.h. The module is read word by word (no SPIRV-Tools opt IR: its
 // headers are not installed); SPIR-V 1.x opcode numbers below are from the unified spec.
 #include "analyze/analyze.h"
+#include "util/fs.h"
 #include "util/schema.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cstring>
-#include <fstream>
 #include <functional>
 #include <optional>
 #include <set>
@@ -465,9 +465,9 @@ std::map<int, int> binding_bytes(const std::string& depth_format, const std::str
 namespace {
 
 std::vector<std::uint32_t> read_words(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) throw std::runtime_error(p.string() + ": error: cannot open (run `aovar generate --emit index,spirv`)");
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::optional<std::string> read = util::read_file(p);
+  if (!read) throw std::runtime_error(p.string() + ": error: cannot open (run `aovar generate --emit index,spirv`)");
+  const std::string& bytes = *read;
   if (bytes.size() % 4) throw std::runtime_error(p.string() + ": error: size is not a multiple of 4 bytes");
   std::vector<std::uint32_t> w(bytes.size() / 4);
   if (!w.empty()) std::memcpy(w.data(), bytes.data(), bytes.size());
@@ -526,13 +526,13 @@ std::string loops_text(const ProgramCost& c) {
 
 Analysis analyze_folder(const std::filesystem::path& dir) {
   auto index_path = dir / "variants.json";
-  std::ifstream in(index_path);
+  const std::optional<std::string> in = util::read_file(index_path);
   if (!in)
     throw std::runtime_error(index_path.string() +
                              ": error: cannot open (run `aovar generate --out DIR --emit index,spirv` first)");
   nlohmann::ordered_json idx;
   try {
-    idx = nlohmann::ordered_json::parse(in);
+    idx = nlohmann::ordered_json::parse(*in);
   } catch (const std::exception& e) {
     throw std::runtime_error(index_path.string() + ": error: " + e.what());
   }

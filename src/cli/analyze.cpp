@@ -16,6 +16,7 @@ namespace aovar::cli {
 namespace {
 
 ExitCode run_analyze(const std::string& dir) {
+  const auto lock = lock_output(dir);  // analysis.json goes into the generated folder
   auto a = analyze::analyze_folder(dir);
   std::cout << analyze::program_table(a);
   auto out = std::filesystem::path(dir) / "analysis.json";

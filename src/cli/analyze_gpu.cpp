@@ -16,6 +16,7 @@ namespace aovar::cli {
 
 ExitCode run_analyze_gpu(const GpuAnalyzeArgs& a) {
   const gpu::Frame frame = parse_size(a.size);
+  const auto lock = lock_output(a.out);
   gpu::GpuOptions options;
   options.families = gpu::parse_families(a.families);
   options.icd = gpu::find_radeon_icd();  // before compiling: a missing driver is the first thing to say

@@ -35,6 +35,7 @@ ExitCode run_calibrate(const CalibrateArgs& a) {
     o.views_file = a.views_file;
     o.views = calibrate::split_views(a.scenes, a.views_file, a.views, a.holdout_views);
   }
+  const auto lock = lock_output_of_file(a.out);
   auto c = with_status([&](const auto& progress) { return calibrate::calibrate(o, progress); });
   calibrate::write_calibration(a.out, c);
   std::cout << calibrate::to_text(c, a.out);

@@ -13,6 +13,7 @@
 #include "compile/text.h"
 #include "compile/up_to_date.h"
 #include "util/clock.h"
+#include "util/fs.h"
 
 namespace aovar::cli {
 namespace {
@@ -57,6 +58,10 @@ ExitCode generate(const CommonOptions& common, const compile::OutputOptions& out
     }
   }
   auto c = compile::plan_space(common.manifest, options);
+  // Before anything is written: an empty selection would otherwise remove every output of a populated folder.
+  if (auto problem = compile::empty_selection_problem(c, options.globs, util::display_path(common.manifest));
+      !problem.empty())
+    throw std::runtime_error(problem);
   std::optional<compile::GenerateShard> shard;
   if (spec.sharded()) {  // this shard's variants only: plan again without the others'
     shard = compile::plan_generate_shard(c, options, spec.index, spec.count, spec.convention);
@@ -90,6 +95,7 @@ ExitCode run_generate(GenerateArgs& a) {
   if (!a.depfile.empty()) a.out.depfile = a.depfile;
   if (!a.depfile_target.empty()) a.out.depfile_target = a.depfile_target;
   if (!a.stamp.empty()) a.out.stamp = a.stamp;
+  const auto lock = a.out.check ? nullptr : lock_output(a.out.out);  // --check writes nothing
   return generate(a.common, a.out, shard_option(a.shard));
 }
 

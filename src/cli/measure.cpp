@@ -67,6 +67,7 @@ ExitCode run_measure(const MeasureArgs& a) {
   o.out = a.out;
   o.cache_dir = a.common.cache();
   a.gpu.apply(o);
+  const auto lock = lock_output(o.out);
   auto r = with_status([&](const auto& progress) { return measure::run_measure(o, progress); });
   std::cout << measure::to_text(r) << measure::notes_text(r, o, cal_file);
   return ExitCode::ok;

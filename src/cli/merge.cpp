@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "cli/options.h"
 #include "sweep/merge.h"
 #include "table/table.h"
 #include "util/fs.h"
@@ -19,6 +20,7 @@ struct MergeArgs {
 
 ExitCode run_merge(const MergeArgs& a) {
   std::vector<std::filesystem::path> in(a.inputs.begin(), a.inputs.end());
+  const auto lock = lock_output_of_file(a.out);
   auto r = sweep::merge_shards(in, a.out);
   table::write_json(r.table, a.out);
   std::cout << fmt::format("{} rows from {} {} -> {}\n", r.table.rows.size(), in.size(), r.shards ? "shards" : "tables",

@@ -48,6 +48,14 @@ void add_cache_dir(CLI::App* cmd, std::string& dir, const std::string& holds) {
   cmd->add_option("--cache-dir", dir, holds + " " + cache_dir_default_help);
 }
 
+std::unique_ptr<util::OutputLock> lock_output(const std::filesystem::path& folder) {
+  return folder.empty() ? nullptr : std::make_unique<util::OutputLock>(folder);
+}
+
+std::unique_ptr<util::OutputLock> lock_output_of_file(const std::filesystem::path& file) {
+  return std::make_unique<util::OutputLock>(file.has_parent_path() ? file.parent_path() : ".", false);
+}
+
 std::filesystem::path cache_dir(const std::string& option, bool no_cache) {
   if (no_cache) return {};
   return option.empty() ? compile::CompileCache::default_dir() : std::filesystem::path(option);

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "cli/exit_code.h"
 #include "compile/generate.h"
 #include "shard/env.h"
+#include "util/out_lock.h"
 #include "util/progress.h"
 
 namespace aovar::cli {
@@ -36,6 +38,13 @@ void add_manifest(CLI::App* cmd, std::string& manifest);
 void add_cache_dir(CLI::App* cmd, std::string& dir, const std::string& holds);
 // The cache folder to use: empty with --no-cache, else --cache-dir, else compile::CompileCache::default_dir().
 std::filesystem::path cache_dir(const std::string& option, bool no_cache);
+
+// The lock of the output folder `folder` (util::OutputLock: a second run into it is refused, naming the
+// lock), held until the returned pointer goes; null when `folder` is empty (a command writing no files).
+// Every command that writes an output folder takes it before reading or writing anything there.
+std::unique_ptr<util::OutputLock> lock_output(const std::filesystem::path& folder);
+// The same for a command whose output is one file (calibrate, merge): the lock of the file's folder.
+std::unique_ptr<util::OutputLock> lock_output_of_file(const std::filesystem::path& file);
 
 // The options of the subcommands that select and compile variants (list, generate, measure, sweep, stress).
 struct CommonOptions {

@@ -19,6 +19,7 @@ struct ProfileCommandArgs {
 };
 
 ExitCode run_profile(const ProfileCommandArgs& a) {
+  const auto lock = lock_output(a.profile.out);
   const auto o = a.profile.resolve(a.manifest);
   const auto s = run_scene_profile(o);
   std::cout << profile::to_text(s.profile);

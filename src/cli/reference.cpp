@@ -41,6 +41,7 @@ reference::RunOptions run_options(const ReferenceArgs& a) {
 
 ExitCode run_reference(const ReferenceArgs& a) {
   const auto o = run_options(a);
+  const auto lock = lock_output(o.out);
   auto terminal = util::ProgressReporter::for_stderr();
   auto status = [&terminal](const std::string& line, bool final) {
     if (final) terminal.keep(line);

@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include "cli/commands.h"
+#include "cli/options.h"
 #include "report/report.h"
 #include "table/table.h"
 #include "util/fs.h"
@@ -28,6 +29,7 @@ ExitCode run_report(const ReportArgs& a) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw std::runtime_error(util::display_path(dir) + ": error: cannot create the output folder: " + ec.message());
+  const auto lock = lock_output(dir);
   const std::size_t rows = t.rows.size();
   report::write_reports(std::move(t), dir, images);
   std::cout << fmt::format("{} rows -> {} and {}\n", rows, util::display_path(dir / "report.md"),

@@ -92,6 +92,7 @@ ExitCode run_stress(const StressArgs& a) {
     return ExitCode::ok;
   }
   const auto o = stress_options(a);
+  const auto lock = lock_output(o.out);
   auto r = with_status([&](const auto& progress) { return stress::run_stress(o, progress); });
   const auto cases = o.cases.empty() ? stress::default_cases() : o.cases;
   std::cout << stress::to_text(r, o, cases);

@@ -45,6 +45,7 @@ ExitCode run_sweep(const SweepArgs& a) {
   m.cache_dir = m.reference_cache = a.common.cache();
   a.gpu.apply(m);
   const auto cal_file = a.calibration.load(a.common.manifest, m.calibration, m.calibration_file, m.calibration_hash);
+  const auto lock = lock_output(o.out);
   auto r = with_status([&](const auto& progress) { return sweep::run_sweep(o, progress); });
   std::cout << table::to_markdown(r.table) << sweep::notes_text(r, o, cal_file);
   if (!r.shard_balance.empty())

@@ -46,7 +46,12 @@ fs::path CompileCache::default_dir() {
 
 std::optional<CompileOutput> CompileCache::load(const std::string& hash) const {
   if (!enabled()) return std::nullopt;
-  auto bytes = util::read_file(entry(hash));
+  std::optional<std::string> bytes;
+  try {
+    bytes = util::read_file(entry(hash));
+  } catch (const util::ReadError&) {  // something else sits where the entry goes: a miss, recompiled
+    return std::nullopt;
+  }
   if (!bytes || bytes->rfind(kMagic, 0) != 0) return std::nullopt;
   Reader r{std::string_view(*bytes).substr(kMagic.size())};
   CompileOutput out;

@@ -6,6 +6,23 @@
 
 namespace aovar::compile {
 
+std::string empty_selection_problem(const CompiledSpace& c, const std::vector<std::string>& globs,
+                                    const std::string& manifest_display) {
+  const variants::VariantSpace& s = c.space;
+  if (!s.variants.empty()) return {};
+  const char* nothing = "nothing was written or removed";
+  if (s.collapsed == 0)
+    return fmt::format("{}: error: the manifest's rules drop all {} points of the variant space, so there is nothing "
+                       "to generate; {} (fix the [[rules]]: `aovar list --pruned` shows what each drops)",
+                       manifest_display, s.space, nothing);
+  std::string quoted;
+  for (const auto& g : globs) quoted += (quoted.empty() ? "'" : ", '") + g + "'";
+  if (globs.empty()) return fmt::format("{}: error: no variant is left to generate; {}", manifest_display, nothing);
+  return fmt::format("{}: error: --variants {} matches none of the {} variants the manifest keeps; {} (`aovar list` "
+                     "shows the keys)",
+                     manifest_display, quoted, s.collapsed, nothing);
+}
+
 std::string summary_table(const CompiledSpace& c) {
   std::string s = fmt::format("{:<8} {:>9} {:>7} {:>9} {:>7} {:>7} {:>12}\n", "target", "programs", "unique",
                               "compiled", "cached", "failed", "spirv bytes");

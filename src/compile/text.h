@@ -18,6 +18,12 @@ std::string list_text(const CompiledSpace& c, bool show_pruned);
 // The variants the manifest's rules dropped, one a line: "KEY  dropped: REASON (MANIFEST:LINE)".
 std::string rule_drops_text(const variants::Manifest& manifest, const variants::VariantSpace& space);
 
+// Empty when the selection holds a variant; else the one-line error of a run that would write (and remove
+// from a populated folder) everything for nothing: the --variants globs match none of the variants the rules
+// keep, or the manifest's rules drop every variant. `manifest_display` names the manifest.
+std::string empty_selection_problem(const CompiledSpace& c, const std::vector<std::string>& globs,
+                                    const std::string& manifest_display);
+
 // "aovar: N error(s), M program build(s) failed; nothing was written" (a line).
 std::string failure_line(const CompiledSpace& c);
 

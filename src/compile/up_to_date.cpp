@@ -23,10 +23,16 @@ std::string file_signature(const fs::path& p) {
   return std::to_string(st.st_size) + "@" + std::to_string(st.st_mtim.tv_sec) + "." + std::to_string(st.st_mtim.tv_nsec);
 }
 
-// The hash of what `path` holds now, "missing" when it cannot be read (as TemplateReader sees it).
+// The hash of what `path` holds now, "missing" when it cannot be read (as TemplateReader sees it), and
+// "unreadable" when the checked reader refuses it (a directory, a device): never current, so the full run
+// reads it again and reports it.
 std::string content_hash(const fs::path& path) {
-  auto text = util::read_file(path);
-  return text ? util::hash_hex(*text) : "missing";
+  try {
+    auto text = util::read_file(path);
+    return text ? util::hash_hex(*text) : "missing";
+  } catch (const std::runtime_error&) {
+    return "unreadable";
+  }
 }
 
 // "<tag> <field> <rest of line>" (or "<tag> <rest>" without a field); the rest is a path and may hold spaces.
@@ -81,7 +87,7 @@ std::optional<RecordedRun> recorded_if_current(const std::string& settings, cons
       if (content_hash(rest) != field) return std::nullopt;
       (tag == "manifest" ? run.manifest : run.files.emplace_back()) = rest;
     } else if (tag == "missing") {
-      if (util::read_file(rest)) return std::nullopt;
+      if (content_hash(rest) != "missing") return std::nullopt;
     } else if (tag == "output") {
       if (file_signature(o.out / rest) != field) return std::nullopt;
     } else {

@@ -162,7 +162,13 @@ std::string image_tag(const fs::path& root, const fs::path& file, const std::str
               << " lies outside the table's folder " << util::display_path(root) << ": not embedded\n";
     return "<figure><figcaption>" + escape(caption) + " (outside the table folder: not embedded)</figcaption></figure>";
   }
-  auto bytes = util::read_file(file);
+  std::optional<std::string> bytes;
+  try {
+    bytes = util::read_file(file);
+  } catch (const util::ReadError& e) {  // a FIFO or a folder where an image should be: a caption, not a failure
+    std::cerr << "aovar report: warning: " << e.what() << ": not embedded\n";
+    return "<figure><figcaption>" + escape(caption) + " (not a readable image: not embedded)</figcaption></figure>";
+  }
   if (!bytes) return "<figure><figcaption>" + escape(caption) + " (missing)</figcaption></figure>";
   return fmt::format("<figure><img src=\"data:image/png;base64,{}\" width=\"240\"><figcaption>{}</figcaption></figure>",
                      base64(*bytes), escape(caption));

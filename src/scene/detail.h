@@ -55,7 +55,10 @@ std::vector<glm::vec3> crease_normals(std::span<const glm::vec3> positions, std:
 void assign_corner_normals(Scene& scene, std::size_t first_vertex, std::size_t first_index,
                            std::span<const glm::vec3> corner_normals);
 
-// Checks indices and positions, renormalises normals (fallback +Y) unless `keep_normals`, computes bounds
+// The largest |coordinate| finalize accepts: squared distances of the bounds stay finite in float.
+inline constexpr float kMaxCoordinate = 1e18f;
+
+// Checks indices and positions (finite, within kMaxCoordinate), renormalises normals (fallback +Y) unless `keep_normals`, computes bounds
 // and the content hash.
 void finalize(Scene& scene, const std::string& display, bool keep_normals = false);
 

@@ -12,6 +12,7 @@
 #include <tiny_gltf.h>
 
 #include "scene/detail.h"
+#include "scene/gltf_resources.h"
 #include "util/fs.h"
 
 namespace aovar::scene::detail {
@@ -452,7 +453,13 @@ Scene load_gltf(const std::filesystem::path& path, const std::string& display, c
   else
     check_json(display, *bytes, 0);
 
+  // The files it names: the path policy and their sizes, before tinygltf reads any (through `access`).
+  const std::uint64_t limit = memory_limit(options), own = file_size * 4;
+  const std::string_view json = binary ? std::string_view(*bytes).substr(20, u32_at(*bytes, 12)) : std::string_view(*bytes);
+  ResourceAccess access = check_resources(path, display, resource_refs(json), limit > own ? limit - own : 0);
+
   tinygltf::TinyGLTF gltf;
+  gltf.SetFsCallbacks(fs_callbacks(access));
   gltf.SetImageLoader(&skip_image, nullptr);
   Model model;
   std::string err, warn;
@@ -462,6 +469,7 @@ Scene load_gltf(const std::filesystem::path& path, const std::string& display, c
                                                reinterpret_cast<const unsigned char*>(bytes->data()), size, base_dir)
                    : gltf.LoadASCIIFromString(&model, &err, &warn, bytes->data(), size, base_dir);
   bytes.reset();
+  if (!access.error.empty()) fail(fmt::format("{}: error: cannot read a buffer: {}", display, access.error));
   if (!ok || !err.empty())
     fail(fmt::format("{}: error: {} (check that the file is valid glTF 2.0 and its buffers exist)", display,
                      err.empty() ? "tinygltf could not load the file" : one_line(err)));

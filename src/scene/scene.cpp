@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -229,6 +230,12 @@ void finalize(Scene& scene, const std::string& display, bool keep_normals) {
     const glm::vec3& p = scene.positions[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       fail(fmt::format("{}: error: vertex {} has a non-finite position (fix the file)", display, i));
+    // The bounds' diagonal, the default AO radius and the reference's ray lengths square these in single
+    // precision: beyond 1e18 the square of a distance overflows to inf (a "radius inf" far from its cause).
+    if (std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) > kMaxCoordinate)
+      fail(fmt::format("{}: error: vertex {} is at ({:g}, {:g}, {:g}), beyond the {:g} world units a coordinate may "
+                       "reach (rescale the scene, e.g. {}@scale=0.001)",
+                       display, i, p.x, p.y, p.z, kMaxCoordinate, display));
     scene.bounds.extend(p);
     if (!keep_normals) scene.normals[i] = safe_normalize(scene.normals[i], {0.0f, 1.0f, 0.0f});
   }
@@ -330,8 +337,11 @@ Scene load_scene(const std::string& full_spec, const LoadOptions& options) {
       fail(fmt::format("{}: error: unsupported scene format '{}' (supported: .obj, .gltf, .glb, or one of {})", display,
                        ext.empty() ? path.filename().string() : ext, names));
     }
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) fail(fmt::format("{}: error: cannot open (check the path)", display));
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) fail(fmt::format("{}: error: cannot open (check the path)", display));
+    if (!S_ISREG(st.st_mode))
+      fail(fmt::format("{}: error: cannot read: it is {}, not a regular file (name a scene file)", display,
+                       util::file_type_name(st.st_mode)));
     scene = ext == ".obj" ? load_obj(path, display, options) : load_gltf(path, display, options, ext == ".glb");
     scale_scene(scene, scale);
     scene.name = full_spec;

@@ -221,6 +221,8 @@ std::vector<View> derive_views(const Scene& s) {
 
 namespace {
 
+// More frames than a flicker measure needs by far, and few enough to render: the cap on path_frames.
+constexpr std::int64_t kMaxPathFrames = 100000;
 constexpr std::string_view kKeys = "name, eye, target, up, fov, near, far, path_offset, path_frames";
 
 struct Pos {
@@ -260,7 +262,9 @@ class ViewsFile {
     else if (k == "far") v.far_plane = number();
     else if (k == "path_frames") {
       std::optional<std::int64_t> n = whole();
-      if (!n || *n < 1 || *n > 100000) error(p, "'path_frames' must be a whole number >= 1");
+      if (!n || *n < 1 || *n > kMaxPathFrames)
+        error(p, fmt::format("'path_frames' must be a whole number from 1 to {} (frames rendered along the camera path)",
+                             kMaxPathFrames));
       v.path_frames = static_cast<int>(*n);
     } else {
       unknown_key(p, k, view_index);
@@ -446,6 +450,13 @@ std::vector<View> parse_json(const std::string& text, const std::string& display
     std::string msg = e.what();
     if (auto close = msg.find("] "); close != std::string::npos) msg.erase(0, close + 2);
     vf.error(pos_at(text, e.byte > 0 ? e.byte - 1 : 0), msg + " (fix the JSON syntax)");
+  } catch (const nlohmann::json::out_of_range& e) {  // "number overflow parsing '1e400'": no byte offset
+    std::string msg = e.what();
+    if (auto close = msg.find("] "); close != std::string::npos) msg.erase(0, close + 2);
+    const std::size_t open = msg.find('\''), close = open == std::string::npos ? open : msg.find('\'', open + 1);
+    const std::size_t at = close == std::string::npos ? std::string::npos : text.find(msg.substr(open + 1, close - open - 1));
+    vf.error(at == std::string::npos ? Pos{} : pos_at(text, at),
+             msg + " (a number beyond the range of a double: views need finite numbers)");
   }
   const JsonLayout layout = scan_json(text);
   if (!doc.is_object()) vf.error({1, 1}, "the file must be a JSON object {\"views\": [...]}");
@@ -504,7 +515,12 @@ void scale_view(View& v, float f) {
 
 void apply_views_file(Scene& scene, const fs::path& path, float scale) {
   const std::string display = util::display_path(path);
-  std::optional<std::string> text = util::read_file(path);
+  std::optional<std::string> text;
+  try {
+    text = util::read_file(path);
+  } catch (const util::ReadError& e) {
+    fail(e.what());  // a SceneError, as every other problem of a scene's inputs
+  }
   if (!text) fail(fmt::format("{}: error: cannot open views file (check the path)", display));
   const std::string ext = lower(path.extension().string());
   // nlohmann's parser stops at a NUL as at the end of the input, so text after one would be ignored.

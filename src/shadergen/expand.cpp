@@ -80,11 +80,14 @@ class Expander {
       if (inc == "\"") throw TemplateError(where_() + ": error: malformed #include: write #include \"common/x.glsl\"");
       fs::path local = (path.parent_path() / inc).lexically_normal();
       fs::path rooted = (reader_.root() / inc).lexically_normal();
-      const std::string* body = reader_.read(local);
+      const std::string* body = nullptr;
       fs::path found = local;
-      if (!body) {
-        body = reader_.read(rooted);
-        found = rooted;
+      try {  // the checked reader refuses a directory, a device or an oversized file, naming it
+        body = reader_.read(local);
+        if (!body) body = reader_.read(found = rooted);
+      } catch (const util::ReadError& e) {
+        throw TemplateError(fmt::format("{}: error: #include \"{}\" names {}: {}", where_(), inc,
+                                        util::display_path(found), e.reason));
       }
       if (!body)
         throw TemplateError(fmt::format("{}: error: cannot find include \"{}\" (looked in {} and {})", where_(), inc,
@@ -114,7 +117,13 @@ ExpandedSource expand(TemplateReader& reader, const variants::ProgramSpec& progr
   for (const auto& [name, value] : program.defines) out.text += fmt::format("#define {} {}\n", name, value);
 
   fs::path path = (reader.root() / program.template_path).lexically_normal();
-  const std::string* body = reader.read(path);
+  const std::string* body = nullptr;
+  try {
+    body = reader.read(path);
+  } catch (const util::ReadError& e) {
+    throw TemplateError(fmt::format("{}:{}: error: template '{}' ({}): {}", manifest_display, program.pos.line,
+                                    program.template_path, util::display_path(path), e.reason));
+  }
   if (!body)
     throw TemplateError(fmt::format("{}:{}: error: template '{}' not found (expected {})", manifest_display,
                                     program.pos.line, program.template_path, util::display_path(path)));

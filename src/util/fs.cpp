@@ -8,8 +8,6 @@
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
@@ -18,12 +16,74 @@
 namespace aovar::util {
 namespace fs = std::filesystem;
 
-std::optional<std::string> read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream s;
-  s << in.rdbuf();
-  return std::move(s).str();
+ReadError::ReadError(const fs::path& path, std::string why)
+    : std::runtime_error(fmt::format("{}: error: cannot read: {}", display_path(path), why)), reason(std::move(why)) {}
+
+std::string file_type_name(unsigned mode) {
+  switch (mode & S_IFMT) {
+    case S_IFREG: return "a regular file";
+    case S_IFDIR: return "a directory";
+    case S_IFCHR: return "a character device";
+    case S_IFBLK: return "a block device";
+    case S_IFIFO: return "a FIFO";
+    case S_IFSOCK: return "a socket";
+    default: return "not a regular file";
+  }
+}
+
+namespace {
+
+std::string size_text(std::uint64_t bytes) {
+  return bytes >= (std::uint64_t{1} << 20) ? fmt::format("{:.1f} MiB", static_cast<double>(bytes) / (1 << 20))
+                                           : fmt::format("{} bytes", bytes);
+}
+
+struct Fd {
+  int fd;
+  ~Fd() { ::close(fd); }
+};
+
+}  // namespace
+
+std::optional<std::string> read_file(const fs::path& path, std::uint64_t max_bytes) {
+  // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer forever.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
+  if (fd < 0) {  // a socket cannot be opened at all (ENXIO): still say what it is
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+      throw ReadError(path, fmt::format("it is {}, not a regular file (name a file)", file_type_name(st.st_mode)));
+    return std::nullopt;
+  }
+  const Fd guard{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) return std::nullopt;
+  if (!S_ISREG(st.st_mode))
+    throw ReadError(path, fmt::format("it is {}, not a regular file (name a file)", file_type_name(st.st_mode)));
+  auto too_large = [&](std::uint64_t bytes) {
+    return ReadError(path, fmt::format("{} is more than the limit of {} for one input file (is this the right file?)",
+                                        size_text(bytes), size_text(max_bytes)));
+  };
+  const auto size = static_cast<std::uint64_t>(st.st_size);
+  if (size > max_bytes) throw too_large(size);
+  std::string bytes;
+  bytes.resize(static_cast<std::size_t>(size));
+  std::size_t got = 0;
+  char chunk[65536];
+  while (true) {  // the size is a hint: the file may grow or shrink while it is read (and /proc says 0)
+    char* into = got < bytes.size() ? bytes.data() + got : chunk;
+    const std::size_t room = got < bytes.size() ? bytes.size() - got : sizeof chunk;
+    const ssize_t n = ::read(fd, into, room);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw ReadError(path, std::strerror(errno));
+    if (n == 0) break;
+    if (into == chunk) {
+      if (got + static_cast<std::size_t>(n) > max_bytes) throw too_large(got + static_cast<std::uint64_t>(n));
+      bytes.append(chunk, static_cast<std::size_t>(n));
+    }
+    got += static_cast<std::size_t>(n);
+  }
+  bytes.resize(got);
+  return bytes;
 }
 
 namespace {

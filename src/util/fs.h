@@ -1,14 +1,34 @@
 #pragma once
 // File helpers: whole-file reads and atomic, write-only-if-changed writes.
+#include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 
 namespace aovar::util {
 
-// Returns the file's bytes, or nullopt when it cannot be opened.
-std::optional<std::string> read_file(const std::filesystem::path& path);
+// The most aovar reads of one input file (manifest, template, views, table, calibration, scene buffer)
+// unless the reader states another limit: far above any real input, far below what would exhaust memory.
+inline constexpr std::uint64_t kMaxReadBytes = std::uint64_t{2} << 30;
+
+// What read_file refuses: what() is "<path>: error: cannot read: <reason>"; `reason` alone ("it is a
+// directory, not a regular file (name a file)") lets a caller that knows more (an #include line) say it its way.
+class ReadError : public std::runtime_error {
+ public:
+  ReadError(const std::filesystem::path& path, std::string reason);
+  std::string reason;
+};
+
+// Returns the bytes of the regular file `path`, or nullopt when it does not exist or cannot be opened.
+// Throws ReadError (one line, naming the file) when `path` is not
+// a regular file (a directory, /dev/zero, a FIFO, a socket: opened without blocking, never read) or holds
+// more than `max_bytes`. Every file a user names is read through here.
+std::optional<std::string> read_file(const std::filesystem::path& path, std::uint64_t max_bytes = kMaxReadBytes);
+
+// "a directory", "a character device", "a FIFO", ...: what `mode` (st_mode) is, for messages.
+std::string file_type_name(unsigned mode);
 
 enum class WriteResult { unchanged, written };
 

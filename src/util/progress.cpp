@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -29,8 +30,9 @@ double progress_interval_s() {
 ProgressReporter::ProgressReporter(std::ostream& out, bool terminal, double interval_s)
     : out_(out),
       terminal_(terminal),
+      // Capped: 1e10 s in the clock's int64 nanoseconds would overflow (to 0: a line every update).
       interval_(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-          std::chrono::duration<double>(interval_s))),
+          std::chrono::duration<double>(std::min(interval_s, kMaxProgressIntervalS)))),
       start_(std::chrono::steady_clock::now()),
       last_(start_) {}
 

@@ -13,6 +13,9 @@ namespace aovar::util {
 // Seconds between two progress lines when stderr is not a terminal (docs/cli.md).
 inline constexpr double kProgressIntervalS = 5;
 inline constexpr const char* kProgressIntervalVariable = "AOVAR_PROGRESS_INTERVAL_S";
+// Longer intervals (a way to say "no progress lines") are this one: about 31 years, and it fits the
+// steady clock's nanoseconds.
+inline constexpr double kMaxProgressIntervalS = 1e9;
 
 // $AOVAR_PROGRESS_INTERVAL_S (seconds >= 0; 0 prints every update, as tests do) or kProgressIntervalS.
 // Throws std::runtime_error naming the variable when it is set to anything else.
