@@ -30,7 +30,8 @@ class SetAssocCache {
   uint64_t sets() const { return sets_; }
 
   // Looks `line` up: true on a hit. Either way the line becomes its set's most recently used; a miss
-  // evicts the least recently used. Sets are line mod sets (no hashing), which the tests rely on.
+  // evicts the least recently used. Sets are line mod sets (no hashing), which the tests rely on. Line
+  // numbers must be below 2^32 - 1 (see tags_).
   bool access(uint64_t line64) {
     const uint32_t line = uint32_t(line64);  // see tags_
     const uint64_t set = pow2_ ? line64 & set_mask_ : line64 % sets_;
