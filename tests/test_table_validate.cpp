@@ -81,6 +81,17 @@ TEST(TableValidate, ImpossibleNumbersAreRefusedNamingTheFileAndTheRow) {
   }
 }
 
+TEST(TableValidate, APredictedRowMayExtrapolateBelowZero) {
+  // sweep --predict writes the cost model's time, a linear extrapolation: the sweep's own table must read back.
+  test::TempDir dir;
+  json doc = good_table();
+  doc["rows"][1]["predicted"] = true;
+  doc["rows"][1]["time_ms"] = {{"min", -0.2}, {"median", -0.2}, {"p90", -0.2}, {"n", 0}, {"paired", -0.2}};
+  EXPECT_EQ(read_error(doc, dir), "");
+  doc["rows"][1]["predicted"] = false;
+  EXPECT_NE(read_error(doc, dir).find("time_ms.min -0.2 is negative"), std::string::npos);
+}
+
 TEST(TableValidate, ConflictingDuplicatesAreRefusedIdenticalOnesKept) {
   test::TempDir dir;
   json doc = good_table();
