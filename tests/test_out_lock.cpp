@@ -60,6 +60,21 @@ TEST(OutputLock, ASecondWriterIsRefusedNamingTheLockUntilTheFirstEnds) {
   EXPECT_EQ(error_of([&] { util::OutputLock again(out); }), "");
 }
 
+TEST(OutputLock, AFolderItMadeAndNothingWroteIntoIsRemovedAgain) {
+  TempDir dir;
+  { util::OutputLock lock(dir / "failed"); }  // a run that failed before writing: no folder left
+  EXPECT_FALSE(fs::exists(dir / "failed"));
+  {
+    util::OutputLock lock(dir / "done");
+    util::write_atomic(dir / "done/result.json", "{}");
+  }
+  EXPECT_TRUE(fs::exists(dir / "done/result.json"));
+  EXPECT_TRUE(fs::exists(dir / "done/.aovar.lock"));  // stays: removing it would race with a next run
+  fs::create_directories(dir / "existing");
+  { util::OutputLock lock(dir / "existing"); }  // the user's folder is never removed
+  EXPECT_TRUE(fs::exists(dir / "existing"));
+}
+
 TEST(OutputLock, TwoProcessesIntoOneFolderAndAKilledHolderReleasesIt) {
   TempDir dir;
   const fs::path out = dir / "G";
