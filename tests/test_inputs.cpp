@@ -20,8 +20,6 @@
 namespace {
 using namespace aovar;
 namespace fs = std::filesystem;
-using test::contains;
-using test::error_of;
 using test::TempDir;
 
 void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
@@ -47,9 +45,9 @@ TEST(CheckedReader, RefusesEveryKindOfFileThatIsNotRegularNamingIt) {
                                                     {"/dev/null", "a character device"}, {dir / "fifo", "a FIFO"},
                                                     {dir / "sock", "a socket"},          {dir / "zero-link", "a character device"}};
   for (const auto& [path, kind] : cases) {
-    const std::string e = error_of([&] { util::read_file(path); });
+    const std::string e = test::thrown_message([&] { util::read_file(path); });
     EXPECT_TRUE(one_line(e)) << path;
-    EXPECT_TRUE(contains(e, util::display_path(path) + ": error: cannot read: it is " + kind)) << e;
+    EXPECT_TRUE(test::has_text(e, util::display_path(path) + ": error: cannot read: it is " + kind)) << e;
   }
   ::close(sock);
   EXPECT_FALSE(util::read_file(dir / "missing").has_value());  // missing stays "not there", for the caller
@@ -61,13 +59,13 @@ TEST(CheckedReader, RefusesAFileOverTheLimitBeforeReadingIt) {
   TempDir dir;
   write(dir / "small", std::string(100, 'x'));
   EXPECT_EQ(util::read_file(dir / "small", 100).value().size(), 100u);
-  const std::string e = error_of([&] { util::read_file(dir / "small", 99); });
-  EXPECT_TRUE(contains(e, "small: error: cannot read: 100 bytes is more than the limit of 99 bytes")) << e;
+  const std::string e = test::thrown_message([&] { util::read_file(dir / "small", 99); });
+  EXPECT_TRUE(test::has_text(e, "small: error: cannot read: 100 bytes is more than the limit of 99 bytes")) << e;
   // A sparse file just over the default limit: refused from its size alone (reading it would take 2 GiB).
   { std::ofstream(dir / "sparse"); }
   fs::resize_file(dir / "sparse", util::kMaxReadBytes + 1);
-  const std::string big = error_of([&] { util::read_file(dir / "sparse"); });
-  EXPECT_TRUE(contains(big, "sparse: error: cannot read: 2048.0 MiB is more than the limit of 2048.0 MiB")) << big;
+  const std::string big = test::thrown_message([&] { util::read_file(dir / "sparse"); });
+  EXPECT_TRUE(test::has_text(big, "sparse: error: cannot read: 2048.0 MiB is more than the limit of 2048.0 MiB")) << big;
 }
 
 fs::path default_manifest() { return test::source_dir() / "shader_src/aovar.toml"; }
@@ -93,17 +91,17 @@ TEST(CheckedReader, TemplateAndIncludeThatAreNotFilesNameTheirLine) {
       {"common/fifo.glsl", "common/fifo.glsl: it is a FIFO"}};
   for (const auto& [target, why] : includes) {
     util::write_atomic(alchemy, original + "#include \"" + target + "\"\n");
-    const std::string e = error_of([&] { compile::plan_space(manifest, one_variant()); });
+    const std::string e = test::thrown_message([&] { compile::plan_space(manifest, one_variant()); });
     EXPECT_TRUE(one_line(e)) << target << ": " << e;
-    EXPECT_TRUE(contains(e, "alchemy.glsl:" + std::to_string(last) + ": error: #include \"" + target + "\" names "))
+    EXPECT_TRUE(test::has_text(e, "alchemy.glsl:" + std::to_string(last) + ": error: #include \"" + target + "\" names "))
         << e;
-    EXPECT_TRUE(contains(e, why)) << e;
+    EXPECT_TRUE(test::has_text(e, why)) << e;
   }
   util::write_atomic(alchemy, original);
   test::replace_in_file(manifest, "template = \"ao/{algorithm}.glsl\"", "template = \"/dev/zero\"");
-  const std::string e = error_of([&] { compile::plan_space(manifest, one_variant()); });
-  EXPECT_TRUE(contains(e, "aovar.toml:")) << e;
-  EXPECT_TRUE(contains(e, "error: template '/dev/zero' (/dev/zero): it is a character device")) << e;
+  const std::string e = test::thrown_message([&] { compile::plan_space(manifest, one_variant()); });
+  EXPECT_TRUE(test::has_text(e, "aovar.toml:")) << e;
+  EXPECT_TRUE(test::has_text(e, "error: template '/dev/zero' (/dev/zero): it is a character device")) << e;
 }
 
 TEST(CheckedReader, SceneAndViewsFilesThatAreNotFilesAreNamed) {
@@ -112,8 +110,8 @@ TEST(CheckedReader, SceneAndViewsFilesThatAreNotFilesAreNamed) {
   fs::create_directory(dir / "d.gltf");
   const std::pair<fs::path, const char*> scenes[] = {{dir / "s.obj", "a FIFO"}, {dir / "d.gltf", "a directory"}};
   for (const auto& [path, kind] : scenes) {
-    const std::string e = error_of([&] { scene::load_scene(path.string()); });
-    EXPECT_TRUE(contains(e, util::display_path(path) + ": error: cannot read: it is " + kind)) << e;
+    const std::string e = test::thrown_message([&] { scene::load_scene(path.string()); });
+    EXPECT_TRUE(test::has_text(e, util::display_path(path) + ": error: cannot read: it is " + kind)) << e;
   }
   for (const fs::path& views : {fs::path("/dev/zero"), dir / "d.gltf", dir / "s.obj"}) {
     scene::LoadOptions o;
@@ -124,7 +122,7 @@ TEST(CheckedReader, SceneAndViewsFilesThatAreNotFilesAreNamed) {
     } catch (const scene::SceneError& error) {  // the scene's own error type, as for any views problem
       e = error.what();
     }
-    EXPECT_TRUE(contains(e, util::display_path(views) + ": error: cannot read: it is ")) << e;
+    EXPECT_TRUE(test::has_text(e, util::display_path(views) + ": error: cannot read: it is ")) << e;
   }
 }
 
@@ -147,9 +145,9 @@ TEST(GenerateSelection, AGlobMatchingNothingIsAnErrorThatRemovesNothing) {
     const auto r = test::run_aovar("generate --manifest " + default_manifest().string() + " " + globs + " --out " +
                                    out.string() + " --no-cache");
     EXPECT_EQ(r.status, 2) << r.output;
-    EXPECT_TRUE(contains(r.output, "aovar.toml: error: --variants '")) << r.output;
-    EXPECT_TRUE(contains(r.output, "matches none of the")) << r.output;
-    EXPECT_TRUE(contains(r.output, "nothing was written or removed")) << r.output;
+    EXPECT_TRUE(test::has_text(r.output, "aovar.toml: error: --variants '")) << r.output;
+    EXPECT_TRUE(test::has_text(r.output, "matches none of the")) << r.output;
+    EXPECT_TRUE(test::has_text(r.output, "nothing was written or removed")) << r.output;
     EXPECT_EQ(contents(out), before);
   }
 }
@@ -163,7 +161,7 @@ TEST(GenerateSelection, RulesThatDropEverythingAreAnErrorThatRemovesNothing) {
   const auto before = contents(out);
   const auto r = test::run_aovar("generate --manifest " + manifest.string() + " --out " + out.string() + " --no-cache");
   EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_TRUE(contains(r.output, "error: the manifest's rules drop all")) << r.output;
+  EXPECT_TRUE(test::has_text(r.output, "error: the manifest's rules drop all")) << r.output;
   EXPECT_EQ(contents(out), before);
 }
 
@@ -172,7 +170,7 @@ std::string views_error(const std::string& name, const std::string& text) {
   write(dir / name, text);
   scene::LoadOptions o;
   o.views_file = dir / name;
-  return error_of([&] { scene::load_scene("builtin:stairs", o); });
+  return test::thrown_message([&] { scene::load_scene("builtin:stairs", o); });
 }
 
 TEST(ImpossibleNumbers, ViewsFileOverflowNamesTheFileAndPosition) {
@@ -180,21 +178,21 @@ TEST(ImpossibleNumbers, ViewsFileOverflowNamesTheFileAndPosition) {
     const std::string e = views_error("v.json", "{\"views\": [\n  {\"name\": \"a\", \"eye\": [1, 1, 1], \"target\": "
                                                 "[0, 0, 0],\n   \"near\": " + number + "}]}");
     EXPECT_TRUE(one_line(e)) << e;
-    EXPECT_TRUE(contains(e, "v.json:3:")) << e;
-    EXPECT_TRUE(contains(e, number)) << e;
+    EXPECT_TRUE(test::has_text(e, "v.json:3:")) << e;
+    EXPECT_TRUE(test::has_text(e, number)) << e;
   }
   const std::string eye = views_error("v.json", R"({"views": [{"name": "a", "eye": [1e400, 1, 1], "target": [0, 0, 0]}]})");
-  EXPECT_TRUE(contains(eye, "v.json:1:")) << eye;
+  EXPECT_TRUE(test::has_text(eye, "v.json:1:")) << eye;
   const std::string toml = views_error("v.toml", "[[view]]\nname = \"a\"\neye = [1, 1, 1]\ntarget = [0, 0, 0]\nnear = 1e400\n");
-  EXPECT_TRUE(one_line(toml) && contains(toml, "v.toml:5:")) << toml;
+  EXPECT_TRUE(one_line(toml) && test::has_text(toml, "v.toml:5:")) << toml;
 }
 
 TEST(ImpossibleNumbers, PathFramesStatesTheRealCap) {
   for (const std::string frames : {"100000000", "100001", "0", "-3"}) {
     const std::string e = views_error("v.toml", "[[view]]\nname = \"a\"\neye = [1, 1, 1]\ntarget = [0, 0, 0]\n"
                                                 "path_frames = " + frames + "\n");
-    EXPECT_TRUE(contains(e, "v.toml:5:")) << e;
-    EXPECT_TRUE(contains(e, "'path_frames' must be a whole number from 1 to 100000")) << e;
+    EXPECT_TRUE(test::has_text(e, "v.toml:5:")) << e;
+    EXPECT_TRUE(test::has_text(e, "'path_frames' must be a whole number from 1 to 100000")) << e;
   }
   EXPECT_EQ(views_error("v.toml", "[[view]]\nname = \"a\"\neye = [1, 1, 1]\ntarget = [0, 0, 0]\npath_frames = 100000\n"),
             "");
@@ -207,15 +205,15 @@ TEST(ImpossibleNumbers, HugeCoordinatesNameTheSceneAndTheVertex) {
                                                        {"v 0 0 1e38", "(0, 0, 1e+38)"}};
   for (const auto& [line, shown] : cases) {
     write(dir / "far.obj", "v 0 0 0\nv 1 0 0\n" + line + "\nf 1 2 3\n");
-    const std::string e = error_of([&] { scene::load_scene((dir / "far.obj").string()); });
+    const std::string e = test::thrown_message([&] { scene::load_scene((dir / "far.obj").string()); });
     EXPECT_TRUE(one_line(e)) << e;
-    EXPECT_TRUE(contains(e, "far.obj: error: vertex 2 is at " + shown + ", beyond the 1e+18 world units")) << e;
+    EXPECT_TRUE(test::has_text(e, "far.obj: error: vertex 2 is at " + shown + ", beyond the 1e+18 world units")) << e;
   }
   // Within the limit, but not once scaled: the scaled coordinate is named.
   write(dir / "big.obj", "v 0 0 0\nv 1e13 0 0\nv 0 1e13 0\nf 1 2 3\n");
-  EXPECT_EQ(error_of([&] { scene::load_scene((dir / "big.obj").string()); }), "");
-  const std::string scaled = error_of([&] { scene::load_scene((dir / "big.obj").string() + "@scale=1e6"); });
-  EXPECT_TRUE(contains(scaled, "big.obj: error: vertex 1 is at (1e+19, 0, 0)")) << scaled;
+  EXPECT_EQ(test::thrown_message([&] { scene::load_scene((dir / "big.obj").string()); }), "");
+  const std::string scaled = test::thrown_message([&] { scene::load_scene((dir / "big.obj").string() + "@scale=1e6"); });
+  EXPECT_TRUE(test::has_text(scaled, "big.obj: error: vertex 1 is at (1e+19, 0, 0)")) << scaled;
 }
 
 TEST(ImpossibleNumbers, AHugeProgressIntervalMeansNoLinesNotALineEveryUpdate) {

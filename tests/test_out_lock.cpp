@@ -13,8 +13,6 @@
 namespace {
 using namespace aovar;
 namespace fs = std::filesystem;
-using test::contains;
-using test::error_of;
 using test::TempDir;
 
 
@@ -54,10 +52,25 @@ TEST(OutputLock, ASecondWriterIsRefusedNamingTheLockUntilTheFirstEnds) {
   {
     util::OutputLock first(out);  // creates the folder
     EXPECT_TRUE(fs::exists(out / ".aovar.lock"));
-    const std::string e = error_of([&] { util::OutputLock second(out); });
-    EXPECT_TRUE(contains(e, util::display_path(out / ".aovar.lock") + ": error: another aovar is writing into")) << e;
+    const std::string e = test::thrown_message([&] { util::OutputLock second(out); });
+    EXPECT_TRUE(test::has_text(e, util::display_path(out / ".aovar.lock") + ": error: another aovar is writing into")) << e;
   }
-  EXPECT_EQ(error_of([&] { util::OutputLock again(out); }), "");
+  EXPECT_EQ(test::thrown_message([&] { util::OutputLock again(out); }), "");
+}
+
+TEST(OutputLock, AFolderItMadeAndNothingWroteIntoIsRemovedAgain) {
+  TempDir dir;
+  { util::OutputLock lock(dir / "failed"); }  // a run that failed before writing: no folder left
+  EXPECT_FALSE(fs::exists(dir / "failed"));
+  {
+    util::OutputLock lock(dir / "done");
+    util::write_atomic(dir / "done/result.json", "{}");
+  }
+  EXPECT_TRUE(fs::exists(dir / "done/result.json"));
+  EXPECT_TRUE(fs::exists(dir / "done/.aovar.lock"));  // stays: removing it would race with a next run
+  fs::create_directories(dir / "existing");
+  { util::OutputLock lock(dir / "existing"); }  // the user's folder is never removed
+  EXPECT_TRUE(fs::exists(dir / "existing"));
 }
 
 TEST(OutputLock, TwoProcessesIntoOneFolderAndAKilledHolderReleasesIt) {
@@ -69,16 +82,16 @@ TEST(OutputLock, TwoProcessesIntoOneFolderAndAKilledHolderReleasesIt) {
   const auto generate = test::run_aovar("generate --variants 'alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp' --targets "
                                         "vulkan --no-cache --out " + out.string());
   EXPECT_EQ(generate.status, 2) << generate.output;
-  EXPECT_TRUE(contains(generate.output, "G/.aovar.lock: error: another aovar is writing into")) << generate.output;
+  EXPECT_TRUE(test::has_text(generate.output, "G/.aovar.lock: error: another aovar is writing into")) << generate.output;
   EXPECT_FALSE(fs::exists(out / "variants.json"));
   util::write_atomic(out / "cost_table.json", "{}");
   const auto merge = test::run_aovar("merge " + (out / "merged.json").string() + " " + (out / "cost_table.json").string());
   EXPECT_EQ(merge.status, 2) << merge.output;
-  EXPECT_TRUE(contains(merge.output, ".aovar.lock: error: another aovar")) << merge.output;
+  EXPECT_TRUE(test::has_text(merge.output, ".aovar.lock: error: another aovar")) << merge.output;
   EXPECT_FALSE(fs::exists(out / "merged.json"));
   // kill -9 mid-run: nothing stale is left behind, the next run takes the folder.
   kill_and_reap(holder);
-  EXPECT_EQ(error_of([&] { util::OutputLock next(out); }), "");
+  EXPECT_EQ(test::thrown_message([&] { util::OutputLock next(out); }), "");
 }
 
 TEST(OutputLock, AnOrphanedForkedChildDoesNotKeepTheFolderLocked) {
@@ -100,10 +113,10 @@ TEST(OutputLock, AnOrphanedForkedChildDoesNotKeepTheFolderLocked) {
   pid_t worker = -1;
   ASSERT_EQ(::read(pipe_fds[0], &worker, sizeof worker), static_cast<ssize_t>(sizeof worker));
   ::close(pipe_fds[0]);
-  EXPECT_NE(error_of([&] { util::OutputLock busy(out); }), "");  // the run holds it
+  EXPECT_NE(test::thrown_message([&] { util::OutputLock busy(out); }), "");  // the run holds it
   kill_and_reap(holder);
   EXPECT_EQ(::kill(worker, 0), 0) << "the worker outlives the run";
-  EXPECT_EQ(error_of([&] { util::OutputLock next(out); }), "");  // ... and does not hold the folder
+  EXPECT_EQ(test::thrown_message([&] { util::OutputLock next(out); }), "");  // ... and does not hold the folder
   ::kill(worker, SIGKILL);
 }
 
@@ -113,27 +126,27 @@ TEST(OutputLock, LinksInsideTheOutputFolderAreRefusedNamingTheLink) {
   fs::create_directories(out / "measure");
   fs::create_directories(elsewhere);
   fs::create_symlink(elsewhere, out / "measure/atrium");
-  std::string e = error_of([&] { util::OutputLock lock(out); });
-  EXPECT_TRUE(contains(e, "measure/atrium: error: a symbolic link inside the output folder (to " + elsewhere.string()))
+  std::string e = test::thrown_message([&] { util::OutputLock lock(out); });
+  EXPECT_TRUE(test::has_text(e, "measure/atrium: error: a symbolic link inside the output folder (to " + elsewhere.string()))
       << e;
   // A link to a file is refused too; the folder itself may be a link (it is what the user named).
   fs::remove(out / "measure/atrium");
   fs::create_symlink(elsewhere / "x.json", out / "measure.json");
-  e = error_of([&] { util::OutputLock lock(out); });
-  EXPECT_TRUE(contains(e, "measure.json: error: a symbolic link inside the output folder")) << e;
+  e = test::thrown_message([&] { util::OutputLock lock(out); });
+  EXPECT_TRUE(test::has_text(e, "measure.json: error: a symbolic link inside the output folder")) << e;
   fs::remove(out / "measure.json");
   fs::create_symlink(out, dir / "out-link");
-  EXPECT_EQ(error_of([&] { util::OutputLock lock(dir / "out-link"); }), "");
+  EXPECT_EQ(test::thrown_message([&] { util::OutputLock lock(dir / "out-link"); }), "");
   // The folder of a one-file output (calibrate, merge) is not scanned: a rename replaces a link there.
   fs::create_symlink(elsewhere, dir / "link");
-  EXPECT_EQ(error_of([&] { util::OutputLock lock(dir.path(), false); }), "");
+  EXPECT_EQ(test::thrown_message([&] { util::OutputLock lock(dir.path(), false); }), "");
   // Through the CLI: exit 2, and nothing written through the link.
   fs::create_directories(out);
   fs::create_symlink(elsewhere, out / "vulkan");
   const auto r = test::run_aovar("generate --variants 'alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp' --targets vulkan "
                                  "--no-cache --out " + out.string());
   EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_TRUE(contains(r.output, "vulkan: error: a symbolic link inside the output folder")) << r.output;
+  EXPECT_TRUE(test::has_text(r.output, "vulkan: error: a symbolic link inside the output folder")) << r.output;
   EXPECT_TRUE(fs::is_empty(elsewhere));
 }
 

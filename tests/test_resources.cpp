@@ -14,8 +14,6 @@
 namespace {
 using namespace aovar;
 namespace fs = std::filesystem;
-using test::contains;
-using test::error_of;
 using test::TempDir;
 
 void write(const fs::path& p, const std::string& text) {
@@ -43,7 +41,7 @@ std::string gltf_naming(const std::string& uri, std::uint64_t byte_length = 36, 
 std::string load_error(const fs::path& gltf, std::uint64_t memory_limit = 64u << 20) {
   scene::LoadOptions o;
   o.memory_limit = memory_limit;
-  return error_of([&] { scene::load_scene(gltf.string(), o); });
+  return test::thrown_message([&] { scene::load_scene(gltf.string(), o); });
 }
 
 TEST(ScenePaths, BuffersBesideOrBelowTheSceneLoad) {
@@ -56,7 +54,7 @@ TEST(ScenePaths, BuffersBesideOrBelowTheSceneLoad) {
     write(dir / "scene/s.gltf", gltf_naming(uri));
     const std::string e = load_error(dir / "scene/s.gltf");
     if (uri.ends_with(".missing"))  // ".." inside a name is not a segment: allowed, and then not found
-      EXPECT_TRUE(contains(e, "cannot open")) << e;
+      EXPECT_TRUE(test::has_text(e, "cannot open")) << e;
     else
       EXPECT_EQ(e, "") << uri;
   }
@@ -103,14 +101,14 @@ TEST(ScenePaths, EveryWayOutOfTheFolderIsRefusedNamingSceneAndUri) {
   for (const auto& [uri, why] : cases) {
     write(dir / "scene/s.gltf", gltf_naming(uri));
     const std::string e = load_error(dir / "scene/s.gltf");
-    EXPECT_TRUE(contains(e, "s.gltf: error: buffer 0 '")) << uri << ": " << e;
-    EXPECT_TRUE(contains(e, why)) << uri << ": " << e;
+    EXPECT_TRUE(test::has_text(e, "s.gltf: error: buffer 0 '")) << uri << ": " << e;
+    EXPECT_TRUE(test::has_text(e, why)) << uri << ": " << e;
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
   }
   // An image is never read (AO needs no texture), but the same policy holds for it.
   write(dir / "scene/s.gltf", gltf_naming("tri.bin", 36, "../secret.png"));
   const std::string image = load_error(dir / "scene/s.gltf");
-  EXPECT_TRUE(contains(image, "s.gltf: error: image 0 '../secret.png' is refused: it has a '..' segment")) << image;
+  EXPECT_TRUE(test::has_text(image, "s.gltf: error: image 0 '../secret.png' is refused: it has a '..' segment")) << image;
   write(dir / "scene/s.gltf", gltf_naming("tri.bin", 36, "textures/missing.png"));
   EXPECT_EQ(load_error(dir / "scene/s.gltf"), "");
 }
@@ -135,11 +133,11 @@ TEST(SceneBuffers, DeclaredAndRealSizesAreCheckedBeforeReading) {
   fs::resize_file(dir / "s/huge.bin", 50'000'000'000ull);
   write(dir / "s/a.gltf", gltf_naming("huge.bin"));
   std::string e = load_error(dir / "s/a.gltf");
-  EXPECT_TRUE(contains(e, "a.gltf: error: buffer 0 'huge.bin': is a file of 46.6 GiB, more than the")) << e;
+  EXPECT_TRUE(test::has_text(e, "a.gltf: error: buffer 0 'huge.bin': is a file of 46.6 GiB, more than the")) << e;
   // A byteLength of 50 GB on a small file.
   write(dir / "s/a.gltf", gltf_naming("tri.bin", 50'000'000'000ull));
   e = load_error(dir / "s/a.gltf");
-  EXPECT_TRUE(contains(e, "a.gltf: error: buffer 0 'tri.bin': declares a byteLength of 46.6 GiB")) << e;
+  EXPECT_TRUE(test::has_text(e, "a.gltf: error: buffer 0 'tri.bin': declares a byteLength of 46.6 GiB")) << e;
   // Two buffers that fit alone but not together.
   { std::ofstream(dir / "s/40m.bin"); }
   fs::resize_file(dir / "s/40m.bin", 40u << 20);
@@ -148,12 +146,12 @@ TEST(SceneBuffers, DeclaredAndRealSizesAreCheckedBeforeReading) {
   two.insert(buffers, R"({"byteLength": 41943040, "uri": "40m.bin"}, )");
   write(dir / "s/two.gltf", two);
   e = load_error(dir / "s/two.gltf");
-  EXPECT_TRUE(contains(e, "two.gltf: error: buffer 1 '40m.bin'")) << e;
+  EXPECT_TRUE(test::has_text(e, "two.gltf: error: buffer 1 '40m.bin'")) << e;
   // A FIFO and a directory named as buffers: the checked reader refuses them without blocking.
   ASSERT_EQ(::mkfifo((dir / "s/fifo.bin").c_str(), 0644), 0);
   write(dir / "s/a.gltf", gltf_naming("fifo.bin"));
   e = load_error(dir / "s/a.gltf");
-  EXPECT_TRUE(contains(e, "a.gltf: error: cannot read a buffer:") && contains(e, "it is a FIFO")) << e;
+  EXPECT_TRUE(test::has_text(e, "a.gltf: error: cannot read a buffer:") && test::has_text(e, "it is a FIFO")) << e;
 }
 
 }  // namespace

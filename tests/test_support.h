@@ -32,7 +32,7 @@ std::filesystem::path aovar_executable();             // the built CLI's path
 
 // The message of the std::exception that `f` throws ("" when it throws none).
 template <class F>
-std::string error_of(F&& f) {
+std::string thrown_message(F&& f) {
   try {
     f();
   } catch (const std::exception& e) {
@@ -41,6 +41,6 @@ std::string error_of(F&& f) {
   return "";
 }
 
-inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+inline bool has_text(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 }  // namespace aovar::test

@@ -1,6 +1,7 @@
 #include "util/out_lock.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <sys/file.h>
 #include <unistd.h>
 
@@ -34,6 +35,15 @@ fs::path first_link_below(const fs::path& folder) {
   return {};
 }
 
+// True when `folder` holds nothing but its lock file.
+bool only_the_lock_in(const fs::path& folder) {
+  std::error_code ec;
+  int entries = 0;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
+    if (++entries > 1 || it->path().filename() != kLockFileName) return false;
+  return !ec && entries == 1;
+}
+
 // The descriptors of this process's locks, for the fork handler (a child must not keep a folder locked).
 constexpr int kMaxLocks = 8;
 std::atomic<int> g_lock_fds[kMaxLocks] = {-1, -1, -1, -1, -1, -1, -1, -1};
@@ -59,35 +69,51 @@ void untrack(int fd) {
   }
 }
 
+// True when `fd` is still the file at `path`: a lock taken on a lock file that a finishing run has just
+// removed (below) locks nothing, and is taken again on the new file.
+bool still_named(int fd, const fs::path& path) {
+  struct stat a {}, b {};
+  return ::fstat(fd, &a) == 0 && ::stat(path.c_str(), &b) == 0 && a.st_dev == b.st_dev && a.st_ino == b.st_ino;
+}
+
 }  // namespace
 
-OutputLock::OutputLock(const fs::path& folder, bool refuse_links) : path_(folder / kLockFileName) {
+OutputLock::OutputLock(const fs::path& folder, bool refuse_links)
+    : folder_(folder.empty() ? fs::path(".") : folder), path_(folder_ / kLockFileName) {
   std::error_code ec;
-  fs::create_directories(folder.empty() ? fs::path(".") : folder, ec);
-  // O_CLOEXEC: programs aovar runs (a compiler, a browser) must not keep the folder locked after it exits.
-  fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
-  if (fd_ < 0)
-    throw std::runtime_error(fmt::format("{}: error: cannot create the output folder's lock: {} (check that the "
-                                         "folder is writable)",
-                                         display_path(path_), std::strerror(errno)));
-  int rc;
-  while ((rc = ::flock(fd_, LOCK_EX | LOCK_NB)) != 0 && errno == EINTR) {
-  }
-  if (rc != 0) {
-    const int error = errno;
-    ::close(fd_);
-    fd_ = -1;
-    if (error == EWOULDBLOCK)
-      throw std::runtime_error(fmt::format(
-          "{}: error: another aovar is writing into {} (it holds this lock); wait for it to finish, or give "
-          "another output folder",
-          display_path(path_), display_path(folder.empty() ? fs::path(".") : folder)));
-    throw std::runtime_error(
-        fmt::format("{}: error: cannot lock the output folder: {}", display_path(path_), std::strerror(error)));
+  created_folder_ = !fs::exists(folder_, ec);
+  fs::create_directories(folder_, ec);
+  for (int attempt = 0; fd_ < 0; ++attempt) {
+    // O_CLOEXEC: programs aovar runs (a compiler, a browser) must not keep the folder locked after it exits.
+    fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd_ < 0)
+      throw std::runtime_error(fmt::format("{}: error: cannot create the output folder's lock: {} (check that the "
+                                           "folder is writable)",
+                                           display_path(path_), std::strerror(errno)));
+    int rc;
+    while ((rc = ::flock(fd_, LOCK_EX | LOCK_NB)) != 0 && errno == EINTR) {
+    }
+    if (rc != 0) {
+      const int error = errno;
+      ::close(fd_);
+      fd_ = -1;
+      if (error == EWOULDBLOCK)
+        throw std::runtime_error(fmt::format(
+            "{}: error: another aovar is writing into {} (it holds this lock); wait for it to finish, or give "
+            "another output folder",
+            display_path(path_), display_path(folder_)));
+      throw std::runtime_error(
+          fmt::format("{}: error: cannot lock the output folder: {}", display_path(path_), std::strerror(error)));
+    }
+    if (!still_named(fd_, path_) && attempt < 8) {
+      ::close(fd_);
+      fd_ = -1;
+      fs::create_directories(folder_, ec);
+    }
   }
   owner_ = ::getpid();
   track(fd_);
-  if (const fs::path link = refuse_links ? first_link_below(folder.empty() ? fs::path(".") : folder) : fs::path();
+  if (const fs::path link = refuse_links ? first_link_below(folder_) : fs::path();
       !link.empty()) {
     untrack(fd_);
     ::close(fd_);
@@ -102,6 +128,13 @@ OutputLock::OutputLock(const fs::path& folder, bool refuse_links) : path_(folder
 
 OutputLock::~OutputLock() {
   if (fd_ < 0 || ::getpid() != owner_) return;  // in a forked child the fork handler closed it already
+  // A run that made the folder and wrote nothing (it failed) leaves no folder behind: the lock file goes
+  // while still held (a process waiting on it sees it unnamed and locks the new one), then the folder.
+  if (created_folder_ && only_the_lock_in(folder_)) {
+    std::error_code ec;
+    fs::remove(path_, ec);
+    fs::remove(folder_, ec);  // fails, harmlessly, when a new run has put its lock there meanwhile
+  }
   untrack(fd_);
   ::close(fd_);  // closing the last descriptor releases the flock
 }

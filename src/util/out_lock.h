@@ -3,8 +3,9 @@
 // generate's folder matching neither selection), so every command that writes an output folder holds an
 // exclusive flock(2) on OUT/.aovar.lock while it runs; a second one is refused, naming the lock. The kernel
 // releases the lock when the process exits or is killed, so a killed run never leaves a stale lock and
-// kill-anywhere resumption keeps working. The lock file stays (empty): removing it would race with a
-// process that has just opened it.
+// kill-anywhere resumption keeps working. The lock file stays (empty), except that a run which made the
+// folder and wrote nothing into it (it failed) removes both again: "when anything fails, nothing is
+// written". A process that locked the file just as it was removed sees it unnamed and locks the new one.
 //
 // Symbolic links inside an output folder are refused when the lock is taken, naming the link: every writer
 // writes below the folder it was given (and `report` embeds only what resolves there), so a link such as
@@ -36,7 +37,8 @@ class OutputLock {
   const std::filesystem::path& path() const { return path_; }
 
  private:
-  std::filesystem::path path_;
+  std::filesystem::path folder_, path_;
+  bool created_folder_ = false;  // this lock made the folder: removed again if nothing else was put there
   int fd_ = -1;
   pid_t owner_ = -1;  // the process that took it: a forked copy of this object closes nothing
 };
