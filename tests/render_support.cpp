@@ -155,7 +155,7 @@ PickedVariants pick_variants(const std::vector<std::vector<std::string>>& kinds,
 std::vector<std::vector<std::string>> method_kinds(const std::string& algorithm) {
   const std::string a = algorithm + "-";
   return {
-      {a + "s08-p0-nrgb8-zdep-rst-d32-bno-x1-hp", a + "s08-p0-*-zdep-*-d32-bno-x1-?p"},  // ?p: not -zmip
+      {a + "s08-p0-nrgb8-zdep-rst-d32-bno-x1-hp", a + "s08-p0-*-zdep-*-d32-bno-x1-??"},  // ??: not -zmip
       {a + "s16-p0-nrgb8-zdep-rip-d32-bsep-x1-hp", a + "s16-p0-*-zdep-*-d32-bsep-x1-hp"},
       {a + "s16-p1-noct-zdep-rst-d16-bsep-x2-mp", a + "s16-p1-*-zdep-*-d16-bsep-x2-mp",
        a + "s16-p0-*-zdep-*-d16-bsep-x2-mp"},

@@ -98,7 +98,7 @@ TEST(CheckedReader, TemplateAndIncludeThatAreNotFilesNameTheirLine) {
     EXPECT_TRUE(test::has_text(e, why)) << e;
   }
   util::write_atomic(alchemy, original);
-  test::replace_in_file(manifest, "template = \"ao/{algorithm}.glsl\"", "template = \"/dev/zero\"");
+  test::replace_in_file(manifest, "template = \"ao/{depth_mip}/{algorithm}.glsl\"", "template = \"/dev/zero\"");
   const std::string e = test::thrown_message([&] { compile::plan_space(manifest, one_variant()); });
   EXPECT_TRUE(test::has_text(e, "aovar.toml:")) << e;
   EXPECT_TRUE(test::has_text(e, "error: template '/dev/zero' (/dev/zero): it is a character device")) << e;

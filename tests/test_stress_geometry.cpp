@@ -281,7 +281,7 @@ const MethodVariants& method_variants(const std::string& algorithm) {
   if (it == cache.end()) {
     auto kinds = method_kinds(algorithm);
     const std::string a = algorithm + "-";
-    kinds.push_back({a + "s08-p0-nrgb8-zdep-rst-d16-bno-x1-hp", a + "s08-p0-*-zdep-*-d16-bno-x1-?p"});  // kPlainR16f
+    kinds.push_back({a + "s08-p0-nrgb8-zdep-rst-d16-bno-x1-hp", a + "s08-p0-*-zdep-*-d16-bno-x1-??"});  // kPlainR16f (??: not -zmip)
     it = cache.emplace(algorithm, pick_variants(kinds)).first;
   }
   return it->second;

@@ -90,7 +90,9 @@ CostTable sample_table() {
   ao.alu_ms = 0.25;
   ao.est_ms = 0.25;
   ao.bound = "alu";
-  a.gpu["navi21"] = {"Radeon RX 6800 XT", "Mesa 25.0.7", "1920x1080", 0.25, {ao}};
+  ao.dram_bytes_per_pixel = 8;  // the traced cache model's columns (issue 33), a NaN hit rate among them
+  ao.levels = {{"L0", 0.5, 40, 0.01}, {"L2", NAN, 12, 0.02}};
+  a.gpu["navi21"] = {"Radeon RX 6800 XT", "Mesa 25.0.7", "1920x1080", "overview", 0.25, {ao}};
   CostRow b = row("hbao-s16", 0.1 + 0.2, std::nullopt, "view, \"two\"\nnext");
   b.predicted = true;
   b.pareto = true;

@@ -90,11 +90,15 @@ std::string empty_selection(const compile::CompiledSpace& c, const MeasureOption
     return fmt::format("{}: the rules drop all {} variants of the space (aovar list --pruned shows which rule drops "
                        "what): loosen a rule",
                        where, c.space.space);
-  if (!o.globs.empty() && c.space.variants.empty())
+  // The compiled space also holds the baseline: count only the variants the globs select.
+  const auto matching = o.globs.empty() ? c.space.variants.size()
+                                        : std::size_t(std::count_if(c.space.variants.begin(), c.space.variants.end(),
+                                                                    [&](const auto& v) { return util::glob_any(o.globs, v.key); }));
+  if (!o.globs.empty() && matching == 0)
     return fmt::format("{}: no variant matches --variants {} (aovar list shows the keys)", where, fmt::join(o.globs, " "));
   return fmt::format("{}: every selected variant ({}{}) is left out by --skip or the scene's profile (aovar list "
                      "--scene shows what the profile drops)",
-                     where, c.space.variants.size(), o.globs.empty() ? "" : " matching --variants " + fmt::format("{}", fmt::join(o.globs, " ")));
+                     where, matching, o.globs.empty() ? "" : " matching --variants " + fmt::format("{}", fmt::join(o.globs, " ")));
 }
 
 // --param: each override must be a parameter of at least one selected variant (variants without it, e.g.
