@@ -57,11 +57,7 @@ TrafficStats add_row_traffic(const std::vector<table::CostRow*>& rows, const Row
     const TrafficStats s = add_traffic(runner, variants, view, radius, loads, request.frame, costs, options);
     for (table::CostRow* r : view_rows)
       if (auto it = costs.find(r->variant); it != costs.end()) r->gpu = it->second;
-    total.traced_draws += s.traced_draws;
-    total.shared_draws += s.shared_draws;
-    total.simulations += s.simulations;
-    total.trace_seconds += s.trace_seconds;
-    total.simulate_seconds += s.simulate_seconds;
+    total += s;
   }
   return total;
 }

@@ -16,6 +16,11 @@ namespace aovar::trace {
 struct TrafficStats {
   int traced_draws = 0, shared_draws = 0, simulations = 0;
   double trace_seconds = 0, simulate_seconds = 0;
+  TrafficStats& operator+=(const TrafficStats& o) {
+    traced_draws += o.traced_draws, shared_draws += o.shared_draws, simulations += o.simulations;
+    trace_seconds += o.trace_seconds, simulate_seconds += o.simulate_seconds;
+    return *this;
+  }
 };
 
 // `costs`: variant key -> family -> cost with statistics and roofline (gpu::costs_of) for the same variants
