@@ -1,6 +1,7 @@
 #include "trace/trace_set.h"
 
 #include <algorithm>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -33,14 +34,10 @@ std::vector<const gpu::FetchTrace*> TraceSet::of(int variant) {
   const std::vector<int> draws = traceable_draws(plan);
   std::vector<std::string> keys;
   TraceOptions missing = options_;
+  std::set<std::string> missing_keys;  // two draws of one plan with one key (none today): trace the first
   for (int i : draws) {
     keys.push_back(draw_key(plan, i));
-    if (traces_.count(keys.back()) == 0 &&
-        std::find(missing.draws.begin(), missing.draws.end(), i) == missing.draws.end()) {
-      bool duplicate_in_plan = false;  // two draws of one plan with one key (none today): trace the first
-      for (int j : missing.draws) duplicate_in_plan |= draw_key(plan, j) == keys.back();
-      if (!duplicate_in_plan) missing.draws.push_back(i);
-    }
+    if (traces_.count(keys.back()) == 0 && missing_keys.insert(keys.back()).second) missing.draws.push_back(i);
   }
   shared_ += static_cast<int>(draws.size() - missing.draws.size());
   if (!missing.draws.empty()) {
