@@ -156,9 +156,9 @@ int main(int argc, char** argv) {
               bounds += fmt::format(" {} {:.4f}", l.name, l.ms);
             }
             fmt::print("{} | {} | {} | r {} | est {:.4f} ms ({}) | pass {:.4f} ms {} | DRAM B/px {:.1f} | hit{} | ms: alu "
-                       "{:.4f} texture {:.4f} latency {:.4f}{} dram {:.4f}\n",
+                       "{:.4f} texture {:.4f} latency {:.4f}{} dram {:.4f} exposed alu {:.4f}\n",
                        key, p.pass, family, r, cost.est_ms, cost.view, p.est_ms, p.bound, p.dram_bytes_per_pixel, levels,
-                       p.alu_ms, p.texture_ms, p.latency_ms, bounds, p.dram_ms);
+                       p.alu_ms, p.texture_ms, p.latency_ms, bounds, p.dram_ms, p.exposed_alu_ms);
           }
       fmt::print("radius {}: traced {} draws, shared {}, {} simulations; trace {:.1f} s, simulate {:.1f} s, total {:.1f} s\n",
                  r, st.traced_draws, st.shared_draws, st.simulations, st.trace_seconds, st.simulate_seconds,

@@ -54,8 +54,10 @@ TEST(CacheEstimate, EachBoundIsItsTrafficOverItsRateAndTheLargestWins) {
   EXPECT_NEAR(cost.latency_ms, 1e3 * 1000 * (pixels / spec.wave_size) / (cus * spec.simds_per_cu * 8) / hz, 1e-9);
   double largest = std::max({cost.alu_ms, cost.texture_ms, cost.latency_ms, cost.dram_ms});
   for (const auto& l : cost.levels) largest = std::max(largest, l.ms);
-  EXPECT_DOUBLE_EQ(cost.est_ms, largest);
-  EXPECT_FALSE(cost.bound.empty());
+  ASSERT_NE(cost.bound, "alu");
+  // The memory-bound pass also pays the compute it cannot hide: alu x (N - 1) / (N x reads per pixel).
+  EXPECT_NEAR(cost.exposed_alu_ms, 0.001 * 7 / (8 * 10), 1e-15);
+  EXPECT_DOUBLE_EQ(cost.est_ms, largest + cost.exposed_alu_ms);
 
   // More DRAM traffic, nothing else changed: only the DRAM bound moves, and it takes over once largest.
   traffic.dram_bytes *= 1000;
@@ -63,7 +65,39 @@ TEST(CacheEstimate, EachBoundIsItsTrafficOverItsRateAndTheLargestWins) {
   gpu::apply_cache_model(more, load, spec, frame, traffic);
   EXPECT_NEAR(more.dram_ms, 1000 * cost.dram_ms, 1e-6);
   EXPECT_EQ(more.bound, "dram");
-  EXPECT_DOUBLE_EQ(more.est_ms, more.dram_ms);
+  EXPECT_DOUBLE_EQ(more.est_ms, more.dram_ms + more.exposed_alu_ms);
+}
+
+// Two memory-bound passes with the same traffic tie under a plain roofline; the one with more ALU must cost more
+// (Hong and Kim 2009), and a pass whose ALU is the bound pays nothing extra.
+TEST(CacheEstimate, MoreAluCostsMoreOnTheSameTrafficAndAnAluBoundPassPaysNoOverlap) {
+  const gpu::FamilySpec& spec = *gpu::family_spec("navi21");
+  gpu::CacheSimResult traffic;
+  traffic.pixels = 1000;
+  traffic.reads = 16000;
+  traffic.dram_bytes = 200000;
+  for (std::size_t k = 0; k < spec.caches.size(); ++k)
+    traffic.levels.push_back(stats(spec.caches[k].name, 16000, 4000, 512000));
+  gpu::PassLoad load;
+  load.pass = "ao";
+  const gpu::Frame frame{1920, 1080};
+  auto estimate = [&](double alu_ms) {
+    table::GpuPassCost cost;
+    cost.alu_ms = alu_ms;
+    cost.latency = 100;
+    cost.waves_per_simd = 10;
+    gpu::apply_cache_model(cost, load, spec, frame, traffic);
+    return cost;
+  };
+  const table::GpuPassCost lean = estimate(0.010), busy = estimate(0.020);
+  ASSERT_NE(lean.bound, "alu");
+  ASSERT_EQ(lean.bound, busy.bound);
+  EXPECT_GT(busy.est_ms, lean.est_ms);
+  EXPECT_GT(lean.exposed_alu_ms, 0.0);
+  const table::GpuPassCost alu_bound = estimate(1e3);
+  EXPECT_EQ(alu_bound.bound, "alu");
+  EXPECT_EQ(alu_bound.exposed_alu_ms, 0.0);
+  EXPECT_DOUBLE_EQ(alu_bound.est_ms, 1e3);
 }
 
 // Bytes per pixel the AO pass pulls from beyond the per-CU cache, on a wall-and-floor scene at radius r.

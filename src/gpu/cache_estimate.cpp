@@ -1,5 +1,6 @@
 #include "gpu/cache_estimate.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace aovar::gpu {
@@ -21,6 +22,20 @@ void take(table::GpuPassCost& cost, double ms, const std::string& name) {
     cost.est_ms = ms;
     cost.bound = name;
   }
+}
+
+// Hong and Kim 2009 (§4, "memory-bound" case): a wave computes between two memory instructions, and while the
+// memory system serves the MWP waves in flight, the compute period of one of them per turn is not hidden:
+// Comp_p x (MWP - 1) per repetition of N waves, Comp_p = compute cycles / memory instructions. Summed over the
+// repetitions that is alu_ms x (MWP - 1) / (N x M). MWP is taken at its upper bound, the occupancy N (the
+// model's MWP also needs a departure delay per miss, which the public specs do not give). Without it, the max
+// of the roofline hides every in-core difference of a memory-bound pass: methods that read the same number of
+// lines tie exactly. Zero for an ALU-bound pass; NaN where a statistic is missing.
+double exposed_alu_ms(const table::GpuPassCost& cost, double reads_per_pixel) {
+  if (std::isnan(cost.alu_ms) || std::isnan(cost.waves_per_simd) || cost.waves_per_simd < 1) return NAN;
+  if (cost.bound == "alu" || reads_per_pixel <= 0) return 0.0;
+  const double mwp = cost.waves_per_simd;
+  return cost.alu_ms * (mwp - 1) / (cost.waves_per_simd * std::max(1.0, reads_per_pixel));
 }
 
 }  // namespace
@@ -69,6 +84,8 @@ void apply_cache_model(table::GpuPassCost& cost, const PassLoad& load, const Fam
   take(cost, cost.texture_ms, "texture");
   take(cost, cost.latency_ms, "latency");
   take(cost, cost.bandwidth_ms, widest);
+  cost.exposed_alu_ms = exposed_alu_ms(cost, reads);
+  if (!std::isnan(cost.exposed_alu_ms)) cost.est_ms += cost.exposed_alu_ms;
 }
 
 }  // namespace aovar::gpu

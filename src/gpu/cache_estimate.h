@@ -15,7 +15,9 @@ namespace aovar::gpu {
 //   latency   = ACO latency x waves / (CUs x SIMDs x waves per SIMD) / clock    miss latency the occupancy hides
 //   level k   = bytes through k x pixels / (instances x bytes per clock x clock)
 //   dram      = DRAM bytes x pixels / memory bandwidth
-//   est       = max(alu, texture, latency, every level, dram); bound names the largest.
+//   est       = max(alu, texture, latency, every level, dram) + exposed ALU; bound names the largest.
+//   exposed   = the ALU time a memory-bound pass cannot hide behind its misses (Hong and Kim 2009):
+//               alu x (N - 1) / (N x reads per pixel), N the waves per SIMD; 0 when ALU is the bound.
 void apply_cache_model(table::GpuPassCost& cost, const PassLoad& load, const FamilySpec& spec, Frame frame,
                        const CacheSimResult& traffic);
 

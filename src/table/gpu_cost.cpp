@@ -24,13 +24,13 @@ auto stats_of(Pass& p) {
   return std::tie(p.draws, p.pixel_share, p.vgprs, p.sgprs, p.spill_vgprs, p.spill_sgprs, p.waves_per_simd,
                   p.instructions, p.shipped_instructions, p.valu, p.salu, p.vmem, p.smem, p.latency,
                   p.inverse_throughput, p.code_size, p.fetches, p.bytes_per_pixel, p.alu_ms, p.texture_ms,
-                  p.bandwidth_ms, p.est_ms, p.dram_bytes_per_pixel, p.dram_ms, p.latency_ms);
+                  p.bandwidth_ms, p.est_ms, p.dram_bytes_per_pixel, p.dram_ms, p.latency_ms, p.exposed_alu_ms);
 }
 constexpr const char* kStatNames[] = {"draws", "pixel_share", "vgprs", "sgprs", "spill_vgprs", "spill_sgprs",
                                       "waves_per_simd", "instructions", "shipped_instructions", "valu", "salu",
                                       "vmem", "smem", "latency", "inverse_throughput", "code_size", "fetches",
                                       "bytes_per_pixel", "alu_ms", "texture_ms", "bandwidth_ms", "est_ms",
-                                      "dram_bytes_per_pixel", "dram_ms", "latency_ms"};
+                                      "dram_bytes_per_pixel", "dram_ms", "latency_ms", "exposed_alu_ms"};
 
 template <typename Tuple, typename F>
 void each_stat(Tuple&& t, F&& f) {

@@ -31,6 +31,8 @@ struct GpuPassCost {
   // DRAM and latency bounds, and per cache level (nearest first) its hit rate, the bytes per pixel through it
   // and its bandwidth bound.
   double dram_bytes_per_pixel = NAN, dram_ms = NAN, latency_ms = NAN;
+  // The ALU time a memory-bound pass does not hide behind its misses, included in est_ms (0 when ALU-bound).
+  double exposed_alu_ms = NAN;
   struct Level {
     std::string name;
     double hit_rate = NAN, bytes_per_pixel = NAN, ms = NAN;
