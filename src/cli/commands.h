@@ -27,5 +27,6 @@ Command add_merge(CLI::App& app);
 Command add_report(CLI::App& app);
 Command add_stress(CLI::App& app);
 Command add_sweep(CLI::App& app);
+Command add_ship(CLI::App& app);
 
 }  // namespace aovar::cli

@@ -39,5 +39,6 @@ Command add_merge(CLI::App& app) { return unavailable(app, "merge", "join shard 
 Command add_report(CLI::App& app) { return unavailable(app, "report", "report.md and report.html from a cost table"); }
 Command add_stress(CLI::App& app) { return unavailable(app, "stress", "numerical stability of every variant"); }
 Command add_sweep(CLI::App& app) { return unavailable(app, "sweep", "variants x scenes x views against the reference"); }
+Command add_ship(CLI::App& app) { return unavailable(app, "ship", "from a scene to the variant to ship"); }
 
 }  // namespace aovar::cli

@@ -27,11 +27,6 @@
 
 namespace aovar::profile {
 namespace {
-// A view where more than this share of the geometry pixels has buffered normals leaning over 10 degrees
-// from their faces shows a mesh smoothed across its edges (Sponza's overview: over 10 %; the built-in scenes,
-// the Stanford scans and the Van Gogh room: under 10 %; figures in docs/calibration.md).
-constexpr double kSmoothedNormalsShare = 0.10;
-
 
 using variants::Axis;
 using json = nlohmann::json;
@@ -499,6 +494,11 @@ json to_json(const Profile& p) {
   return {{"schema_version", util::kSchemaVersion}, {"tool", "aovar profile"}, {"scene", p.scene}, {"scene_hash", p.scene_hash}, {"radius", p.radius},
           {"size", fmt::format("{}x{}", p.size.width, p.size.height)}, {"flicker_pair", p.flicker_pair},
           {"views", views}, {"decisions", decisions}};
+}
+
+bool buffered_normals_lean(const Profile& p) {
+  return std::any_of(p.views.begin(), p.views.end(),
+                     [](const ViewProfile& v) { return v.shading_normal_share_over_10deg > kSmoothedNormalsShare; });
 }
 
 Profile profile_from_json(const json& j) {

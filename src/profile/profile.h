@@ -140,6 +140,14 @@ std::vector<SkyTiming> time_against_background(render::Backend& backend, const r
                                                const scene::Scene& scene, const std::vector<SkyView>& views,
                                                render::Extent size, int reps);
 
+// A view where more than this share of the geometry pixels has buffered normals leaning over 10 degrees
+// from their faces shows a mesh smoothed across its edges (Sponza's overview: over 10 %; the built-in scenes,
+// the Stanford scans and the Van Gogh room: under 10 %; figures in docs/calibration.md).
+inline constexpr double kSmoothedNormalsShare = 0.10;
+// Whether some view of the profile shows such a lean: normals derived from depth then match the reference
+// better than buffered ones (docs/calibration.md, "Buffered normals that lean from the faces").
+bool buffered_normals_lean(const Profile& profile);
+
 nlohmann::json to_json(const Profile& profile);
 // The inverse of to_json (a profile.json read back); throws nlohmann::json errors on a malformed one.
 Profile profile_from_json(const nlohmann::json& json);

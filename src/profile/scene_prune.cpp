@@ -114,6 +114,7 @@ ScenePruning prune_scene(const PruneOptions& o, const scene::Scene& sc, const st
   }
 
   auto pruned = prune(manifest, space, *p, globs);
+  out.profile = *p;
   out.kept = std::move(pruned.kept);
   for (std::size_t i = 0; i < pruned.dropped.size(); ++i)
     out.dropped.push_back({pruned.dropped[i].first, pruned.rules[i], pruned.dropped[i].second});

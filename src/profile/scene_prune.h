@@ -28,6 +28,7 @@ struct ScenePruning {
   std::string scene;
   std::vector<std::string> kept;       // of the variants the globs given to prune_scene select, sorted
   std::vector<PrunedVariant> dropped;  // the others, sorted by key
+  Profile profile;                     // what the decisions were taken on
   std::string profile_file;            // where the profile is stored (empty without an output folder)
   bool reused = false;                 // read back from profile_file (its inputs were unchanged)
   double seconds = 0;                  // profiling (or reading back) and pruning

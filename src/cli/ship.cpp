@@ -1,0 +1,88 @@
+// aovar ship: from a scene to the variant to ship in one command (profile, fit, race, select on held-out views).
+#include <fmt/format.h>
+
+#include <iostream>
+#include <memory>
+
+#include "cli/commands.h"
+#include "cli/options.h"
+#include "cli/render_options.h"
+#include "ship/ship.h"
+
+namespace aovar::cli {
+namespace {
+
+struct ShipArgs {
+  CommonOptions common;
+  ship::ShipOptions options;
+  std::string size = default_size, fit_size = "320x180", out, views_file;
+  GpuOption gpu;  // only --gpu-size and --gpu-window apply; the family is --target
+};
+
+ExitCode run_ship(const ShipArgs& a) {
+  ship::ShipOptions o = a.options;
+  o.manifest = a.common.manifest;
+  o.globs = a.common.globs;
+  o.jobs = a.common.jobs;
+  o.size = parse_size(a.size);
+  o.fit_size = parse_size(a.fit_size);
+  o.views_file = a.views_file;
+  o.cache_dir = a.common.cache();
+  o.gpu_frame = a.gpu.frame_size();
+  o.gpu_window = a.gpu.window;
+  o.out = a.out;
+  if (!o.target.empty()) {  // checked before anything is profiled or fitted
+    GpuOption family = a.gpu;
+    family.families = o.target;
+    if (family.family_list().size() != 1) throw std::runtime_error("--target takes one AMD family");
+  }
+  if (o.race_reps < 6) throw std::runtime_error("--race-reps must be at least 6 (fewer rounds give no 95 % interval)");
+  if (o.fit_evaluations < 1) throw std::runtime_error("--evaluations must be at least 1");
+  const auto lock = lock_output(o.out);
+  auto r = with_status([&](const auto& progress) { return ship::run_ship(o, progress); });
+  std::cout << ship::to_text(r, o);
+  return r.selection.ok ? ExitCode::ok : ExitCode::check_failed;
+}
+
+}  // namespace
+
+Command add_ship(CLI::App& app) {
+  auto a = std::make_shared<ShipArgs>();
+  auto& so = a->options;
+  auto* cmd = app.add_subcommand("ship", "from a scene to the variant to ship: profile, fit on the training views, "
+                                         "race the pruned space, select on the held-out views");
+  add_common(cmd, a->common);
+  cmd->add_option("--scene,-s", so.scene, "the scene: builtin:atrium|spheres|stairs|cornell or a mesh file")->capture_default_str();
+  cmd->add_option("--views-file", a->views_file, "views side file (TOML or JSON) for the scene");
+  cmd->add_option("--holdout-view", so.holdout_views,
+                  "held-out view the choice is made on (repeatable; default: every third view of the scene)");
+  auto* target = cmd->add_option("--target", so.target,
+                                 "an AMD family: time is the traced estimate on it (one render per variant for the error)");
+  cmd->add_option("--backend,-b", so.backend, "the measured backend (lavapipe, osmesa, gles)")->capture_default_str()->excludes(target);
+  auto* budget = cmd->add_option("--budget-ms", so.query.budget_ms, "lowest error with time <= this")->check(finite_number(0, true));
+  auto* budget_of = cmd->add_option("--budget-of", so.query.budget_of, "a variant key: no slower than it (beyond the noise)")
+                        ->excludes(budget);
+  cmd->add_option("--max-error", so.query.max_error, "the fastest variant with error.rmse <= this")
+      ->check(finite_number(0, false))
+      ->excludes(budget)
+      ->excludes(budget_of);
+  cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
+  cmd->add_option("--fit-size", a->fit_size, "calibration render size WxH")->capture_default_str();
+  cmd->add_option("--evaluations", so.fit_evaluations, "objective evaluations per method fit")->capture_default_str();
+  cmd->add_option("--race-reps", so.race_reps, "timed rounds of the first round of the race")->capture_default_str();
+  cmd->add_option("--ci-target", so.final_reps.ci_target,
+                  "the last round: rounds until each row's 95 % interval half-width is within this share")
+      ->capture_default_str();
+  cmd->add_option("--reps-cap-s", so.final_reps.cap_s, "the last round: seconds of timed frames per pipeline at most")
+      ->capture_default_str();
+  cmd->add_option("--rays", so.rays, "reference rays per pixel")->capture_default_str();
+  cmd->add_option("--threads", so.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
+  cmd->add_option("--gpu-size", a->gpu.frame, "with --target: the frame the estimate is for")->capture_default_str();
+  cmd->add_option("--gpu-window", a->gpu.window, "with --target: share of each draw traced (centred window)")
+      ->check(CLI::Range(0.05, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--out,-o", a->out, "output folder: cost_table.json, report.html, calibration.json, the rounds")->required();
+  return {cmd, [a] { return run_ship(*a); }};
+}
+
+}  // namespace aovar::cli

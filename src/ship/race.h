@@ -1,0 +1,25 @@
+#pragma once
+// The elimination rule of `aovar ship`'s race (issue 35; the idea of F-race, Birattari et al. 2002): a
+// candidate leaves the race once another one is both faster beyond the noise (table/time_compare.h: its
+// 95 % interval of the time ratio excludes 1) and strictly more accurate, each aggregated over the views the
+// race is run on (their worst, as `aovar select` aggregates). A candidate tied on time with everything more
+// accurate stays: the next round, with more repetitions, may still separate them. With a GPU target the time
+// is the deterministic estimate, so "faster" is simply a smaller estimate.
+#include <string>
+#include <vector>
+
+#include "table/table.h"
+
+namespace aovar::ship {
+
+struct Elimination {
+  std::string variant, backend;
+  std::string by;      // the variant that dominates it
+  std::string reason;  // "slower than X beyond the noise (1.21x [1.10, 1.33], paired rounds) with more error (0.071 > 0.064)"
+};
+
+// Every candidate of `rows` (one per variant and backend; rows without an error, or without an estimate on
+// `target` when one is given, are not candidates) that another candidate dominates as above. Sorted by variant.
+std::vector<Elimination> dominated_beyond_noise(const table::CostTable& rows, const std::string& target = "");
+
+}  // namespace aovar::ship

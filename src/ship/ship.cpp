@@ -1,0 +1,296 @@
+#include "ship/ship.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "calibrate/calibrate.h"
+#include "calibrate/file.h"
+#include "profile/scene_prune.h"
+#include "report/report.h"
+#include "scene/scene.h"
+#include "sweep/sweep.h"
+#include "util/clock.h"
+#include "util/fs.h"
+#include "util/hash.h"
+#include "variants/manifest.h"
+#include "variants/space.h"
+
+namespace aovar::ship {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+void check_query(const table::SelectQuery& q) {
+  const int criteria = int(q.budget_ms.has_value()) + int(!q.budget_of.empty()) + int(q.max_error.has_value());
+  if (criteria != 1) throw std::runtime_error("ship: give exactly one of --budget-of KEY, --budget-ms X, --max-error E");
+}
+
+// The variants the globs select whose normals come from a buffer (rgb8, rg8, oct16): with a lean, normals
+// derived from depth match the reference better (docs/calibration.md), so the search leaves these out.
+std::set<std::string> buffered_normal_variants(const variants::Manifest& manifest, const std::vector<std::string>& globs) {
+  const int axis = variants::index(variants::Axis::normals);
+  std::set<std::string> keys;
+  for (const auto& e : variants::build_space(manifest, globs).variants)
+    if (e.point[axis] >= 0 && manifest.values[axis][e.point[axis]].text != "depth") keys.insert(e.key);
+  return keys;
+}
+
+std::string lean_text(const profile::Profile& p) {
+  std::string s;
+  for (const auto& v : p.views)
+    if (v.shading_normal_share_over_10deg >= 0)
+      s += fmt::format("{}{} {:.0f}%", s.empty() ? "" : ", ", v.view, 100 * v.shading_normal_share_over_10deg);
+  return s.empty() ? "not measured" : "buffered normals over 10 deg from their faces on " + s + " of the geometry";
+}
+
+// What the calibration depends on: when OUT/ship.json recorded the same, OUT/calibration.json is reused.
+std::string fit_inputs(const ShipOptions& o, const scene::Scene& sc, const calibrate::ViewSplit& split,
+                       const std::string& normals) {
+  util::Hasher h;
+  h.add(util::read_file(o.manifest).value_or("")).add(sc.content_hash).add(normals).add(o.backend);
+  for (const auto* group : {&split.training, &split.holdout})
+    for (const auto& v : *group) h.add(v.view).add(uint64_t(group == &split.training));
+  for (const auto& v : sc.views)
+    h.add(fmt::format("{} {} {} {} {} {} {} {}", v.name, v.eye.x, v.eye.y, v.eye.z, v.target.x, v.target.y, v.target.z, v.fov_y_deg));
+  h.add(uint64_t(o.fit_size.width)).add(uint64_t(o.fit_size.height)).add(uint64_t(o.fit_evaluations)).add(uint64_t(o.rays));
+  return h.hex();
+}
+
+struct Fitted {
+  std::map<std::string, render::ParamOverrides> values;
+  calibrate::CalibrationSource source;
+  bool reused = false;
+};
+
+Fitted fit_methods(const ShipOptions& o, const scene::Scene& sc, const calibrate::ViewSplit& split,
+                   const std::string& normals, const variants::Manifest& manifest, const Progress& progress) {
+  const fs::path file = o.out / "calibration.json", state = o.out / "ship.json";
+  const std::string inputs = fit_inputs(o, sc, split, normals);
+  Fitted f;
+  json recorded;
+  if (auto text = util::read_file(state)) recorded = json::parse(*text, nullptr, false);
+  f.reused = fs::exists(file) && recorded.is_object() && recorded.value("fit_inputs", "") == inputs;
+  if (!f.reused) {
+    calibrate::CalibrateOptions co;
+    co.manifest = o.manifest;
+    co.fit_normals = normals;
+    co.backend = o.backend;
+    co.size = o.fit_size;
+    co.rays = o.rays;
+    co.views = split;
+    co.views_file = o.views_file;
+    co.budget.max_evaluations = o.fit_evaluations;
+    co.threads = o.threads;
+    co.compile_cache = co.reference_cache = o.cache_dir;
+    calibrate::write_calibration(file, calibrate::calibrate(co, [&](const std::string& line) {
+                                   if (progress) progress("fit: " + line);
+                                 }));
+    util::write_atomic(state, json{{"fit_inputs", inputs}}.dump(1) + "\n");
+  }
+  f.values = calibrate::load_calibration(file, manifest);
+  f.source = calibrate::calibration_source(file);
+  return f;
+}
+
+// One round of the race: a sweep of `globs` (minus `skip`) on every view into OUT/<name>, resumable.
+sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const std::vector<std::string>& views,
+                                  const std::vector<std::string>& globs, const std::set<std::string>& skip,
+                                  const std::string& name, bool final_round) {
+  sweep::SweepOptions s;
+  s.scenes = {o.scene};
+  s.out = o.out / name;
+  measure::MeasureOptions& m = s.measure;
+  m.manifest = o.manifest;
+  m.views_file = o.views_file;
+  m.views = views;
+  m.backends = {o.backend};
+  m.globs = globs;
+  m.skip = skip;
+  m.size = o.size;
+  m.threads = o.threads;
+  m.jobs = o.jobs;
+  m.reference_rays = o.rays;
+  m.calibration = fit.values;
+  m.calibration_file = fit.source.file;
+  m.calibration_hash = fit.source.hash;
+  m.cache_dir = m.reference_cache = o.cache_dir;
+  m.prune_by_profile = false;  // ship pruned already (the skip list), with the profile of all views
+  m.images = final_round;      // images for the report's front only
+  if (!o.target.empty()) {     // the time is the estimate: one render for the error
+    m.reps = 1;
+    m.warmup = 0;
+    m.gpu_families = {o.target};
+    m.gpu_frame = o.gpu_frame;
+    m.gpu_window = o.gpu_window;
+  } else if (final_round) {
+    m.reps = o.race_reps;
+    m.auto_reps = o.final_reps;
+  } else {
+    m.reps = o.race_reps;
+    m.warmup = 1;
+  }
+  return s;
+}
+
+// The rows of `t` on `views` only.
+table::CostTable on_views(const table::CostTable& t, const std::vector<std::string>& views) {
+  table::CostTable out;
+  out.meta = t.meta;
+  for (const auto& r : t.rows)
+    if (std::find(views.begin(), views.end(), r.view) != views.end()) out.rows.push_back(r);
+  return out;
+}
+
+std::vector<std::string> variants_of(const table::CostTable& t) {
+  std::set<std::string> keys;
+  for (const auto& r : t.rows)
+    if (r.error && !r.predicted) keys.insert(r.variant);
+  return {keys.begin(), keys.end()};
+}
+
+json ship_meta(const ShipOptions& o, const ShipResult& r, const profile::ScenePruning& pruning) {
+  json rounds = json::array(), eliminated = json::array();
+  for (const auto& x : r.rounds)
+    rounds.push_back({{"name", x.name}, {"timing", x.timing}, {"candidates", x.candidates}, {"eliminated", x.eliminated},
+                      {"seconds", x.seconds}});
+  for (const auto& [round, e] : r.eliminated)
+    eliminated.push_back({{"variant", e.variant}, {"round", round}, {"by", e.by}, {"reason", e.reason}});
+  return {{"scene", o.scene},
+          {"training_views", r.training},
+          {"holdout_views", r.holdout},
+          {"target", o.target},
+          {"backend", o.backend},
+          {"normals_lean", r.lean},
+          {"normals_lean_evidence", r.lean_text},
+          {"fit_normals", r.fit_normals},
+          {"selected", r.selected},
+          {"pruned", pruning.to_json(o.globs)},
+          {"lean_dropped", r.lean_dropped},
+          {"rounds", rounds},
+          {"eliminated", eliminated}};
+}
+
+}  // namespace
+
+ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  if (o.out.empty()) throw std::runtime_error("ship: --out is required");
+  check_query(o.query);
+  auto say = [&](const std::string& line) {
+    if (progress) progress(line);
+  };
+  ShipResult res;
+  scene::LoadOptions lo;
+  lo.views_file = o.views_file;
+  const scene::Scene sc = scene::load_scene(o.scene, lo);
+  const calibrate::ViewSplit split = calibrate::split_views({o.scene}, o.views_file, {}, o.holdout_views);
+  for (const auto& v : split.training) res.training.push_back(v.view);
+  for (const auto& v : split.holdout) res.holdout.push_back(v.view);
+  std::vector<std::string> views = res.training;
+  views.insert(views.end(), res.holdout.begin(), res.holdout.end());
+
+  // 1. The profile of every view: its pruning and the normals lean.
+  say("profiling " + o.scene);
+  const variants::Manifest manifest = variants::load_manifest(o.manifest);
+  measure::MeasureOptions pm;
+  pm.manifest = o.manifest;
+  pm.scene = o.scene;
+  pm.size = o.size;
+  pm.threads = o.threads;
+  pm.cache_dir = o.cache_dir;
+  pm.out = o.out / "profile";
+  std::vector<const scene::View*> profiled;
+  for (const auto& v : views) profiled.push_back(&sc.view(v));
+  const profile::ScenePruning pruning = profile::prune_scene(measure::prune_options(pm), sc, profiled, o.globs, say);
+  std::set<std::string> skip;
+  for (const auto& d : pruning.dropped) skip.insert(d.variant);
+  res.selected = int(pruning.kept.size() + pruning.dropped.size());
+  res.pruned = int(pruning.dropped.size());
+  res.lean = profile::buffered_normals_lean(pruning.profile);
+  res.lean_text = lean_text(pruning.profile);
+  res.fit_normals = res.lean ? "depth" : "buffer";
+  if (res.lean)
+    for (const auto& k : buffered_normal_variants(manifest, o.globs))
+      if (std::binary_search(pruning.kept.begin(), pruning.kept.end(), k) && k != o.query.budget_of && skip.insert(k).second)
+        ++res.lean_dropped;
+  if (res.selected - int(skip.size()) < 1) throw std::runtime_error("ship: the profile of " + o.scene + " leaves no variant to search");
+
+  // 2. The methods fitted on the training views.
+  say(fmt::format("fitting the methods on {} (normals: {})", fmt::join(res.training, ", "), res.fit_normals));
+  const Fitted fit = fit_methods(o, sc, split, res.fit_normals, manifest, progress);
+
+  // 3. The race: a first round over the pruned space, the dominated eliminated, the survivors again.
+  std::vector<std::string> globs = o.globs.empty() ? std::vector<std::string>{"*"} : o.globs;
+  table::CostTable last;
+  const int rounds = o.target.empty() ? 2 : 1;
+  for (int round = 0; round < rounds; ++round) {
+    const bool final_round = round == rounds - 1;
+    Round r;
+    r.name = round == 0 ? "screen" : "race";
+    const auto t0 = std::chrono::steady_clock::now();
+    sweep::SweepOptions so = round_options(o, fit, views, globs, skip, r.name, final_round);
+    r.timing = !o.target.empty() ? "one render, estimate on " + o.target
+               : final_round     ? measure::reps_words(so.measure)
+                                 : fmt::format("{} reps", so.measure.reps);
+    say(fmt::format("round {}: {} ({})", r.name, o.globs.empty() ? "the whole pruned space" : "the selection", r.timing));
+    last = sweep::run_sweep(so, [&](const std::string& line) { say(r.name + ": " + line); }).table;
+    const auto eliminated = dominated_beyond_noise(on_views(last, res.training), o.target);
+    std::set<std::string> out;
+    for (const auto& e : eliminated)
+      if (e.variant != o.query.budget_of) {  // the budget's variant stays: select resolves the budget by it
+        out.insert(e.variant);
+        res.eliminated.push_back({r.name, e});
+      }
+    const std::vector<std::string> candidates = variants_of(last);
+    r.candidates = int(candidates.size());
+    r.eliminated = int(out.size());
+    r.seconds = util::seconds_since(t0);
+    res.rounds.push_back(r);
+    globs.clear();
+    for (const auto& k : candidates)
+      if (!out.count(k)) globs.push_back(k);
+    std::erase_if(last.rows, [&](const table::CostRow& row) { return out.count(row.variant) > 0; });
+  }
+
+  // 4. Select among the survivors on the held-out views.
+  table::mark_pareto(last);
+  res.table = std::move(last);
+  res.table.meta["ship"] = ship_meta(o, res, pruning);
+  table::SelectQuery q = o.query;
+  q.target = o.target;
+  q.backend = o.backend;
+  res.selection = table::select(on_views(res.table, res.holdout), q);
+  if (res.selection.choice)
+    res.build_line = fmt::format("aovar generate --manifest {} --variants '{}' --out shaders", util::display_path(o.manifest),
+                                 res.selection.choice->variant);
+  table::write_table_files(res.table, o.out);
+  report::write_reports(res.table, o.out, o.out / (o.target.empty() ? "race" : "screen"));
+  res.wall_s = util::seconds_since(start);
+  return res;
+}
+
+std::string to_text(const ShipResult& r, const ShipOptions& o) {
+  std::string s = fmt::format("scene {}: trained on {}, held out {}\n", o.scene, fmt::join(r.training, ", "),
+                              fmt::join(r.holdout, ", "));
+  s += fmt::format("normals: {}; {} -> search {}normals, fit with normals = {}\n", r.lean_text,
+                   r.lean ? "a lean" : "no lean", r.lean ? "depth " : "every source of ", r.fit_normals);
+  s += fmt::format("space: {} selected, {} dropped by the profile, {} by the lean\n", r.selected, r.pruned, r.lean_dropped);
+  for (const auto& x : r.rounds)
+    s += fmt::format("round {}: {} candidates ({}), {} eliminated, {:.0f} s\n", x.name, x.candidates, x.timing, x.eliminated,
+                     x.seconds);
+  s += "\nWhat to ship (selected on the held-out view" + std::string(r.holdout.size() > 1 ? "s" : "") + "):\n";
+  s += r.selection.text;
+  if (!r.build_line.empty()) s += "build it: " + r.build_line + "\n";
+  s += fmt::format("cost table and report: {}/cost_table.json, {}/report.html ({:.0f} s)\n", util::display_path(o.out),
+                   util::display_path(o.out), r.wall_s);
+  return s;
+}
+
+}  // namespace aovar::ship

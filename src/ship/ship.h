@@ -1,0 +1,77 @@
+#pragma once
+// `aovar ship` (issue 35; docs/cli.md): from a scene to the variant to ship, in one command.
+//   1. profile the scene on all its views: what it prunes from the space, and whether its buffered normals
+//      lean from their faces (then the search keeps normals derived from depth and fits with them);
+//   2. fit every method's parameters on the scene's training views (calibrate), held-out views apart;
+//   3. search the pruned space by racing (race.h): a first round of a few timed repetitions per candidate
+//      (with a GPU target: one render for the error, the traced estimate for the time), the dominated ones
+//      eliminated with their reason, the survivors timed until their intervals are narrow (--reps auto) and
+//      eliminated again;
+//   4. select among the survivors on the held-out views, write the cost table and the reports, and say what
+//      to ship with the line that generates exactly that variant.
+// Resumable: every round is a sweep into OUT/<round> (rows reused after a kill), the profile and the
+// calibration are read back while their inputs are unchanged (OUT/ship.json records what they were fitted on).
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "measure/timing.h"
+#include "render/frame.h"
+#include "ship/race.h"
+#include "table/select.h"
+#include "table/table.h"
+
+namespace aovar::ship {
+
+struct ShipOptions {
+  std::filesystem::path manifest = "shader_src/aovar.toml";
+  std::string scene = "builtin:atrium";
+  std::filesystem::path views_file;
+  std::vector<std::string> holdout_views;  // empty: calibrate::split_views' default (every third view)
+  std::vector<std::string> globs;          // the space searched (empty: every variant of the manifest)
+  std::string target;                      // AMD family: time is its traced estimate (no timing rounds)
+  std::string backend = "lavapipe";        // the measured backend (and, with a target, the one tracing)
+  table::SelectQuery query;                // budget_of, budget_ms or max_error; ship sets the filters
+  render::Extent size{640, 360};
+  render::Extent fit_size{320, 180};       // calibration renders (calibrate's default)
+  int fit_evaluations = 40;                // per method
+  int race_reps = 6;                       // the first round: the fewest rounds whose sign-test interval is known
+  measure::AutoReps final_reps;            // the second round: --reps auto with this target and cap
+  int rays = 256, threads = 2, jobs = 0;
+  render::Extent gpu_frame{1920, 1080};
+  double gpu_window = 0.5;
+  std::filesystem::path cache_dir;         // compile and reference cache (empty: none)
+  std::filesystem::path out;
+};
+
+struct Round {
+  std::string name;      // "screen", "race"
+  std::string timing;    // "6 reps", "--reps auto ...", "one render, estimate on navi21"
+  int candidates = 0, eliminated = 0;
+  double seconds = 0;
+};
+
+struct ShipResult {
+  std::vector<std::string> training, holdout;  // views
+  bool lean = false;                           // buffered normals lean on some view
+  std::string lean_text;                       // the evidence, per view
+  std::string fit_normals;                     // "depth" or "buffer"
+  int selected = 0, pruned = 0, lean_dropped = 0;  // variants the globs select; dropped by the profile; by the lean
+  std::vector<Round> rounds;
+  std::vector<std::pair<std::string, Elimination>> eliminated;  // round name, what and why
+  table::CostTable table;                      // the last round's rows, meta.ship: every choice made
+  table::Selection selection;                  // on the held-out views, among the survivors
+  std::string build_line;                      // `aovar generate` of exactly the chosen variant
+  double wall_s = 0;
+};
+
+using Progress = std::function<void(const std::string&)>;
+
+// Throws std::runtime_error with one line (scene, view, manifest, query and backend errors; an empty search).
+ShipResult run_ship(const ShipOptions& options, const Progress& progress = {});
+
+// What `aovar ship` prints: the choices made, the rounds, what to ship with its held-out numbers, the line.
+std::string to_text(const ShipResult& result, const ShipOptions& options);
+
+}  // namespace aovar::ship
