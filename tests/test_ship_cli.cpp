@@ -1,0 +1,129 @@
+// `aovar ship` end to end on tiny frames (issue 35): a run killed with SIGKILL and resumed gives the same front
+// and choice as an uninterrupted one; the printed build line generates exactly the chosen variant; a scene
+// whose buffered normals lean from their faces is searched and fitted with normals derived from depth.
+// With --target the time is the deterministic estimate, so the fronts of two runs can be compared exactly.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "radv_support.h"
+#include "test_support.h"
+#include "util/fs.h"
+
+namespace aovar::test {
+namespace {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+const char* kBaseline = "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
+
+std::string ship_args(const std::string& scene, const fs::path& out, const fs::path& cache, const std::string& size = "64x36") {
+  return fmt::format("ship --scene {} --variants 'alchemy-s08-p0-*-zdep-rst-d16-bsep-x1-hp' --variants 'sao-s0[48]-*-d16-bsep-x1-hp' "
+                     "--variants 'hbao-s08-p0-*-d16-bsep-x1-hp' --budget-of {} --target navi21 --gpu-size 160x90 "
+                     "--size {} --fit-size 32x18 --evaluations 2 --rays 16 --cache-dir {} --out {}",
+                     scene, kBaseline, size, cache.string(), out.string());
+}
+
+json table_of(const fs::path& out) { return json::parse(util::read_file(out / "cost_table.json").value_or("{}")); }
+
+// The front's variants and what the run chose, from its cost table and its output.
+std::string outcome(const fs::path& out, const std::string& output) {
+  std::set<std::string> front;
+  for (const auto& r : table_of(out).at("rows"))
+    if (r.value("pareto", false)) front.insert(r.at("variant").get<std::string>() + "/" + r.at("view").get<std::string>());
+  const auto choice = output.find("choice: ");
+  return fmt::format("{}\n{}", fmt::join(front, " "), output.substr(choice, output.find('\n', choice) - choice));
+}
+
+std::string build_line(const std::string& output) {
+  const auto at = output.find("build it: aovar ");
+  if (at == std::string::npos) return "";
+  const auto start = at + std::string("build it: aovar ").size();
+  return output.substr(start, output.find('\n', start) - start);
+}
+
+TEST(ShipCli, AKilledRunResumesToTheSameFrontAndItsBuildLineGeneratesExactlyTheChoice) {
+  REQUIRE_RADV();
+  TempDir dir;
+  const auto t0 = std::chrono::steady_clock::now();
+  const CommandResult whole = run_aovar(ship_args("builtin:atrium", dir / "whole", dir / "cache"));
+  ASSERT_EQ(whole.status, 0) << whole.output;
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // Killed about half way (its compile cache warm, as a re-run's would be), then run to the end.
+  const CommandResult killed = run_command(fmt::format("timeout -s KILL {:.1f} {} {}", std::max(1.0, seconds / 2),
+                                                       aovar_executable().string(),
+                                                       ship_args("builtin:atrium", dir / "resumed", dir / "cache")));
+  EXPECT_NE(killed.status, 0) << "the run was meant to be killed: " << killed.output;
+  const CommandResult resumed = run_aovar(ship_args("builtin:atrium", dir / "resumed", dir / "cache"));
+  ASSERT_EQ(resumed.status, 0) << resumed.output;
+  EXPECT_EQ(outcome(dir / "resumed", resumed.output), outcome(dir / "whole", whole.output));
+
+  // Every choice is recorded; every elimination has its reason.
+  const json ship = table_of(dir / "whole").at("meta").at("ship");
+  EXPECT_EQ(ship.at("holdout_views"), json::array({"background"}));
+  EXPECT_EQ(ship.at("fit_normals"), "buffer");
+  for (const auto& e : ship.at("eliminated")) EXPECT_FALSE(e.at("reason").get<std::string>().empty());
+
+  // The build line, into a folder of the test's: exactly the chosen variant.
+  std::string line = build_line(whole.output);
+  ASSERT_FALSE(line.empty()) << whole.output;
+  const auto out_at = line.find("--out shaders");
+  ASSERT_NE(out_at, std::string::npos) << line;
+  line.replace(out_at, std::string("--out shaders").size(), "--targets vulkan --out " + (dir / "shaders").string());
+  const CommandResult generated = run_command("cd " + source_dir().string() + " && " + aovar_executable().string() + " " + line);
+  ASSERT_EQ(generated.status, 0) << generated.output;
+  const json index = json::parse(util::read_file(dir / "shaders" / "variants.json").value_or("{}"));
+  ASSERT_EQ(index.at("variants").size(), 1u) << index.dump();
+  const std::string chosen = whole.output.substr(whole.output.find("choice: ") + 8);
+  EXPECT_EQ(index.at("variants")[0].at("key").get<std::string>(), chosen.substr(0, chosen.find(' ')));
+}
+
+// A cube whose 8 corners share one normal each (the diagonal): every face's buffered normal leans 35 to 55
+// degrees from the face, as a mesh smoothed across its edges does.
+fs::path smoothed_cube(const TempDir& dir) {
+  const fs::path obj = dir / "smooth_cube.obj";
+  std::ofstream f(obj);
+  for (int i = 0; i < 8; ++i) {
+    const int x = i & 1 ? 1 : -1, y = i & 2 ? 1 : -1, z = i & 4 ? 1 : -1;
+    f << fmt::format("v {} {} {}\nvn {} {} {}\n", x, y, z, x, y, z);
+  }
+  f << "v -3 -1 -3\nv 3 -1 -3\nv 3 -1 3\nv -3 -1 3\nvn 0 1 0\n";  // a floor it stands on
+  const int faces[6][4] = {{1, 3, 7, 5}, {2, 6, 8, 4}, {1, 5, 6, 2}, {3, 4, 8, 7}, {1, 2, 4, 3}, {5, 7, 8, 6}};
+  for (const auto& q : faces) f << fmt::format("f {0}//{0} {1}//{1} {2}//{2} {3}//{3}\n", q[0], q[1], q[2], q[3]);
+  f << "f 9//9 12//9 11//9 10//9\n";
+  return obj;
+}
+
+TEST(ShipCli, ASceneWhoseNormalsLeanIsSearchedAndFittedWithDepthNormals) {
+  REQUIRE_RADV();
+  TempDir dir;
+  const fs::path scene = smoothed_cube(dir);
+  // 192x108: the scene's AO radius spans under one pixel at 64x36, where the profile drops every variant.
+  const CommandResult r = run_aovar(ship_args(scene.string(), dir / "out", dir / "cache", "192x108"));
+  ASSERT_EQ(r.status == 0 || r.status == 1, true) << r.output;  // 1: nothing within the budget is fine here
+  const json t = table_of(dir / "out");
+  const json ship = t.at("meta").at("ship");
+  EXPECT_TRUE(ship.at("normals_lean").get<bool>()) << ship.at("normals_lean_evidence");
+  EXPECT_EQ(ship.at("fit_normals"), "depth");
+  EXPECT_GT(ship.at("lean_dropped").get<int>(), 0);
+  for (const auto& row : t.at("rows")) {  // no buffered normals searched, but the budget's own variant
+    const std::string normals = row.at("axes").value("normals", "");
+    if (row.at("variant") != kBaseline) EXPECT_TRUE(normals.empty() || normals == "depth") << row.at("variant");
+  }
+  // The fit: each method that has a normals-from-depth variant fitted with it (homebrew reads buffers only).
+  const json cal = json::parse(util::read_file(dir / "out" / "calibration.json").value_or("{}"));
+  for (const char* algorithm : {"alchemy", "hbao", "gtao"}) {
+    const std::string variant = cal.at("algorithms").at(algorithm).at("variant");
+    EXPECT_NE(variant.find("-ndep-"), std::string::npos) << algorithm << " fitted with " << variant;
+  }
+}
+
+}  // namespace
+}  // namespace aovar::test
