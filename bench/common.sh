@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Sourced by every bench script (from the repository root): the build folder, the build step and the smoke
 # mode. AOVAR_BUILD picks the build folder (default build). AOVAR_BENCH_SMOKE=1 runs the script's own steps
 # with the smallest sizes, repetitions and selections that still exercise each of them (seconds, not
