@@ -16,6 +16,8 @@
 
 #include <fmt/format.h>
 
+#include "smoke.h"
+
 #include "compile/generate.h"
 #include "util/stats.h"
 #include "profile/profile.h"
@@ -81,14 +83,16 @@ double sky_pixel_cost(const std::vector<double>& s, const std::vector<double>& t
 
 int main(int argc, char** argv) {
   const std::string manifest = argc > 1 ? argv[1] : "shader_src/aovar.toml";
+  const bool smoke = bench_smoke();  // two variants, three sky shares, 64x36
   const int reps = argc > 2 ? std::stoi(argv[2]) : 11;
-  const std::vector<std::string> keys = {
+  std::vector<std::string> keys = {
       "alchemy-s16-p0-nrgb8-zdep-rst-d32-bno-x1-hp", "hbao-s16-p0-nrgb8-zdep-rst-d32-bno-x1-hp",
       "gtao-s16-p0-nrgb8-zdep-rst-d32-bno-x1-hp",    "sao-s16-p0-ndep-zdep-rst-d32-bno-x1-hp",
       "alchemy-s16-p0-nrgb8-zdep-rst-d32-bsep-x1-hp", "alchemy-s16-p0-nrgb8-zdep-rst-d32-bsep-x2-hp"};
-  const render::Extent size{640, 360};
+  if (smoke) keys.resize(2);
+  const render::Extent size = smoke ? render::Extent{64, 36} : render::Extent{640, 360};
   const auto sc = scene::load_scene("builtin:atrium");
-  const auto views = profile::sky_sweep(sc, sc.views.front(), 9, size);
+  const auto views = profile::sky_sweep(sc, sc.views.front(), smoke ? 3 : 9, size);
   std::vector<double> shares;
   for (const auto& v : views) shares.push_back(v.background_share);
   for (const std::string backend_name : {"lavapipe", "osmesa"}) {

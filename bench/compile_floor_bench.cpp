@@ -84,7 +84,8 @@ bool bare_compile(const std::string& source, StageKind stage, Target target) {
 int main(int argc, char** argv) {
   try {
     if (argc < 4) {
-      std::cerr << "usage: aovar_compile_floor_bench MANIFEST TARGETS JOBS [--what bare|product] [--runs N]\n";
+      std::cerr << "usage: aovar_compile_floor_bench MANIFEST TARGETS JOBS [--what bare|product] [--runs N] "
+                   "[--variants GLOB]...\n";
       return 2;
     }
     compile::CompileOptions options;
@@ -104,6 +105,7 @@ int main(int argc, char** argv) {
       std::string k = argv[i], v = argv[i + 1];
       if (k == "--what" && (v == "bare" || v == "product")) what = v;
       else if (k == "--runs") runs = std::stoi(v);
+      else if (k == "--variants") options.globs.push_back(v);  // as generate's (bench/compile's smoke mode)
       else throw std::runtime_error("unknown option " + k + " " + v);
     }
 

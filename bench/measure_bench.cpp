@@ -7,7 +7,8 @@
 //                (command recording, uniform upload, submission, fence waits, timestamp and clock reads)
 //   whole run:   wall time of the whole measurement / the summed draw times (adds compiling, pipeline
 //                creation, the first-frame JIT, warm-up frames and image read-back and writing)
-// Exits non-zero when tau < 0.9 or the timed-loop overhead > 1.3 on any backend.
+// Exits non-zero when tau < 0.9 or the timed-loop overhead > 1.3 on any backend (AOVAR_BENCH_SMOKE=1: only
+// when a backend measured fewer than two variants).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +19,7 @@
 #include <fmt/format.h>
 
 #include "measure/measure.h"
+#include "smoke.h"
 
 namespace {
 using namespace aovar;
@@ -55,13 +57,20 @@ int main(int argc, char** argv) {
              "alchemy-s08-p1-nrg8-zdep-rst-d16-bsep-x1-hp", "alchemy-s08-p0-ndep-zdep-rst-d16-bsep-x1-hp",
              "alchemy-s08-p0-nrg8-zpos-rst-d16-bsep-x1-hp"};
   o.reps = 10;
+  const bool smoke = bench_smoke();  // three variants at 64x36, 3 reps: the steps, not the figures
+  if (smoke) {
+    o.globs = {"alchemy-s0[48]-p0-nrg8-zdep-rst-d16-bsep-x1-hp", "alchemy-s08-p0-nrg8-zdep-rst-d16-bno-x1-hp"};
+    o.size = {64, 36};
+    o.reps = 3;
+    o.warmup = 0;
+  }
   o.images = false;
   o.reuse = false;
   std::printf("bench/measure: builtin:atrium %dx%d, %d reps, %d warm-up, LP_NUM_THREADS=%d\n", o.size.width,
               o.size.height, o.reps, o.warmup, o.threads);
   auto progress = [](const std::string& s) { std::fprintf(stderr, "\r\033[K%s", s.c_str()); };
 
-  bool ok = true;
+  bool ok = true, measured = true;  // the targets met; every backend measured 2 variants or more
   // One backend at a time, its two runs back to back: a run of the other backend in between changes
   // lavapipe's times (see bench/README.md).
   for (const std::string backend : {"lavapipe", "osmesa"}) {
@@ -85,7 +94,7 @@ int main(int argc, char** argv) {
     }
     if (ta.size() < 2) {
       std::printf("%s: fewer than 2 variants measured in both runs\n", backend.c_str());
-      ok = false;
+      ok = measured = false;
       continue;
     }
     double tau = kendall_tau_b(ta, tb);
@@ -105,7 +114,8 @@ int main(int argc, char** argv) {
                 "%.1f s, read-back %.1f s; whole-run overhead %.2fx the timed draw time\n",
                 backend.c_str(), a.wall_s, a.compile_s, prepare, warmup, sum, readback, a.wall_s / sum);
   }
-  std::printf("%s\n", ok ? "PASS: tau >= 0.9 and timed-loop overhead <= 1.3x on every backend"
-                         : "FAIL: a target was missed (see above)");
-  return ok ? 0 : 1;
+  std::printf("%s%s\n", ok ? "PASS: tau >= 0.9 and timed-loop overhead <= 1.3x on every backend"
+                           : "FAIL: a target was missed (see above)",
+              smoke ? " (smoke: not judged)" : "");
+  return measured && (ok || smoke) ? 0 : 1;
 }

@@ -128,7 +128,7 @@ int main(int argc, char** argv) {
   std::vector<double> factors = {0.5, 1, 2};
   int rays = 64;
   std::filesystem::path out = "bench-r16f";
-  std::vector<std::string> scenes;
+  std::vector<std::string> scenes, globs;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -151,6 +151,7 @@ int main(int argc, char** argv) {
       }
     } else if (a == "--rays") rays = std::stoi(next());
     else if (a == "--out") out = next();
+    else if (a == "--variants") globs.push_back(next());  // instead of the pairs below (bench/r16f's smoke mode)
     else scenes.push_back(a);
   }
   if (scenes.empty()) scenes = {"builtin:atrium", "builtin:far", "builtin:cornell", "builtin:spheres", "builtin:stairs"};
@@ -161,6 +162,7 @@ int main(int argc, char** argv) {
   co.targets = {variants::Target::vulkan};
   co.globs = {"*-s08-p0-nrgb8-zdep-rst-d*-bsep-x*-hp", "*-s08-p0-ndep-zdep-rst-d*-bsep-x*-hp",
               "*-s08-p0-ndep-zdep-_r-d*-bsep-x*-hp"};
+  if (!globs.empty()) co.globs = globs;
   co.cache_dir = compile::CompileCache::default_dir();
   auto c = compile::compile_space(manifest, co);
   if (!c.ok()) {

@@ -9,6 +9,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render_options.h"
+#include "cli/whole_space.h"
 #include "measure/measure.h"
 #include "measure/text.h"
 #include "profile/scene_prune.h"
@@ -22,7 +23,7 @@ struct MeasureArgs {
   measure::MeasureOptions options;
   std::string size = default_size, out, scene = default_scene, views_file, reference_mode = default_reference_mode;
   std::vector<std::string> params;
-  bool no_prune = false;
+  bool no_prune = false, all = false;
   CalibrationOption calibration;
   GpuOption gpu;
   RepsOption reps{"10"};
@@ -67,6 +68,8 @@ ExitCode run_measure(const MeasureArgs& a) {
   o.out = a.out;
   o.cache_dir = a.common.cache();
   a.gpu.apply(o);
+  const std::size_t views = std::max<std::size_t>(o.views.size(), 1) * std::max<std::size_t>(o.backends.size(), 1);
+  check_whole_space(a.common.manifest, a.common.globs, a.all, {"measure", views, 1});
   const auto lock = lock_output(o.out);
   auto r = with_status([&](const auto& progress) { return measure::run_measure(o, progress); });
   std::cout << measure::to_text(r) << measure::notes_text(r, o, cal_file);
@@ -110,6 +113,7 @@ Command add_measure(CLI::App& app) {
       ->capture_default_str();
   add_calibration(cmd, a->calibration,
                   "calibrated parameters per algorithm (default: calibration.json next to the manifest, when present)");
+  add_all(cmd, a->all);
   return {cmd, [a] { return run_measure(*a); }};
 }
 

@@ -1,6 +1,7 @@
 // aovar sweep: measure variants on scenes against the ray-traced reference -> cost_table.{json,csv,md}.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <iostream>
 #include <memory>
 #include <stdexcept>
@@ -9,6 +10,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render_options.h"
+#include "cli/whole_space.h"
 #include "sweep/sweep.h"
 #include "sweep/text.h"
 #include "table/table.h"
@@ -21,7 +23,7 @@ struct SweepArgs {
   CommonOptions common;
   sweep::SweepOptions options;
   std::string size = default_size, out, shard;
-  bool no_prune = false;
+  bool no_prune = false, all = false;
   CalibrationOption calibration;
   GpuOption gpu;
   RepsOption reps{"auto"};  // the sweep's default: each row timed until its interval is narrow
@@ -45,6 +47,11 @@ ExitCode run_sweep(const SweepArgs& a) {
   m.cache_dir = m.reference_cache = a.common.cache();
   a.gpu.apply(m);
   const auto cal_file = a.calibration.load(a.common.manifest, m.calibration, m.calibration_file, m.calibration_hash);
+  // Every view of each scene: 3 for the built-in scenes and the derived views of a mesh.
+  const std::size_t views = (m.views.empty() ? 3 : m.views.size()) * std::max<std::size_t>(o.scenes.size(), 1);
+  check_whole_space(a.common.manifest, a.common.globs, a.all,
+                    {"sweep", views * std::max<std::size_t>(m.backends.size(), 1),
+                     static_cast<std::size_t>(std::max(shard.count, 1))});
   const auto lock = lock_output(o.out);
   auto r = with_status([&](const auto& progress) { return sweep::run_sweep(o, progress); });
   std::cout << table::to_markdown(r.table) << sweep::notes_text(r, o, cal_file);
@@ -96,6 +103,7 @@ Command add_sweep(CLI::App& app) {
   cmd->add_flag("--no-prune", a->no_prune,
                 "measure every selected variant on every scene (default: drop, before compiling, what each scene's "
                 "profile drops)");
+  add_all(cmd, a->all);
   cmd->add_option("--out,-o", a->out, "output folder: cost_table.{json,csv,md}, measure/<scene>/")->required();
   return {cmd, [a] { return run_sweep(*a); }};
 }
