@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <numeric>
 #include <set>
 
 #include <fmt/format.h>
@@ -23,6 +24,8 @@
 #include "util/glob.h"
 #include "util/hash.h"
 #include "util/schema.h"
+#include "variants/manifest.h"
+#include "variants/space.h"
 
 namespace aovar::measure {
 namespace fs = std::filesystem;
@@ -104,15 +107,16 @@ std::string empty_selection(const compile::CompiledSpace& c, const MeasureOption
 // --param: each override must be a parameter of at least one selected variant (variants without it, e.g.
 // blur.radius_px on an unblurred one, simply do not take it) and inside the manifest's [min, max] for it
 // (the shaders and the stress suite assume the range; calibration files are checked the same way).
-void check_params(const compile::CompiledSpace& c, const Selection& s, const render::ParamOverrides& params) {
+void check_params(const variants::Manifest& manifest, const variants::VariantSpace& space, const std::vector<int>& selected,
+                  const render::ParamOverrides& params) {
   std::map<std::string, const variants::Param*> parameters;
-  for (int v : s.measured) {
-    const auto& entry = c.space.variants.at(v);
-    for (std::size_t i = 0; i < c.manifest.passes.size(); ++i)
+  for (int v : selected) {
+    const auto& entry = space.variants.at(v);
+    for (std::size_t i = 0; i < manifest.passes.size(); ++i)
       for (int program : entry.passes[i])
         if (program >= 0)
-          for (const auto& param : c.space.programs[program].params)
-            parameters.emplace(c.manifest.passes[i].name + "." + param.name, &param);
+          for (const auto& param : space.programs[program].params)
+            parameters.emplace(manifest.passes[i].name + "." + param.name, &param);
   }
   for (const auto& [key, value] : params) {
     auto p = parameters.find(key);
@@ -126,7 +130,7 @@ void check_params(const compile::CompiledSpace& c, const Selection& s, const ren
     if (!(value >= param.min && value <= param.max))
       throw std::runtime_error(fmt::format("--param {}={}: outside the range [{}, {}] that {}:{} gives it (pass a value "
                                            "inside it, or widen min/max in the manifest)",
-                                           key, value, param.min, param.max, c.manifest.error_prefix(),
+                                           key, value, param.min, param.max, manifest.error_prefix(),
                                            param.pos.line));
   }
 }
@@ -219,6 +223,13 @@ MeasureResult MeasureRun::run() {
   if (!co.globs.empty()) co.globs.push_back(o_.baseline);
   co.cache_dir = o_.cache_dir;
   co.jobs = o_.jobs;
+  if (!o_.params.empty()) {  // a bad --param fails before the scene is profiled, not minutes later
+    const variants::Manifest manifest = variants::load_manifest(o_.manifest);
+    const variants::VariantSpace space = variants::build_space(manifest, co.globs);
+    std::vector<int> all(space.variants.size());
+    std::iota(all.begin(), all.end(), 0);
+    check_params(manifest, space, all, o_.params);
+  }
   if (!prune(views, co)) return std::move(res_);
   auto compile_start = Clock::now();
   compile::CompiledSpace c = compile::compile_space(o_.manifest, co);
@@ -234,7 +245,7 @@ MeasureResult MeasureRun::run() {
     return std::move(res_);
   }
   if (sel.measured.empty()) throw std::runtime_error(empty_selection(c, o_));
-  check_params(c, sel, o_.params);
+  check_params(c.manifest, c.space, sel.measured, o_.params);
   res_.counts = compile::counts_line(c);
 
   if (!o_.out.empty()) util::remove_stale_temps(o_.out);  // what a killed earlier run was writing
