@@ -1,0 +1,471 @@
+// Reading cost_table.json (table.h: read_table, table_from_json, row_from_json). simdjson's On-Demand parser
+// (Langdale & Lemire, 2019, for the structural index; Keiser & Lemire, 2024, for On-Demand) walks the file
+// once and each row's fields go straight into its CostRow: no document of the table and no per-row JSON
+// objects, which were most of the time and memory of `select` and `report` on large tables (bench/README.md,
+// "bench/big_inputs"). The parts other readers share (static, gpu, error.breakdown, meta) go through their
+// nlohmann readers. Values of fields aovar does not know are skipped, not checked.
+#include <simdjson.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <limits>
+#include <span>
+#include <stdexcept>
+#include <string_view>
+#include <unordered_map>
+
+#include "table/detail.h"
+#include "table/table.h"
+#include "table/validate.h"
+#include "util/fs.h"
+#include "util/schema.h"
+
+namespace aovar::table {
+namespace {
+using nlohmann::json;
+namespace od = simdjson::ondemand;
+
+const char* type_name(od::value& v) {
+  od::json_type t;
+  if (v.type().get(t)) return "not valid JSON";
+  switch (t) {
+    case od::json_type::array: return "an array";
+    case od::json_type::object: return "an object";
+    case od::json_type::number: return "a number";
+    case od::json_type::string: return "a string";
+    case od::json_type::boolean: return "a boolean";
+    case od::json_type::null: return "null";
+  }
+  return "unknown";
+}
+
+// A value that is not what `name` must be: its type, or simdjson's word for a malformed one.
+[[noreturn]] void wrong(od::value& v, std::string_view name, const char* expected, simdjson::error_code e) {
+  if (e == simdjson::INCORRECT_TYPE) throw std::runtime_error(fmt::format("{} is {}, not {}", name, type_name(v), expected));
+  throw std::runtime_error(fmt::format("{}: {}", name, simdjson::error_message(e)));
+}
+
+bool is_null(od::value& v) {
+  bool null = false;
+  return !v.is_null().get(null) && null;
+}
+std::string text_of(od::value v, std::string_view name) {
+  std::string_view s;
+  if (auto e = v.get_string().get(s)) wrong(v, name, "a string", e);
+  return std::string(s);
+}
+double number_of(od::value v, std::string_view name) {
+  double d;
+  if (auto e = v.get_double().get(d)) wrong(v, name, "a number", e);
+  return d;
+}
+long long whole_of(od::value v, std::string_view name) {
+  std::int64_t i;
+  if (auto e = v.get_int64().get(i)) wrong(v, name, "a whole number", e);
+  return i;
+}
+int int_of(od::value v, std::string_view name) {
+  const long long i = whole_of(v, name);
+  if (i < std::numeric_limits<int>::min() || i > std::numeric_limits<int>::max())
+    throw std::runtime_error(fmt::format("{} {} is out of range", name, i));
+  return static_cast<int>(i);
+}
+bool bool_of(od::value v, std::string_view name) {
+  bool b;
+  if (auto e = v.get_bool().get(b)) wrong(v, name, "true or false", e);
+  return b;
+}
+od::object object_of(od::value v, std::string_view name) {
+  od::object o;
+  if (auto e = v.get_object().get(o)) wrong(v, name, "an object", e);
+  return o;
+}
+od::array array_of(od::value v, std::string_view name) {
+  od::array a;
+  if (auto e = v.get_array().get(a)) wrong(v, name, "an array", e);
+  return a;
+}
+std::string_view key_of(simdjson::simdjson_result<od::field>& f) { return f.unescaped_key().value(); }
+
+// A value as nlohmann::json, for the readers other files share.
+json to_nlohmann(od::value v) {
+  switch (v.type().value()) {
+    case od::json_type::object: {
+      json out = json::object();
+      for (auto f : v.get_object()) {
+        std::string key(key_of(f));  // before the value: On-Demand reads forward only
+        out[key] = to_nlohmann(f.value().value());
+      }
+      return out;
+    }
+    case od::json_type::array: {
+      json out = json::array();
+      for (auto e : v.get_array()) out.push_back(to_nlohmann(e.value()));
+      return out;
+    }
+    case od::json_type::number:
+      switch (v.get_number_type().value()) {
+        case od::number_type::signed_integer: return json(v.get_int64().value());
+        case od::number_type::unsigned_integer: return json(v.get_uint64().value());
+        case od::number_type::floating_point_number: break;
+      }
+      return json(v.get_double().value());
+    case od::json_type::string: return json(std::string(v.get_string().value()));
+    case od::json_type::boolean: return json(v.get_bool().value());
+    case od::json_type::null: break;
+  }
+  if (!is_null(v)) throw std::runtime_error("not valid JSON");
+  return json(nullptr);
+}
+
+util::Interval interval_of(od::value v, std::string_view name) {
+  if (is_null(v)) return {};
+  std::vector<double> ends;
+  for (auto e : array_of(v, name)) ends.push_back(number_of(e.value(), name));
+  if (ends.size() != 2) throw std::runtime_error(fmt::format("{}: {}", name, detail::kIntervalShape));
+  return {ends[0], ends[1]};
+}
+
+std::vector<double> numbers_of(od::value v, std::string_view name) {
+  std::vector<double> out;
+  for (auto e : array_of(v, name)) out.push_back(number_of(e.value(), name));
+  return out;
+}
+
+// Fields a row or one of its objects must have, by bit.
+struct Required {
+  std::uint32_t seen = 0;
+  void check(std::span<const char* const> names, std::string_view parent) const {
+    std::uint32_t bit = 1;
+    for (const char* name : names) {
+      if (!(seen & bit)) throw std::runtime_error(fmt::format("{}{}{} is missing", parent, parent.empty() ? "" : ".", name));
+      bit <<= 1;
+    }
+  }
+};
+
+// Calls use(key, value) for each field of `v`, an object (`name` says what must be one).
+template <class Use>
+void each_field(od::value v, std::string_view name, Use&& use) {
+  for (auto f : object_of(v, name)) {
+    const std::string_view key = key_of(f);  // before the value: On-Demand reads forward only
+    use(key, f.value().value());
+  }
+}
+
+Rounds rounds_of(od::value v) {
+  Rounds r;
+  Required required;
+  each_field(v, "rounds", [&](std::string_view key, od::value x) {
+    if (key == "scale") {
+      r.scale = text_of(x, "rounds.scale");
+      required.seen |= 1;
+    }
+    if (key == "id") {
+      r.id = text_of(x, "rounds.id");
+      required.seen |= 2;
+    }
+    if (key == "ratios") {
+      r.ratios = numbers_of(x, "rounds.ratios");
+      required.seen |= 4;
+    }
+  });
+  constexpr const char* kNames[] = {"scale", "id", "ratios"};
+  required.check(kNames, "rounds");
+  detail::check_ratios(r.ratios);
+  return r;
+}
+
+util::TimeStats time_of(od::value v) {
+  util::TimeStats t;
+  Required required;
+  each_field(v, "time_ms", [&](std::string_view key, od::value x) {
+    if (key == "min") {
+      t.min = number_of(x, "time_ms.min");
+      required.seen |= 1;
+    }
+    if (key == "median") t.median = number_of(x, "time_ms.median");
+    if (key == "p90") t.p90 = number_of(x, "time_ms.p90");
+    if (key == "n") t.n = int_of(x, "time_ms.n");
+    if (key == "paired") t.paired = number_of(x, "time_ms.paired");
+    if (key == "paired_ci") t.paired_ci = interval_of(x, "time_ms.paired_ci");
+  });
+  constexpr const char* kNames[] = {"min"};
+  required.check(kNames, "time_ms");
+  return t;
+}
+
+// The error against the reference: its six fields (null: not computed, read as +inf) and the breakdown.
+metrics::ErrorStats error_of(od::value v) {
+  metrics::ErrorStats e;
+  Required required;
+  each_field(v, "error", [&](std::string_view key, od::value x) {
+    const auto* field = std::find(std::begin(detail::kErrorFields), std::end(detail::kErrorFields), key);
+    if (field != std::end(detail::kErrorFields)) {
+      const int i = static_cast<int>(field - std::begin(detail::kErrorFields));
+      detail::error_field(e, i) = is_null(x) ? std::numeric_limits<double>::infinity() : number_of(x, key);
+      required.seen |= 1u << i;
+    } else if (key == "breakdown" && !is_null(x)) {  // tables written before it have none
+      e.breakdown = breakdown_from_json(to_nlohmann(x));
+    }
+  });
+  required.check(detail::kErrorFields, "error");
+  return e;
+}
+
+image::Health health_of(od::value v) {
+  image::Health h;
+  each_field(v, "health", [&](std::string_view key, od::value x) {
+    if (key == "nan") h.nan = whole_of(x, "health.nan");
+    if (key == "inf") h.inf = whole_of(x, "health.inf");
+    if (key == "out_of_range") h.out_of_range = whole_of(x, "health.out_of_range");
+  });
+  return h;
+}
+
+std::vector<std::string> texts_of(od::value v, std::string_view name) {
+  std::vector<std::string> out;
+  for (auto e : array_of(v, name)) out.push_back(text_of(e.value(), name));
+  return out;
+}
+
+// One field of a row by its key; the row's required fields set their bit.
+using FieldReader = void (*)(CostRow&, od::value, Required&);
+const std::unordered_map<std::string_view, FieldReader>& field_readers() {
+  static const std::unordered_map<std::string_view, FieldReader> readers = {
+      {"variant", [](CostRow& r, od::value v, Required& q) {
+        r.variant = text_of(v, "variant");
+        q.seen |= 1;
+      }},
+      {"axes",
+       [](CostRow& r, od::value v, Required& q) {
+         r.axes.clear();
+         each_field(v, "axes", [&](std::string_view name, od::value x) {
+           std::string_view s;  // a value that is not a string: its JSON text
+           r.axes[std::string(name)] = x.get_string().get(s) ? to_nlohmann(x).dump() : std::string(s);
+         });
+         q.seen |= 2;
+       }},
+      {"scene", [](CostRow& r, od::value v, Required& q) {
+        r.scene = text_of(v, "scene");
+        q.seen |= 4;
+      }},
+      {"view", [](CostRow& r, od::value v, Required& q) {
+        r.view = text_of(v, "view");
+        q.seen |= 8;
+      }},
+      {"backend", [](CostRow& r, od::value v, Required& q) {
+        r.backend = text_of(v, "backend");
+        q.seen |= 16;
+      }},
+      {"time_ms", [](CostRow& r, od::value v, Required& q) {
+        r.time_ms = time_of(v);
+        q.seen |= 32;
+      }},
+      {"spirv_hash", [](CostRow& r, od::value v, Required&) { r.spirv_hash = text_of(v, "spirv_hash"); }},
+      {"device", [](CostRow& r, od::value v, Required&) { r.device = text_of(v, "device"); }},
+      {"driver", [](CostRow& r, od::value v, Required&) { r.driver = text_of(v, "driver"); }},
+      {"size", [](CostRow& r, od::value v, Required&) { r.size = text_of(v, "size"); }},
+      {"threads", [](CostRow& r, od::value v, Required&) { r.threads = int_of(v, "threads"); }},
+      {"static", [](CostRow& r, od::value v, Required&) { r.static_cost = static_cost_from_json(to_nlohmann(v)); }},
+      {"gpu", [](CostRow& r, od::value v, Required&) { r.gpu = gpu_costs_from_json(to_nlohmann(v)); }},
+      {"rel_time", [](CostRow& r, od::value v, Required&) { r.rel_time = number_of(v, "rel_time"); }},
+      {"rel_time_median", [](CostRow& r, od::value v, Required&) { r.rel_time_median = number_of(v, "rel_time_median"); }},
+      {"rel_time_ci", [](CostRow& r, od::value v, Required&) { r.rel_time_ci = interval_of(v, "rel_time_ci"); }},
+      {"rounds", [](CostRow& r, od::value v, Required&) { r.rounds = is_null(v) ? Rounds{} : rounds_of(v); }},
+      {"same_code_as", [](CostRow& r, od::value v, Required&) { r.same_code_as = text_of(v, "same_code_as"); }},
+      {"error",
+       [](CostRow& r, od::value v, Required&) {
+         r.error = is_null(v) ? std::nullopt : std::optional(error_of(v));
+       }},
+      {"health", [](CostRow& r, od::value v, Required&) { r.health = health_of(v); }},
+      {"pareto", [](CostRow& r, od::value v, Required&) { r.pareto = bool_of(v, "pareto"); }},
+      {"predicted", [](CostRow& r, od::value v, Required&) { r.predicted = bool_of(v, "predicted"); }},
+      {"flicker",
+       [](CostRow& r, od::value v, Required&) {
+         r.flicker = is_null(v) ? std::nullopt : std::optional(number_of(v, "flicker"));
+       }},
+      {"images", [](CostRow& r, od::value v, Required&) { r.images = texts_of(v, "images"); }},
+  };
+  return readers;
+}
+
+// A row's fields in file order (a field given twice: the last counts, as in any JSON reader that keeps one).
+// Throws "row 'variant': field 'name': what is wrong" (the variant when it came before the field).
+CostRow read_row(od::object o) {
+  CostRow r;
+  Required required;
+  std::string field;
+  try {
+    for (auto f : o) {
+      field = key_of(f);
+      const auto reader = field_readers().find(field);
+      if (reader != field_readers().end()) reader->second(r, f.value().value(), required);
+    }
+    field.clear();
+    constexpr const char* kNames[] = {"variant", "axes", "scene", "view", "backend", "time_ms"};  // bits 1 to 32
+    required.check(kNames, "");
+  } catch (const simdjson::simdjson_error&) {
+    throw;  // not well formed: said as such, with the line (with_document)
+  } catch (const std::exception& e) {
+    const std::string row = r.variant.empty() ? "" : "row '" + r.variant + "': ";
+    throw std::runtime_error(field.empty() ? row + "field " + e.what() : row + "field '" + field + "': " + e.what());
+  }
+  return r;
+}
+
+// "meta" as read: an object (absent: an empty one).
+json checked_meta(const json& meta) {
+  if (!meta.is_object())
+    throw std::runtime_error(fmt::format("\"meta\" is {}, not an object (write {{}} when there is nothing in it)",
+                                         meta.type_name()));
+  return meta;
+}
+
+// The text being parsed, and the line a message points at. With `release`, the pages wholly before the row
+// being read go back to the system as the rows are read (madvise MADV_DONTNEED, once every 64 MiB): On-Demand
+// reads forward only, and a 1,000,000-row table is 1.7 GB of text. Their newlines are counted first.
+class Text {
+ public:
+  Text(const std::string& text, bool release) : text_(text), kept_(text.data()), release_(release) {}
+  const std::string& str() const { return text_; }
+
+  void release_before(const char* at) {
+    constexpr std::ptrdiff_t kStep = std::ptrdiff_t{64} << 20;
+    if (!release_ || at - kept_ < kStep) return;
+    static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
+    const auto from = (reinterpret_cast<std::uintptr_t>(kept_) + page - 1) / page * page;
+    const auto to = reinterpret_cast<std::uintptr_t>(at) / page * page;
+    if (to <= from) return;
+    lines_before_ += static_cast<std::size_t>(std::count(kept_, reinterpret_cast<const char*>(to), '\n'));
+    ::madvise(reinterpret_cast<void*>(from), to - from, MADV_DONTNEED);
+    kept_ = reinterpret_cast<const char*>(to);
+  }
+
+  // " (line N)" for where the document stands, or nothing when that is unknown.
+  std::string where(od::document& doc) const {
+    const char* at = nullptr;
+    if (doc.current_location().get(at) || at < kept_ || at > text_.data() + text_.size()) return "";
+    return fmt::format(" (line {})", 1 + lines_before_ + static_cast<std::size_t>(std::count(kept_, at, '\n')));
+  }
+
+ private:
+  const std::string& text_;
+  const char* kept_;              // the bytes before it are released
+  std::size_t lines_before_ = 0;  // newlines before kept_
+  bool release_;
+};
+
+// The table's meta and rows, not yet validated. `file` names it for the schema message (empty: not a file).
+// "schema_version" comes after "rows" (keys are sorted) and is checked first: a newer aovar's table must be
+// refused for its version, not for a row this one cannot read.
+CostTable read_document(od::document& doc, Text& text, const std::filesystem::path& file) {
+  if (doc.type().value() != od::json_type::object) throw std::runtime_error("not a cost table (no \"rows\" array)");
+  if (!file.empty()) {
+    od::value version;
+    const simdjson::error_code found = doc.find_field_unordered("schema_version").get(version);
+    if (found == simdjson::SUCCESS) util::check_schema_version(to_nlohmann(version), file);
+    else if (found != simdjson::NO_SUCH_FIELD) throw simdjson::simdjson_error(found);  // the document is dead
+  }
+  doc.rewind();
+  CostTable t;
+  bool has_rows = false;
+  for (auto top : doc.get_object()) {
+    const std::string_view key = key_of(top);
+    od::value v = top.value().value();
+    if (key == "meta") t.meta = checked_meta(to_nlohmann(v));
+    if (key != "rows") continue;
+    od::array rows;
+    if (v.get_array().get(rows)) throw std::runtime_error("not a cost table (no \"rows\" array)");
+    has_rows = true;
+    t.rows.clear();
+    t.rows.reserve(rows.count_elements().value());  // the rows are most of the memory: no regrowth
+    for (auto element : rows) {
+      od::value row = element.value();
+      const std::size_t index = t.rows.size();
+      if (const char* at = nullptr; index % 4096 == 0 && !doc.current_location().get(at)) text.release_before(at);
+      od::object o;
+      if (row.get_object().get(o))
+        throw std::runtime_error(fmt::format("row {}{} is {}, not an object", index, text.where(doc), type_name(row)));
+      try {
+        t.rows.push_back(read_row(o));
+      } catch (const simdjson::simdjson_error&) {
+        throw;
+      } catch (const std::exception& e) {
+        throw std::runtime_error(fmt::format("row {}{}: {}", index, text.where(doc), e.what()));
+      }
+    }
+  }
+  if (!has_rows) throw std::runtime_error("not a cost table (no \"rows\" array)");
+  if (const char* rest = nullptr; !doc.current_location().get(rest))  // OUT_OF_BOUNDS: nothing is left
+    throw std::runtime_error(fmt::format("text after the table's closing brace{}", text.where(doc)));
+  return t;
+}
+
+// Parses the text (its capacity holds SIMDJSON_PADDING past the end) and hands the document to `use`;
+// JSON that is not well formed fails in one line with simdjson's word for it and the line.
+template <class Use>
+auto with_document(Text& text, Use&& use) {
+  od::parser parser;
+  od::document doc;
+  bool started = false;  // a document that never started has no position
+  try {
+    doc = parser.iterate(simdjson::padded_string_view(text.str().data(), text.str().size(), text.str().capacity()));
+    started = true;
+    return use(doc);
+  } catch (const simdjson::simdjson_error& e) {
+    throw std::runtime_error(fmt::format("not valid JSON{}: {} (fix the file or write it again)",
+                                         started ? text.where(doc) : "", e.what()));
+  }
+}
+
+std::string padded_text(const json& j) {
+  std::string text = j.dump();
+  text.reserve(text.size() + simdjson::SIMDJSON_PADDING);
+  return text;
+}
+
+}  // namespace
+
+CostRow row_from_json(const json& j) {
+  const std::string padded = padded_text(j);
+  Text text(padded, false);
+  return with_document(text, [](od::document& doc) {
+    od::object o;
+    if (doc.get_object().get(o)) throw std::runtime_error("a row is not an object");
+    return read_row(o);
+  });
+}
+
+CostTable table_from_json(const json& j) {
+  const std::string padded = padded_text(j);
+  Text text(padded, false);
+  CostTable t = with_document(text, [&](od::document& doc) { return read_document(doc, text, {}); });
+  validate_rows(t.rows);
+  return t;
+}
+
+CostTable read_table(const std::filesystem::path& path) {
+  try {
+    CostTable t;
+    {  // the text and the parser's index are freed before the rows are validated
+      auto content = util::read_file(path, util::kMaxReadBytes, simdjson::SIMDJSON_PADDING);
+      if (!content) throw std::runtime_error("cannot read the cost table");
+      Text text(*content, true);
+      t = with_document(text, [&](od::document& doc) { return read_document(doc, text, path); });
+    }
+    validate_rows(t.rows);
+    return t;
+  } catch (const util::NewerSchema&) {
+    throw;  // already names the file
+  } catch (const util::ReadError&) {
+    throw;  // already names the file
+  } catch (const std::exception& e) {
+    throw std::runtime_error(util::display_path(path) + ": " + e.what());
+  }
+}
+
+}  // namespace aovar::table
