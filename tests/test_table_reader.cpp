@@ -63,6 +63,18 @@ TEST(TableReader, MalformedTablesFailInOneLineNamingTheFileTheRowAndTheLine) {
   EXPECT_NE(e.find("cost_table.json: row 0 (line "), std::string::npos) << e;
   EXPECT_NE(e.find("row 'quick': field scene is missing"), std::string::npos) << e;
 
+  json nested = good;  // static and error.breakdown are read member by member: each one is needed
+  nested["rows"][0]["static"] = to_json(std::optional<StaticCost>(StaticCost{}));
+  nested["rows"][0]["error"]["breakdown"] = to_json(metrics::ErrorBreakdown{});
+  ASSERT_EQ(read_error(nested.dump(1), dir), "");
+  json no_alu = nested;
+  no_alu["rows"][0]["static"]["passes"].erase("alu");
+  EXPECT_NE(read_error(no_alu.dump(1), dir).find("field 'static': static.passes.alu is missing"), std::string::npos);
+  json no_far_rmse = nested;
+  no_far_rmse["rows"][0]["error"]["breakdown"]["far"].erase("rmse");
+  EXPECT_NE(read_error(no_far_rmse.dump(1), dir).find("field 'error': error.breakdown.far.rmse is missing"),
+            std::string::npos);
+
   json not_an_object = good;
   not_an_object["rows"][1] = 5;
   text = not_an_object.dump(1);

@@ -2,8 +2,9 @@
 // (Langdale & Lemire, 2019, for the structural index; Keiser & Lemire, 2024, for On-Demand) walks the file
 // once and each row's fields go straight into its CostRow: no document of the table and no per-row JSON
 // objects, which were most of the time and memory of `select` and `report` on large tables (bench/README.md,
-// "bench/big_inputs"). The parts other readers share (static, gpu, error.breakdown, meta) go through their
-// nlohmann readers. Values of fields aovar does not know are skipped, not checked.
+// "bench/big_inputs"). "static" and "error.breakdown" are read by the member lists their writers use
+// (static_cost_fields.h, detail.h); "gpu" and "meta" go through their nlohmann readers. Values of fields aovar
+// does not know are skipped, not checked.
 #include <simdjson.h>
 #include <sys/mman.h>
 #include <unistd.h>
@@ -15,9 +16,11 @@
 #include <span>
 #include <stdexcept>
 #include <string_view>
+#include <type_traits>
 #include <unordered_map>
 
 #include "table/detail.h"
+#include "table/static_cost_fields.h"
 #include "table/table.h"
 #include "table/validate.h"
 #include "util/fs.h"
@@ -156,6 +159,128 @@ void each_field(od::value v, std::string_view name, Use&& use) {
   }
 }
 
+double nan_or_number(od::value x, std::string_view name) {
+  return is_null(x) ? std::numeric_limits<double>::quiet_NaN() : number_of(x, name);
+}
+
+[[noreturn]] void missing(std::string_view path, std::string_view name) {
+  throw std::runtime_error(fmt::format("{}.{} is missing", path, name));
+}
+
+// The members `fields` names from the object `v` into `out`; other keys go to `other`. Returns the keys seen.
+template <class Struct, class Member, std::size_t N, class Other>
+std::size_t read_fields(od::value v, std::string_view path, Struct& out,
+                        const static_fields::Field<Struct, Member> (&fields)[N], Other&& other) {
+  std::uint32_t seen = 0;
+  std::size_t keys = 0;
+  each_field(v, path, [&](std::string_view key, od::value x) {
+    ++keys;
+    for (std::size_t i = 0; i < N; ++i)
+      if (key == fields[i].name) {
+        if constexpr (std::is_same_v<Member, int>) out.*fields[i].member = int_of(x, key);
+        else out.*fields[i].member = number_of(x, key);
+        seen |= 1u << i;
+        return;
+      }
+    other(key, x);
+  });
+  for (std::size_t i = 0; i < N; ++i)
+    if (fields[i].required && !(seen & (1u << i))) missing(path, fields[i].name);
+  return keys;
+}
+constexpr auto kNoOther = [](std::string_view, od::value) {};
+
+ProgramCounts counts_of(od::value v, std::string_view path) {
+  ProgramCounts c;
+  bool fetches = false;
+  read_fields(v, path, c, static_fields::kCounts, [&](std::string_view key, od::value x) {
+    if (key == "fetches") {
+      read_fields(x, "fetches", c.fetches, static_fields::kFetches, kNoOther);
+      fetches = true;
+    }
+    if (key == "loops") read_fields(x, "loops", c, static_fields::kLoops, kNoOther);
+  });
+  if (!fetches) missing(path, "fetches");
+  return c;
+}
+
+// "static" (table/static_cost.h): null or {} when the variant was not analysed.
+std::optional<StaticCost> static_of(od::value v) {
+  if (is_null(v)) return std::nullopt;
+  StaticCost s;
+  bool ao = false, passes = false;
+  const std::size_t keys = read_fields(v, "static", s, static_fields::kCost, [&](std::string_view key, od::value x) {
+    if (key == "ao") {
+      s.ao = counts_of(x, "static.ao");
+      ao = true;
+    }
+    if (key == "passes") {
+      s.passes = counts_of(x, "static.passes");
+      passes = true;
+    }
+    if (key != "weighted") return;
+    bool weighted_ao = false, others = false;
+    each_field(x, "static.weighted", [&](std::string_view part, od::value y) {
+      if (part == "ao") {
+        read_fields(y, "static.weighted.ao", s.weighted_ao, static_fields::kClasses, kNoOther);
+        weighted_ao = true;
+      }
+      if (part == "others") {
+        read_fields(y, "static.weighted.others", s.weighted_others, static_fields::kClasses, kNoOther);
+        others = true;
+      }
+    });
+    if (!weighted_ao) missing("static.weighted", "ao");
+    if (!others) missing("static.weighted", "others");
+  });
+  if (keys == 0) return std::nullopt;
+  if (!ao) missing("static", "ao");
+  if (!passes) missing("static", "passes");
+  return s;
+}
+
+// error.breakdown (metrics/breakdown.h): every value is there, NaN written as null.
+metrics::ErrorPart part_of(od::value v, std::string_view name) {
+  metrics::ErrorPart p;
+  std::uint32_t seen = 0;
+  each_field(v, name, [&](std::string_view key, od::value x) {
+    for (std::size_t i = 0; i < std::size(detail::kPartValues); ++i)
+      if (key == detail::kPartValues[i].name) {
+        p.*detail::kPartValues[i].value = nan_or_number(x, key);
+        seen |= 1u << i;
+      }
+  });
+  for (std::size_t i = 0; i < std::size(detail::kPartValues); ++i)
+    if (!(seen & (1u << i))) missing(fmt::format("error.breakdown.{}", name), detail::kPartValues[i].name);
+  return p;
+}
+
+metrics::ErrorBreakdown breakdown_of(od::value v) {
+  metrics::ErrorBreakdown b;
+  constexpr std::size_t kParts = std::size(detail::kBreakdownParts);
+  std::uint32_t seen = 0;  // the parts by bit, then edge_band_px and split_depth
+  each_field(v, "error.breakdown", [&](std::string_view key, od::value x) {
+    for (std::size_t i = 0; i < kParts; ++i)
+      if (key == detail::kBreakdownParts[i].name) {
+        b.*detail::kBreakdownParts[i].part = part_of(x, key);
+        seen |= 1u << i;
+      }
+    if (key == "edge_band_px") {
+      b.edge_band_px = nan_or_number(x, key);
+      seen |= 1u << kParts;
+    }
+    if (key == "split_depth") {
+      b.split_depth = nan_or_number(x, key);
+      seen |= 2u << kParts;
+    }
+  });
+  for (std::size_t i = 0; i < kParts; ++i)
+    if (!(seen & (1u << i))) missing("error.breakdown", detail::kBreakdownParts[i].name);
+  if (!(seen & (1u << kParts))) missing("error.breakdown", "edge_band_px");
+  if (!(seen & (2u << kParts))) missing("error.breakdown", "split_depth");
+  return b;
+}
+
 Rounds rounds_of(od::value v) {
   Rounds r;
   Required required;
@@ -209,7 +334,7 @@ metrics::ErrorStats error_of(od::value v) {
       detail::error_field(e, i) = is_null(x) ? std::numeric_limits<double>::infinity() : number_of(x, key);
       required.seen |= 1u << i;
     } else if (key == "breakdown" && !is_null(x)) {  // tables written before it have none
-      e.breakdown = breakdown_from_json(to_nlohmann(x));
+      e.breakdown = breakdown_of(x);
     }
   });
   required.check(detail::kErrorFields, "error");
@@ -270,7 +395,7 @@ const std::unordered_map<std::string_view, FieldReader>& field_readers() {
       {"driver", [](CostRow& r, od::value v, Required&) { r.driver = text_of(v, "driver"); }},
       {"size", [](CostRow& r, od::value v, Required&) { r.size = text_of(v, "size"); }},
       {"threads", [](CostRow& r, od::value v, Required&) { r.threads = int_of(v, "threads"); }},
-      {"static", [](CostRow& r, od::value v, Required&) { r.static_cost = static_cost_from_json(to_nlohmann(v)); }},
+      {"static", [](CostRow& r, od::value v, Required&) { r.static_cost = static_of(v); }},
       {"gpu", [](CostRow& r, od::value v, Required&) { r.gpu = gpu_costs_from_json(to_nlohmann(v)); }},
       {"rel_time", [](CostRow& r, od::value v, Required&) { r.rel_time = number_of(v, "rel_time"); }},
       {"rel_time_median", [](CostRow& r, od::value v, Required&) { r.rel_time_median = number_of(v, "rel_time_median"); }},

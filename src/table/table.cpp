@@ -44,24 +44,14 @@ void detail::check_ratios(const std::vector<double>& ratios) {
 }
 
 namespace {
-// The parts of a breakdown by their JSON name, in file order.
-struct PartField {
-  const char* name;
-  metrics::ErrorPart metrics::ErrorBreakdown::*part;
-};
-constexpr PartField kParts[] = {{"edge", &metrics::ErrorBreakdown::edge},   {"interior", &metrics::ErrorBreakdown::interior},
-                                {"near", &metrics::ErrorBreakdown::near},   {"far", &metrics::ErrorBreakdown::far},
-                                {"light", &metrics::ErrorBreakdown::light}, {"dark", &metrics::ErrorBreakdown::dark}};
-
 double nan_if_null(const json& j) { return j.is_null() ? std::numeric_limits<double>::quiet_NaN() : j.get<double>(); }
 }  // namespace
 
 json to_json(const metrics::ErrorBreakdown& b) {
   json out = {{"edge_band_px", num(b.edge_band_px)}, {"split_depth", num(b.split_depth)}};
-  for (const auto& [name, part] : kParts) {
-    const metrics::ErrorPart& p = b.*part;
-    out[name] = {{"pixel_share", num(p.pixel_share)}, {"rmse", num(p.rmse)}, {"error_share", num(p.error_share)},
-                 {"mean_error", num(p.mean_error)}};
+  for (const auto& [name, part] : detail::kBreakdownParts) {
+    json& p = out[name] = json::object();
+    for (const auto& [value_name, value] : detail::kPartValues) p[value_name] = num((b.*part).*value);
   }
   return out;
 }
@@ -70,11 +60,8 @@ metrics::ErrorBreakdown breakdown_from_json(const json& j) {
   metrics::ErrorBreakdown b;
   b.edge_band_px = nan_if_null(j.at("edge_band_px"));
   b.split_depth = nan_if_null(j.at("split_depth"));
-  for (const auto& [name, part] : kParts) {
-    const json& p = j.at(name);
-    b.*part = {nan_if_null(p.at("pixel_share")), nan_if_null(p.at("rmse")), nan_if_null(p.at("error_share")),
-               nan_if_null(p.at("mean_error"))};
-  }
+  for (const auto& [name, part] : detail::kBreakdownParts)
+    for (const auto& [value_name, value] : detail::kPartValues) (b.*part).*value = nan_if_null(j.at(name).at(value_name));
   return b;
 }
 
