@@ -13,13 +13,13 @@
 
 #include <algorithm>
 #include <limits>
-#include <span>
 #include <stdexcept>
 #include <string_view>
 #include <type_traits>
 #include <unordered_map>
 
 #include "table/detail.h"
+#include "table/ondemand_json.h"
 #include "table/static_cost_fields.h"
 #include "table/table.h"
 #include "table/validate.h"
@@ -28,144 +28,7 @@
 
 namespace aovar::table {
 namespace {
-using nlohmann::json;
-namespace od = simdjson::ondemand;
-
-const char* type_name(od::value& v) {
-  od::json_type t;
-  if (v.type().get(t)) return "not valid JSON";
-  switch (t) {
-    case od::json_type::array: return "an array";
-    case od::json_type::object: return "an object";
-    case od::json_type::number: return "a number";
-    case od::json_type::string: return "a string";
-    case od::json_type::boolean: return "a boolean";
-    case od::json_type::null: return "null";
-  }
-  return "unknown";
-}
-
-// A value that is not what `name` must be: its type, or simdjson's word for a malformed one.
-[[noreturn]] void wrong(od::value& v, std::string_view name, const char* expected, simdjson::error_code e) {
-  if (e == simdjson::INCORRECT_TYPE) throw std::runtime_error(fmt::format("{} is {}, not {}", name, type_name(v), expected));
-  throw std::runtime_error(fmt::format("{}: {}", name, simdjson::error_message(e)));
-}
-
-bool is_null(od::value& v) {
-  bool null = false;
-  return !v.is_null().get(null) && null;
-}
-std::string text_of(od::value v, std::string_view name) {
-  std::string_view s;
-  if (auto e = v.get_string().get(s)) wrong(v, name, "a string", e);
-  return std::string(s);
-}
-double number_of(od::value v, std::string_view name) {
-  double d;
-  if (auto e = v.get_double().get(d)) wrong(v, name, "a number", e);
-  return d;
-}
-long long whole_of(od::value v, std::string_view name) {
-  std::int64_t i;
-  if (auto e = v.get_int64().get(i)) wrong(v, name, "a whole number", e);
-  return i;
-}
-int int_of(od::value v, std::string_view name) {
-  const long long i = whole_of(v, name);
-  if (i < std::numeric_limits<int>::min() || i > std::numeric_limits<int>::max())
-    throw std::runtime_error(fmt::format("{} {} is out of range", name, i));
-  return static_cast<int>(i);
-}
-bool bool_of(od::value v, std::string_view name) {
-  bool b;
-  if (auto e = v.get_bool().get(b)) wrong(v, name, "true or false", e);
-  return b;
-}
-od::object object_of(od::value v, std::string_view name) {
-  od::object o;
-  if (auto e = v.get_object().get(o)) wrong(v, name, "an object", e);
-  return o;
-}
-od::array array_of(od::value v, std::string_view name) {
-  od::array a;
-  if (auto e = v.get_array().get(a)) wrong(v, name, "an array", e);
-  return a;
-}
-std::string_view key_of(simdjson::simdjson_result<od::field>& f) { return f.unescaped_key().value(); }
-
-// A value as nlohmann::json, for the readers other files share.
-json to_nlohmann(od::value v) {
-  switch (v.type().value()) {
-    case od::json_type::object: {
-      json out = json::object();
-      for (auto f : v.get_object()) {
-        std::string key(key_of(f));  // before the value: On-Demand reads forward only
-        out[key] = to_nlohmann(f.value().value());
-      }
-      return out;
-    }
-    case od::json_type::array: {
-      json out = json::array();
-      for (auto e : v.get_array()) out.push_back(to_nlohmann(e.value()));
-      return out;
-    }
-    case od::json_type::number:
-      switch (v.get_number_type().value()) {
-        case od::number_type::signed_integer: return json(v.get_int64().value());
-        case od::number_type::unsigned_integer: return json(v.get_uint64().value());
-        case od::number_type::floating_point_number: break;
-      }
-      return json(v.get_double().value());
-    case od::json_type::string: return json(std::string(v.get_string().value()));
-    case od::json_type::boolean: return json(v.get_bool().value());
-    case od::json_type::null: break;
-  }
-  if (!is_null(v)) throw std::runtime_error("not valid JSON");
-  return json(nullptr);
-}
-
-util::Interval interval_of(od::value v, std::string_view name) {
-  if (is_null(v)) return {};
-  std::vector<double> ends;
-  for (auto e : array_of(v, name)) ends.push_back(number_of(e.value(), name));
-  if (ends.size() != 2) throw std::runtime_error(fmt::format("{}: {}", name, detail::kIntervalShape));
-  return {ends[0], ends[1]};
-}
-
-std::vector<double> numbers_of(od::value v, std::string_view name) {
-  std::vector<double> out;
-  for (auto e : array_of(v, name)) out.push_back(number_of(e.value(), name));
-  return out;
-}
-
-// Fields a row or one of its objects must have, by bit.
-struct Required {
-  std::uint32_t seen = 0;
-  void check(std::span<const char* const> names, std::string_view parent) const {
-    std::uint32_t bit = 1;
-    for (const char* name : names) {
-      if (!(seen & bit)) throw std::runtime_error(fmt::format("{}{}{} is missing", parent, parent.empty() ? "" : ".", name));
-      bit <<= 1;
-    }
-  }
-};
-
-// Calls use(key, value) for each field of `v`, an object (`name` says what must be one).
-template <class Use>
-void each_field(od::value v, std::string_view name, Use&& use) {
-  for (auto f : object_of(v, name)) {
-    const std::string_view key = key_of(f);  // before the value: On-Demand reads forward only
-    use(key, f.value().value());
-  }
-}
-
-double nan_or_number(od::value x, std::string_view name) {
-  return is_null(x) ? std::numeric_limits<double>::quiet_NaN() : number_of(x, name);
-}
-
-[[noreturn]] void missing(std::string_view path, std::string_view name) {
-  throw std::runtime_error(fmt::format("{}.{} is missing", path, name));
-}
+using namespace ondemand_json;  // od::, the typed getters, each_field, to_nlohmann
 
 // The members `fields` names from the object `v` into `out`; other keys go to `other`. Returns the keys seen.
 template <class Struct, class Member, std::size_t N, class Other>
