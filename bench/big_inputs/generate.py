@@ -1,10 +1,14 @@
 #!/usr/bin/env python3
 """Inputs at the scale the whole-space search writes (issue 34, point 5), for timing aovar on them.
 
-  generate.py table N OUT.json     a cost_table.json of N rows: up to 30,000 variants of the default space x
+  generate.py table N OUT.json [full]
+                                   a cost_table.json of N rows: up to 30,000 variants of the default space x
                                    views (3, or as many as N needs) of one scene on lavapipe, timed in
                                    batches of 8 against the first variant (15 rounds each, as measure writes
-                                   them: ratios, paired time, sign-test intervals), each with an error
+                                   them: ratios, paired time, sign-test intervals), each with an error;
+                                   `full`: each row also has what a sweep with --reference writes besides
+                                   (its static cost from the SPIR-V and the error's breakdown), about 2x the
+                                   bytes
   generate.py manifest N OUT.toml  the default manifest (shader_src/aovar.toml) plus N `skip` rules inside
                                    what its rules already drop (24+ samples at quarter resolution), each
                                    matching some point (a rule that matches none is an error), so `aovar list`
@@ -70,6 +74,32 @@ def key_of(a):
                      f"x{round(1 / float(a['resolution']))}", "hp" if a["precision"] == "highp" else "mp"])
 
 
+def static_cost(cost):
+    """A sweep's "static" object (table/static_cost.h), its counts growing with the row's cost."""
+    def counts(k):
+        return {"alu": round(200 * k), "branches": 16.0, "cmp_select": 31.0, "div": 17.0,
+                "fetches": {"depth": round(4 * k), "history": 0.0, "input": 0.0, "normal": 1.0, "position": 0.0,
+                            "prefilter": 0.0},
+                "fma": 0.0, "loops": {"constant": 1, "dynamic": 0, "unrolled": 0}, "projections": 0.0,
+                "transcendental": 17.0, "unprojections": 5.0}
+
+    def weighted(k):
+        return {"alu": round(200 * k), "branches": 16.0, "cmp_select": 31.0, "div": 17.0, "fetches": round(4 * k),
+                "prefilter_fetches": 0.0, "transcendental": 17.0}
+    return {"ao": counts(cost), "passes": counts(cost * 1.3), "ao_bytes_per_pixel": 12.0,
+            "weighted": {"ao": weighted(cost), "others": weighted(cost * 0.3)}, "work_per_pixel": round(250 * cost)}
+
+
+def breakdown(rmse, rng):
+    """The error's breakdown (metrics/breakdown.h): per part its pixel share, rmse, error share and mean."""
+    out = {"edge_band_px": 17.1, "split_depth": 9.09}
+    for part, share in (("edge", 0.18), ("interior", 0.82), ("near", 0.5), ("far", 0.5), ("light", 0.05),
+                        ("dark", 0.64)):
+        out[part] = {"pixel_share": share, "rmse": rmse * rng.uniform(0.7, 1.4), "error_share": share,
+                     "mean_error": -rmse * rng.uniform(0.2, 0.6)}
+    return out
+
+
 def row(variant, axes, view, batch, ratios, rmse, rng):
     ratios_sorted = sorted(ratios)
     median = ratios_sorted[len(ratios) // 2]
@@ -93,8 +123,9 @@ def row(variant, axes, view, batch, ratios, rmse, rng):
     }
 
 
-def table(n, out):
+def table(n, out, full=False):
     rng = random.Random(34)
+    extra_rng = random.Random(35)  # its own: `full` rows time and err as the plain ones
     rows = []
     # Up to 30,000 distinct variants (points of the default space, so the seed pairs match as in a real
     # sweep), each on as many views as the rows need.
@@ -116,6 +147,9 @@ def table(n, out):
             ratios = [1.0] * ROUNDS if i == 0 else [round(cost * (1 + rng.gauss(0, 0.02)), 6) for _ in range(ROUNDS)]
             rmse = max(0.005, 0.12 / cost ** 0.7 * math.exp(rng.gauss(0, 0.25)))
             rows.append(row(key, axes, view, batch, ratios, round(rmse, 6), rng))
+            if full:
+                rows[-1]["static"] = static_cost(cost)
+                rows[-1]["error"]["breakdown"] = breakdown(rows[-1]["error"]["rmse"], extra_rng)
     doc = {"schema_version": 1, "meta": {"generated_by": "bench/big_inputs/generate.py", "scenes": [{"scene": SCENE}]},
            "rows": rows}
     Path(out).write_text(json.dumps(doc, indent=1) + "\n")
@@ -146,6 +180,10 @@ def manifest(n, out):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 4 or sys.argv[1] not in ("table", "manifest") or not sys.argv[2].isdigit():
+    full = sys.argv[4:] == ["full"] and sys.argv[1] == "table"
+    if len(sys.argv) != 4 + full or sys.argv[1] not in ("table", "manifest") or not sys.argv[2].isdigit():
         sys.exit(__doc__)
-    (table if sys.argv[1] == "table" else manifest)(int(sys.argv[2]), sys.argv[3])
+    if full:
+        table(int(sys.argv[2]), sys.argv[3], full=True)
+    else:
+        (table if sys.argv[1] == "table" else manifest)(int(sys.argv[2]), sys.argv[3])

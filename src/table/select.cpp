@@ -36,7 +36,8 @@ std::string families_of(const CostTable& table) {
 }  // namespace
 
 std::vector<Candidate> candidates(const CostTable& table, const SelectQuery& q) {
-  std::map<std::pair<std::string, std::string>, Candidate> by;
+  // Each candidate with its slowest row so far, copied into time_row once at the end (a row is kilobytes).
+  std::map<std::pair<std::string, std::string>, std::pair<Candidate, const CostRow*>> by;
   for (const auto& r : table.rows) {
     // A same_code_as row is its representative's measurement again: the representative stands for both.
     if (!r.error || r.predicted || !r.same_code_as.empty()) continue;
@@ -47,7 +48,7 @@ std::vector<Candidate> candidates(const CostTable& table, const SelectQuery& q) 
     if (!q.backend.empty() && r.backend != q.backend) continue;
     std::string where = r.scene + "/" + r.view;
     auto [it, fresh] = by.try_emplace({r.variant, r.backend});
-    Candidate& c = it->second;
+    auto& [c, time_row] = it->second;
     if (fresh) {
       c.variant = r.variant;
       c.backend = r.backend;
@@ -62,12 +63,14 @@ std::vector<Candidate> candidates(const CostTable& table, const SelectQuery& q) 
     if (fresh || time > c.time_ms) {
       c.time_ms = time;
       c.worst_time_view = where;
-      c.time_row = r;
+      time_row = &r;
     }
     c.views.push_back(where);
   }
   std::vector<Candidate> out;
-  for (auto& [k, c] : by) {
+  for (auto& [k, candidate] : by) {
+    auto& [c, time_row] = candidate;
+    c.time_row = *time_row;
     // An estimate is deterministic: only a measured time has an interval.
     // The baseline's ratio to itself is 1 in every round: no interval of its own to show.
     if (q.target.empty() && !c.time_row.rounds.is_baseline()) c.time_ci = c.time_row.time_ms.paired_ci;

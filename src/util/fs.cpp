@@ -45,7 +45,7 @@ struct Fd {
 
 }  // namespace
 
-std::optional<std::string> read_file(const fs::path& path, std::uint64_t max_bytes) {
+std::optional<std::string> read_file(const fs::path& path, std::uint64_t max_bytes, std::size_t spare) {
   // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer forever.
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
   if (fd < 0) {  // a socket cannot be opened at all (ENXIO): still say what it is
@@ -66,6 +66,7 @@ std::optional<std::string> read_file(const fs::path& path, std::uint64_t max_byt
   const auto size = static_cast<std::uint64_t>(st.st_size);
   if (size > max_bytes) throw too_large(size);
   std::string bytes;
+  bytes.reserve(static_cast<std::size_t>(size) + spare);
   bytes.resize(static_cast<std::size_t>(size));
   std::size_t got = 0;
   char chunk[65536];
@@ -83,6 +84,7 @@ std::optional<std::string> read_file(const fs::path& path, std::uint64_t max_byt
     got += static_cast<std::size_t>(n);
   }
   bytes.resize(got);
+  if (bytes.capacity() < got + spare) bytes.reserve(got + spare);  // it grew while it was read
   return bytes;
 }
 

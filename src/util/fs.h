@@ -24,8 +24,10 @@ class ReadError : public std::runtime_error {
 // Returns the bytes of the regular file `path`, or nullopt when it does not exist or cannot be opened.
 // Throws ReadError (one line, naming the file) when `path` is not
 // a regular file (a directory, /dev/zero, a FIFO, a socket: opened without blocking, never read) or holds
-// more than `max_bytes`. Every file a user names is read through here.
-std::optional<std::string> read_file(const std::filesystem::path& path, std::uint64_t max_bytes = kMaxReadBytes);
+// more than `max_bytes`. Every file a user names is read through here. The string's capacity holds `spare`
+// bytes past the end, for parsers that read beyond it (simdjson's SIMDJSON_PADDING) without a copy.
+std::optional<std::string> read_file(const std::filesystem::path& path, std::uint64_t max_bytes = kMaxReadBytes,
+                                     std::size_t spare = 0);
 
 // "a directory", "a character device", "a FIFO", ...: what `mode` (st_mode) is, for messages.
 std::string file_type_name(unsigned mode);

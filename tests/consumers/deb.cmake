@@ -14,7 +14,7 @@ if(rc OR NOT deb)
 endif()
 execute_process(COMMAND dpkg-deb -f ${deb} Package Version Depends OUTPUT_VARIABLE fields RESULT_VARIABLE rc)
 foreach(needed "Package: aovar" "Version: [0-9]+\\.[0-9]+\\.[0-9]+" "libembree3" "libtbb" "libosmesa6" "libvulkan1"
-               "mesa-vulkan-drivers" "libegl1" "libegl-mesa0" "libgles2" "libnlopt" "libstdc\\+\\+6")
+               "mesa-vulkan-drivers" "libegl1" "libegl-mesa0" "libgles2" "libnlopt" "libsimdjson" "libstdc\\+\\+6")
   if(rc OR NOT fields MATCHES "${needed}")
     message(FATAL_ERROR "package: the .deb's control does not declare '${needed}': ${fields}")
   endif()
