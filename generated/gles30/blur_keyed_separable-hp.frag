@@ -202,9 +202,15 @@ void main() {
 
     ivec2 dir = params.axis < 0.5 ? ivec2(1, 0) : ivec2(0, 1);
     int r = clamp(int(params.radius_px), 1, AO_BLUR_MAX_RADIUS);
+    // The loop runs to `bound`: r, capped where every further tap would leave the input and be skipped (so
+    // no result changes). Through textureSize the bound is no uniform to lavapipe, which otherwise (Mesa 22.3,
+    // uniform inlining) compiles a copy of this shader specialised on r at every draw, never freed: a leak of
+    // ~1 MB and a JIT compile per frame (tests/memory_growth.cpp).
+    ivec2 input_size = textureSize(ao_input_tex, 0);
+    int bound = min(r, max(input_size.x, input_size.y));
     AOP float sum = 0.0;
     AOP float weight_sum = 0.0; // >= 1: the centre tap has weight 1
-    for (int i = -r; i <= r; ++i) {
+    for (int i = -bound; i <= bound; ++i) {
         ivec2 q = p + i * dir;
         if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) {
             continue;

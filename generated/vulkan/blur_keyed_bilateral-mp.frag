@@ -198,10 +198,14 @@ void main() {
     }
 
     int r = clamp(int(params.radius_px), 1, AO_BLUR_MAX_RADIUS);
+    // The loops run to `bound`, r capped where further taps are all skipped: no uniform to lavapipe (as in
+    // passes/blur_separable.frag, which says why).
+    ivec2 input_size = textureSize(ao_input_tex, 0);
+    int bound = min(r, max(input_size.x, input_size.y));
     AOP float sum = 0.0;
     AOP float weight_sum = 0.0; // >= 1: the centre tap has weight 1
-    for (int y = -r; y <= r; ++y) {
-        for (int x = -r; x <= r; ++x) {
+    for (int y = -bound; y <= bound; ++y) {
+        for (int x = -bound; x <= bound; ++x) {
             ivec2 q = p + ivec2(x, y);
             if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) {
                 continue;
