@@ -17,6 +17,7 @@
 #include "cli/exit_code.h"
 #include "table/table.h"
 #include "test_support.h"
+#include "timed_rows.h"
 #include "util/fs.h"
 #include "util/progress.h"
 #include "util/schema.h"
@@ -33,21 +34,7 @@ namespace fs = std::filesystem;
 int lines_of(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
 // A measured row without rounds (decided by its point time), with an error against the reference.
-table::CostRow row(const std::string& variant, double ms, double rmse) {
-  table::CostRow r;
-  r.variant = variant;
-  r.scene = "builtin:atrium";
-  r.view = "overview";
-  r.backend = "lavapipe";
-  r.size = "64x36";
-  r.time_ms.min = r.time_ms.median = r.time_ms.p90 = ms;
-  r.time_ms.n = 10;
-  metrics::ErrorStats e;
-  e.rmse = rmse;
-  e.ssim = 1 - rmse;
-  r.error = e;
-  return r;
-}
+table::CostRow row(const std::string& variant, double ms, double rmse) { return test::point_row(variant, ms, rmse); }
 
 // Three variants: fast and rough, middle, slow and exact.
 fs::path write_table(const test::TempDir& dir, const std::string& name, double scale = 1) {

@@ -11,6 +11,7 @@
 
 #include "calibrate/calibrate.h"
 #include "calibrate/file.h"
+#include "gpu/by_key.h"
 #include "profile/scene_prune.h"
 #include "report/report.h"
 #include "scene/scene.h"
@@ -183,6 +184,11 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
   const auto start = std::chrono::steady_clock::now();
   if (o.out.empty()) throw std::runtime_error("ship: --out is required");
   check_query(o.query);
+  if (!o.target.empty()) {  // an unknown family or a missing RADV fails before anything is profiled or fitted
+    gpu::CostRequest request;
+    request.families = {o.target};
+    gpu::check_request(request);
+  }
   auto say = [&](const std::string& line) {
     if (progress) progress(line);
   };
