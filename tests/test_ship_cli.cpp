@@ -71,6 +71,15 @@ TEST(ShipCli, AKilledRunResumesToTheSameFrontAndItsBuildLineGeneratesExactlyTheC
   EXPECT_EQ(ship.at("fit_normals"), "buffer");
   for (const auto& e : ship.at("eliminated")) EXPECT_FALSE(e.at("reason").get<std::string>().empty());
 
+  // The screen scores the still frame only; the survivors get every measure of a sweep (flicker, images).
+  auto measured = [](const json& row, const char* what) { return row.contains(what) && !row.at(what).empty(); };
+  const json screen = table_of(dir / "whole" / "screen").at("rows"), front = table_of(dir / "whole").at("rows");
+  ASSERT_FALSE(screen.empty());
+  ASSERT_FALSE(front.empty());
+  EXPECT_GT(screen.size(), front.size());
+  for (const auto& r : screen) EXPECT_FALSE(measured(r, "flicker") || measured(r, "images")) << r.dump();
+  for (const auto& r : front) EXPECT_TRUE(measured(r, "flicker") && measured(r, "images")) << r.dump();
+
   // The build line, into a folder of the test's: exactly the chosen variant.
   std::string line = build_line(whole.output);
   ASSERT_FALSE(line.empty()) << whole.output;

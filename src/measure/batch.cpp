@@ -111,6 +111,7 @@ std::string BatchMeasurer::context(const runner::VariantRunner& runner, const sc
                                     info.driver, info.mediump_fp16, size_text(o_.size), o_.threads, reps_text(o_), o_.warmup,
                                     res_.radius, c_.space.variants[sel_.baseline].key);
   if (o_.camera_path) context += "|path";
+  if (!o_.temporal) context += "|still";  // a row without flicker is not one with it
   if (o_.ground_truth) context += "|truth:" + reference::cache_key(scene_, view, reference_options());
   return context;
 }
@@ -364,7 +365,7 @@ void BatchMeasurer::finish_row(MeasureRow& row, runner::VariantRunner& runner, c
   if (o_.ground_truth) {
     const auto& truth = ground_truth(view);
     row.error = runner::score(row.result, truth, view, res_.radius);  // with where the error comes from
-    temporal_errors(row, runner, cand.plan, p, view, truth);
+    if (o_.temporal) temporal_errors(row, runner, cand.plan, p, view, truth);
     if (!o_.out.empty() && o_.images) {
       metrics::write_error_heatmap(o_.out / (rel + ".error.png"), row.result, truth.visibility, truth.background);
       row.error_map = rel + ".error.png";

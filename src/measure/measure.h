@@ -50,6 +50,9 @@ struct MeasureOptions {
   std::filesystem::path out;               // empty: no files (tests)
   bool images = true;
   bool camera_path = false;                // frames walk each view's camera path (progressive in motion)
+  // With ground_truth: each row's flicker along its view's camera path, and a progressive variant's error
+  // from one frame (view.path_frames more renders a row). false: the still error only (ship's screening).
+  bool temporal = true;
   bool reuse = true;                       // keep rows of an earlier measure.json whose inputs match
   std::filesystem::path cache_dir;         // compile cache (empty = none)
   int jobs = 0;

@@ -100,13 +100,18 @@ Fitted fit_methods(const ShipOptions& o, const scene::Scene& sc, const calibrate
   return f;
 }
 
-// One round of the race: a sweep of `globs` (minus `skip`) on every view into OUT/<name>, resumable.
+// The rounds: a screen of every candidate (the still error only: no flicker along the camera path, no images),
+// then the survivors with every measure of a sweep. The measured backend times the screen with a few
+// repetitions and the survivors with --reps auto; with a GPU target both render once (the time is the estimate).
+const char* round_name(bool target, bool final_round) { return !final_round ? "screen" : target ? "front" : "race"; }
+
+// One round: a sweep of `globs` (minus `skip`) on every view into OUT/<name>, resumable.
 sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const std::vector<std::string>& views,
                                   const std::vector<std::string>& globs, const std::set<std::string>& skip,
-                                  const std::string& name, bool final_round) {
+                                  bool final_round) {
   sweep::SweepOptions s;
   s.scenes = {o.scene};
-  s.out = o.out / name;
+  s.out = o.out / round_name(!o.target.empty(), final_round);
   measure::MeasureOptions& m = s.measure;
   m.manifest = o.manifest;
   m.views_file = o.views_file;
@@ -123,8 +128,8 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   m.calibration_hash = fit.source.hash;
   m.cache_dir = m.reference_cache = o.cache_dir;
   m.prune_by_profile = false;  // ship pruned already (the skip list), with the profile of all views
-  m.images = final_round;      // images for the report's front only
-  if (!o.target.empty()) {     // the time is the estimate: one render for the error
+  m.images = m.temporal = final_round;
+  if (!o.target.empty()) {  // the time is the estimate: one render for the error
     m.reps = 1;
     m.warmup = 0;
     m.gpu_families = {o.target};
@@ -235,17 +240,20 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
   // 3. The race: a first round over the pruned space, the dominated eliminated, the survivors again.
   std::vector<std::string> globs = o.globs.empty() ? std::vector<std::string>{"*"} : o.globs;
   table::CostTable last;
-  const int rounds = o.target.empty() ? 2 : 1;
-  for (int round = 0; round < rounds; ++round) {
-    const bool final_round = round == rounds - 1;
+  for (const bool final_round : {false, true}) {
     Round r;
-    r.name = round == 0 ? "screen" : "race";
+    r.name = round_name(!o.target.empty(), final_round);
     const auto t0 = std::chrono::steady_clock::now();
-    sweep::SweepOptions so = round_options(o, fit, views, globs, skip, r.name, final_round);
+    sweep::SweepOptions so = round_options(o, fit, views, globs, skip, final_round);
     r.timing = !o.target.empty() ? "one render, estimate on " + o.target
                : final_round     ? measure::reps_words(so.measure)
                                  : fmt::format("{} reps", so.measure.reps);
-    say(fmt::format("round {}: {} ({})", r.name, o.globs.empty() ? "the whole pruned space" : "the selection", r.timing));
+    if (!final_round) r.timing += ", still error only";
+    say(fmt::format("round {}: {} ({})", r.name,
+                    final_round        ? fmt::format("{} survivors", globs.size())
+                    : o.globs.empty() ? std::string("the whole pruned space")
+                                      : std::string("the selection"),
+                    r.timing));
     last = sweep::run_sweep(so, [&](const std::string& line) { say(r.name + ": " + line); }).table;
     const auto eliminated = dominated_beyond_noise(on_views(last, res.training), o.target);
     std::set<std::string> out;
@@ -277,7 +285,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
     res.build_line = fmt::format("aovar generate --manifest {} --variants '{}' --out shaders", util::display_path(o.manifest),
                                  res.selection.choice->variant);
   table::write_table_files(res.table, o.out);
-  report::write_reports(res.table, o.out, o.out / (o.target.empty() ? "race" : "screen"));
+  report::write_reports(res.table, o.out, o.out / round_name(!o.target.empty(), true));
   res.wall_s = util::seconds_since(start);
   return res;
 }

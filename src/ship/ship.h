@@ -3,10 +3,10 @@
 //   1. profile the scene on all its views: what it prunes from the space, and whether its buffered normals
 //      lean from their faces (then the search keeps normals derived from depth and fits with them);
 //   2. fit every method's parameters on the scene's training views (calibrate), held-out views apart;
-//   3. search the pruned space by racing (race.h): a first round of a few timed repetitions per candidate
-//      (with a GPU target: one render for the error, the traced estimate for the time), the dominated ones
-//      eliminated with their reason, the survivors timed until their intervals are narrow (--reps auto) and
-//      eliminated again;
+//   3. search the pruned space by racing (race.h): a screen of every candidate, its still error only (no
+//      flicker along the camera path, no images) and a few timed repetitions (with a GPU target: one render,
+//      the traced estimate for the time), the dominated ones eliminated with their reason, then the survivors
+//      with every measure of a sweep, timed until their intervals are narrow (--reps auto), eliminated again;
 //   4. select among the survivors on the held-out views, write the cost table and the reports, and say what
 //      to ship with the line that generates exactly that variant.
 // Resumable: every round is a sweep into OUT/<round> (rows reused after a kill), the profile and the
@@ -46,7 +46,7 @@ struct ShipOptions {
 };
 
 struct Round {
-  std::string name;      // "screen", "race"
+  std::string name;      // "screen", then "race" (measured backend) or "front" (GPU target)
   std::string timing;    // "6 reps", "--reps auto ...", "one render, estimate on navi21"
   int candidates = 0, eliminated = 0;
   double seconds = 0;

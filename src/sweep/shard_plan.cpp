@@ -119,6 +119,7 @@ json input_hashes(const SweepOptions& o, const std::map<std::string, VariantStat
                   {"prune_dominated", o.prune_dominated}, {"prune_check", o.prune_check},
                   {"min_model_spearman", o.min_model_spearman}, {"gpu", m.gpu_families},
                   {"shard_times", file_hash(o.shard_times)}};
+  if (!m.temporal) options["temporal"] = false;  // shards without flicker rows (ship's screen) are another run
   // The estimate's frame and trace change every row's gpu costs: shards must agree on them (issue 33).
   if (!m.gpu_families.empty())
     options["gpu_estimate"] = {{"frame", fmt::format("{}x{}", m.gpu_frame.width, m.gpu_frame.height)},
