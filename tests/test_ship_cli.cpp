@@ -1,5 +1,5 @@
-// `aovar ship` end to end on tiny frames (issue 35): a run killed with SIGKILL and resumed gives the same front
-// and choice as an uninterrupted one; the printed build line generates exactly the chosen variant; a scene
+// `aovar ship` end to end on tiny frames (issue 35): a run killed with SIGKILL and resumed, and two shards
+// joined, give the same front and choice as an uninterrupted run; the printed build line generates exactly the chosen variant; a scene
 // whose buffered normals lean from their faces is searched and fitted with normals derived from depth.
 // With --target the time is the deterministic estimate, so the fronts of two runs can be compared exactly.
 #include <gtest/gtest.h>
@@ -48,7 +48,7 @@ std::string build_line(const std::string& output) {
   return output.substr(start, output.find('\n', start) - start);
 }
 
-TEST(ShipCli, AKilledRunResumesToTheSameFrontAndItsBuildLineGeneratesExactlyTheChoice) {
+TEST(ShipCli, AResumedRunAndJoinedShardsReachTheSameFrontAndTheBuildLineGeneratesExactlyTheChoice) {
   REQUIRE_RADV();
   TempDir dir;
   const auto t0 = std::chrono::steady_clock::now();
@@ -64,6 +64,29 @@ TEST(ShipCli, AKilledRunResumesToTheSameFrontAndItsBuildLineGeneratesExactlyTheC
   const CommandResult resumed = run_aovar(ship_args("builtin:atrium", dir / "resumed", dir / "cache"));
   ASSERT_EQ(resumed.status, 0) << resumed.output;
   EXPECT_EQ(outcome(dir / "resumed", resumed.output), outcome(dir / "whole", whole.output));
+
+  // Two shards screen half each and stop; their join takes their fit and screens and decides as one run.
+  for (const char* k : {"1", "2"}) {
+    const CommandResult shard = run_aovar(ship_args("builtin:atrium", dir / "shard" / k, dir / "cache") +
+                                          fmt::format(" --shard {}/2", k));
+    ASSERT_EQ(shard.status, 0) << shard.output;
+    EXPECT_NE(shard.output.find(fmt::format("shard {}/2:", k)), std::string::npos) << shard.output;
+    EXPECT_FALSE(fs::exists(dir / "shard" / k / "cost_table.json")) << "a shard decides nothing";
+  }
+  const std::string shards = fmt::format(" --join {} {}", (dir / "shard" / "1").string(), (dir / "shard" / "2").string());
+  const CommandResult joined = run_aovar(ship_args("builtin:atrium", dir / "joined", dir / "cache") + shards);
+  ASSERT_EQ(joined.status, 0) << joined.output;
+  EXPECT_EQ(outcome(dir / "joined", joined.output), outcome(dir / "whole", whole.output));
+  EXPECT_EQ(util::read_file(dir / "joined" / "calibration.json"), util::read_file(dir / "shard" / "1" / "calibration.json"));
+  // A join with other options than its shards', or without one of them, is refused in one line.
+  const CommandResult other = run_aovar(ship_args("builtin:atrium", dir / "other", dir / "cache") + shards +
+                                        " --variants 'gtao-s08-p0-*-d16-bsep-x1-hp'");
+  EXPECT_EQ(other.status, 2) << other.output;
+  EXPECT_NE(other.output.find("screened other inputs than this join"), std::string::npos) << other.output;
+  const CommandResult missing = run_aovar(ship_args("builtin:atrium", dir / "missing", dir / "cache") + " --join " +
+                                          (dir / "shard" / "1").string());
+  EXPECT_EQ(missing.status, 2) << missing.output;
+  EXPECT_NE(missing.output.find("shard 2/2 is missing"), std::string::npos) << missing.output;
 
   // Every choice is recorded; every elimination has its reason.
   const json ship = table_of(dir / "whole").at("meta").at("ship");

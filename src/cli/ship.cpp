@@ -15,7 +15,8 @@ namespace {
 struct ShipArgs {
   CommonOptions common;
   ship::ShipOptions options;
-  std::string size = default_size, fit_size = "320x180", out, views_file;
+  std::string size = default_size, fit_size = "320x180", out, views_file, shard;
+  std::vector<std::string> join;
   GpuOption gpu;  // only --gpu-size and --gpu-window apply; the family is --target
 };
 
@@ -31,13 +32,18 @@ ExitCode run_ship(const ShipArgs& a) {
   o.gpu_frame = a.gpu.frame_size();
   o.gpu_window = a.gpu.window;
   o.out = a.out;
+  const shard::ShardSpec shard = shard_option(a.shard);
+  o.shard_index = shard.index;
+  o.shard_count = shard.count;
+  o.shard_convention = shard.convention;
+  o.join.assign(a.join.begin(), a.join.end());
   if (o.target.find(',') != std::string::npos) throw std::runtime_error("--target takes one AMD family");
   if (o.race_reps < 6) throw std::runtime_error("--race-reps must be at least 6 (fewer rounds give no 95 % interval)");
   if (o.fit_evaluations < 1) throw std::runtime_error("--evaluations must be at least 1");
   const auto lock = lock_output(o.out);
   auto r = with_status([&](const auto& progress) { return ship::run_ship(o, progress); });
   std::cout << ship::to_text(r, o);
-  return r.selection.ok ? ExitCode::ok : ExitCode::check_failed;
+  return r.selection.ok || !r.shard.empty() ? ExitCode::ok : ExitCode::check_failed;
 }
 
 }  // namespace
@@ -77,6 +83,12 @@ Command add_ship(CLI::App& app) {
   cmd->add_option("--gpu-window", a->gpu.window, "with --target: share of each draw traced (centred window)")
       ->check(CLI::Range(0.05, 1.0))
       ->capture_default_str();
+  auto* shard = cmd->add_option("--shard", a->shard,
+                                "k/n or auto: profile, fit and screen only the k-th of n shards of the candidates, "
+                                "then stop (join the shards' folders with --join)");
+  cmd->add_option("--join", a->join, "the folders of every `ship --shard` run of this search: take their fit and "
+                                     "screens, then eliminate, race the survivors and select")
+      ->excludes(shard);
   cmd->add_option("--out,-o", a->out, "output folder: cost_table.json, report.html, calibration.json, the rounds")->required();
   return {cmd, [a] { return run_ship(*a); }};
 }

@@ -15,6 +15,7 @@
 #include "profile/scene_prune.h"
 #include "report/report.h"
 #include "scene/scene.h"
+#include "ship/shards.h"
 #include "sweep/sweep.h"
 #include "util/clock.h"
 #include "util/fs.h"
@@ -67,17 +68,21 @@ std::string fit_inputs(const ShipOptions& o, const scene::Scene& sc, const calib
 struct Fitted {
   std::map<std::string, render::ParamOverrides> values;
   calibrate::CalibrationSource source;
+  std::string inputs;  // fit_inputs
   bool reused = false;
 };
 
 Fitted fit_methods(const ShipOptions& o, const scene::Scene& sc, const calibrate::ViewSplit& split,
                    const std::string& normals, const variants::Manifest& manifest, const Progress& progress) {
-  const fs::path file = o.out / "calibration.json", state = o.out / "ship.json";
+  const fs::path file = o.out / "calibration.json";
   const std::string inputs = fit_inputs(o, sc, split, normals);
   Fitted f;
-  json recorded;
-  if (auto text = util::read_file(state)) recorded = json::parse(*text, nullptr, false);
-  f.reused = fs::exists(file) && recorded.is_object() && recorded.value("fit_inputs", "") == inputs;
+  f.inputs = inputs;
+  f.reused = fs::exists(file) && recorded_input(o.out, "fit_inputs") == inputs;
+  if (!f.reused && !o.join.empty()) {  // the shards fitted the same inputs: take theirs
+    adopt_shard_fit(o.join, inputs, o.out);
+    f.reused = true;
+  }
   if (!f.reused) {
     calibrate::CalibrateOptions co;
     co.manifest = o.manifest;
@@ -93,7 +98,7 @@ Fitted fit_methods(const ShipOptions& o, const scene::Scene& sc, const calibrate
     calibrate::write_calibration(file, calibrate::calibrate(co, [&](const std::string& line) {
                                    if (progress) progress("fit: " + line);
                                  }));
-    util::write_atomic(state, json{{"fit_inputs", inputs}}.dump(1) + "\n");
+    record_input(o.out, "fit_inputs", inputs);
   }
   f.values = calibrate::load_calibration(file, manifest);
   f.source = calibrate::calibration_source(file);
@@ -145,6 +150,46 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   return s;
 }
 
+// What a screen depends on beyond the fit: a join takes only shards whose screens had the same.
+std::string screen_inputs(const Fitted& fit, const sweep::SweepOptions& so) {
+  const measure::MeasureOptions& m = so.measure;
+  const json inputs = {{"fit", fit.inputs},     {"calibration", m.calibration_hash},
+                       {"globs", m.globs},      {"skip", m.skip},
+                       {"views", m.views},      {"backends", m.backends},
+                       {"size", fmt::format("{}x{}", m.size.width, m.size.height)},
+                       {"reps", measure::reps_text(m)}, {"warmup", m.warmup},
+                       {"threads", m.threads},  {"rays", m.reference_rays},
+                       {"gpu", m.gpu_families}, {"gpu_frame", fmt::format("{}x{}", m.gpu_frame.width, m.gpu_frame.height)},
+                       {"gpu_window", m.gpu_window}};
+  return util::hash_hex(inputs.dump());
+}
+
+// One round's rows: its sweep; for the screen of a shard, that shard's share of it; for the screen of a
+// join, the shards' screens merged.
+table::CostTable round_rows(const ShipOptions& o, const Fitted& fit, const sweep::SweepOptions& so, bool final_round,
+                            ShipResult& res, Round& r, const Progress& say) {
+  const auto progress = [&](const std::string& line) {
+    if (say) say(r.name + ": " + line);
+  };
+  if (final_round || (o.join.empty() && o.shard_count <= 1)) return sweep::run_sweep(so, progress).table;
+  const std::string inputs = screen_inputs(fit, so);
+  if (!o.join.empty()) {
+    JoinedScreen joined = join_screens(o.join, inputs, so.out);
+    r.timing += fmt::format(", {} shards joined", joined.shards);
+    res.shard_balance = joined.balance;
+    return std::move(joined.table);
+  }
+  record_input(o.out, "screen_inputs", inputs);
+  sweep::SweepOptions shard = so;
+  shard.measure.shard_index = o.shard_index;
+  shard.measure.shard_count = o.shard_count;
+  shard.shard_convention = o.shard_convention;
+  sweep::SweepResult done = sweep::run_sweep(shard, progress);
+  res.shard = fmt::format("{}/{}", o.shard_index + 1, o.shard_count);
+  res.shard_balance = done.shard_balance;
+  return std::move(done.table);
+}
+
 // The rows of `t` on `views` only.
 table::CostTable on_views(const table::CostTable& t, const std::vector<std::string>& views) {
   table::CostTable out;
@@ -189,6 +234,8 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
   const auto start = std::chrono::steady_clock::now();
   if (o.out.empty()) throw std::runtime_error("ship: --out is required");
   check_query(o.query);
+  if (o.shard_count > 1 && !o.join.empty())
+    throw std::runtime_error("ship: --shard and --join exclude each other (the shards screen, the join decides)");
   if (!o.target.empty()) {  // an unknown family or a missing RADV fails before anything is profiled or fitted
     gpu::CostRequest request;
     request.families = {o.target};
@@ -254,7 +301,14 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
                     : o.globs.empty() ? std::string("the whole pruned space")
                                       : std::string("the selection"),
                     r.timing));
-    last = sweep::run_sweep(so, [&](const std::string& line) { say(r.name + ": " + line); }).table;
+    last = round_rows(o, fit, so, final_round, res, r, say);
+    if (!res.shard.empty()) {  // a shard screens its share and stops: the join eliminates and selects
+      r.candidates = int(variants_of(last).size());
+      r.seconds = util::seconds_since(t0);
+      res.rounds.push_back(r);
+      res.wall_s = util::seconds_since(start);
+      return res;
+    }
     const auto eliminated = dominated_beyond_noise(on_views(last, res.training), o.target);
     std::set<std::string> out;
     for (const auto& e : eliminated)
@@ -299,6 +353,11 @@ std::string to_text(const ShipResult& r, const ShipOptions& o) {
   for (const auto& x : r.rounds)
     s += fmt::format("round {}: {} candidates ({}), {} eliminated, {:.0f} s\n", x.name, x.candidates, x.timing, x.eliminated,
                      x.seconds);
+  if (!r.shard.empty())
+    return s + fmt::format("shard {}: {}; {}/screen/shard.json written. When every shard is done, join them "
+                           "(with the same options): aovar ship ... --join SHARD_FOLDER... --out DIR\n",
+                           r.shard, r.shard_balance, util::display_path(o.out));
+  if (!r.shard_balance.empty()) s += "shards joined: " + r.shard_balance + "\n";
   s += "\nWhat to ship (selected on the held-out view" + std::string(r.holdout.size() > 1 ? "s" : "") + "):\n";
   s += r.selection.text;
   if (!r.build_line.empty()) s += "build it: " + r.build_line + "\n";

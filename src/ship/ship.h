@@ -43,6 +43,11 @@ struct ShipOptions {
   double gpu_window = 0.5;
   std::filesystem::path cache_dir;         // compile and reference cache (empty: none)
   std::filesystem::path out;
+  // Sharded (shards.h): with shard_count > 1 this run profiles, fits and screens its share, then stops;
+  // `join` (the shards' folders) takes their fit and merged screens and carries on from there.
+  int shard_index = 0, shard_count = 1;
+  std::string shard_convention = "--shard";
+  std::vector<std::filesystem::path> join;
 };
 
 struct Round {
@@ -63,6 +68,8 @@ struct ShipResult {
   table::CostTable table;                      // the last round's rows, meta.ship: every choice made
   table::Selection selection;                  // on the held-out views, among the survivors
   std::string build_line;                      // `aovar generate` of exactly the chosen variant
+  std::string shard;                           // "2/4" when this run was one shard: its screen only, no selection
+  std::string shard_balance;                   // a shard: its share of the plan; a join: the shards' balance
   double wall_s = 0;
 };
 

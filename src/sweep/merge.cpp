@@ -22,6 +22,21 @@ void rebase_images(table::CostTable& t, const fs::path& from_dir, const fs::path
     for (auto& image : row.images) image = (from / image).lexically_normal().lexically_relative(to).generic_string();
 }
 
+// The shards' --gpu meta as one run's: the estimate's settings are the same in every shard (the shard manifest's
+// options hash holds them), its counts and seconds are each shard's own, so they add up; errors concatenate.
+json merged_gpu_meta(const std::vector<json>& metas) {
+  json out = metas.front();
+  for (std::size_t i = 1; i < metas.size(); ++i) {
+    for (auto& [k, v] : out.items())
+      if (v.is_number() && metas[i].contains(k)) v = v.get<double>() + metas[i][k].get<double>();
+    if (out.contains("trace") && metas[i].contains("trace"))
+      for (auto& [k, v] : out["trace"].items())
+        if (v.is_number() && k != "window_share") v = v.get<double>() + metas[i]["trace"].value(k, 0.0);
+    for (const auto& e : metas[i].value("errors", json::array())) out["errors"].push_back(e);
+  }
+  return out;
+}
+
 }  // namespace
 
 MergeResult merge_shards(const std::vector<fs::path>& inputs, const fs::path& out) {
@@ -62,10 +77,14 @@ MergeResult merge_shards(const std::vector<fs::path>& inputs, const fs::path& ou
   }
   // Shards checked by their manifests each have their own cost models, scenes list (a shard may hold no
   // variant of a scene) and pruning counts; plain tables must agree in all of them as before.
-  const std::vector<std::string> per_shard = shards.empty() ? std::vector<std::string>{}
-                                                            : std::vector<std::string>{"cost_models", "prune", "scenes"};
+  const std::vector<std::string> per_shard =
+      shards.empty() ? std::vector<std::string>{} : std::vector<std::string>{"cost_models", "prune", "scenes", "gpu"};
+  std::vector<json> gpu;
+  for (const auto& [name, t] : read)
+    if (t.meta.is_object() && t.meta.contains("gpu") && t.meta["gpu"].is_object()) gpu.push_back(t.meta["gpu"]);
   res.table = table::merge_tables(std::move(read), per_shard);
   if (!shards.empty()) {
+    if (!gpu.empty()) res.table.meta["gpu"] = merged_gpu_meta(gpu);
     res.table.meta["scenes"] = scenes;
     res.table.meta["cost_models"] = to_json(fit_group_models(res.table.rows).models);
     res.table.meta["shards"] = res.shards;

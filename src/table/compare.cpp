@@ -216,6 +216,9 @@ CostTable merge_tables(std::vector<std::pair<std::string, CostTable>> tables, co
     nlohmann::json meta = t.meta;
     if (meta.is_object()) meta.erase("shard");
     if (meta.is_object()) meta.erase("reps_reached");  // what each shard's timing reached: its own
+    // The same calibration (by hash) read from each machine's own copy: `file` is where, not what.
+    if (meta.is_object() && meta.contains("calibration") && meta["calibration"].is_object())
+      meta["calibration"].erase("file");
     for (const auto& k : per_shard)
       if (meta.is_object()) meta.erase(k);
     if (i == 0) {

@@ -1,0 +1,69 @@
+#include "ship/shards.h"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "sweep/merge.h"
+#include "util/fs.h"
+
+namespace aovar::ship {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+json read_state(const fs::path& out) {
+  json state;
+  if (auto text = util::read_file(out / "ship.json")) state = json::parse(*text, nullptr, false);
+  return state.is_object() ? state : json::object();
+}
+}  // namespace
+
+std::string recorded_input(const fs::path& out, const std::string& name) {
+  const json state = read_state(out);
+  const auto it = state.find(name);
+  return it != state.end() && it->is_string() ? it->get<std::string>() : "";
+}
+
+void record_input(const fs::path& out, const std::string& name, const std::string& hash) {
+  json state = read_state(out);
+  state[name] = hash;
+  util::write_atomic(out / "ship.json", state.dump(1) + "\n");
+}
+
+void adopt_shard_fit(const std::vector<fs::path>& shards, const std::string& fit_inputs, const fs::path& out) {
+  for (const auto& dir : shards) {
+    const auto calibration = util::read_file(dir / "calibration.json");
+    if (!calibration || recorded_input(dir, "fit_inputs") != fit_inputs) continue;
+    util::write_atomic(out / "calibration.json", *calibration);
+    record_input(out, "fit_inputs", fit_inputs);
+    return;
+  }
+  throw std::runtime_error(fmt::format("ship --join: no shard folder ({}) holds a fit of this run's inputs "
+                                       "(calibration.json and ship.json): run the shards to the end, with the "
+                                       "options of this join",
+                                       util::display_path(shards.front())));
+}
+
+JoinedScreen join_screens(const std::vector<fs::path>& shards, const std::string& screen_inputs,
+                          const fs::path& screen_out) {
+  std::vector<fs::path> screens;
+  for (const auto& dir : shards) {
+    if (recorded_input(dir, "screen_inputs") != screen_inputs)
+      throw std::runtime_error(fmt::format("ship --join: {} screened other inputs than this join ({}): give the "
+                                           "join the options its shards ran with",
+                                           util::display_path(dir), util::display_path(dir / "ship.json")));
+    if (!fs::exists(dir / "screen" / "shard.json"))
+      throw std::runtime_error(fmt::format("ship --join: {} holds no shard's screen (screen/shard.json): give the "
+                                           "folders of `aovar ship --shard k/n` runs",
+                                           util::display_path(dir)));
+    screens.push_back(dir / "screen");
+  }
+  fs::create_directories(screen_out);
+  sweep::MergeResult merged = sweep::merge_shards(screens, screen_out / "cost_table.json");
+  table::write_json(merged.table, screen_out / "cost_table.json");
+  return {std::move(merged.table), merged.shards, merged.balance};
+}
+
+}  // namespace aovar::ship

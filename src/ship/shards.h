@@ -1,0 +1,37 @@
+#pragma once
+// `aovar ship --shard k/n` and `--join` (issue 35): the screen, the one round that grows with the space, split
+// over machines as sweep's shards are. Each shard profiles and fits as an unsharded run does (both are
+// deterministic, and recorded in its OUT/ship.json), then screens its share of the candidates into
+// OUT/screen (a sweep shard with its shard.json). The join takes the shards' folders: their fit, once its
+// inputs match the join's, and their screens merged (sweep/merge.h checks them as one set), then eliminates,
+// runs the survivors' round and selects on its own.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "table/table.h"
+
+namespace aovar::ship {
+
+// OUT/ship.json: what a run's fit and screen were made from (hashes), so a re-run or a join can check them.
+std::string recorded_input(const std::filesystem::path& out, const std::string& name);
+void record_input(const std::filesystem::path& out, const std::string& name, const std::string& hash);
+
+// Copies the calibration of the first shard folder whose fit has these inputs into `out` (with its record).
+// Throws std::runtime_error (one line naming the folders) when none has.
+void adopt_shard_fit(const std::vector<std::filesystem::path>& shards, const std::string& fit_inputs,
+                     const std::filesystem::path& out);
+
+struct JoinedScreen {
+  table::CostTable table;
+  int shards = 0;
+  std::string balance;  // shard::balance_summary of the shards
+};
+
+// The shards' screens merged into `screen_out`/cost_table.json. Throws std::runtime_error (one line naming the
+// shard) when one screened other inputs than `screen_inputs`, or when merge refuses the set (missing,
+// duplicated, incomplete, foreign).
+JoinedScreen join_screens(const std::vector<std::filesystem::path>& shards, const std::string& screen_inputs,
+                          const std::filesystem::path& screen_out);
+
+}  // namespace aovar::ship
