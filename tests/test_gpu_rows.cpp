@@ -85,6 +85,44 @@ TEST(GpuRows, MeasureWritesGpuIntoMeasureJson) {
   }
 }
 
+// The simulated traffic is kept in the cache dir (trace/traffic_cache.h): a second sweep of the same rows traces
+// nothing and gets the same estimates bit for bit; a damaged entry is simulated again.
+TEST(GpuRows, ASecondEstimateReadsTheTrafficBackAndADamagedEntryIsSimulatedAgain) {
+  REQUIRE_RADV();
+  TempDir dir;
+  auto sweep = [&](const std::string& out) {
+    auto r = run_aovar("sweep --scene builtin:stairs --view overview --gpu navi21 --gpu-size 320x180 --size 64x36 "
+                       "--reps 2 --rays 16 --no-prune --variants 'alchemy-s0[48]-p0-nrgb8-zdep-rst-d32-bsep-x1-hp' "
+                       "--cache-dir " + (dir / "cache").string() + " --out " + (dir / out).string());
+    EXPECT_EQ(r.status, 0) << r.output;
+    return table::read_table(dir / out / "cost_table.json");
+  };
+  auto estimates = [](const table::CostTable& t) {
+    std::map<std::string, double> out;
+    for (const auto& row : t.rows) out[row.variant] = row.gpu.at("navi21").est_ms;
+    return out;
+  };
+  const auto first = sweep("first");
+  const auto& traced = first.meta.at("gpu").at("trace");
+  ASSERT_GT(traced.at("simulations").get<int>(), 0);
+  EXPECT_EQ(traced.at("cached_draws").get<int>(), 0);
+  const auto second = sweep("second");
+  const auto& cached = second.meta.at("gpu").at("trace");
+  EXPECT_EQ(cached.at("traced_draws").get<int>(), 0);
+  EXPECT_EQ(cached.at("simulations").get<int>(), 0);
+  EXPECT_EQ(cached.at("cached_draws").get<int>(), traced.at("simulations").get<int>());
+  ASSERT_EQ(estimates(first).size(), 2u);
+  EXPECT_EQ(estimates(second), estimates(first));
+
+  std::vector<std::filesystem::path> entries;
+  for (const auto& e : std::filesystem::directory_iterator(dir / "cache" / "traffic")) entries.push_back(e.path());
+  ASSERT_FALSE(entries.empty());
+  util::write_atomic(entries.front(), "{\"absent\": 7}");
+  const auto third = sweep("third");
+  EXPECT_EQ(third.meta.at("gpu").at("trace").at("simulations").get<int>(), 1);
+  EXPECT_EQ(estimates(third), estimates(first));
+}
+
 TEST(GpuRows, UnknownFamilyFailsBeforeMeasuring) {
   REQUIRE_RADV();
   TempDir dir;

@@ -54,7 +54,8 @@ TrafficStats add_row_traffic(const std::vector<table::CostRow*>& rows, const Row
       if (auto it = index.find(r->variant); it != index.end() && costs.emplace(r->variant, r->gpu).second)
         variants.push_back(it->second);
     const float radius = request.radius > 0 ? request.radius : scene.ao_radius;
-    const TrafficStats s = add_traffic(runner, variants, view, radius, loads, request.frame, costs, options);
+    const TrafficCache cache(request.cache_dir, view_context(scene, view, radius, request.frame, options));
+    const TrafficStats s = add_traffic(runner, variants, view, radius, loads, request.frame, costs, options, cache);
     for (table::CostRow* r : view_rows)
       if (auto it = costs.find(r->variant); it != costs.end()) r->gpu = it->second;
     total += s;
@@ -96,7 +97,7 @@ nlohmann::json RowGpuResult::to_json() const {
   nlohmann::json j = {{"families", families}, {"frame", frame}, {"mesa", mesa}, {"pipelines", pipelines},
                       {"seconds", seconds}, {"errors", errors}};
   j["trace"] = traced ? nlohmann::json{{"window_share", window_share}, {"traced_draws", traffic.traced_draws},
-                                       {"shared_draws", traffic.shared_draws}, {"simulations", traffic.simulations},
+                                       {"shared_draws", traffic.shared_draws}, {"simulations", traffic.simulations}, {"cached_draws", traffic.cached_draws},
                                        {"trace_seconds", traffic.trace_seconds},
                                        {"simulate_seconds", traffic.simulate_seconds}}
                       : nlohmann::json(nullptr);

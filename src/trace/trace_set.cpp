@@ -29,7 +29,21 @@ std::string TraceSet::draw_key(const render::PipelinePlan& plan, int draw) {
   return key;
 }
 
+std::vector<std::pair<std::string, std::string>> TraceSet::draws_of(int variant) const {
+  const render::PipelinePlan plan = runner_.plan(variant);
+  std::vector<std::pair<std::string, std::string>> out;
+  for (int i : traceable_draws(plan)) out.emplace_back(draw_key(plan, i), plan.draws[i].pass);
+  return out;
+}
+
 std::vector<const gpu::FetchTrace*> TraceSet::of(int variant) {
+  std::vector<const gpu::FetchTrace*> out;
+  for (const auto& [key, trace] : keyed(variant))
+    if (trace) out.push_back(trace);
+  return out;
+}
+
+std::vector<std::pair<std::string, const gpu::FetchTrace*>> TraceSet::keyed(int variant) {
   const render::PipelinePlan plan = runner_.plan(variant);
   const std::vector<int> draws = traceable_draws(plan);
   std::vector<std::string> keys;
@@ -47,10 +61,10 @@ std::vector<const gpu::FetchTrace*> TraceSet::of(int variant) {
       traces_[draw_key(plan, t.plan_draw)] = std::make_unique<gpu::FetchTrace>(std::move(t));
     traced_ += static_cast<int>(fresh.size());
   }
-  std::vector<const gpu::FetchTrace*> out;
+  std::vector<std::pair<std::string, const gpu::FetchTrace*>> out;
   for (const std::string& k : keys) {
     auto it = traces_.find(k);
-    if (it != traces_.end()) out.push_back(it->second.get());
+    out.emplace_back(k, it != traces_.end() ? it->second.get() : nullptr);
   }
   return out;
 }

@@ -24,6 +24,10 @@ class TraceSet {
   // The trace of every fullscreen draw of `variant` (trace::traceable_draws order); draws another variant
   // already traced are shared, the rest traced in one render. Pointers stay valid as long as the set.
   std::vector<const gpu::FetchTrace*> of(int variant);
+  // The same, by draw key, with nullptr for a draw the plan drops at this frame size.
+  std::vector<std::pair<std::string, const gpu::FetchTrace*>> keyed(int variant);
+  // The key and pass of each traceable draw of `variant`, without tracing anything.
+  std::vector<std::pair<std::string, std::string>> draws_of(int variant) const;
 
   int traced_draws() const { return traced_; }  // draws rendered with a trace build
   int shared_draws() const { return shared_; }  // draws answered from another variant's trace

@@ -6,6 +6,9 @@
 
 #include "gpu/cache_estimate.h"
 #include "gpu/family_specs.h"
+#include "scene/scene.h"
+
+#include <fmt/format.h>
 
 namespace aovar::trace {
 namespace {
@@ -20,39 +23,70 @@ const gpu::PassLoad* load_of(const std::vector<gpu::PassLoad>& loads, const std:
   return nullptr;
 }
 
+// The simulated traffic of every traceable draw of `variant` on `family`, by pass: from `memo`, else the disk
+// cache, else traced (the variant's missing draws in one render) and simulated, then kept in both.
+std::map<std::string, std::vector<gpu::CacheSimResult>> draw_traffic(
+    TraceSet& set, int variant, const std::string& family, const gpu::CacheHierarchy& hierarchy,
+    const TrafficCache& cache, std::map<std::pair<std::string, std::string>, CachedTraffic>& memo, TrafficStats& stats) {
+  const auto draws = set.draws_of(variant);
+  bool complete = true;
+  for (const auto& [key, pass] : draws) {
+    if (memo.count({key, family})) continue;
+    if (auto hit = cache.find(key, family)) {
+      memo[{key, family}] = std::move(*hit);
+      ++stats.cached_draws;
+    } else {
+      complete = false;
+    }
+  }
+  if (!complete) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto traces = set.keyed(variant);
+    stats.trace_seconds += seconds_since(t0);
+    const auto t1 = std::chrono::steady_clock::now();
+    for (const auto& [key, trace] : traces) {
+      auto [it, fresh] = memo.try_emplace({key, family});
+      if (!fresh) continue;
+      it->second.absent = trace == nullptr;
+      if (trace) {
+        it->second.result = gpu::simulate(*trace, hierarchy);
+        ++stats.simulations;
+      }
+      cache.store(key, family, it->second);
+    }
+    stats.simulate_seconds += seconds_since(t1);
+  }
+  std::map<std::string, std::vector<gpu::CacheSimResult>> by_pass;
+  for (const auto& [key, pass] : draws)
+    if (const CachedTraffic& t = memo.at({key, family}); !t.absent) by_pass[pass].push_back(t.result);
+  return by_pass;
+}
+
 }  // namespace
+
+std::string view_context(const scene::Scene& scene, const scene::View& view, float radius, gpu::Frame frame,
+                         const TraceOptions& options) {
+  return fmt::format("{}|{}|{}|{}x{}|{}", scene.content_hash, scene::camera_text(view), radius, frame.width,
+                     frame.height, options.window_share);
+}
 
 TrafficStats add_traffic(runner::VariantRunner& runner, const std::vector<int>& variants, const scene::View& view,
                          float radius, const std::map<std::string, std::vector<gpu::PassLoad>>& loads,
                          gpu::Frame frame, std::map<std::string, table::GpuCosts>& costs,
-                         const TraceOptions& options) {
+                         const TraceOptions& options, const TrafficCache& cache) {
   TrafficStats stats;
   TraceSet set(runner, view, radius, options);
-  std::map<std::pair<const gpu::FetchTrace*, std::string>, gpu::CacheSimResult> simulated;
+  std::map<std::pair<std::string, std::string>, CachedTraffic> memo;  // (draw key, family)
   for (int v : variants) {
     const std::string& key = runner.compiled().space.variants.at(v).key;
     auto row = costs.find(key);
     auto variant_loads = loads.find(key);
     if (row == costs.end() || variant_loads == loads.end()) continue;
-    auto t0 = std::chrono::steady_clock::now();
-    const std::vector<const gpu::FetchTrace*> traces = set.of(v);
-    stats.trace_seconds += seconds_since(t0);
     for (auto& [family, cost] : row->second) {
       const gpu::FamilySpec* spec = gpu::family_spec(family);
       if (!spec || spec->caches.empty()) continue;
-      const gpu::CacheHierarchy hierarchy = gpu::hierarchy_of(*spec);
-      // The draws of each pass, simulated (once per trace and family) and merged.
-      std::map<std::string, std::vector<gpu::CacheSimResult>> by_pass;
-      auto t1 = std::chrono::steady_clock::now();
-      for (const gpu::FetchTrace* t : traces) {
-        auto [it, fresh] = simulated.try_emplace({t, family});
-        if (fresh) {
-          it->second = gpu::simulate(*t, hierarchy);
-          ++stats.simulations;
-        }
-        by_pass[t->pass].push_back(it->second);
-      }
-      stats.simulate_seconds += seconds_since(t1);
+      // The draws of each pass, simulated (once per draw and family) and merged.
+      const auto by_pass = draw_traffic(set, v, family, gpu::hierarchy_of(*spec), cache, memo, stats);
       double total = 0;
       for (table::GpuPassCost& pass : cost.passes) {
         auto sims = by_pass.find(pass.pass);

@@ -10,14 +10,17 @@
 
 #include "gpu/costs.h"
 #include "trace/trace_set.h"
+#include "trace/traffic_cache.h"
 
 namespace aovar::trace {
 
 struct TrafficStats {
   int traced_draws = 0, shared_draws = 0, simulations = 0;
+  int cached_draws = 0;  // (draw, family) results read from the disk cache (traffic_cache.h)
   double trace_seconds = 0, simulate_seconds = 0;
   TrafficStats& operator+=(const TrafficStats& o) {
     traced_draws += o.traced_draws, shared_draws += o.shared_draws, simulations += o.simulations;
+    cached_draws += o.cached_draws;
     trace_seconds += o.trace_seconds, simulate_seconds += o.simulate_seconds;
     return *this;
   }
@@ -26,9 +29,15 @@ struct TrafficStats {
 // `costs`: variant key -> family -> cost with statistics and roofline (gpu::costs_of) for the same variants
 // and frame; every family there with a product spec gets the traffic model, the others are left as they are.
 // `loads`: gpu::variant_loads of the same variants. The runner renders at the estimate's frame size.
+// `cache`: draws simulated by an earlier run on the same view (TrafficCache; default: none).
 TrafficStats add_traffic(runner::VariantRunner& runner, const std::vector<int>& variants, const scene::View& view,
                          float radius, const std::map<std::string, std::vector<gpu::PassLoad>>& loads,
                          gpu::Frame frame, std::map<std::string, table::GpuCosts>& costs,
-                         const TraceOptions& options = {});
+                         const TraceOptions& options = {}, const TrafficCache& cache = TrafficCache({}, ""));
+
+// What a TrafficCache of one view is keyed by besides the draw: the scene's geometry, the camera, the radius,
+// the frame and the trace window.
+std::string view_context(const scene::Scene& scene, const scene::View& view, float radius, gpu::Frame frame,
+                         const TraceOptions& options);
 
 }  // namespace aovar::trace
