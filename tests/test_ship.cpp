@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <random>
 
+#include "ship/bounded_estimate.h"
 #include "ship/race.h"
 #include "ship/ship.h"
 #include "timed_rows.h"
@@ -60,6 +61,39 @@ TEST(ShipRace, TheWorstViewDecides) {
   t.rows.pop_back();
   t.rows.push_back(test::timed_row("d", rounds(1.6, 9), 0.095));  // now worse than c's worst view too
   EXPECT_TRUE(eliminated(ship::dominated_beyond_noise(t), "d"));
+}
+
+// The screen's untraced elimination (bounded_estimate.h): a candidate is dropped only when a traced one with
+// strictly less error has an estimate below its bound; it is never traced; equal error, a bound below the
+// estimate, or the budget's variant keep it.
+TEST(ShipBound, OnlyACandidateSurelyBeatenIsLeftUntraced) {
+  std::vector<ship::BoundCandidate> c = {
+      {"costly-worse", 0.060, 0.30},   // bound above a's estimate: beaten
+      {"a", 0.050, 0.10},              // the most accurate: traced first
+      {"cheap-worse", 0.070, 0.15},    // bound below a's estimate: could still be faster, traced
+      {"tied-error", 0.050, 0.40},     // as accurate as a: never beaten by it
+      {"budget", 0.080, 0.50},         // the budget's variant: always traced
+  };
+  const std::map<std::string, double> est = {{"a", 0.20}, {"cheap-worse", 0.18}, {"tied-error", 0.45},
+                                             {"costly-worse", 0.35}, {"budget", 0.6}};
+  std::vector<std::string> traced;
+  ship::eliminate_by_bound(c, "budget", 1, [&](const std::vector<ship::BoundCandidate*>& chunk) {
+    for (auto* x : chunk) {
+      x->est = est.at(x->key);
+      traced.push_back(x->key);
+    }
+  });
+  // By error, then bound; costly-worse is skipped.
+  EXPECT_EQ(traced, (std::vector<std::string>{"a", "tied-error", "cheap-worse", "budget"}));
+  auto find = [&](const std::string& k) {
+    return *std::find_if(c.begin(), c.end(), [&](const ship::BoundCandidate& x) { return x.key == k; });
+  };
+  EXPECT_EQ(find("costly-worse").beaten_by, "a");
+  EXPECT_FALSE(find("costly-worse").traced);
+  for (const char* kept : {"a", "cheap-worse", "tied-error", "budget"}) {
+    EXPECT_TRUE(find(kept).beaten_by.empty()) << kept;
+    EXPECT_TRUE(find(kept).traced) << kept;
+  }
 }
 
 }  // namespace

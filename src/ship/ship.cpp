@@ -15,6 +15,7 @@
 #include "profile/scene_prune.h"
 #include "report/report.h"
 #include "scene/scene.h"
+#include "ship/bounded_estimate.h"
 #include "ship/shards.h"
 #include "sweep/sweep.h"
 #include "util/clock.h"
@@ -137,7 +138,8 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   if (!o.target.empty()) {  // the time is the estimate: one render for the error
     m.reps = 1;
     m.warmup = 0;
-    m.gpu_families = {o.target};
+    // The screen renders only: its candidates are estimated afterwards, in order of error (bounded_estimate.h).
+    if (final_round) m.gpu_families = {o.target};
     m.gpu_frame = o.gpu_frame;
     m.gpu_window = o.gpu_window;
   } else if (final_round) {
@@ -302,6 +304,16 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
                                       : std::string("the selection"),
                     r.timing));
     last = round_rows(o, fit, so, final_round, res, r, say);
+    int untraced = 0;  // eliminated by their bound, before the race's rule
+    if (!final_round && !o.target.empty() && res.shard.empty()) {
+      const measure::MeasureOptions estimated = round_options(o, fit, views, globs, skip, true).measure;
+      BoundedEstimate b = estimate_in_error_order(last, res.training, measure::gpu_request(estimated),
+                                                  o.query.budget_of, [&](const std::string& line) { say(r.name + ": " + line); });
+      last.meta["gpu"] = b.gpu.to_json();
+      for (auto& e : b.eliminated) res.eliminated.push_back({r.name, std::move(e)});
+      untraced = int(b.eliminated.size());
+      r.timing += fmt::format(", {} traced in order of error", b.traced);
+    }
     if (!res.shard.empty()) {  // a shard screens its share and stops: the join eliminates and selects
       r.candidates = int(variants_of(last).size());
       r.seconds = util::seconds_since(t0);
@@ -317,8 +329,8 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
         res.eliminated.push_back({r.name, e});
       }
     const std::vector<std::string> candidates = variants_of(last);
-    r.candidates = int(candidates.size());
-    r.eliminated = int(out.size());
+    r.candidates = int(candidates.size()) + untraced;
+    r.eliminated = int(out.size()) + untraced;
     r.seconds = util::seconds_since(t0);
     res.rounds.push_back(r);
     globs.clear();

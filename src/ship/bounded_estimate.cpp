@@ -1,0 +1,108 @@
+#include "ship/bounded_estimate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <tuple>
+
+#include <fmt/format.h>
+
+namespace aovar::ship {
+
+double alu_lower_bound_ms(const table::GpuCost& cost) {
+  double sum = 0;
+  for (const auto& p : cost.passes)
+    if (!std::isnan(p.alu_ms)) sum += p.alu_ms;
+  return sum;
+}
+
+void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::string& keep, int chunk,
+                        const std::function<void(const std::vector<BoundCandidate*>&)>& trace) {
+  std::sort(candidates.begin(), candidates.end(), [](const BoundCandidate& a, const BoundCandidate& b) {
+    return std::tie(a.error, a.bound, a.key) < std::tie(b.error, b.bound, b.key);
+  });
+  std::vector<const BoundCandidate*> traced;
+  std::vector<BoundCandidate*> pending;
+  auto flush = [&] {
+    trace(pending);
+    for (BoundCandidate* c : pending) {
+      c->traced = true;
+      traced.push_back(c);
+    }
+    pending.clear();
+  };
+  for (BoundCandidate& c : candidates) {
+    const BoundCandidate* by = nullptr;
+    if (c.key != keep)
+      for (const BoundCandidate* d : traced)
+        if (d->error < c.error && d->est < c.bound && (!by || d->est < by->est)) by = d;
+    if (by) {
+      c.beaten_by = by->key;
+      continue;
+    }
+    pending.push_back(&c);
+    if (int(pending.size()) >= chunk) flush();
+  }
+  if (!pending.empty()) flush();
+}
+
+BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vector<std::string>& training,
+                                        const trace::RowGpuRequest& request, const std::string& keep,
+                                        const std::function<void(const std::string&)>& say, int chunk) {
+  const std::string& family = request.costs.families.at(0);
+  BoundedEstimate out;
+  std::vector<table::CostRow*> all;
+  for (auto& r : screen.rows) all.push_back(&r);
+  trace::RowGpuRequest statistics = request;
+  statistics.trace = false;
+  out.gpu = trace::add_gpu_costs(all, statistics, say);
+  out.gpu.traced = true;
+  out.gpu.window_share = request.traffic.window_share;
+
+  // Each candidate's training rows, its worst error and its bound.
+  std::map<std::string, std::vector<table::CostRow*>> rows;
+  std::map<std::string, BoundCandidate> by_key;
+  for (auto& r : screen.rows) {
+    if (!r.error || r.predicted || !r.gpu.count(family)) continue;
+    if (std::find(training.begin(), training.end(), r.view) == training.end()) continue;
+    BoundCandidate& c = by_key[r.variant];
+    c.key = r.variant;
+    c.error = std::max(c.error, r.error->rmse);
+    c.bound = std::max(c.bound, alu_lower_bound_ms(r.gpu.at(family)));
+    rows[r.variant].push_back(&r);
+  }
+  std::vector<BoundCandidate> candidates;
+  for (auto& [key, c] : by_key) candidates.push_back(std::move(c));
+  eliminate_by_bound(candidates, keep, chunk, [&](const std::vector<BoundCandidate*>& chunk_of) {
+    std::vector<table::CostRow*> traced_rows;
+    for (const BoundCandidate* c : chunk_of) traced_rows.insert(traced_rows.end(), rows[c->key].begin(), rows[c->key].end());
+    out.gpu.traffic += trace::add_row_traffic(traced_rows, request.traffic);
+    for (BoundCandidate* c : chunk_of) {
+      c->est = 0;
+      for (const table::CostRow* r : rows[c->key]) c->est = std::max(c->est, r->gpu.at(family).est_ms);
+    }
+    out.traced += int(chunk_of.size());
+    if (say) say(fmt::format("estimated {} of {} candidates in order of error", out.traced, candidates.size()));
+  });
+
+  std::map<std::string, const BoundCandidate*> index;
+  for (const auto& c : candidates) index[c.key] = &c;
+  for (const auto& c : candidates) {
+    if (c.beaten_by.empty()) continue;
+    const BoundCandidate& by = *index.at(c.beaten_by);
+    out.eliminated.push_back({c.key, rows[c.key].front()->backend, by.key,
+                              fmt::format("its {} estimate cannot be below {:.4f} ms (the ALU time alone, untraced), "
+                                          "more than {}'s traced {:.4f} ms, with more error ({:.4f} > {:.4f})",
+                                          family, c.bound, by.key, by.est, c.error, by.error)});
+  }
+  std::erase_if(screen.rows, [&](const table::CostRow& r) {
+    auto it = index.find(r.variant);
+    return it != index.end() && !it->second->beaten_by.empty();
+  });
+  std::sort(out.eliminated.begin(), out.eliminated.end(),
+            [](const Elimination& a, const Elimination& b) { return a.variant < b.variant; });
+  return out;
+}
+
+}  // namespace aovar::ship

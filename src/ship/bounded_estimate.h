@@ -1,0 +1,51 @@
+#pragma once
+// With a GPU target, ship's screen needs every candidate's traced estimate (trace/row_traffic.h), and tracing
+// is its costliest step (about 0.3 s a draw at 1080p on lavapipe). Most candidates do not need it: a candidate
+// that a more accurate one beats on the estimate whatever its trace would show is dominated already. The
+// estimate of every pass is at least its ALU time (gpu/cache_estimate.h takes the largest of the ALU,
+// texture, latency and bandwidth times, then adds the exposed ALU), and the ALU time needs only RADV's
+// statistics, not a trace. So the screen estimates in order of error, best first, and a candidate whose ALU
+// time alone exceeds the traced estimate of one with strictly less error is eliminated untraced, with that
+// evidence. The rule only ever removes what race.h would remove with the full estimate: it is exact, not a
+// prediction. Static costs thereby order the work (issue 35), without the risk of a learned model.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "ship/race.h"
+#include "table/table.h"
+#include "trace/row_traffic.h"
+
+namespace aovar::ship {
+
+struct BoundedEstimate {
+  std::vector<Elimination> eliminated;  // untraced, with their bound and the traced variant that beats it
+  int traced = 0;                       // candidates traced
+  trace::RowGpuResult gpu;              // the statistics and the traffic, as the table's meta.gpu
+};
+
+// Adds `request`'s family estimate (one family) to the rows of `screen`: RADV's statistics to every row, the
+// traced estimate to the rows on `training` views of each candidate not eliminated, in chunks of `chunk`
+// candidates by ascending worst training-view error; removes the rows of the eliminated candidates. `keep`
+// (the budget's variant) is never eliminated. Throws as trace::add_gpu_costs.
+BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vector<std::string>& training,
+                                        const trace::RowGpuRequest& request, const std::string& keep,
+                                        const std::function<void(const std::string&)>& say, int chunk = 16);
+
+// The estimate no trace can bring below: the sum of the passes' ALU times (0 where a statistic is missing).
+double alu_lower_bound_ms(const table::GpuCost& cost);
+
+// The rule on its own. A candidate, its worst training-view error, its bound and, once traced, its estimate.
+struct BoundCandidate {
+  std::string key;
+  double error = 0, bound = 0, est = 0;
+  bool traced = false;
+  std::string beaten_by;  // set when eliminated untraced
+};
+// Visits `candidates` by ascending error (then bound, key; the vector is sorted so); a candidate that a traced
+// one with strictly less error beats (estimate below its bound) is eliminated, the others are passed to
+// `trace` in chunks of `chunk` (which sets their est). `keep` is always traced.
+void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::string& keep, int chunk,
+                        const std::function<void(const std::vector<BoundCandidate*>&)>& trace);
+
+}  // namespace aovar::ship
