@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
   std::printf("device: 0x%x:0x%x%s%s -> front %s (%zu variants)\n", device.vendor_id, device.device_id,
               device.vendor_id == 0x1002 && family ? " family " : "", device.vendor_id == 0x1002 && family ? family : "",
               p.front->target, p.front->count);
-  print(p.fits ? "pick" : "pick (over the budget: the fastest)", p);
+  print(p.fits ? "pick" : "pick (nothing fits, the fastest)", p);
   print("step_up", step_up(p));
   print("step_down", step_down(p));
   return 0;
