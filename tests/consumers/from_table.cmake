@@ -144,8 +144,10 @@ foreach(target navi21 lavapipe)
 endforeach()
 execute_process(COMMAND ${build}/table_lookup 1 0x1002 0x73BF OUTPUT_VARIABLE rx6800xt)
 execute_process(COMMAND ${build}/table_lookup 1 0x1002 0x163F OUTPUT_VARIABLE steamdeck)
-if(NOT rx6800xt MATCHES "family navi21 -> front navi21" OR NOT steamdeck MATCHES "family vangogh -> front navi21")
-  message(FATAL_ERROR "from_table: the device map: RX 6800 XT ${rx6800xt}; Steam Deck ${steamdeck}")
+execute_process(COMMAND ${build}/table_lookup 1 0x10de 0x2684 OUTPUT_VARIABLE other)  # not AMD: the measured backend
+if(NOT rx6800xt MATCHES "family navi21 -> front navi21" OR NOT steamdeck MATCHES "family vangogh -> front navi21"
+   OR NOT other MATCHES "-> front lavapipe")
+  message(FATAL_ERROR "from_table: the device map: RX 6800 XT ${rx6800xt}; Steam Deck ${steamdeck}; another vendor ${other}")
 endif()
 
 # Refusals, each one line of the failed build: an unknown family, a family the table has no rows for, a table
