@@ -1,5 +1,6 @@
 # aovar_add_shader_variants(<target> MANIFEST <file> [TARGETS vulkan gl45 gles30] [OUTPUT_DIR <dir>]
-#                           [VARIANTS <glob>...] [WERROR])
+#                           [VARIANTS <glob>... | FROM_TABLE <cost_table.json> [FOR <family|backend>...]
+#                            [BUDGET_MS <ms> | BUDGET_OF <key> | MAX_ERROR <rmse>]] [WERROR])
 #
 # Generates the manifest's shader variants at build time and defines <target>, a static library with the
 # SPIR-V and GLSL embedded and the lookup API in <target>.h (namespace <target>). The step re-runs when the
@@ -9,6 +10,13 @@
 # The tool is aovar::aovar: the imported executable of find_package(aovar CONFIG), or the build tree's target
 # when aovar is the project or a subproject (FetchContent, add_subdirectory). AOVAR_EXECUTABLE (a path)
 # overrides it. The step depends on the tool's file, so a new aovar regenerates every consumer's shaders.
+#
+# FROM_TABLE generates only what a cost table (aovar sweep, aovar ship) keeps: per GPU family (FOR navi21:
+# its roofline estimate, sweep --gpu) and measured backend (FOR lavapipe) the front `aovar select` answers
+# along, or with BUDGET_MS / BUDGET_OF / MAX_ERROR only select's pick; the header then has
+# pick(device, budget_ms), pick_level, step_up / step_down (docs/install.md). The step re-runs when the
+# table changes. A table from another manifest, an unknown name in FOR or a target without rows fails the
+# step with one line.
 #
 # <target> becomes a C++ namespace and the names of the generated files, so it must be a C++ identifier.
 include_guard(GLOBAL)
@@ -34,7 +42,8 @@ function(_aovar_check_target_name target)
 endfunction()
 
 function(aovar_add_shader_variants target)
-  cmake_parse_arguments(PARSE_ARGV 1 arg "WERROR" "MANIFEST;OUTPUT_DIR" "TARGETS;VARIANTS")
+  cmake_parse_arguments(PARSE_ARGV 1 arg "WERROR" "MANIFEST;OUTPUT_DIR;FROM_TABLE;BUDGET_MS;BUDGET_OF;MAX_ERROR"
+                        "TARGETS;VARIANTS;FOR")
   if(NOT arg_MANIFEST)
     message(FATAL_ERROR "aovar_add_shader_variants(${target}): MANIFEST is required")
   endif()
@@ -68,6 +77,28 @@ function(aovar_add_shader_variants target)
   if(arg_WERROR)
     list(APPEND args --werror)
   endif()
+  set(table_depends "")
+  if(arg_FROM_TABLE)
+    if(arg_VARIANTS)
+      message(FATAL_ERROR "aovar_add_shader_variants(${target}): FROM_TABLE chooses the variants; leave out VARIANTS")
+    endif()
+    get_filename_component(table "${arg_FROM_TABLE}" ABSOLUTE)
+    set(table_depends "${table}")
+    list(APPEND args --from-table "${table}")
+    if(arg_FOR)
+      list(JOIN arg_FOR "," for_targets)
+      list(APPEND args --for ${for_targets})
+    endif()
+    foreach(pick BUDGET_MS BUDGET_OF MAX_ERROR)
+      if(DEFINED arg_${pick})
+        string(TOLOWER "${pick}" option)
+        string(REPLACE "_" "-" option "${option}")
+        list(APPEND args --${option} "${arg_${pick}}")
+      endif()
+    endforeach()
+  elseif(arg_FOR OR DEFINED arg_BUDGET_MS OR DEFINED arg_BUDGET_OF OR DEFINED arg_MAX_ERROR)
+    message(FATAL_ERROR "aovar_add_shader_variants(${target}): FOR, BUDGET_MS, BUDGET_OF and MAX_ERROR need FROM_TABLE")
+  endif()
 
   # OUTPUT is a stamp touched on every run; the sources are BYPRODUCTS, so Ninja's restat sees that an
   # unchanged header or source was not rewritten and skips recompiling the library.
@@ -75,7 +106,7 @@ function(aovar_add_shader_variants target)
     OUTPUT "${out}/${target}.stamp"
     BYPRODUCTS "${out}/${target}.h" "${out}/${target}.cpp"
     COMMAND ${tool} ${args}
-    DEPENDS "${manifest}" ${tool_depends}
+    DEPENDS "${manifest}" ${table_depends} ${tool_depends}
     DEPFILE "${out}/${target}.d"
     COMMENT "aovar: generating shader variants of ${arg_MANIFEST}"
     VERBATIM)

@@ -9,6 +9,7 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/render_parts.h"
 #include "compile/shard_plan.h"
 #include "compile/text.h"
 #include "compile/up_to_date.h"
@@ -22,6 +23,7 @@ struct GenerateArgs {
   CommonOptions common;
   compile::OutputOptions out;
   std::string out_dir, depfile, depfile_target, stamp, emit = "index,source,spirv,cpp", shard;
+  TableRequestArgs table;  // --from-table: the selection and the pick table come from a cost table
 };
 
 // "index,source,spirv,cpp" -> compile::Emit bits; throws std::runtime_error naming an unknown item.
@@ -42,7 +44,9 @@ unsigned parse_emit(const std::string& emit) {
   return bits;
 }
 
-ExitCode generate(const CommonOptions& common, const compile::OutputOptions& out, const shard::ShardSpec& spec) {
+// `from_table`: the cost table the selection came from (its keys are common.globs), for the manifest check.
+ExitCode generate(const CommonOptions& common, const compile::OutputOptions& out, const shard::ShardSpec& spec,
+                  const std::string& from_table) {
   auto start = util::Clock::now();
   auto options = compile_options(common);
   // The shard is part of what was run: a shard's outputs never pass for the whole selection's, or another's.
@@ -58,6 +62,10 @@ ExitCode generate(const CommonOptions& common, const compile::OutputOptions& out
     }
   }
   auto c = compile::plan_space(common.manifest, options);
+  if (!from_table.empty())
+    if (auto problem = compile::foreign_table_problem(c, options.globs, from_table, util::display_path(common.manifest));
+        !problem.empty())
+      throw std::runtime_error(problem);
   // Before anything is written: an empty selection would otherwise remove every output of a populated folder.
   if (auto problem = compile::empty_selection_problem(c, options.globs, util::display_path(common.manifest));
       !problem.empty())
@@ -95,8 +103,18 @@ ExitCode run_generate(GenerateArgs& a) {
   if (!a.depfile.empty()) a.out.depfile = a.depfile;
   if (!a.depfile_target.empty()) a.out.depfile_target = a.depfile_target;
   if (!a.stamp.empty()) a.out.stamp = a.stamp;
+  if (!a.table.table.empty()) {
+    if (!a.common.globs.empty())
+      throw std::runtime_error("generate: --from-table chooses the variants; leave out --variants");
+    TableChoice choice = choose_from_table(a.table);
+    std::cerr << choice.summary;
+    a.common.globs = std::move(choice.keys);  // exact keys: the glob path's outputs, depfile and no-op check
+    a.out.pick_fronts = std::move(choice.fronts);
+  } else if (!a.table.targets.empty() || a.table.budget_ms || a.table.max_error || !a.table.budget_of.empty()) {
+    throw std::runtime_error("generate: --for, --budget-ms, --budget-of and --max-error need --from-table");
+  }
   const auto lock = a.out.check ? nullptr : lock_output(a.out.out);  // --check writes nothing
-  return generate(a.common, a.out, shard_option(a.shard));
+  return generate(a.common, a.out, shard_option(a.shard), a.table.table.empty() ? std::string() : util::display_path(a.table.table));
 }
 
 }  // namespace
@@ -113,6 +131,20 @@ Command add_generate(CLI::App& app) {
   cmd->add_option("--namespace", a->out.cpp_namespace, "C++ namespace and file name of the embedding")
       ->capture_default_str();
   cmd->add_option("--shard", a->shard, shard_help);
+  auto& t = a->table;
+  cmd->add_option("--from-table", t.table,
+                  "cost_table.json: generate the variants it keeps (per GPU family and measured backend, the front "
+                  "select answers along) and embed the pick table (C++: pick(device, budget))");
+  cmd->add_option("--for", t.targets, "with --from-table: only these GPU families / backends (default: all the table has)")
+      ->delimiter(',');
+  auto* budget = cmd->add_option("--budget-ms", t.budget_ms, "with --from-table: only select's pick within this budget per target")
+                     ->check(finite_number(0, true));
+  auto* budget_of = cmd->add_option("--budget-of", t.budget_of, "with --from-table: only select's pick no slower than this variant")
+                        ->excludes(budget);
+  cmd->add_option("--max-error", t.max_error, "with --from-table: only select's pick with rmse <= this per target")
+      ->check(finite_number(0, false))
+      ->excludes(budget)
+      ->excludes(budget_of);
   cmd->add_flag("--check", a->out.check, "write nothing; exit 1 when any output would change (CI staleness check)");
   return {cmd, [a] { return run_generate(*a); }};
 }

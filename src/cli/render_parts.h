@@ -2,10 +2,13 @@
 // The parts of generator subcommands that need the rendering modules: `analyze --gpu` (RADV) and
 // `list --scene` (a scene profile). With AOVAR_WITH_RENDER they are analyze_gpu.cpp and list_scene.cpp;
 // a generator-only build links without_render.cpp instead, which says in one line that they are not in it.
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "cli/exit_code.h"
 #include "cli/options.h"
+#include "compile/pick_table.h"
 
 namespace aovar::cli {
 
@@ -27,5 +30,21 @@ struct ListArgs {
 // The variants the scene's profile keeps; show_pruned adds every dropped one with its reason; json: as one
 // JSON document.
 ExitCode run_list_scene(const ListArgs& a);
+
+// generate --from-table: what a cost table keeps (table/fronts.h). --for names GPU families and backends.
+struct TableRequestArgs {
+  std::string table;
+  std::vector<std::string> targets;
+  std::optional<double> budget_ms, max_error;
+  std::string budget_of;
+};
+struct TableChoice {
+  std::vector<std::string> keys;            // the variants to generate, sorted
+  std::vector<compile::PickFront> fronts;   // the pick table
+  std::string summary;                      // a line per target: its front's size and ends
+};
+// Throws std::runtime_error, one line: an unknown family or backend in --for, a target the table has no rows
+// for, a pick nothing satisfies, an unreadable table.
+TableChoice choose_from_table(const TableRequestArgs& a);
 
 }  // namespace aovar::cli

@@ -27,6 +27,9 @@ Command unavailable(CLI::App& app, const std::string& name, const std::string& d
 }  // namespace
 
 ExitCode run_analyze_gpu(const GpuAnalyzeArgs&) { throw std::runtime_error(without_render_message("aovar analyze --gpu")); }
+TableChoice choose_from_table(const TableRequestArgs&) {
+  throw std::runtime_error(without_render_message("aovar generate --from-table"));
+}
 ExitCode run_list_scene(const ListArgs&) { throw std::runtime_error(without_render_message("aovar list --scene")); }
 
 Command add_profile(CLI::App& app) { return unavailable(app, "profile", "what a scene needs and what it lets you drop"); }

@@ -277,7 +277,7 @@ OutputReport write_outputs(const CompiledSpace& c, const OutputOptions& o) {
   }
   if (o.emit & emit_cpp) {
     check_cpp_namespace(o.cpp_namespace);
-    auto [header, source] = cpp_embedding(c, o.cpp_namespace);
+    auto [header, source] = cpp_embedding(c, o.cpp_namespace, o.pick_fronts);
     files[o.out / (o.cpp_namespace + ".h")] = std::move(header);
     files[o.out / (o.cpp_namespace + ".cpp")] = std::move(source);
   }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "compile/glslang_compiler.h"
+#include "compile/pick_table.h"
 #include "variants/space.h"
 
 namespace aovar::compile {
@@ -81,6 +82,9 @@ struct OutputOptions {
   std::optional<std::filesystem::path> stamp;
   bool check = false;  // compare only: write nothing, list what would change
   int jobs = 0;        // threads writing the files (0 = hardware threads)
+  // From a cost table (generate --from-table): the fronts the C++ embedding's pick() looks along; empty:
+  // the embedding has no pick table.
+  std::vector<PickFront> pick_fronts;
 };
 
 struct OutputReport {
@@ -100,6 +104,7 @@ std::string counts_line(const CompiledSpace& c);
 
 // Renderers and tests: variants.json text and the C++ embedding (header, source).
 std::string index_json(const CompiledSpace& c);
-std::pair<std::string, std::string> cpp_embedding(const CompiledSpace& c, const std::string& ns);
+std::pair<std::string, std::string> cpp_embedding(const CompiledSpace& c, const std::string& ns,
+                                                  const std::vector<PickFront>& pick_fronts = {});
 
 }  // namespace aovar::compile

@@ -2,9 +2,25 @@
 
 #include <fmt/format.h>
 
+#include <set>
+
 #include "util/fs.h"
 
 namespace aovar::compile {
+
+std::string foreign_table_problem(const CompiledSpace& c, const std::vector<std::string>& keys,
+                                  const std::string& table_display, const std::string& manifest_display) {
+  std::set<std::string> have;
+  for (const auto& v : c.space.variants) have.insert(v.key);
+  std::vector<std::string> missing;
+  for (const auto& k : keys)
+    if (!have.count(k)) missing.push_back(k);
+  if (missing.empty()) return {};
+  return fmt::format("{}: error: this cost table was measured with another manifest: {} of the {} variants it keeps "
+                     "(e.g. {}) are not in {}'s variant space; nothing was written (sweep with this manifest, or "
+                     "generate with the table's)",
+                     table_display, missing.size(), keys.size(), missing.front(), manifest_display);
+}
 
 std::string empty_selection_problem(const CompiledSpace& c, const std::vector<std::string>& globs,
                                     const std::string& manifest_display) {

@@ -24,6 +24,11 @@ std::string rule_drops_text(const variants::Manifest& manifest, const variants::
 std::string empty_selection_problem(const CompiledSpace& c, const std::vector<std::string>& globs,
                                     const std::string& manifest_display);
 
+// Empty when every key a cost table keeps (generate --from-table: the selection's exact keys) is in the
+// planned space; else the one-line error that the table was measured with another manifest, naming both.
+std::string foreign_table_problem(const CompiledSpace& c, const std::vector<std::string>& keys,
+                                  const std::string& table_display, const std::string& manifest_display);
+
 // "aovar: N error(s), M program build(s) failed; nothing was written" (a line).
 std::string failure_line(const CompiledSpace& c);
 

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "shadergen/expand.h"
 #include "util/fs.h"
 #include "util/hash.h"
@@ -64,6 +66,11 @@ std::string run_settings(const std::string& tool, const fs::path& manifest, cons
   h.add("exclude");
   for (const auto& k : co.exclude) h.add(k);
   h.add(co.werror ? 1 : 0).add(o.emit).add(o.cpp_namespace);
+  h.add("pick fronts");
+  for (const auto& f : o.pick_fronts) {
+    h.add(f.target).add(f.family ? 1 : 0);
+    for (const auto& p : f.points) h.add(p.variant).add(fmt::format("{:.17g} {:.17g}", p.time_ms, p.rmse));
+  }
   return h.hex();
 }
 

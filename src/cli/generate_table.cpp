@@ -1,0 +1,63 @@
+// generate --from-table: the cost table's fronts (or select's picks) per GPU family and backend, as the
+// variants to generate and the pick table to embed (table/fronts.h does the choosing).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "cli/render_parts.h"
+#include "compile/pick_table.h"
+#include "render/backend.h"
+#include "table/fronts.h"
+#include "util/fs.h"
+
+namespace aovar::cli {
+namespace {
+
+bool is_backend(const std::string& name) {
+  const auto names = render::backend_names();
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+void check_target_names(const std::string& table, const std::vector<std::string>& targets) {
+  for (const auto& name : targets)
+    if (!is_backend(name) && !compile::is_amd_family(name))
+      throw std::runtime_error(fmt::format(
+          "{}: --for '{}': not an AMD GPU family or a backend (backends: lavapipe, osmesa, gles; families, Mesa's "
+          "names: {})",
+          table, name, compile::amd_family_names()));
+}
+
+compile::PickFront pick_front(const table::TargetFront& f) {
+  compile::PickFront out{f.target, f.family, {}};
+  for (const auto& p : f.points) out.points.push_back({p.variant, p.time_ms, p.rmse});
+  return out;
+}
+
+std::string summary_line(const table::TargetFront& f) {
+  const auto& first = f.points.front();
+  const auto& last = f.points.back();
+  return fmt::format("{} {}: {} variant{} from {} ({:.3f} ms, rmse {:.5f}) to {} ({:.3f} ms, rmse {:.5f})\n",
+                     f.family ? "family" : "backend", f.target, f.points.size(), f.points.size() == 1 ? "" : "s",
+                     first.variant, first.time_ms, first.rmse, last.variant, last.time_ms, last.rmse);
+}
+
+}  // namespace
+
+TableChoice choose_from_table(const TableRequestArgs& a) {
+  check_target_names(util::display_path(a.table), a.targets);
+  const auto t = table::read_table(a.table);
+  table::TableRequest request{util::display_path(a.table), a.targets, {}};
+  request.pick.budget_ms = a.budget_ms;
+  request.pick.max_error = a.max_error;
+  request.pick.budget_of = a.budget_of;
+  const auto keep = table::keep_from_table(t, request, [](const std::string& name) { return !is_backend(name); });
+  TableChoice choice{keep.keys, {}, {}};
+  for (const auto& f : keep.fronts) {
+    choice.fronts.push_back(pick_front(f));
+    choice.summary += summary_line(f);
+  }
+  return choice;
+}
+
+}  // namespace aovar::cli
