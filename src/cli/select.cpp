@@ -56,7 +56,7 @@ Command add_select(CLI::App& app) {
   cmd->add_option("--view", q.view, "only this view (default: each variant's worst view)");
   cmd->add_option("--backend,-b", q.backend, "only this backend (default: each separately)");
   cmd->add_option("--target", q.target,
-                  "an AMD GPU family (sweep --gpu): decide by the roofline estimate on it (gpu.<family>.est_ms) "
+                  "an AMD GPU family (sweep --gpu): decide by the estimate on it (gpu.<family>.est_ms: traced on the row's view, or the roofline) "
                   "instead of the time measured here; errors still from the reference");
   cmd->add_option("--calibration", a->calibration,
                   "refuse a table not measured with this calibration file (aovar calibrate; compared by content hash)");

@@ -219,7 +219,7 @@ void add_margin(Selection& s, const SelectQuery& q, bool budget) {
 std::string scope_of(const SelectQuery& q) {
   std::string scope = q.view.empty() ? "worst view of each variant (max rmse, max time over its views)"
                                      : "view " + q.view;
-  if (!q.target.empty()) scope += "; time: the roofline estimate on " + q.target;
+  if (!q.target.empty()) scope += "; time: the estimate on " + q.target + " (gpu." + q.target + ".est_ms)";
   return scope;
 }
 
