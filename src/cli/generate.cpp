@@ -106,6 +106,7 @@ ExitCode run_generate(GenerateArgs& a) {
   if (!a.table.table.empty()) {
     if (!a.common.globs.empty())
       throw std::runtime_error("generate: --from-table chooses the variants; leave out --variants");
+    a.table.manifest = a.common.manifest;
     TableChoice choice = choose_from_table(a.table);
     std::cerr << choice.summary;
     a.common.globs = std::move(choice.keys);  // exact keys: the glob path's outputs, depfile and no-op check

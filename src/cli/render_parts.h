@@ -34,6 +34,7 @@ ExitCode run_list_scene(const ListArgs& a);
 // generate --from-table: what a cost table keeps (table/fronts.h). --for names GPU families and backends.
 struct TableRequestArgs {
   std::string table;
+  std::string manifest;  // what generate generates from: a table measured with another one is refused
   std::vector<std::string> targets;
   std::optional<double> budget_ms, max_error;
   std::string budget_of;
@@ -43,8 +44,8 @@ struct TableChoice {
   std::vector<compile::PickFront> fronts;   // the pick table
   std::string summary;                      // a line per target: its front's size and ends
 };
-// Throws std::runtime_error, one line: an unknown family or backend in --for, a target the table has no rows
-// for, a pick nothing satisfies, an unreadable table.
+// Throws std::runtime_error, one line: an unknown family or backend in --for, a table whose meta.manifest_hash
+// is not the manifest's, a target the table has no rows for, a pick nothing satisfies, an unreadable table.
 TableChoice choose_from_table(const TableRequestArgs& a);
 
 }  // namespace aovar::cli

@@ -129,6 +129,7 @@ json table_meta(const SweepOptions& o, const SweepResult& res, const json& scene
                 const json& profile_pruned, const json& dominated) {
   json meta = {{"tool", "aovar sweep"},
                {"manifest", util::display_path(o.measure.manifest)},
+               {"manifest_hash", util::hash_hex(util::read_file(o.measure.manifest).value_or(""))},
                {"scenes", scenes},
                {"backends", o.measure.backends},
                {"size", fmt::format("{}x{}", o.measure.size.width, o.measure.size.height)},
