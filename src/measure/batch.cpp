@@ -52,14 +52,18 @@ std::map<std::string, json> BatchMeasurer::unproduced_rows(const std::vector<con
   return kept;
 }
 
-// Progress: rows done out of rows wanted, and an ETA from the time per measured (not reused) row.
+// Progress: rows done out of rows wanted, and an ETA from the time per measured (not reused) row. Rows finish a
+// batch at a time: the rate is taken at the last finished row, and the time since then counts down the rest, so
+// the ETA does not climb while a batch is under way (it used to: elapsed time over a row count that stood still).
 void BatchMeasurer::status(const std::string& what) const {
   if (!progress_) return;
   std::string eta;
   std::size_t done = res_.rows.size();
   if (rows_measured_ > 0 && done < rows_wanted_) {
-    double per_row = seconds_since(measuring_start_) / static_cast<double>(rows_measured_);
-    auto left = static_cast<long>(per_row * static_cast<double>(rows_wanted_ - done));
+    const double per_row = std::chrono::duration<double>(last_measured_ - measuring_start_).count() /
+                           static_cast<double>(rows_measured_);
+    const double rest = per_row * static_cast<double>(rows_wanted_ - done) - seconds_since(last_measured_);
+    auto left = static_cast<long>(std::max(0.0, rest));
     eta = fmt::format(", ETA {}m{:02}s", left / 60, left % 60);
   }
   progress_(fmt::format("[{}/{} rows{}] {}", done, rows_wanted_, eta, what));
@@ -160,7 +164,7 @@ bool BatchMeasurer::reuse(const Candidate& cand, const render::DeviceInfo& devic
 
 void BatchMeasurer::measure_all(const std::vector<const scene::View*>& views, const std::function<void()>& after_batch) {
   rows_wanted_ = (sel_.measured.size() + (sel_.baseline_selected ? 0 : 1)) * views.size() * o_.backends.size();
-  measuring_start_ = Clock::now();
+  measuring_start_ = last_measured_ = Clock::now();
   for (const auto& backend_name : o_.backends) {
     runner::RunnerOptions ro;
     ro.backend = backend_name;
@@ -242,6 +246,7 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
       row.set_reps_reached(timing.stop);
       res_.rows.push_back(std::move(row));
       ++rows_measured_;
+      last_measured_ = Clock::now();
     }
     if (b == batches - 1) {  // the baseline's own row, from every round of every batch
       MeasureRow row = new_row(ref, device, view.name);
@@ -254,6 +259,7 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
       row.set_reps_reached(ref_timing.stop);
       res_.rows.push_back(std::move(row));
       ++rows_measured_;
+      last_measured_ = Clock::now();
     }
     run.readback_s = seconds_since(read_start);
     res_.runs.push_back(run);

@@ -80,6 +80,7 @@ class BatchMeasurer {
   std::map<std::string, bool> twins_alike_;  // by backend: its first twin pair rendered bit-identical images
   std::size_t rows_wanted_ = 0, rows_measured_ = 0;
   std::chrono::steady_clock::time_point measuring_start_ = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point last_measured_ = measuring_start_;  // when rows_measured_ last grew
 };
 
 }  // namespace aovar::measure
