@@ -8,6 +8,12 @@ from: the Linux amdgpu driver's pciidlist (drivers/gpu/drm/amd/amdgpu/amdgpu_drv
 (RDNA 3 and later) are found by IP discovery and are not in any PCI-ID list.
 
 usage: scripts/amd_pci_ids.py AMDGPU_DRV_C SOURCE_LABEL > src/compile/amd_devices.h
+
+The committed header comes from Debian 12's kernel source package:
+  apt-get download linux-source-6.1 && dpkg-deb --fsys-tarfile linux-source-6.1_*_all.deb |
+    tar -xO ./usr/src/linux-source-6.1.tar.xz | tar -xJ --wildcards '*/drivers/gpu/drm/amd/amdgpu/amdgpu_drv.c'
+  scripts/amd_pci_ids.py linux-source-6.1/drivers/gpu/drm/amd/amdgpu/amdgpu_drv.c \
+    "Debian 12's linux-source-6.1 (6.1.192-3), drivers/gpu/drm/amd/amdgpu/amdgpu_drv.c" > src/compile/amd_devices.h
 """
 import re
 import sys
