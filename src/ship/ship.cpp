@@ -293,7 +293,9 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
     Round r;
     r.name = round_name(!o.target.empty(), final_round);
     const auto t0 = std::chrono::steady_clock::now();
-    sweep::SweepOptions so = round_options(o, fit, views, globs, skip, final_round);
+    // The screen decides on the training views only (its eliminations look at nothing else), so it renders
+    // nothing else; the survivors are measured on every view, the held-out one for the choice.
+    sweep::SweepOptions so = round_options(o, fit, final_round ? views : res.training, globs, skip, final_round);
     r.timing = !o.target.empty() ? "one render, estimate on " + o.target
                : final_round     ? measure::reps_words(so.measure)
                                  : fmt::format("{} reps", so.measure.reps);
