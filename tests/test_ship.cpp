@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <filesystem>
 #include <random>
 
@@ -77,7 +79,7 @@ TEST(ShipBound, OnlyACandidateSurelyBeatenIsLeftUntraced) {
   const std::map<std::string, double> est = {{"a", 0.20}, {"cheap-worse", 0.18}, {"tied-error", 0.45},
                                              {"costly-worse", 0.35}, {"budget", 0.6}};
   std::vector<std::string> traced;
-  ship::eliminate_by_bound(c, "budget", 1, [&](const std::vector<ship::BoundCandidate*>& chunk) {
+  ship::eliminate_by_bound(c, "budget", 1, 1, [&](const std::vector<ship::BoundCandidate*>& chunk, int) {
     for (auto* x : chunk) {
       x->est = est.at(x->key);
       traced.push_back(x->key);
@@ -94,6 +96,27 @@ TEST(ShipBound, OnlyACandidateSurelyBeatenIsLeftUntraced) {
     EXPECT_TRUE(find(kept).beaten_by.empty()) << kept;
     EXPECT_TRUE(find(kept).traced) << kept;
   }
+}
+
+// Two stages (two training views): a candidate whose first view's estimate already exceeds a more accurate
+// variant's worst-view estimate is eliminated without its second view; the others get both.
+TEST(ShipBound, ACandidateBeatenOnItsFirstViewIsNotTracedOnTheSecond) {
+  std::vector<ship::BoundCandidate> c = {{"a", 0.05, 0.1}, {"slow-first-view", 0.06, 0.1}, {"fast", 0.07, 0.1}};
+  const std::map<std::string, std::array<double, 2>> views = {
+      {"a", {0.20, 0.25}}, {"slow-first-view", {0.30, 0.10}}, {"fast", {0.15, 0.18}}};
+  std::vector<std::string> second;
+  ship::eliminate_by_bound(c, "", 1, 2, [&](const std::vector<ship::BoundCandidate*>& chunk, int stage) {
+    for (auto* x : chunk) {
+      x->est = std::max(x->est, views.at(x->key)[stage]);
+      if (stage == 1) second.push_back(x->key);
+    }
+  });
+  EXPECT_EQ(second, (std::vector<std::string>{"a", "fast"}));
+  EXPECT_EQ(c[1].key, "slow-first-view");
+  EXPECT_EQ(c[1].beaten_by, "a");
+  EXPECT_TRUE(c[1].bound_traced);
+  EXPECT_DOUBLE_EQ(c[0].est, 0.25) << "the worst view";
+  EXPECT_TRUE(c[2].beaten_by.empty());
 }
 
 }  // namespace

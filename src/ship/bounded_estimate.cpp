@@ -17,15 +17,29 @@ double alu_lower_bound_ms(const table::GpuCost& cost) {
   return sum;
 }
 
-void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::string& keep, int chunk,
-                        const std::function<void(const std::vector<BoundCandidate*>&)>& trace) {
+void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::string& keep, int chunk, int stages,
+                        const std::function<void(const std::vector<BoundCandidate*>&, int)>& trace) {
   std::sort(candidates.begin(), candidates.end(), [](const BoundCandidate& a, const BoundCandidate& b) {
     return std::tie(a.error, a.bound, a.key) < std::tie(b.error, b.bound, b.key);
   });
-  std::vector<const BoundCandidate*> traced;
+  std::vector<const BoundCandidate*> traced;  // every stage traced: est is the worst view's estimate
+  auto beaten = [&](BoundCandidate& c) {
+    if (c.key == keep) return false;
+    const BoundCandidate* by = nullptr;
+    for (const BoundCandidate* d : traced)
+      if (d->error < c.error && d->est < c.bound && (!by || d->est < by->est)) by = d;
+    if (by) c.beaten_by = by->key;
+    return by != nullptr;
+  };
   std::vector<BoundCandidate*> pending;
   auto flush = [&] {
-    trace(pending);
+    for (int stage = 0; stage < stages && !pending.empty(); ++stage) {
+      trace(pending, stage);
+      if (stage + 1 == stages) break;
+      for (BoundCandidate* c : pending)  // the worst view so far: a bound on the worst of all
+        if (c->est > c->bound) c->bound = c->est, c->bound_traced = true;
+      std::erase_if(pending, [&](BoundCandidate* c) { return beaten(*c); });
+    }
     for (BoundCandidate* c : pending) {
       c->traced = true;
       traced.push_back(c);
@@ -33,18 +47,11 @@ void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::stri
     pending.clear();
   };
   for (BoundCandidate& c : candidates) {
-    const BoundCandidate* by = nullptr;
-    if (c.key != keep)
-      for (const BoundCandidate* d : traced)
-        if (d->error < c.error && d->est < c.bound && (!by || d->est < by->est)) by = d;
-    if (by) {
-      c.beaten_by = by->key;
-      continue;
-    }
+    if (beaten(c)) continue;
     pending.push_back(&c);
     if (int(pending.size()) >= chunk) flush();
   }
-  if (!pending.empty()) flush();
+  flush();
 }
 
 BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vector<std::string>& training,
@@ -74,16 +81,20 @@ BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vec
   }
   std::vector<BoundCandidate> candidates;
   for (auto& [key, c] : by_key) candidates.push_back(std::move(c));
-  eliminate_by_bound(candidates, keep, chunk, [&](const std::vector<BoundCandidate*>& chunk_of) {
+  // Stage 0 traces the first training view, stage 1 the others (each candidate's rows are in view order).
+  const int stages = training.size() > 1 ? 2 : 1;
+  eliminate_by_bound(candidates, keep, chunk, stages, [&](const std::vector<BoundCandidate*>& chunk_of, int stage) {
     std::vector<table::CostRow*> traced_rows;
-    for (const BoundCandidate* c : chunk_of) traced_rows.insert(traced_rows.end(), rows[c->key].begin(), rows[c->key].end());
+    for (const BoundCandidate* c : chunk_of)
+      for (table::CostRow* r : rows[c->key])
+        if ((r->view == training.front()) == (stage == 0)) traced_rows.push_back(r);
     out.gpu.traffic += trace::add_row_traffic(traced_rows, request.traffic);
-    for (BoundCandidate* c : chunk_of) {
-      c->est = 0;
-      for (const table::CostRow* r : rows[c->key]) c->est = std::max(c->est, r->gpu.at(family).est_ms);
-    }
-    out.traced += int(chunk_of.size());
-    if (say) say(fmt::format("estimated {} of {} candidates in order of error", out.traced, candidates.size()));
+    for (BoundCandidate* c : chunk_of)
+      for (const table::CostRow* r : rows[c->key])
+        if (stage == 1 || r->view == training.front()) c->est = std::max(c->est, r->gpu.at(family).est_ms);
+    out.traced += stage + 1 == stages ? int(chunk_of.size()) : 0;
+    if (say && stage + 1 == stages)
+      say(fmt::format("estimated {} of {} candidates in order of error", out.traced, candidates.size()));
   });
 
   std::map<std::string, const BoundCandidate*> index;
@@ -92,9 +103,12 @@ BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vec
     if (c.beaten_by.empty()) continue;
     const BoundCandidate& by = *index.at(c.beaten_by);
     out.eliminated.push_back({c.key, rows[c.key].front()->backend, by.key,
-                              fmt::format("its {} estimate cannot be below {:.4f} ms (the ALU time alone, untraced), "
-                                          "more than {}'s traced {:.4f} ms, with more error ({:.4f} > {:.4f})",
-                                          family, c.bound, by.key, by.est, c.error, by.error)});
+                              fmt::format("its {} estimate cannot be below {:.4f} ms ({}), more than {}'s traced "
+                                          "{:.4f} ms, with more error ({:.4f} > {:.4f})",
+                                          family, c.bound,
+                                          c.bound_traced ? "its estimate on " + training.front() + " alone"
+                                                         : std::string("the ALU time alone, untraced"),
+                                          by.key, by.est, c.error, by.error)});
   }
   std::erase_if(screen.rows, [&](const table::CostRow& r) {
     auto it = index.find(r.variant);

@@ -6,7 +6,8 @@
 // texture, latency and bandwidth times, then adds the exposed ALU), and the ALU time needs only RADV's
 // statistics, not a trace. So the screen estimates in order of error, best first, and a candidate whose ALU
 // time alone exceeds the traced estimate of one with strictly less error is eliminated untraced, with that
-// evidence. The rule only ever removes what race.h would remove with the full estimate: it is exact, not a
+// evidence; one whose estimate on the first training view already exceeds it is eliminated before its other
+// views are traced (the race takes the worst view's estimate, which is at least that one). The rule only ever removes what race.h would remove with the full estimate: it is exact, not a
 // prediction. Static costs thereby order the work (issue 35), without the risk of a learned model.
 #include <functional>
 #include <string>
@@ -39,13 +40,17 @@ double alu_lower_bound_ms(const table::GpuCost& cost);
 struct BoundCandidate {
   std::string key;
   double error = 0, bound = 0, est = 0;
-  bool traced = false;
-  std::string beaten_by;  // set when eliminated untraced
+  bool traced = false;        // every stage traced: est is its estimate
+  bool bound_traced = false;  // the bound is the estimate of the stages traced so far
+  std::string beaten_by;      // set when eliminated before every stage was traced
 };
-// Visits `candidates` by ascending error (then bound, key; the vector is sorted so); a candidate that a traced
-// one with strictly less error beats (estimate below its bound) is eliminated, the others are passed to
-// `trace` in chunks of `chunk` (which sets their est). `keep` is always traced.
-void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::string& keep, int chunk,
-                        const std::function<void(const std::vector<BoundCandidate*>&)>& trace);
+// Visits `candidates` by ascending error (then bound, key; the vector is sorted so); a candidate that a fully
+// traced one with strictly less error beats (estimate below its bound) is eliminated, the others are passed to
+// `trace(chunk, stage)` in chunks of `chunk`, stage by stage (each call raises their est to the worst view
+// traced so far). Between stages the partial estimate becomes the bound, since the worst of some views is at
+// most the worst of all, and the chunk is checked again: most candidates of a large space are eliminated after
+// the first view. `keep` is always traced.
+void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::string& keep, int chunk, int stages,
+                        const std::function<void(const std::vector<BoundCandidate*>&, int stage)>& trace);
 
 }  // namespace aovar::ship
