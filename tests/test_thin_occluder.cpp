@@ -24,11 +24,14 @@ std::vector<Quad> pole(float x, float z, float w, float h) {
           {{x0, h, z1}, {w, 0, 0}, {0, 0, -w}}};
 }
 
-// The method's plain and blurred variants (render_support.h's first two kinds).
+// The method's plain and blurred variants (render_support.h's first two kinds). Every method has both, so a
+// missing one is a failure, not a smaller loop (the loops below would then check nothing).
 std::vector<std::string> keys_of(const PickedVariants& picked) {
   std::vector<std::string> keys;
-  for (int kind : {0, 1})
+  for (int kind : {0, 1}) {
+    EXPECT_TRUE(picked.keys.count(kind)) << "no variant of kind " << kind << " in the manifest";
     if (picked.keys.count(kind)) keys.push_back(picked.keys.at(kind));
+  }
   return keys;
 }
 
