@@ -311,24 +311,6 @@ TEST(Lavapipe, RejectedShaderNamesItsProgramAndLeavesTheBackendUsable) {
   EXPECT_NO_THROW(backend->render(*pipeline, frame_setup(box_view(), 0)));
 }
 
-// Sets environment variables for a scope and restores them.
-class ScopedEnv {
- public:
-  void set(const char* name, const char* value) {
-    const char* old = std::getenv(name);
-    saved_.push_back({name, old ? std::optional<std::string>(old) : std::nullopt});
-    setenv(name, value, 1);
-  }
-  ~ScopedEnv() {
-    for (auto it = saved_.rbegin(); it != saved_.rend(); ++it)
-      if (it->second) setenv(it->first.c_str(), it->second->c_str(), 1);
-      else unsetenv(it->first.c_str());
-  }
-
- private:
-  std::vector<std::pair<std::string, std::optional<std::string>>> saved_;
-};
-
 TEST(Lavapipe, MissingDriverOrLayerGivesAOneLineHint) {
   {
     ScopedEnv env;

@@ -14,6 +14,7 @@
 
 namespace {
 using namespace aovar::variants;
+using aovar::test::ScopedEnv;
 
 Manifest default_manifest() { return load_manifest(aovar::test::source_dir() / "shader_src/aovar.toml"); }
 
@@ -34,12 +35,6 @@ TEST(Space, CountsFollowTheProductAndTheRules) {
 
 // Sets an environment variable for one scope (tests run one per process under ctest, but not under a
 // plain test-binary run).
-struct ScopedEnv {
-  std::string name;
-  ScopedEnv(const char* n, const char* value) : name(n) { setenv(n, value, 1); }
-  ~ScopedEnv() { unsetenv(name.c_str()); }
-};
-
 std::string space_error(const Manifest& m) {
   try {
     build_space(m);
