@@ -35,7 +35,9 @@ json table_of(const fs::path& out) { return json::parse(util::read_file(out / "c
 // The front's variants and what the run chose, from its cost table and its output.
 std::string outcome(const fs::path& out, const std::string& output) {
   std::set<std::string> front;
-  for (const auto& r : table_of(out).at("rows"))
+  // Named: a range-for over a reference into a temporary (table_of(out).at("rows")) reads freed rows in C++20.
+  const json table = table_of(out);
+  for (const auto& r : table.at("rows"))
     if (r.value("pareto", false)) front.insert(r.at("variant").get<std::string>() + "/" + r.at("view").get<std::string>());
   const auto choice = output.find("choice: ");
   return fmt::format("{}\n{}", fmt::join(front, " "), output.substr(choice, output.find('\n', choice) - choice));
