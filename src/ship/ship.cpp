@@ -230,19 +230,24 @@ json ship_meta(const ShipOptions& o, const ShipResult& r, const profile::ScenePr
           {"eliminated", eliminated}};
 }
 
-}  // namespace
-
-ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
-  const auto start = std::chrono::steady_clock::now();
+// Usage errors, before anything is profiled or fitted (an unknown family or a missing RADV too).
+void check_options(const ShipOptions& o) {
   if (o.out.empty()) throw std::runtime_error("ship: --out is required");
   check_query(o.query);
   if (o.shard_count > 1 && !o.join.empty())
     throw std::runtime_error("ship: --shard and --join exclude each other (the shards screen, the join decides)");
-  if (!o.target.empty()) {  // an unknown family or a missing RADV fails before anything is profiled or fitted
+  if (!o.target.empty()) {
     gpu::CostRequest request;
     request.families = {o.target};
     gpu::check_request(request);
   }
+}
+
+}  // namespace
+
+ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  check_options(o);
   auto say = [&](const std::string& line) {
     if (progress) progress(line);
   };
