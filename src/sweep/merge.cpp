@@ -24,14 +24,20 @@ void rebase_images(table::CostTable& t, const fs::path& from_dir, const fs::path
 
 // The shards' --gpu meta as one run's: the estimate's settings are the same in every shard (the shard manifest's
 // options hash holds them), its counts and seconds are each shard's own, so they add up; errors concatenate.
+// Counts stay whole numbers, seconds add as reals.
+void add_to(json& v, const json& other) {
+  if (v.is_number_integer() && other.is_number_integer()) v = v.get<int64_t>() + other.get<int64_t>();
+  else if (v.is_number() && other.is_number()) v = v.get<double>() + other.get<double>();
+}
+
 json merged_gpu_meta(const std::vector<json>& metas) {
   json out = metas.front();
   for (std::size_t i = 1; i < metas.size(); ++i) {
     for (auto& [k, v] : out.items())
-      if (v.is_number() && metas[i].contains(k)) v = v.get<double>() + metas[i][k].get<double>();
+      if (metas[i].contains(k)) add_to(v, metas[i][k]);
     if (out.contains("trace") && metas[i].contains("trace"))
       for (auto& [k, v] : out["trace"].items())
-        if (v.is_number() && k != "window_share") v = v.get<double>() + metas[i]["trace"].value(k, 0.0);
+        if (k != "window_share" && metas[i]["trace"].contains(k)) add_to(v, metas[i]["trace"][k]);
     for (const auto& e : metas[i].value("errors", json::array())) out["errors"].push_back(e);
   }
   return out;
