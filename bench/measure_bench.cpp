@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
 
   bool ok = true, measured = true;  // the targets met; every backend measured 2 variants or more
   // One backend at a time, its two runs back to back: a run of the other backend in between changes
-  // lavapipe's times (see bench/README.md).
+  // lavapipe's times (see bench/HISTORY.md, "bench/measure").
   for (const std::string backend : {"lavapipe", "osmesa"}) {
     o.backends = {backend};
     auto a = measure::run_measure(o, progress);

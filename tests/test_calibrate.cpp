@@ -72,7 +72,7 @@ TEST(Calibrate, FittingLowersTrainingErrorWithinTheManifestsRanges) {
   const auto& f = cal.fits[0];
   EXPECT_EQ(f.algorithm, "alchemy");
   EXPECT_EQ(f.variant, "alchemy-s16-p0-nrgb8-zdep-rst-d32-bsep-x1-hp");
-  // Alchemy's defaults over-darken against ray-traced occlusion (bench/README.md): the fit must find better.
+  // Alchemy's defaults over-darken against ray-traced occlusion (bench/HISTORY.md): the fit must find better.
   EXPECT_LT(f.train_rmse_after, 0.9 * f.train_rmse_before);
   EXPECT_LE(f.search.evaluations, 16);
   EXPECT_EQ(f.budget, 16);

@@ -36,7 +36,7 @@ void judge(ModelFit& fit, double min_spearman) {
 }  // namespace
 
 // The weighted-classes model: 13 features meet 30-40 rows, hence the ridge (lambda 0.3 on standardised
-// features; chosen on the Sponza and atrium sweeps, bench/README.md).
+// features; chosen on the Sponza and atrium sweeps, bench/HISTORY.md, "bench/cost_model").
 GroupModels fit_group_models(const std::vector<table::CostRow>& rows, double min_spearman) {
   GroupModels gm;
   for (const auto& row : rows) gm.groups[{row.scene, row.view, row.backend}].push_back(row);

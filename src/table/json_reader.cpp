@@ -1,7 +1,7 @@
 // Reading cost_table.json (table.h: read_table, table_from_json, row_from_json). simdjson's On-Demand parser
 // (Langdale & Lemire, 2019, for the structural index; Keiser & Lemire, 2024, for On-Demand) walks the file
 // once and each row's fields go straight into its CostRow: no document of the table and no per-row JSON
-// objects, which were most of the time and memory of `select` and `report` on large tables (bench/README.md,
+// objects, which were most of the time and memory of `select` and `report` on large tables (bench/HISTORY.md,
 // "bench/big_inputs"). "static" and "error.breakdown" are read by the member lists their writers use
 // (static_cost_fields.h, detail.h); "gpu" and "meta" go through their nlohmann readers. Values of fields aovar
 // does not know are skipped, not checked.

@@ -181,7 +181,7 @@ std::string tied_line(const Selection& s, bool budget) {
 
 // The budget's "consider" test: faster beyond the noise. A comparison without an interval (no rounds, or
 // a target's estimate) cannot show the noise, so it asks for the margin of 5 % these hosts reproduce
-// (bench/README.md) before a line is worth it.
+// (bench/HISTORY.md, "aovar select: what the machines reproduce") before a line is worth it.
 bool clearly_faster(const Candidate& o, const Candidate& c, const SelectQuery& q) {
   const TimeComparison t = compare_candidates(o, c, q);
   return t.ci.known() ? t.verdict == TimeVerdict::faster : t.ratio <= 0.95;
