@@ -65,7 +65,7 @@ scene::View box_view(float far_plane = 50.0f) {
   v.far_plane = far_plane;
   return v;
 }
-const Quad kFloor{{-10, 0, 10}, {20, 0, 0}, {0, 0, -20}};
+const Quad kSmallFloor{{-10, 0, 10}, {20, 0, 0}, {0, 0, -20}};
 const std::vector<Quad> kBox = {
     {{-1, 0, 1}, {2, 0, 0}, {0, 2, 0}},   // front (+z)
     {{1, 0, -1}, {-2, 0, 0}, {0, 2, 0}},  // back
@@ -75,7 +75,7 @@ const std::vector<Quad> kBox = {
 };
 scene::Scene box_scene() {
   std::vector<Quad> quads = kBox;
-  quads.push_back(kFloor);
+  quads.push_back(kSmallFloor);
   return quad_scene(quads, box_view(), kRadius);
 }
 
@@ -207,7 +207,7 @@ TEST(Lavapipe, DepthClearFollowsFarPlaneAndRowZeroIsTheBottom) {
   auto backend = render::make_lavapipe_backend(backend_options(2, false));
   // The floor alone, looked at from above: the top rows look past its far edge into the background.
   scene::View near_view = box_view(40.0f), far_view = box_view(80.0f);
-  backend->set_scene(quad_scene({kFloor}, near_view, kRadius));
+  backend->set_scene(quad_scene({kSmallFloor}, near_view, kRadius));
   auto pipeline = backend->prepare(render::plan_prefix(plan_of(kKeys[0]), "gbuffer"), size);
   for (const auto* view : {&near_view, &far_view, &near_view}) {
     backend->render(*pipeline, frame_setup(*view, 0));
@@ -253,7 +253,7 @@ TEST(Lavapipe, SetSceneReplacesTheGeometryOfPreparedPipelines) {
   auto pipeline = backend->prepare(plan_of(kKeys[0]), size);
   backend->render(*pipeline, frame_setup(view, 0));
   expect_box_occlusion(backend->read_result(*pipeline), size, "box");
-  backend->set_scene(quad_scene({kFloor}, view, kRadius));
+  backend->set_scene(quad_scene({kSmallFloor}, view, kRadius));
   backend->render(*pipeline, frame_setup(view, 1));
   auto floor_only = backend->read_result(*pipeline);
   float lo = 1;

@@ -9,13 +9,13 @@
 #include "util/schema.h"
 
 namespace aovar::compile {
-using json = nlohmann::ordered_json;
+using nlohmann::ordered_json;
 using variants::Axis;
 using variants::AxisKind;
 
 namespace {
 
-json axis_value_json(const variants::Manifest& m, Axis a, int i) {
+ordered_json axis_value_json(const variants::Manifest& m, Axis a, int i) {
   if (i < 0) return nullptr;
   const auto& v = m.value(a, i);
   switch (variants::axis_info(a).kind) {
@@ -31,7 +31,7 @@ bool fixed_vertex(const variants::Pass& p) {
   return p.vertex.reads.empty() && p.vertex.placeholders.empty() && !p.vertex.reads_algorithm;
 }
 
-std::string lines(const std::vector<json>& items) {
+std::string lines(const std::vector<ordered_json>& items) {
   std::string s = "[";
   for (std::size_t i = 0; i < items.size(); ++i) s += (i ? ",\n    " : "\n    ") + items[i].dump();
   return s + (items.empty() ? "]" : "\n  ]");
@@ -41,7 +41,7 @@ std::string lines(const std::vector<json>& items) {
 
 std::string index_json(const CompiledSpace& c) {
   const auto& m = c.manifest;
-  json head;
+  ordered_json head;
   head["schema_version"] = util::kSchemaVersion;
   head["generator"] = shadergen::generator_version();
   head["compiler"] = compiler_version();
@@ -50,27 +50,27 @@ std::string index_json(const CompiledSpace& c) {
       "algorithm-s<samples>-p<progressive 0/1>-n<normals>-z<position source>-r<reconstruction>-d<depth bits>-"
       "b<blur>-x<1/resolution>-<precision>[-zmip]; '_<letter>' marks an axis the variant does not read; the "
       "optional depth_mip axis appears only as -zmip (on)";
-  head["targets"] = json::array();
+  head["targets"] = ordered_json::array();
   for (auto t : c.targets) head["targets"].push_back(variants::target_name(t));
-  json counts = {{"space", c.space.space}, {"after_rules", c.space.after_rules}, {"rules", c.space.collapsed},
+  ordered_json counts = {{"space", c.space.space}, {"after_rules", c.space.after_rules}, {"rules", c.space.collapsed},
                  {"dedup", c.dedup}};
-  json per_target = json::object();
+  ordered_json per_target = ordered_json::object();
   for (std::size_t t = 0; t < c.targets.size(); ++t)
     per_target[std::string(variants::target_name(c.targets[t]))] = {
         {"programs", c.stats[t].programs}, {"unique", c.stats[t].unique}, {"spirv_bytes", c.stats[t].spirv_bytes}};
   counts["programs"] = per_target;
   head["counts"] = counts;
-  json axes = json::object();
+  ordered_json axes = ordered_json::object();
   for (int a = 0; a < variants::kAxisCount; ++a) {
-    json values = json::array();
+    ordered_json values = ordered_json::array();
     for (std::size_t i = 0; i < m.values[a].size(); ++i) values.push_back(axis_value_json(m, variants::axis_at(a), int(i)));
     axes[std::string(variants::axis_info(variants::axis_at(a)).name)] = values;
   }
   head["axes"] = axes;
   // pass -> its vertex program when that is the same for every variant (null: listed per variant)
-  head["passes"] = json::object();
+  head["passes"] = ordered_json::object();
   for (std::size_t i = 0; i < m.passes.size(); ++i) {
-    json vertex = nullptr;
+    ordered_json vertex = nullptr;
     for (const auto& v : c.space.variants)
       if (fixed_vertex(m.passes[i]) && v.passes[i][0] >= 0) {
         vertex = c.space.programs[v.passes[i][0]].key;
@@ -78,7 +78,7 @@ std::string index_json(const CompiledSpace& c) {
       }
     head["passes"][m.passes[i].name] = vertex;
   }
-  json rules = json::array();
+  ordered_json rules = ordered_json::array();
   for (std::size_t r = 0; r < m.rules.size(); ++r)
     rules.push_back({{"line", m.rules[r].pos.line},
                      {"kind", m.rules[r].kind == variants::Rule::Kind::skip ? "skip" : "only"},
@@ -92,16 +92,16 @@ std::string index_json(const CompiledSpace& c) {
 
   std::string programs = "{";
   for (std::size_t t = 0; t < c.targets.size(); ++t) {
-    std::vector<json> items;
+    std::vector<ordered_json> items;
     for (std::size_t p = 0; p < c.space.programs.size(); ++p) {
       const auto& spec = c.space.programs[p];
       const auto& b = c.builds[t][p];
-      json e = {{"key", spec.key}, {"template", spec.template_path}, {"hash", b.hash}};
+      ordered_json e = {{"key", spec.key}, {"template", spec.template_path}, {"hash", b.hash}};
       if (!b.ok) e["failed"] = true;
       else if (b.same_as >= 0) e["same_as"] = c.space.programs[b.same_as].key;
       else if (!b.output.spirv.empty()) e["spirv_bytes"] = b.output.spirv.size() * 4;
       if (!spec.params.empty()) {
-        json params = json::object();
+        ordered_json params = ordered_json::object();
         for (const auto& prm : spec.params) params[prm.name] = prm.value;
         e["params"] = params;
       }
@@ -111,23 +111,23 @@ std::string index_json(const CompiledSpace& c) {
   }
   programs += "\n  }";
 
-  std::vector<json> vars;
+  std::vector<ordered_json> vars;
   for (std::size_t v = 0; v < c.space.variants.size(); ++v) {
     const auto& var = c.space.variants[v];
-    json axes_v = json::array();
+    ordered_json axes_v = ordered_json::array();
     for (int a = 0; a < variants::kAxisCount; ++a) axes_v.push_back(axis_value_json(m, variants::axis_at(a), var.point[a]));
-    json passes = json::object();  // the fragment program; the vertex program too when it varies
+    ordered_json passes = ordered_json::object();  // the fragment program; the vertex program too when it varies
     for (std::size_t i = 0; i < m.passes.size(); ++i) {
       if (var.passes[i][0] < 0) continue;
       const std::string& frag = c.space.programs[var.passes[i][1]].key;
       if (fixed_vertex(m.passes[i])) passes[m.passes[i].name] = frag;
       else passes[m.passes[i].name] = {c.space.programs[var.passes[i][0]].key, frag};
     }
-    json e = {{"key", var.key}, {"axes", axes_v}, {"passes", passes}};
+    ordered_json e = {{"key", var.key}, {"axes", axes_v}, {"passes", passes}};
     if (c.variant_same_as[v] >= 0) e["same_as"] = c.space.variants[c.variant_same_as[v]].key;
     vars.push_back(std::move(e));
   }
-  std::vector<json> pruned;
+  std::vector<ordered_json> pruned;
   for (const auto& p : c.space.pruned) pruned.push_back({{"key", p.key}, {"rule", p.rule}});
 
   out += ",\n  \"programs\": " + programs;

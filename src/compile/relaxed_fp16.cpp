@@ -9,19 +9,19 @@
 namespace aovar::compile {
 namespace {
 
-constexpr std::uint32_t kMagic = 0x07230203, kHeaderWords = 5;
+constexpr std::uint32_t kSpirvMagic = 0x07230203, kHeaderWords = 5;
 constexpr std::uint32_t kOpDecorate = 71, kOpMemberDecorate = 72, kOpFunction = 54, kRelaxedPrecision = 0;
 constexpr spv_target_env kEnv = SPV_ENV_VULKAN_1_2;  // what compile_program emits for the vulkan target
 
 void check_header(const std::vector<std::uint32_t>& spirv) {
-  if (spirv.size() < kHeaderWords || spirv[0] != kMagic)
+  if (spirv.size() < kHeaderWords || spirv[0] != kSpirvMagic)
     throw std::runtime_error("mediump->fp16: the input is not a SPIR-V module (no SPIR-V header)");
 }
 
 }  // namespace
 
 bool has_relaxed_precision(const std::vector<std::uint32_t>& spirv) {
-  if (spirv.size() < kHeaderWords || spirv[0] != kMagic) return false;
+  if (spirv.size() < kHeaderWords || spirv[0] != kSpirvMagic) return false;
   for (std::size_t i = kHeaderWords; i < spirv.size();) {
     std::uint32_t words = spirv[i] >> 16, op = spirv[i] & 0xffff;
     if (words == 0 || i + words > spirv.size() || op == kOpFunction) break;  // decorations precede functions

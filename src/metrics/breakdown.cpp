@@ -16,7 +16,7 @@ namespace {
 
 using image::FloatImage;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kNoData = std::numeric_limits<double>::quiet_NaN();
 
 // Running sums of one part.
 struct PartSums {
@@ -30,12 +30,12 @@ struct PartSums {
 };
 
 ErrorPart part_of(const PartSums& p, long total_n, double total_sq) {
-  if (total_n == 0) return {kNaN, kNaN, kNaN, kNaN};
+  if (total_n == 0) return {kNoData, kNoData, kNoData, kNoData};
   ErrorPart out;
   out.pixel_share = static_cast<double>(p.n) / static_cast<double>(total_n);
-  out.rmse = p.n > 0 ? std::sqrt(p.sq / static_cast<double>(p.n)) : kNaN;
-  out.mean_error = p.n > 0 ? p.sum / static_cast<double>(p.n) : kNaN;
-  out.error_share = total_sq > 0 ? p.sq / total_sq : kNaN;
+  out.rmse = p.n > 0 ? std::sqrt(p.sq / static_cast<double>(p.n)) : kNoData;
+  out.mean_error = p.n > 0 ? p.sum / static_cast<double>(p.n) : kNoData;
+  out.error_share = total_sq > 0 ? p.sq / total_sq : kNoData;
   return out;
 }
 
@@ -53,7 +53,7 @@ double median_depth(const FloatImage& depth, const std::vector<std::uint8_t>& ba
   z.reserve(depth.pixels.size());
   for (std::size_t i = 0; i < depth.pixels.size(); ++i)
     if (detail::is_compared(background, i) && std::isfinite(depth.pixels[i])) z.push_back(depth.pixels[i]);
-  if (z.empty()) return kNaN;
+  if (z.empty()) return kNoData;
   // Nearest rank: index ceil(n / 2) - 1.
   const auto rank = static_cast<std::ptrdiff_t>((z.size() + 1) / 2 - 1);
   std::nth_element(z.begin(), z.begin() + rank, z.end());
