@@ -65,6 +65,22 @@ TEST(ShipRace, TheWorstViewDecides) {
   EXPECT_TRUE(eliminated(ship::dominated_beyond_noise(t), "d"));
 }
 
+// The margin (race.h): a slowdown of 1.05x beyond the noise eliminates at margin 1 but not at 1.10, whose
+// interval must lie wholly above 1.10; a 1.50x slowdown eliminates at both.
+TEST(ShipRace, AMarginKeepsSlowdownsWhoseIntervalReachesBelowIt) {
+  table::CostTable t;
+  t.rows.push_back(test::timed_row("fast-accurate", rounds(1.00, 11), 0.050));
+  t.rows.push_back(test::timed_row("a-bit-slower", rounds(1.05, 12), 0.060));
+  t.rows.push_back(test::timed_row("much-slower", rounds(1.50, 13), 0.070));
+  const auto none = ship::dominated_beyond_noise(t, "", 1.0);
+  EXPECT_TRUE(eliminated(none, "a-bit-slower"));
+  EXPECT_TRUE(eliminated(none, "much-slower"));
+  const auto margin = ship::dominated_beyond_noise(t, "", 1.10);
+  EXPECT_FALSE(eliminated(margin, "a-bit-slower"));
+  ASSERT_TRUE(eliminated(margin, "much-slower"));
+  EXPECT_NE(margin[0].reason.find("1.10x margin"), std::string::npos) << margin[0].reason;
+}
+
 // The screen's untraced elimination (bounded_estimate.h): a candidate is dropped only when a traced one with
 // strictly less error has an estimate below its bound; it is never traced; equal error, a bound below the
 // estimate, or the budget's variant keep it.

@@ -39,6 +39,8 @@ ExitCode run_ship(const ShipArgs& a) {
   o.join.assign(a.join.begin(), a.join.end());
   if (o.target.find(',') != std::string::npos) throw std::runtime_error("--target takes one AMD family");
   if (o.race_reps < 6) throw std::runtime_error("--race-reps must be at least 6 (fewer rounds give no 95 % interval)");
+  if (!(o.race_margin >= 1.0 && o.race_margin < 10.0))
+    throw std::runtime_error("--race-margin must be a time ratio in [1, 10) (1 eliminates on any slowdown beyond the noise)");
   if (o.fit_evaluations < 1) throw std::runtime_error("--evaluations must be at least 1");
   const auto lock = lock_output(o.out);
   auto r = with_status([&](const auto& progress) { return ship::run_ship(o, progress); });
@@ -72,6 +74,9 @@ Command add_ship(CLI::App& app) {
   cmd->add_option("--fit-size", a->fit_size, "calibration render size WxH")->capture_default_str();
   cmd->add_option("--evaluations", so.fit_evaluations, "objective evaluations per method fit")->capture_default_str();
   cmd->add_option("--race-reps", so.race_reps, "timed rounds of the first round of the race")->capture_default_str();
+  cmd->add_option("--race-margin", so.race_margin,
+                  "measured backends: eliminate only when the slowdown's 95 % interval lies above this ratio")
+      ->capture_default_str();
   cmd->add_option("--ci-target", so.final_reps.ci_target,
                   "the last round: rounds until each row's 95 % interval half-width is within this share")
       ->capture_default_str();

@@ -9,7 +9,18 @@
 
 namespace aovar::ship {
 
-std::vector<Elimination> dominated_beyond_noise(const table::CostTable& rows, const std::string& target) {
+namespace {
+
+// The slower one's whole interval (or, without rounds, its point ratio) lies above the margin.
+bool beyond_margin(const table::TimeComparison& slower, double min_ratio) {
+  return slower.ci.known() ? slower.ci.lo >= min_ratio : slower.ratio >= min_ratio;
+}
+
+}  // namespace
+
+std::vector<Elimination> dominated_beyond_noise(const table::CostTable& rows, const std::string& target,
+                                                double min_ratio) {
+  if (!target.empty()) min_ratio = 1.0;
   table::SelectQuery q;
   q.target = target;
   std::vector<table::Candidate> cs = table::candidates(rows, q);
@@ -22,8 +33,10 @@ std::vector<Elimination> dominated_beyond_noise(const table::CostTable& rows, co
       const table::TimeComparison c = table::compare_candidates(cs[j], cs[i], q);
       if (c.verdict != table::TimeVerdict::faster) continue;
       const table::TimeComparison slower = table::compare_candidates(cs[i], cs[j], q);
+      if (!beyond_margin(slower, min_ratio)) continue;
       out.push_back({cs[i].variant, cs[i].backend, cs[j].variant,
-                     fmt::format("slower than {} beyond the noise ({}, {}) with more error ({:.4f} > {:.4f})", cs[j].variant,
+                     fmt::format("slower than {} beyond the noise{} ({}, {}) with more error ({:.4f} > {:.4f})", cs[j].variant,
+                                 min_ratio > 1.0 ? fmt::format(" and the {:.2f}x margin", min_ratio) : std::string(),
                                  table::ratio_text(slower), slower.method, cs[i].rmse, cs[j].rmse)});
       break;
     }

@@ -5,6 +5,9 @@
 // race is run on (their worst, as `aovar select` aggregates). A candidate tied on time with everything more
 // accurate stays: the next round, with more repetitions, may still separate them. With a GPU target the time
 // is the deterministic estimate, so "faster" is simply a smaller estimate.
+// On a measured backend "beyond the noise" also needs a margin: the whole 95 % interval of the slowdown above
+// `min_ratio`. A run's interval describes its own rounds, not the drift between runs on a loaded host, which
+// ranked three eliminations of 1.02x-1.17x the other way in an exhaustive sweep (bench/README.md, bench/search).
 #include <string>
 #include <vector>
 
@@ -20,6 +23,8 @@ struct Elimination {
 
 // Every candidate of `rows` (one per variant and backend; rows without an error, or without an estimate on
 // `target` when one is given, are not candidates) that another candidate dominates as above. Sorted by variant.
-std::vector<Elimination> dominated_beyond_noise(const table::CostTable& rows, const std::string& target = "");
+// `min_ratio` (>= 1) applies to measured times only: a target's estimate has no noise.
+std::vector<Elimination> dominated_beyond_noise(const table::CostTable& rows, const std::string& target = "",
+                                                double min_ratio = 1.0);
 
 }  // namespace aovar::ship

@@ -220,6 +220,7 @@ json ship_meta(const ShipOptions& o, const ShipResult& r, const profile::ScenePr
           {"holdout_views", r.holdout},
           {"target", o.target},
           {"backend", o.backend},
+          {"race_margin", o.target.empty() ? o.race_margin : 1.0},
           {"normals_lean", r.lean},
           {"normals_lean_evidence", r.lean_text},
           {"fit_normals", r.fit_normals},
@@ -328,7 +329,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
       res.wall_s = util::seconds_since(start);
       return res;
     }
-    const auto eliminated = dominated_beyond_noise(on_views(last, res.training), o.target);
+    const auto eliminated = dominated_beyond_noise(on_views(last, res.training), o.target, o.race_margin);
     std::set<std::string> out;
     for (const auto& e : eliminated)
       if (e.variant != o.query.budget_of) {  // the budget's variant stays: select resolves the budget by it

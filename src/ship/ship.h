@@ -37,6 +37,7 @@ struct ShipOptions {
   render::Extent fit_size{320, 180};       // calibration renders (calibrate's default)
   int fit_evaluations = 40;                // per method
   int race_reps = 6;                       // the first round: the fewest rounds whose sign-test interval is known
+  double race_margin = 1.10;               // measured backends: eliminate on a slowdown whose interval is above it (race.h)
   measure::AutoReps final_reps;            // the second round: --reps auto with this target and cap
   int rays = 256, threads = 2, jobs = 0;
   render::Extent gpu_frame{1920, 1080};
