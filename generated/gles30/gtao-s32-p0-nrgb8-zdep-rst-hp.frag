@@ -44,14 +44,12 @@
 // slice spacing) and a 4-value step offset along the diagonal. Its temporal part (6 rotations x 4 offsets
 // per frame) is left out: nothing accumulates over frames here except the progressive halves.
 //
-// samples -> slices x steps per side (total fetches = 2 x slices x steps = N exactly, monotone in N):
-//     N      4    6    8    12   16   24   32
-//     SlxSt 2x1  3x1  2x2  2x3  2x4  3x4  4x4      steps = clamp(N/4, 1, 4); slices = N / (2 steps)
-// Slices are pi / slices apart (each covers both sides). Progressive (Sunet 2018, §4.10): every slice marches
-// one side only, +d for s + h even and -d for s + h odd (h = frame.frame_index.y), so each frame marches
-// N/2 steps along directions spread over the full circle and the two frames together march both sides of
-// every slice; the mean of two frames approximates the full kernel (equal where both frames' normalisers
-// are equal, e.g. surfaces facing the camera).
+// samples -> slices x steps per side (common/slices.glsl: 2 x slices x steps = N exactly, monotone in N; 4 ->
+// 2x1, 8 -> 2x2, 16 -> 2x4, 32 -> 4x4). Slices are pi / slices apart (each covers both sides). Progressive
+// (Sunet 2018, §4.10): every slice marches one side only, +d for s + h even and -d for s + h odd (h =
+// frame.frame_index.y), so each frame marches N/2 steps along directions spread over the full circle and the
+// two frames together march both sides of every slice; the mean of two frames approximates the full kernel
+// (equal where both frames' normalisers are equal, e.g. surfaces facing the camera).
 // Radius: capped at a quarter of the AO screen; pixels whose disc is under 1 pixel are open (Dörries 2018, §3.3.4).
 //
 // Axes: samples, progressive, normals, position, reconstruct (common/fetch.glsl), precision (AOP).
@@ -92,7 +90,7 @@
 precision highp float;
 precision highp int;
 precision highp sampler2D;
-#line 48 1
+#line 46 1
 #line 1 3
 // Per-frame camera and sizes, shared by every pass (docs/template-contract.md, "Interface").
 AO_UBO(0) uniform AOFrame {
@@ -106,7 +104,7 @@ AO_UBO(0) uniform AOFrame {
     vec4 clip;        // near, far, radius (world units), pixels per world unit at z = 1 at AO resolution
     ivec4 frame_index;// x = frame number, y = parity (0/1) for progressive halves, zw unused
 } frame;
-#line 49 1
+#line 47 1
 #line 1 4
 // Every G-buffer read of an AO method goes through these helpers: ao_depth (common/depth.glsl),
 // ao_position (common/reconstruct.glsl) and ao_normal (below). Reads the `normals`, `position` and
@@ -308,7 +306,7 @@ vec3 ao_normal(vec2 uv, vec3 view_pos) {
     return ao_decode_normal(texelFetch(ao_normal_tex, ao_texel(uv, textureSize(ao_normal_tex, 0)), 0));
 #endif
 }
-#line 50 1
+#line 48 1
 #line 1 9
 // Per-pixel kernel rotation (Sunet 2018, §4.3.3), computed procedurally instead of read from a 4x4 random
 // texture. Each pixel of a 4x4 tile gets one of 16 angles, 2 pi / 16 apart, in an interleaved order:
@@ -333,6 +331,13 @@ vec2 ao_rotation(ivec2 pixel) {
     return vec2(cos(angle), sin(angle));
 }
 
+// Declares vec2 rot = ao_rotation(pixel) and mat2 rotation, which turns a kernel offset by that angle. A macro,
+// so that the programs keep their SPIR-V (common/preamble.glsl says why). Alchemy, Crytek, HBAO, home-brewed
+// AO, Volumetric Obscurance.
+#define AO_ROTATION_MATRIX(pixel) \
+    vec2 rot = ao_rotation(pixel); \
+    mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x)
+
 // Slice noise of the slice-marching methods (GTAO, VBAO; Dörries 2018, Listing 3.21, its spatial part):
 // x = slice rotation in [0, 1) of the slice spacing, 16 values on a 4x4 tile; y = step offset, 4 values; both
 // in the 4x4 blur footprint (Sunet 2018, §4.3.4).
@@ -341,7 +346,7 @@ vec2 ao_slice_noise(ivec2 p) {
     float offset = 0.25 * float((p.y - p.x) & 3);
     return vec2(rotation, offset);
 }
-#line 51 1
+#line 49 1
 #line 1 10
 // Slice geometry shared by the horizon-based methods (ao/hbao.glsl, ao/gtao.glsl). Needs no axis.
 //
@@ -413,7 +418,54 @@ vec2 ao_march_uv(vec2 uv0, vec2 d, int j, float jitter, float step_px) {
 bool ao_off_screen(vec2 uv) {
     return any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)));
 }
-#line 52 1
+#line 50 1
+#line 1 11
+// What opens an AO method's main(): the shaded point C, the early-out that leaves a pixel open (visibility 1,
+// on background and wherever a method has nothing to estimate), and the kernel radius in view units and in
+// depth texels (after ao_radius_px's cap, common/depth.glsl). Needs no axis. AO_CENTRE_FROM_GBUFFER reads
+// through common/fetch.glsl, which the method includes (the depth-only methods cannot: it reads three axes).
+//
+// Macros, not functions: the centres declare main()'s locals and every early-out returns from main(), which a
+// function cannot do, and with macros each program compiles to the SPIR-V it had when the methods spelled
+// these lines out (a function adds a call: through one, lavapipe rounded GTAO differently, ao/gtao.glsl).
+// Each macro says which locals it declares; a call is a statement ending in `;`.
+#line 11 11
+
+// Writes visibility 1 (open) and leaves main() when `condition` holds. Every method but SAO, whose open
+// pixels also carry their depth key.
+#define AO_RETURN_OPEN_IF(condition) \
+    if (condition) { \
+        o_color = vec4(1.0); \
+        return; \
+    }
+
+// C from the G-buffer helpers: declares vec3 c (view position), n_precision vec3 n (its normal) and float z_c
+// (linear depth), open on background. The normal comes before the early-out: the depth-derived normal takes
+// derivatives, which need uniform control flow. Alchemy, HBAO, GTAO (AOP), StarCraft II (highp: its sample
+// points are built from n).
+#define AO_CENTRE_FROM_GBUFFER(n_precision) \
+    vec3 c = ao_position(v_uv); \
+    n_precision vec3 n = ao_normal(v_uv, c); \
+    float z_c = -c.z; \
+    AO_RETURN_OPEN_IF(ao_is_background(z_c))
+
+// C from the depth buffer alone: declares ivec2 size (the depth buffer's), ivec2 t_c (C's texel) and float z_c,
+// open on background. Crytek, Volumetric Obscurance.
+#define AO_CENTRE_FROM_DEPTH() \
+    ivec2 size = textureSize(ao_depth_tex, 0); \
+    ivec2 t_c = ao_texel(v_uv, size); \
+    float z_c = ao_depth_texel(t_c); \
+    AO_RETURN_OPEN_IF(ao_is_background(z_c))
+
+// The world radius of a kernel radius_px AO pixels wide at linear depth z, in view units: after the cap it is
+// smaller than frame.clip.z. The floor only keeps a zero radius finite; relative to depth so that it never
+// binds on a small scene. Crytek, Volumetric Obscurance, StarCraft II.
+#define AO_VIEW_RADIUS(radius_px, z) (max((radius_px) * (z) / frame.clip.w, 1e-7 * (z)))
+
+// radius_px AO pixels in texels of a depth buffer of `size` texels: the AO pass may run at a lower resolution
+// than the G-buffer. Crytek, Volumetric Obscurance.
+#define AO_DEPTH_TEXELS(radius_px, size) ((radius_px) * float((size).x) * frame.ao_size.z)
+#line 51 1
 
 AO_UBO(1) uniform AOParams {
     float falloff; // fraction of the radius over which a horizon fades out
@@ -424,14 +476,27 @@ AO_UBO(1) uniform AOParams {
 AO_LOC(0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;
 
-const int GTAO_STEPS = AO_SAMPLES < 4 ? 1 : (AO_SAMPLES > 16 ? 4 : AO_SAMPLES / 4);
-const int GTAO_SLICES = AO_SAMPLES / (2 * GTAO_STEPS);
+#line 1 12
+// The slices of the slice-marching methods, GTAO and VBAO (Jimenez et al. 2016; Therrien et al. 2023 march
+// GTAO's slices): N = AO_SAMPLES samples as slices x 2 sides x steps per side, exactly N and monotone in N.
+//
+//     N      4    6    8    12   16   24   32
+//     SlxSt 2x1  3x1  2x2  2x3  2x4  3x4  4x4      steps = clamp(N/4, 1, 4); slices = N / (2 steps)
+//
+// Slices are pi / AO_SLICES apart (each covers both sides of C). Needs the samples axis.
+#if !defined(AO_SAMPLES)
+#error "aovar: common/slices.glsl needs the samples axis in `reads`"
+#endif
+
+const int AO_SLICE_STEPS = AO_SAMPLES < 4 ? 1 : (AO_SAMPLES > 16 ? 4 : AO_SAMPLES / 4);
+const int AO_SLICES = AO_SAMPLES / (2 * AO_SLICE_STEPS);
+#line 62 1
 
 const float GTAO_PI = 3.14159265;
 
-// Unit screen direction of slice i: slices are pi / GTAO_SLICES apart.
+// Unit screen direction of slice i: slices are pi / AO_SLICES apart.
 vec2 gtao_direction(int i) {
-    float a = float(i) * (GTAO_PI / float(GTAO_SLICES));
+    float a = float(i) * (GTAO_PI / float(AO_SLICES));
     return vec2(cos(a), sin(a));
 }
 
@@ -446,7 +511,7 @@ AOP float gtao_horizon(vec3 c, AOP vec3 v, AOP vec3 n, AOP float nv, vec2 d, flo
     float inv_range = 1.0 / (max(params.falloff, 1e-3) * radius);
     vec3 stretch = vec3(1.0, 1.0, 1.0 + params.thin_occluder_compensation);
     AOP float cos_h = low;
-    for (int j = 0; j < GTAO_STEPS; ++j) {
+    for (int j = 0; j < AO_SLICE_STEPS; ++j) {
         float t_px = max(1.0, (float(j) + jitter) * step_px);
         vec2 uv = v_uv + d * (t_px * frame.ao_size.zw);
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
@@ -485,25 +550,15 @@ AOP float gtao_arc(AOP float cos_h, AOP float side, AOP float g, AOP float cos_g
 }
 
 void main() {
-    vec3 c = ao_position(v_uv);
-    // Before the early-out: the depth-derived normal takes derivatives, which need uniform control flow.
-    AOP vec3 n = ao_normal(v_uv, c);
-    float z_c = -c.z;
-    if (ao_is_background(z_c)) {
-        o_color = vec4(1.0);
-        return;
-    }
+    AO_CENTRE_FROM_GBUFFER(AOP); // c, n, z_c; open on background (common/preamble.glsl)
     float radius_px = ao_radius_px(z_c);
-    if (radius_px < 1.0) {
-        o_color = vec4(1.0);
-        return;
-    }
+    AO_RETURN_OPEN_IF(radius_px < 1.0);
 
     vec2 noise = ao_slice_noise(ivec2(gl_FragCoord.xy));
-    float phi = noise.x * (GTAO_PI / float(GTAO_SLICES));
+    float phi = noise.x * (GTAO_PI / float(AO_SLICES));
     mat2 rotation = mat2(cos(phi), sin(phi), -sin(phi), cos(phi));
     float jitter = noise.y + 0.125; // centres of 4 strata in (0, 1)
-    float step_px = radius_px / float(GTAO_STEPS);
+    float step_px = radius_px / float(AO_SLICE_STEPS);
 
     AOP vec3 v = ao_safe_normalize(-c);
     AOP float nv = dot(n, v);
@@ -512,7 +567,7 @@ void main() {
 #if AO_PROGRESSIVE
     int half_index = frame.frame_index.y;
 #endif
-    for (int s = 0; s < GTAO_SLICES; ++s) {
+    for (int s = 0; s < AO_SLICES; ++s) {
         vec2 d = rotation * gtao_direction(s);
         // Slice frame: V and x, the unit vector of the slice perpendicular to V towards +d. Projected normal
         // n_p = (n.x) x + (n.V) V of length |n_p|, at angle g from V (common/horizon.glsl).

@@ -403,6 +403,13 @@ vec2 ao_rotation(ivec2 pixel) {
     return vec2(cos(angle), sin(angle));
 }
 
+// Declares vec2 rot = ao_rotation(pixel) and mat2 rotation, which turns a kernel offset by that angle. A macro,
+// so that the programs keep their SPIR-V (common/preamble.glsl says why). Alchemy, Crytek, HBAO, home-brewed
+// AO, Volumetric Obscurance.
+#define AO_ROTATION_MATRIX(pixel) \
+    vec2 rot = ao_rotation(pixel); \
+    mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x)
+
 // Slice noise of the slice-marching methods (GTAO, VBAO; Dörries 2018, Listing 3.21, its spatial part):
 // x = slice rotation in [0, 1) of the slice spacing, 16 values on a 4x4 tile; y = step offset, 4 values; both
 // in the 4x4 blur footprint (Sunet 2018, §4.3.4).
@@ -484,6 +491,53 @@ bool ao_off_screen(vec2 uv) {
     return any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)));
 }
 #line 47 10
+#line 1 13
+// What opens an AO method's main(): the shaded point C, the early-out that leaves a pixel open (visibility 1,
+// on background and wherever a method has nothing to estimate), and the kernel radius in view units and in
+// depth texels (after ao_radius_px's cap, common/depth.glsl). Needs no axis. AO_CENTRE_FROM_GBUFFER reads
+// through common/fetch.glsl, which the method includes (the depth-only methods cannot: it reads three axes).
+//
+// Macros, not functions: the centres declare main()'s locals and every early-out returns from main(), which a
+// function cannot do, and with macros each program compiles to the SPIR-V it had when the methods spelled
+// these lines out (a function adds a call: through one, lavapipe rounded GTAO differently, ao/gtao.glsl).
+// Each macro says which locals it declares; a call is a statement ending in `;`.
+#line 11 13
+
+// Writes visibility 1 (open) and leaves main() when `condition` holds. Every method but SAO, whose open
+// pixels also carry their depth key.
+#define AO_RETURN_OPEN_IF(condition) \
+    if (condition) { \
+        o_color = vec4(1.0); \
+        return; \
+    }
+
+// C from the G-buffer helpers: declares vec3 c (view position), n_precision vec3 n (its normal) and float z_c
+// (linear depth), open on background. The normal comes before the early-out: the depth-derived normal takes
+// derivatives, which need uniform control flow. Alchemy, HBAO, GTAO (AOP), StarCraft II (highp: its sample
+// points are built from n).
+#define AO_CENTRE_FROM_GBUFFER(n_precision) \
+    vec3 c = ao_position(v_uv); \
+    n_precision vec3 n = ao_normal(v_uv, c); \
+    float z_c = -c.z; \
+    AO_RETURN_OPEN_IF(ao_is_background(z_c))
+
+// C from the depth buffer alone: declares ivec2 size (the depth buffer's), ivec2 t_c (C's texel) and float z_c,
+// open on background. Crytek, Volumetric Obscurance.
+#define AO_CENTRE_FROM_DEPTH() \
+    ivec2 size = textureSize(ao_depth_tex, 0); \
+    ivec2 t_c = ao_texel(v_uv, size); \
+    float z_c = ao_depth_texel(t_c); \
+    AO_RETURN_OPEN_IF(ao_is_background(z_c))
+
+// The world radius of a kernel radius_px AO pixels wide at linear depth z, in view units: after the cap it is
+// smaller than frame.clip.z. The floor only keeps a zero radius finite; relative to depth so that it never
+// binds on a small scene. Crytek, Volumetric Obscurance, StarCraft II.
+#define AO_VIEW_RADIUS(radius_px, z) (max((radius_px) * (z) / frame.clip.w, 1e-7 * (z)))
+
+// radius_px AO pixels in texels of a depth buffer of `size` texels: the AO pass may run at a lower resolution
+// than the G-buffer. Crytek, Volumetric Obscurance.
+#define AO_DEPTH_TEXELS(radius_px, size) ((radius_px) * float((size).x) * frame.ao_size.z)
+#line 48 10
 
 AO_UBO(1) uniform AOParams {
     float bias;      // beta: tangent bias angle (radians)
@@ -514,23 +568,12 @@ vec2 hbao_direction(int i) {
 }
 
 void main() {
-    vec3 c = ao_position(v_uv);
-    // Before the early-out: the depth-derived normal takes derivatives, which need uniform control flow.
-    AOP vec3 n = ao_normal(v_uv, c);
-    float z_c = -c.z;
-    if (ao_is_background(z_c)) {
-        o_color = vec4(1.0);
-        return;
-    }
+    AO_CENTRE_FROM_GBUFFER(AOP); // c, n, z_c; open on background (common/preamble.glsl)
     float radius_px = ao_radius_px(z_c);
-    if (radius_px < 1.0) {
-        o_color = vec4(1.0);
-        return;
-    }
+    AO_RETURN_OPEN_IF(radius_px < 1.0);
 
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-    vec2 rot = ao_rotation(pixel);
-    mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x);
+    AO_ROTATION_MATRIX(pixel); // rotation (common/noise.glsl)
     // Step offset in (0, 1): the centres of 4 strata, one per pixel of a 4-pixel diagonal (Dörries 2018, Listing
     // 3.21, noise.z), so the 4x4 blur footprint sees every offset with 4 rotations each.
     float jitter = 0.25 * float((pixel.y - pixel.x) & 3) + 0.125;

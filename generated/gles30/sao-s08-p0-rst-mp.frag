@@ -185,6 +185,28 @@ float ao_unpack_key(vec2 key) {
     return t >= 0.99999 ? frame.clip.y : frame.clip.x * exp2(t * ao_key_range());
 }
 #line 27 1
+#line 1 7
+// The obscurance sum of Alchemy AO and SAO (McGuire et al. 2011; McGuire et al. 2012, eq. 1), in units of the
+// AO radius r = frame.clip.z: eq. 1's sum has the units of 1 / length, so with world-unit v_i its sigma and
+// epsilon would hold only for one scene unit (docs/scale.md). With v_i / r, epsilon in units of r^2 and the
+// bias divided by r, A is the same for a scene in metres or in cm. Reads the method's params.bias and
+// params.epsilon. Needs no axis. Macros, so that the programs keep their SPIR-V (common/preamble.glsl says why).
+
+// Declares float inv_r (1 / r), AOP float z_bias (beta at C's linear depth z_c, in radii), AOP float epsilon
+// and the running AOP float sum and int used (the taps added).
+#define AO_OBSCURANCE_BEGIN(z_c) \
+    float inv_r = 1.0 / frame.clip.z; \
+    AOP float z_bias = (z_c) * inv_r * params.bias; \
+    AOP float epsilon = params.epsilon; \
+    AOP float sum = 0.0; \
+    int used = 0
+
+// Adds the tap v = (Q_i - C) / r for C's normal n. Take the difference of the two positions in highp: only the
+// small result, in radii, may drop to AOP.
+#define AO_OBSCURANCE_ADD(v, n) \
+    sum += max(0.0, dot(v, n) - z_bias) / (dot(v, v) + epsilon); \
+    ++used
+#line 28 1
 
 AO_UBO(1) uniform AOParams {
     float intensity; // sigma
@@ -213,11 +235,21 @@ const float AO_SPIRAL_TURNS = 14.0;
 const int AO_LOG_Q = 3;      // q' = 8 pixels: the radius step at which taps move one MIP level down
 const int AO_MAX_MIP = 5;    // kZmipLevels - 1 (src/render/plan.h)
 
+#line 1 8
+// The taps one frame evaluates of a kernel of N = AO_SAMPLES samples: all of them, or with `progressive` the
+// half h = frame.frame_index.y, samples i = 2k + h (Sunet 2018, §4.10). Alchemy, SAO, StarCraft II and
+// home-brewed AO; the paired methods count pairs instead (common/pairs.glsl). Needs the samples and
+// progressive axes.
+#if !defined(AO_SAMPLES) || !defined(AO_PROGRESSIVE)
+#error "aovar: common/progressive.glsl needs the samples and progressive axes in `reads`"
+#endif
+
 #if AO_PROGRESSIVE
 const int AO_TAPS = AO_SAMPLES / 2;
 #else
 const int AO_TAPS = AO_SAMPLES;
 #endif
+#line 57 1
 
 vec3 ao_position_at(ivec2 pixel, float z) {
     return ao_view_position_from_depth((vec2(pixel) + 0.5) * frame.ao_size.zw, z);
@@ -248,14 +280,7 @@ void main() {
     float phi = float((30 * ss_c.x) ^ ss_c.y) + 10.0 * float(ss_c.x) * float(ss_c.y);
     ivec2 size = ivec2(frame.ao_size.xy);
 
-    // Lengths in units of the AO radius r (frame.clip.z): eq. 1's sum has the units of 1 / length, so with
-    // world-unit v_i its sigma and epsilon would hold only for one scene unit (docs/scale.md). With v_i / r,
-    // epsilon in units of r^2 and the bias divided by r, A is the same for a scene in metres or in cm.
-    float inv_r = 1.0 / frame.clip.z;
-    AOP float z_bias = z_c * inv_r * params.bias;
-    AOP float epsilon = params.epsilon;
-    AOP float sum = 0.0;
-    int used = 0;
+    AO_OBSCURANCE_BEGIN(z_c); // inv_r, z_bias, epsilon, sum, used: in units of r (common/obscurance.glsl)
     for (int k = 0; k < AO_TAPS; ++k) {
 #if AO_PROGRESSIVE
         int i = 2 * k + frame.frame_index.y;
@@ -275,8 +300,7 @@ void main() {
         float z_p = texelFetch(ao_prefilter_tex, texel, m).r;
         // The difference of two nearby positions is taken in highp; only the small result (in radii) drops to AOP.
         AOP vec3 v = (ao_position_at(ss_p, z_p) - c) * inv_r;
-        sum += max(0.0, dot(v, n) - z_bias) / (dot(v, v) + epsilon);
-        ++used;
+        AO_OBSCURANCE_ADD(v, n);
     }
 
     AOP float a = 1.0;

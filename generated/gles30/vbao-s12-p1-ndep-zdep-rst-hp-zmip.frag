@@ -361,19 +361,20 @@ vec3 ao_position_mip(vec2 uv, vec2 centre_uv) {
 // paper's constant is a view-space length). Samples farther than the radius mark nothing (GTAO fades
 // them; here T already stops far occluders from hiding the whole hemisphere below them).
 //
-// samples -> slices x steps per side exactly as GTAO: steps = clamp(N/4, 1, 4), slices = N / (2 steps);
-// 4 -> 2x1, 8 -> 2x2, 16 -> 2x4, 32 -> 4x4. Progressive (Sunet 2018, §4.10): each slice marches one side
-// only, +d for s + h even, -d for s + h odd (h = frame.frame_index.y), and its visibility is the share of
-// unset bits among the sectors on that side (those centred beyond V), weighted by GTAO's one-sided arc.
+// samples -> slices x steps per side exactly as GTAO (common/slices.glsl): steps = clamp(N/4, 1, 4), slices =
+// N / (2 steps); 4 -> 2x1, 8 -> 2x2, 16 -> 2x4, 32 -> 4x4. Progressive (Sunet 2018, §4.10): each slice
+// marches one side only, +d for s + h even, -d for s + h odd (h = frame.frame_index.y), and its visibility is
+// the share of unset bits among the sectors on that side (those centred beyond V), weighted by GTAO's
+// one-sided arc.
 // Radius: capped at a quarter of the AO screen; pixels whose disc is under 1 pixel are open (Dörries 2018, §3.3.4).
 //
 // Axes: samples, progressive, normals, position, reconstruct (common/fetch.glsl), precision (AOP; the mask
 // is a highp uint on every target). GLSL ES 3.00 has no bitCount: common/bitmask.glsl.
 // Fetches per pixel: depth/position 1 + N (1 + N/2 progressive; steps off screen are skipped), normal 1
 // (0 for normals = depth).
-#line 38 10
 #line 39 10
 #line 40 10
+#line 41 10
 #line 1 11
 // Per-pixel kernel rotation (Sunet 2018, §4.3.3), computed procedurally instead of read from a 4x4 random
 // texture. Each pixel of a 4x4 tile gets one of 16 angles, 2 pi / 16 apart, in an interleaved order:
@@ -398,6 +399,13 @@ vec2 ao_rotation(ivec2 pixel) {
     return vec2(cos(angle), sin(angle));
 }
 
+// Declares vec2 rot = ao_rotation(pixel) and mat2 rotation, which turns a kernel offset by that angle. A macro,
+// so that the programs keep their SPIR-V (common/preamble.glsl says why). Alchemy, Crytek, HBAO, home-brewed
+// AO, Volumetric Obscurance.
+#define AO_ROTATION_MATRIX(pixel) \
+    vec2 rot = ao_rotation(pixel); \
+    mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x)
+
 // Slice noise of the slice-marching methods (GTAO, VBAO; Dörries 2018, Listing 3.21, its spatial part):
 // x = slice rotation in [0, 1) of the slice spacing, 16 values on a 4x4 tile; y = step offset, 4 values; both
 // in the 4x4 blur footprint (Sunet 2018, §4.3.4).
@@ -406,7 +414,7 @@ vec2 ao_slice_noise(ivec2 p) {
     float offset = 0.25 * float((p.y - p.x) & 3);
     return vec2(rotation, offset);
 }
-#line 41 10
+#line 42 10
 #line 1 12
 // Slice geometry shared by the horizon-based methods (ao/hbao.glsl, ao/gtao.glsl). Needs no axis.
 //
@@ -478,7 +486,7 @@ vec2 ao_march_uv(vec2 uv0, vec2 d, int j, float jitter, float step_px) {
 bool ao_off_screen(vec2 uv) {
     return any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)));
 }
-#line 42 10
+#line 43 10
 #line 1 13
 // 32-bit sector masks for the visibility-bitmask method (ao/vbao.glsl). Needs no axis.
 //
@@ -507,7 +515,54 @@ uint ao_bit_range(int lo, int hi) {
     uint below_lo = (1u << uint(lo)) - 1u;
     return below_hi & ~below_lo;
 }
-#line 43 10
+#line 44 10
+#line 1 14
+// What opens an AO method's main(): the shaded point C, the early-out that leaves a pixel open (visibility 1,
+// on background and wherever a method has nothing to estimate), and the kernel radius in view units and in
+// depth texels (after ao_radius_px's cap, common/depth.glsl). Needs no axis. AO_CENTRE_FROM_GBUFFER reads
+// through common/fetch.glsl, which the method includes (the depth-only methods cannot: it reads three axes).
+//
+// Macros, not functions: the centres declare main()'s locals and every early-out returns from main(), which a
+// function cannot do, and with macros each program compiles to the SPIR-V it had when the methods spelled
+// these lines out (a function adds a call: through one, lavapipe rounded GTAO differently, ao/gtao.glsl).
+// Each macro says which locals it declares; a call is a statement ending in `;`.
+#line 11 14
+
+// Writes visibility 1 (open) and leaves main() when `condition` holds. Every method but SAO, whose open
+// pixels also carry their depth key.
+#define AO_RETURN_OPEN_IF(condition) \
+    if (condition) { \
+        o_color = vec4(1.0); \
+        return; \
+    }
+
+// C from the G-buffer helpers: declares vec3 c (view position), n_precision vec3 n (its normal) and float z_c
+// (linear depth), open on background. The normal comes before the early-out: the depth-derived normal takes
+// derivatives, which need uniform control flow. Alchemy, HBAO, GTAO (AOP), StarCraft II (highp: its sample
+// points are built from n).
+#define AO_CENTRE_FROM_GBUFFER(n_precision) \
+    vec3 c = ao_position(v_uv); \
+    n_precision vec3 n = ao_normal(v_uv, c); \
+    float z_c = -c.z; \
+    AO_RETURN_OPEN_IF(ao_is_background(z_c))
+
+// C from the depth buffer alone: declares ivec2 size (the depth buffer's), ivec2 t_c (C's texel) and float z_c,
+// open on background. Crytek, Volumetric Obscurance.
+#define AO_CENTRE_FROM_DEPTH() \
+    ivec2 size = textureSize(ao_depth_tex, 0); \
+    ivec2 t_c = ao_texel(v_uv, size); \
+    float z_c = ao_depth_texel(t_c); \
+    AO_RETURN_OPEN_IF(ao_is_background(z_c))
+
+// The world radius of a kernel radius_px AO pixels wide at linear depth z, in view units: after the cap it is
+// smaller than frame.clip.z. The floor only keeps a zero radius finite; relative to depth so that it never
+// binds on a small scene. Crytek, Volumetric Obscurance, StarCraft II.
+#define AO_VIEW_RADIUS(radius_px, z) (max((radius_px) * (z) / frame.clip.w, 1e-7 * (z)))
+
+// radius_px AO pixels in texels of a depth buffer of `size` texels: the AO pass may run at a lower resolution
+// than the G-buffer. Crytek, Volumetric Obscurance.
+#define AO_DEPTH_TEXELS(radius_px, size) ((radius_px) * float((size).x) * frame.ao_size.z)
+#line 45 10
 
 AO_UBO(1) uniform AOParams {
     float thickness; // T / R: how far behind its front face an occluder is taken to extend
@@ -516,8 +571,22 @@ AO_UBO(1) uniform AOParams {
 AO_LOC(0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;
 
-const int VBAO_STEPS = AO_SAMPLES < 4 ? 1 : (AO_SAMPLES > 16 ? 4 : AO_SAMPLES / 4);
-const int VBAO_SLICES = AO_SAMPLES / (2 * VBAO_STEPS);
+#line 1 15
+// The slices of the slice-marching methods, GTAO and VBAO (Jimenez et al. 2016; Therrien et al. 2023 march
+// GTAO's slices): N = AO_SAMPLES samples as slices x 2 sides x steps per side, exactly N and monotone in N.
+//
+//     N      4    6    8    12   16   24   32
+//     SlxSt 2x1  3x1  2x2  2x3  2x4  3x4  4x4      steps = clamp(N/4, 1, 4); slices = N / (2 steps)
+//
+// Slices are pi / AO_SLICES apart (each covers both sides of C). Needs the samples axis.
+#if !defined(AO_SAMPLES)
+#error "aovar: common/slices.glsl needs the samples axis in `reads`"
+#endif
+
+const int AO_SLICE_STEPS = AO_SAMPLES < 4 ? 1 : (AO_SAMPLES > 16 ? 4 : AO_SAMPLES / 4);
+const int AO_SLICES = AO_SAMPLES / (2 * AO_SLICE_STEPS);
+#line 54 10
+
 const int VBAO_SECTORS = 32;
 
 const float VBAO_PI = 3.14159265;
@@ -550,7 +619,7 @@ uint vbao_march(vec3 c, AOP vec3 v, AOP vec3 n, AOP float nv, vec2 d, float step
     float radius = frame.clip.z;
     vec3 back = vec3(v) * (params.thickness * radius);
     uint mask = 0u;
-    for (int j = 0; j < VBAO_STEPS; ++j) {
+    for (int j = 0; j < AO_SLICE_STEPS; ++j) {
         vec2 uv = ao_march_uv(v_uv, d, j, jitter, step_px); // common/horizon.glsl
         if (ao_off_screen(uv)) {
             break;
@@ -606,21 +675,18 @@ void main() {
     // Before the early-out: the depth-derived normal takes derivatives, which need uniform control flow.
     AOP vec3 n = ao_normal(v_uv, c);
     float radius_px = ao_disc_px(-c.z);
-    if (radius_px < 1.0) {
-        o_color = vec4(1.0); // background, or a disc under a pixel
-        return;
-    }
+    AO_RETURN_OPEN_IF(radius_px < 1.0); // background, or a disc under a pixel (common/preamble.glsl)
 
     vec2 noise = ao_slice_noise(ivec2(gl_FragCoord.xy));
-    float phi = noise.x * (VBAO_PI / float(VBAO_SLICES));
+    float phi = noise.x * (VBAO_PI / float(AO_SLICES));
     float jitter = noise.y + 0.125; // centres of 4 strata in (0, 1)
-    float step_px = radius_px / float(VBAO_STEPS);
+    float step_px = radius_px / float(AO_SLICE_STEPS);
 
     AOP vec3 v = ao_safe_normalize(-c);
     AOP float nv = dot(n, v);
     AOP vec2 sum = vec2(0.0); // (visible, open)
-    for (int s = 0; s < VBAO_SLICES; ++s) {
-        float a = phi + float(s) * (VBAO_PI / float(VBAO_SLICES));
+    for (int s = 0; s < AO_SLICES; ++s) {
+        float a = phi + float(s) * (VBAO_PI / float(AO_SLICES));
         sum += vbao_slice(c, v, n, nv, vec2(cos(a), sin(a)), step_px, jitter, s);
     }
     AOP float visibility = sum.y > 1e-3 ? clamp(sum.x / sum.y, 0.0, 1.0) : 1.0;

@@ -294,6 +294,10 @@ vec3 ao_normal(vec2 uv, vec3 view_pos) {
 //
 // Progressive halves (Sunet 2018, §4.10): half h (0 or 1) uses samples i = 2k + h, k in [0, n/2). Each half is
 // itself a spiral (angle step 2 x golden angle) covering the whole disc, and the two halves interleave.
+// Needs the progressive axis (AO_FRAME_SAMPLE).
+#if !defined(AO_PROGRESSIVE)
+#error "aovar: common/kernels.glsl needs the progressive axis in `reads`"
+#endif
 
 const float AO_GOLDEN_ANGLE = 2.39996323; // pi * (3 - sqrt(5))
 
@@ -330,6 +334,18 @@ vec3 ao_ball_pair_sample(int j, int p) {
     float r = sqrt(max(0.0, 1.0 - z * z));
     return pow(ao_kernel_t(j), 1.0 / 3.0) * vec3(r * cos(a), r * sin(a), z);
 }
+
+// The k-th sample this frame takes of a kernel(i, n) above: i = k, or i = 2k + h with progressive halves.
+// AO_FRAME_HALF() declares bool odd (h = 1) for it, and nothing without `progressive`. The half is a select
+// between two calls with constant arguments, which unrolled loops fold to constants, rather than trigonometry
+// on a runtime index. Macros, so that the programs keep their SPIR-V (common/preamble.glsl says why).
+#if AO_PROGRESSIVE
+#define AO_FRAME_HALF() bool odd = frame.frame_index.y != 0
+#define AO_FRAME_SAMPLE(kernel, k, n) (odd ? kernel(2 * (k) + 1, n) : kernel(2 * (k), n))
+#else
+#define AO_FRAME_HALF()
+#define AO_FRAME_SAMPLE(kernel, k, n) kernel(k, n)
+#endif
 #line 25 1
 #line 1 10
 // Per-pixel kernel rotation (Sunet 2018, §4.3.3), computed procedurally instead of read from a 4x4 random
@@ -355,6 +371,13 @@ vec2 ao_rotation(ivec2 pixel) {
     return vec2(cos(angle), sin(angle));
 }
 
+// Declares vec2 rot = ao_rotation(pixel) and mat2 rotation, which turns a kernel offset by that angle. A macro,
+// so that the programs keep their SPIR-V (common/preamble.glsl says why). Alchemy, Crytek, HBAO, home-brewed
+// AO, Volumetric Obscurance.
+#define AO_ROTATION_MATRIX(pixel) \
+    vec2 rot = ao_rotation(pixel); \
+    mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x)
+
 // Slice noise of the slice-marching methods (GTAO, VBAO; Dörries 2018, Listing 3.21, its spatial part):
 // x = slice rotation in [0, 1) of the slice spacing, 16 values on a 4x4 tile; y = step offset, 4 values; both
 // in the 4x4 blur footprint (Sunet 2018, §4.3.4).
@@ -364,6 +387,75 @@ vec2 ao_slice_noise(ivec2 p) {
     return vec2(rotation, offset);
 }
 #line 26 1
+#line 1 11
+// The obscurance sum of Alchemy AO and SAO (McGuire et al. 2011; McGuire et al. 2012, eq. 1), in units of the
+// AO radius r = frame.clip.z: eq. 1's sum has the units of 1 / length, so with world-unit v_i its sigma and
+// epsilon would hold only for one scene unit (docs/scale.md). With v_i / r, epsilon in units of r^2 and the
+// bias divided by r, A is the same for a scene in metres or in cm. Reads the method's params.bias and
+// params.epsilon. Needs no axis. Macros, so that the programs keep their SPIR-V (common/preamble.glsl says why).
+
+// Declares float inv_r (1 / r), AOP float z_bias (beta at C's linear depth z_c, in radii), AOP float epsilon
+// and the running AOP float sum and int used (the taps added).
+#define AO_OBSCURANCE_BEGIN(z_c) \
+    float inv_r = 1.0 / frame.clip.z; \
+    AOP float z_bias = (z_c) * inv_r * params.bias; \
+    AOP float epsilon = params.epsilon; \
+    AOP float sum = 0.0; \
+    int used = 0
+
+// Adds the tap v = (Q_i - C) / r for C's normal n. Take the difference of the two positions in highp: only the
+// small result, in radii, may drop to AOP.
+#define AO_OBSCURANCE_ADD(v, n) \
+    sum += max(0.0, dot(v, n) - z_bias) / (dot(v, v) + epsilon); \
+    ++used
+#line 27 1
+#line 1 12
+// What opens an AO method's main(): the shaded point C, the early-out that leaves a pixel open (visibility 1,
+// on background and wherever a method has nothing to estimate), and the kernel radius in view units and in
+// depth texels (after ao_radius_px's cap, common/depth.glsl). Needs no axis. AO_CENTRE_FROM_GBUFFER reads
+// through common/fetch.glsl, which the method includes (the depth-only methods cannot: it reads three axes).
+//
+// Macros, not functions: the centres declare main()'s locals and every early-out returns from main(), which a
+// function cannot do, and with macros each program compiles to the SPIR-V it had when the methods spelled
+// these lines out (a function adds a call: through one, lavapipe rounded GTAO differently, ao/gtao.glsl).
+// Each macro says which locals it declares; a call is a statement ending in `;`.
+#line 11 12
+
+// Writes visibility 1 (open) and leaves main() when `condition` holds. Every method but SAO, whose open
+// pixels also carry their depth key.
+#define AO_RETURN_OPEN_IF(condition) \
+    if (condition) { \
+        o_color = vec4(1.0); \
+        return; \
+    }
+
+// C from the G-buffer helpers: declares vec3 c (view position), n_precision vec3 n (its normal) and float z_c
+// (linear depth), open on background. The normal comes before the early-out: the depth-derived normal takes
+// derivatives, which need uniform control flow. Alchemy, HBAO, GTAO (AOP), StarCraft II (highp: its sample
+// points are built from n).
+#define AO_CENTRE_FROM_GBUFFER(n_precision) \
+    vec3 c = ao_position(v_uv); \
+    n_precision vec3 n = ao_normal(v_uv, c); \
+    float z_c = -c.z; \
+    AO_RETURN_OPEN_IF(ao_is_background(z_c))
+
+// C from the depth buffer alone: declares ivec2 size (the depth buffer's), ivec2 t_c (C's texel) and float z_c,
+// open on background. Crytek, Volumetric Obscurance.
+#define AO_CENTRE_FROM_DEPTH() \
+    ivec2 size = textureSize(ao_depth_tex, 0); \
+    ivec2 t_c = ao_texel(v_uv, size); \
+    float z_c = ao_depth_texel(t_c); \
+    AO_RETURN_OPEN_IF(ao_is_background(z_c))
+
+// The world radius of a kernel radius_px AO pixels wide at linear depth z, in view units: after the cap it is
+// smaller than frame.clip.z. The floor only keeps a zero radius finite; relative to depth so that it never
+// binds on a small scene. Crytek, Volumetric Obscurance, StarCraft II.
+#define AO_VIEW_RADIUS(radius_px, z) (max((radius_px) * (z) / frame.clip.w, 1e-7 * (z)))
+
+// radius_px AO pixels in texels of a depth buffer of `size` texels: the AO pass may run at a lower resolution
+// than the G-buffer. Crytek, Volumetric Obscurance.
+#define AO_DEPTH_TEXELS(radius_px, size) ((radius_px) * float((size).x) * frame.ao_size.z)
+#line 28 1
 
 AO_UBO(1) uniform AOParams {
     float intensity; // sigma
@@ -375,54 +467,41 @@ AO_UBO(1) uniform AOParams {
 AO_LOC(0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;
 
+#line 1 13
+// The taps one frame evaluates of a kernel of N = AO_SAMPLES samples: all of them, or with `progressive` the
+// half h = frame.frame_index.y, samples i = 2k + h (Sunet 2018, §4.10). Alchemy, SAO, StarCraft II and
+// home-brewed AO; the paired methods count pairs instead (common/pairs.glsl). Needs the samples and
+// progressive axes.
+#if !defined(AO_SAMPLES) || !defined(AO_PROGRESSIVE)
+#error "aovar: common/progressive.glsl needs the samples and progressive axes in `reads`"
+#endif
+
 #if AO_PROGRESSIVE
 const int AO_TAPS = AO_SAMPLES / 2;
 #else
 const int AO_TAPS = AO_SAMPLES;
 #endif
+#line 40 1
 
 void main() {
-    vec3 c = ao_position(v_uv);
-    // Before the early-out: the depth-derived normal takes derivatives, which need uniform control flow.
-    AOP vec3 n = ao_normal(v_uv, c);
-    float z_c = -c.z;
-    if (ao_is_background(z_c)) {
-        o_color = vec4(1.0);
-        return;
-    }
+    AO_CENTRE_FROM_GBUFFER(AOP); // c, n, z_c; open on background (common/preamble.glsl)
 
     // Disc radius in AO pixels (common/depth.glsl: capped at a quarter of the screen).
     float radius_px = ao_radius_px(z_c);
     vec2 radius_uv = radius_px * frame.ao_size.zw;
-    vec2 rot = ao_rotation(ivec2(gl_FragCoord.xy));
-    mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x);
+    AO_ROTATION_MATRIX(ivec2(gl_FragCoord.xy)); // rotation (common/noise.glsl)
 
-    // Lengths in units of the AO radius r (frame.clip.z): eq. 1's sum has the units of 1 / length, so with
-    // world-unit v_i its sigma and epsilon would hold only for one scene unit (docs/scale.md). With v_i / r,
-    // epsilon in units of r^2 and the bias divided by r, A is the same for a scene in metres or in cm.
-    float inv_r = 1.0 / frame.clip.z;
-    AOP float z_bias = z_c * inv_r * params.bias;
-    AOP float epsilon = params.epsilon;
-    AOP float sum = 0.0;
-    int used = 0;
-#if AO_PROGRESSIVE
-    bool odd = frame.frame_index.y != 0;
-#endif
+    AO_OBSCURANCE_BEGIN(z_c); // inv_r, z_bias, epsilon, sum, used: in units of r (common/obscurance.glsl)
+    AO_FRAME_HALF(); // common/kernels.glsl
     for (int k = 0; k < AO_TAPS; ++k) {
-#if AO_PROGRESSIVE
-        // A select between two constants once unrolled, rather than trigonometry on a runtime index.
-        vec2 d = odd ? ao_disc_sample(2 * k + 1, AO_SAMPLES) : ao_disc_sample(2 * k, AO_SAMPLES);
-#else
-        vec2 d = ao_disc_sample(k, AO_SAMPLES);
-#endif
+        vec2 d = AO_FRAME_SAMPLE(ao_disc_sample, k, AO_SAMPLES);
         vec2 uv = v_uv + (rotation * d) * radius_uv;
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
             continue;
         }
         // The difference of two nearby positions is taken in highp; only the small result (in radii) drops to AOP.
         AOP vec3 v = (ao_position(uv) - c) * inv_r;
-        sum += max(0.0, dot(v, n) - z_bias) / (dot(v, v) + epsilon);
-        ++used;
+        AO_OBSCURANCE_ADD(v, n);
     }
 
     AOP float a = 1.0;

@@ -23,6 +23,8 @@
 #include "common/fetch.glsl"
 #include "common/kernels.glsl"
 #include "common/noise.glsl"
+#include "common/obscurance.glsl"
+#include "common/preamble.glsl"
 
 AO_UBO(1) uniform AOParams {
     float intensity; // sigma
@@ -34,54 +36,27 @@ AO_UBO(1) uniform AOParams {
 AO_LOC(0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;
 
-#if AO_PROGRESSIVE
-const int AO_TAPS = AO_SAMPLES / 2;
-#else
-const int AO_TAPS = AO_SAMPLES;
-#endif
+#include "common/progressive.glsl"
 
 void main() {
-    vec3 c = ao_position(v_uv);
-    // Before the early-out: the depth-derived normal takes derivatives, which need uniform control flow.
-    AOP vec3 n = ao_normal(v_uv, c);
-    float z_c = -c.z;
-    if (ao_is_background(z_c)) {
-        o_color = vec4(1.0);
-        return;
-    }
+    AO_CENTRE_FROM_GBUFFER(AOP); // c, n, z_c; open on background (common/preamble.glsl)
 
     // Disc radius in AO pixels (common/depth.glsl: capped at a quarter of the screen).
     float radius_px = ao_radius_px(z_c);
     vec2 radius_uv = radius_px * frame.ao_size.zw;
-    vec2 rot = ao_rotation(ivec2(gl_FragCoord.xy));
-    mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x);
+    AO_ROTATION_MATRIX(ivec2(gl_FragCoord.xy)); // rotation (common/noise.glsl)
 
-    // Lengths in units of the AO radius r (frame.clip.z): eq. 1's sum has the units of 1 / length, so with
-    // world-unit v_i its sigma and epsilon would hold only for one scene unit (docs/scale.md). With v_i / r,
-    // epsilon in units of r^2 and the bias divided by r, A is the same for a scene in metres or in cm.
-    float inv_r = 1.0 / frame.clip.z;
-    AOP float z_bias = z_c * inv_r * params.bias;
-    AOP float epsilon = params.epsilon;
-    AOP float sum = 0.0;
-    int used = 0;
-#if AO_PROGRESSIVE
-    bool odd = frame.frame_index.y != 0;
-#endif
+    AO_OBSCURANCE_BEGIN(z_c); // inv_r, z_bias, epsilon, sum, used: in units of r (common/obscurance.glsl)
+    AO_FRAME_HALF(); // common/kernels.glsl
     for (int k = 0; k < AO_TAPS; ++k) {
-#if AO_PROGRESSIVE
-        // A select between two constants once unrolled, rather than trigonometry on a runtime index.
-        vec2 d = odd ? ao_disc_sample(2 * k + 1, AO_SAMPLES) : ao_disc_sample(2 * k, AO_SAMPLES);
-#else
-        vec2 d = ao_disc_sample(k, AO_SAMPLES);
-#endif
+        vec2 d = AO_FRAME_SAMPLE(ao_disc_sample, k, AO_SAMPLES);
         vec2 uv = v_uv + (rotation * d) * radius_uv;
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
             continue;
         }
         // The difference of two nearby positions is taken in highp; only the small result (in radii) drops to AOP.
         AOP vec3 v = (ao_position(uv) - c) * inv_r;
-        sum += max(0.0, dot(v, n) - z_bias) / (dot(v, v) + epsilon);
-        ++used;
+        AO_OBSCURANCE_ADD(v, n);
     }
 
     AOP float a = 1.0;

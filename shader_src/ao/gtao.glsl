@@ -31,14 +31,12 @@
 // slice spacing) and a 4-value step offset along the diagonal. Its temporal part (6 rotations x 4 offsets
 // per frame) is left out: nothing accumulates over frames here except the progressive halves.
 //
-// samples -> slices x steps per side (total fetches = 2 x slices x steps = N exactly, monotone in N):
-//     N      4    6    8    12   16   24   32
-//     SlxSt 2x1  3x1  2x2  2x3  2x4  3x4  4x4      steps = clamp(N/4, 1, 4); slices = N / (2 steps)
-// Slices are pi / slices apart (each covers both sides). Progressive (Sunet 2018, §4.10): every slice marches
-// one side only, +d for s + h even and -d for s + h odd (h = frame.frame_index.y), so each frame marches
-// N/2 steps along directions spread over the full circle and the two frames together march both sides of
-// every slice; the mean of two frames approximates the full kernel (equal where both frames' normalisers
-// are equal, e.g. surfaces facing the camera).
+// samples -> slices x steps per side (common/slices.glsl: 2 x slices x steps = N exactly, monotone in N; 4 ->
+// 2x1, 8 -> 2x2, 16 -> 2x4, 32 -> 4x4). Slices are pi / slices apart (each covers both sides). Progressive
+// (Sunet 2018, §4.10): every slice marches one side only, +d for s + h even and -d for s + h odd (h =
+// frame.frame_index.y), so each frame marches N/2 steps along directions spread over the full circle and the
+// two frames together march both sides of every slice; the mean of two frames approximates the full kernel
+// (equal where both frames' normalisers are equal, e.g. surfaces facing the camera).
 // Radius: capped at a quarter of the AO screen; pixels whose disc is under 1 pixel are open (Dörries 2018, §3.3.4).
 //
 // Axes: samples, progressive, normals, position, reconstruct (common/fetch.glsl), precision (AOP).
@@ -49,6 +47,7 @@
 #include "common/fetch.glsl"
 #include "common/noise.glsl"
 #include "common/horizon.glsl"
+#include "common/preamble.glsl"
 
 AO_UBO(1) uniform AOParams {
     float falloff; // fraction of the radius over which a horizon fades out
@@ -59,14 +58,13 @@ AO_UBO(1) uniform AOParams {
 AO_LOC(0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;
 
-const int GTAO_STEPS = AO_SAMPLES < 4 ? 1 : (AO_SAMPLES > 16 ? 4 : AO_SAMPLES / 4);
-const int GTAO_SLICES = AO_SAMPLES / (2 * GTAO_STEPS);
+#include "common/slices.glsl"
 
 const float GTAO_PI = 3.14159265;
 
-// Unit screen direction of slice i: slices are pi / GTAO_SLICES apart.
+// Unit screen direction of slice i: slices are pi / AO_SLICES apart.
 vec2 gtao_direction(int i) {
-    float a = float(i) * (GTAO_PI / float(GTAO_SLICES));
+    float a = float(i) * (GTAO_PI / float(AO_SLICES));
     return vec2(cos(a), sin(a));
 }
 
@@ -81,7 +79,7 @@ AOP float gtao_horizon(vec3 c, AOP vec3 v, AOP vec3 n, AOP float nv, vec2 d, flo
     float inv_range = 1.0 / (max(params.falloff, 1e-3) * radius);
     vec3 stretch = vec3(1.0, 1.0, 1.0 + params.thin_occluder_compensation);
     AOP float cos_h = low;
-    for (int j = 0; j < GTAO_STEPS; ++j) {
+    for (int j = 0; j < AO_SLICE_STEPS; ++j) {
         float t_px = max(1.0, (float(j) + jitter) * step_px);
         vec2 uv = v_uv + d * (t_px * frame.ao_size.zw);
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
@@ -120,25 +118,15 @@ AOP float gtao_arc(AOP float cos_h, AOP float side, AOP float g, AOP float cos_g
 }
 
 void main() {
-    vec3 c = ao_position(v_uv);
-    // Before the early-out: the depth-derived normal takes derivatives, which need uniform control flow.
-    AOP vec3 n = ao_normal(v_uv, c);
-    float z_c = -c.z;
-    if (ao_is_background(z_c)) {
-        o_color = vec4(1.0);
-        return;
-    }
+    AO_CENTRE_FROM_GBUFFER(AOP); // c, n, z_c; open on background (common/preamble.glsl)
     float radius_px = ao_radius_px(z_c);
-    if (radius_px < 1.0) {
-        o_color = vec4(1.0);
-        return;
-    }
+    AO_RETURN_OPEN_IF(radius_px < 1.0);
 
     vec2 noise = ao_slice_noise(ivec2(gl_FragCoord.xy));
-    float phi = noise.x * (GTAO_PI / float(GTAO_SLICES));
+    float phi = noise.x * (GTAO_PI / float(AO_SLICES));
     mat2 rotation = mat2(cos(phi), sin(phi), -sin(phi), cos(phi));
     float jitter = noise.y + 0.125; // centres of 4 strata in (0, 1)
-    float step_px = radius_px / float(GTAO_STEPS);
+    float step_px = radius_px / float(AO_SLICE_STEPS);
 
     AOP vec3 v = ao_safe_normalize(-c);
     AOP float nv = dot(n, v);
@@ -147,7 +135,7 @@ void main() {
 #if AO_PROGRESSIVE
     int half_index = frame.frame_index.y;
 #endif
-    for (int s = 0; s < GTAO_SLICES; ++s) {
+    for (int s = 0; s < AO_SLICES; ++s) {
         vec2 d = rotation * gtao_direction(s);
         // Slice frame: V and x, the unit vector of the slice perpendicular to V towards +d. Projected normal
         // n_p = (n.x) x + (n.V) V of length |n_p|, at angle g from V (common/horizon.glsl).

@@ -44,6 +44,7 @@
 #include "common/fetch.glsl"
 #include "common/noise.glsl"
 #include "common/horizon.glsl"
+#include "common/preamble.glsl"
 
 AO_UBO(1) uniform AOParams {
     float bias;      // beta: tangent bias angle (radians)
@@ -74,23 +75,12 @@ vec2 hbao_direction(int i) {
 }
 
 void main() {
-    vec3 c = ao_position(v_uv);
-    // Before the early-out: the depth-derived normal takes derivatives, which need uniform control flow.
-    AOP vec3 n = ao_normal(v_uv, c);
-    float z_c = -c.z;
-    if (ao_is_background(z_c)) {
-        o_color = vec4(1.0);
-        return;
-    }
+    AO_CENTRE_FROM_GBUFFER(AOP); // c, n, z_c; open on background (common/preamble.glsl)
     float radius_px = ao_radius_px(z_c);
-    if (radius_px < 1.0) {
-        o_color = vec4(1.0);
-        return;
-    }
+    AO_RETURN_OPEN_IF(radius_px < 1.0);
 
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-    vec2 rot = ao_rotation(pixel);
-    mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x);
+    AO_ROTATION_MATRIX(pixel); // rotation (common/noise.glsl)
     // Step offset in (0, 1): the centres of 4 strata, one per pixel of a 4-pixel diagonal (Dörries 2018, Listing
     // 3.21, noise.z), so the 4x4 blur footprint sees every offset with 4 rotations each.
     float jitter = 0.25 * float((pixel.y - pixel.x) & 3) + 0.125;

@@ -34,6 +34,7 @@
 #include "common/fetch.glsl"
 #include "common/kernels.glsl"
 #include "common/noise.glsl"
+#include "common/preamble.glsl"
 
 #if defined(AO_NORMALS_DEPTH)
 #error "aovar: ao/homebrew.glsl needs a normal buffer (per-tap normals); the manifest excludes normals = depth"
@@ -49,19 +50,12 @@ AO_UBO(1) uniform AOParams {
 AO_LOC(0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;
 
-#if AO_PROGRESSIVE
-const int AO_TAPS = AO_SAMPLES / 2;
-#else
-const int AO_TAPS = AO_SAMPLES;
-#endif
+#include "common/progressive.glsl"
 
 void main() {
     vec3 c = ao_position(v_uv);
     float z_p = -c.z;
-    if (ao_is_background(z_p)) {
-        o_color = vec4(1.0);
-        return;
-    }
+    AO_RETURN_OPEN_IF(ao_is_background(z_p)); // common/preamble.glsl
     // Buffered normals only (see above): no derivatives, so this may follow the early-out.
     AOP vec3 n_p = ao_normal(v_uv, c);
 
@@ -69,22 +63,15 @@ void main() {
     vec2 radius_uv = radius_px * frame.ao_size.zw;
     // L in world units, from the radius after the cap.
     float falloff = max(params.falloff * radius_px * z_p / frame.clip.w, 1e-7 * z_p);  // floor relative to depth
-    vec2 rot = ao_rotation(ivec2(gl_FragCoord.xy));
-    mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x);
+    AO_ROTATION_MATRIX(ivec2(gl_FragCoord.xy)); // rotation (common/noise.glsl)
 
     float bias = z_p * params.bias;
     float window = z_p * 0.001;
     AOP float sum = 0.0;
     int used = 0;
-#if AO_PROGRESSIVE
-    bool odd = frame.frame_index.y != 0;
-#endif
+    AO_FRAME_HALF(); // common/kernels.glsl
     for (int k = 0; k < AO_TAPS; ++k) {
-#if AO_PROGRESSIVE
-        vec2 d = odd ? ao_disc_sample(2 * k + 1, AO_SAMPLES) : ao_disc_sample(2 * k, AO_SAMPLES);
-#else
-        vec2 d = ao_disc_sample(k, AO_SAMPLES);
-#endif
+        vec2 d = AO_FRAME_SAMPLE(ao_disc_sample, k, AO_SAMPLES);
         vec2 uv = v_uv + (rotation * d) * radius_uv;
         if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
             continue;

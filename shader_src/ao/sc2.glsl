@@ -33,6 +33,7 @@
 #include "common/kernels.glsl"
 #include "common/noise.glsl"
 #include "common/project.glsl"
+#include "common/preamble.glsl"
 
 AO_UBO(1) uniform AOParams {
     float bias;     // beta, relative to z_C
@@ -43,26 +44,14 @@ AO_UBO(1) uniform AOParams {
 AO_LOC(0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;
 
-#if AO_PROGRESSIVE
-const int AO_TAPS = AO_SAMPLES / 2;
-#else
-const int AO_TAPS = AO_SAMPLES;
-#endif
+#include "common/progressive.glsl"
 
 void main() {
-    vec3 c = ao_position(v_uv);
-    // Before the early-out: the depth-derived normal takes derivatives, which need uniform control flow.
-    vec3 n = ao_normal(v_uv, c);
-    float z_c = -c.z;
-    if (ao_is_background(z_c)) {
-        o_color = vec4(1.0);
-        return;
-    }
+    AO_CENTRE_FROM_GBUFFER(highp); // c, n, z_c; open on background (common/preamble.glsl)
 
     // Radius capped at a quarter of the screen in AO pixels, as the disc methods; world radius follows.
     float radius_px = ao_radius_px(z_c);
-    // The floor only keeps a zero radius finite; relative to depth so that it never binds on a small scene.
-    float radius = max(radius_px * z_c / frame.clip.w, 1e-7 * z_c);
+    float radius = AO_VIEW_RADIUS(radius_px, z_c);
 
     // Tangent frame from the rotation vector; r || n (possible on surfaces seen edge-on) takes r rotated by
     // a quarter turn instead, which is then orthogonal to n's projection.
@@ -81,15 +70,9 @@ void main() {
     AOP float range = params.range;
     AOP float sum = 0.0;
     AOP float weight = 0.0;
-#if AO_PROGRESSIVE
-    bool odd = frame.frame_index.y != 0;
-#endif
+    AO_FRAME_HALF(); // common/kernels.glsl
     for (int k = 0; k < AO_TAPS; ++k) {
-#if AO_PROGRESSIVE
-        vec3 h = odd ? ao_hemisphere_sample(2 * k + 1, AO_SAMPLES) : ao_hemisphere_sample(2 * k, AO_SAMPLES);
-#else
-        vec3 h = ao_hemisphere_sample(k, AO_SAMPLES);
-#endif
+        vec3 h = AO_FRAME_SAMPLE(ao_hemisphere_sample, k, AO_SAMPLES);
         vec3 p = c + radius * (t * h.x + b * h.y + n * h.z);
         // The radius cap keeps P in front of the camera; the guard is for degenerate frames.
         if (-p.z <= frame.clip.x) {

@@ -18,6 +18,7 @@
 #include "common/target.glsl"
 #include "common/frame.glsl"
 #include "common/depth.glsl"
+#include "common/preamble.glsl"
 
 AO_UBO(1) uniform AOParams {
     float strength; // lambda
@@ -30,10 +31,7 @@ layout(location = 0) out vec4 o_color;
 
 void main() {
     float z = ao_depth(v_uv);
-    if (ao_is_background(z)) {
-        o_color = vec4(1.0);
-        return;
-    }
+    AO_RETURN_OPEN_IF(ao_is_background(z)); // common/preamble.glsl
     float blurred = texelFetch(ao_prefilter_tex, ivec2(gl_FragCoord.xy), 0).r;
     float radius = frame.clip.z;
     // The difference of two depths stays highp; only the normalised result drops to AOP.

@@ -24,10 +24,11 @@
 // paper's constant is a view-space length). Samples farther than the radius mark nothing (GTAO fades
 // them; here T already stops far occluders from hiding the whole hemisphere below them).
 //
-// samples -> slices x steps per side exactly as GTAO: steps = clamp(N/4, 1, 4), slices = N / (2 steps);
-// 4 -> 2x1, 8 -> 2x2, 16 -> 2x4, 32 -> 4x4. Progressive (Sunet 2018, §4.10): each slice marches one side
-// only, +d for s + h even, -d for s + h odd (h = frame.frame_index.y), and its visibility is the share of
-// unset bits among the sectors on that side (those centred beyond V), weighted by GTAO's one-sided arc.
+// samples -> slices x steps per side exactly as GTAO (common/slices.glsl): steps = clamp(N/4, 1, 4), slices =
+// N / (2 steps); 4 -> 2x1, 8 -> 2x2, 16 -> 2x4, 32 -> 4x4. Progressive (Sunet 2018, §4.10): each slice
+// marches one side only, +d for s + h even, -d for s + h odd (h = frame.frame_index.y), and its visibility is
+// the share of unset bits among the sectors on that side (those centred beyond V), weighted by GTAO's
+// one-sided arc.
 // Radius: capped at a quarter of the AO screen; pixels whose disc is under 1 pixel are open (Dörries 2018, §3.3.4).
 //
 // Axes: samples, progressive, normals, position, reconstruct (common/fetch.glsl), precision (AOP; the mask
@@ -40,6 +41,7 @@
 #include "common/noise.glsl"
 #include "common/horizon.glsl"
 #include "common/bitmask.glsl"
+#include "common/preamble.glsl"
 
 AO_UBO(1) uniform AOParams {
     float thickness; // T / R: how far behind its front face an occluder is taken to extend
@@ -48,8 +50,8 @@ AO_UBO(1) uniform AOParams {
 AO_LOC(0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;
 
-const int VBAO_STEPS = AO_SAMPLES < 4 ? 1 : (AO_SAMPLES > 16 ? 4 : AO_SAMPLES / 4);
-const int VBAO_SLICES = AO_SAMPLES / (2 * VBAO_STEPS);
+#include "common/slices.glsl"
+
 const int VBAO_SECTORS = 32;
 
 const float VBAO_PI = 3.14159265;
@@ -82,7 +84,7 @@ uint vbao_march(vec3 c, AOP vec3 v, AOP vec3 n, AOP float nv, vec2 d, float step
     float radius = frame.clip.z;
     vec3 back = vec3(v) * (params.thickness * radius);
     uint mask = 0u;
-    for (int j = 0; j < VBAO_STEPS; ++j) {
+    for (int j = 0; j < AO_SLICE_STEPS; ++j) {
         vec2 uv = ao_march_uv(v_uv, d, j, jitter, step_px); // common/horizon.glsl
         if (ao_off_screen(uv)) {
             break;
@@ -138,21 +140,18 @@ void main() {
     // Before the early-out: the depth-derived normal takes derivatives, which need uniform control flow.
     AOP vec3 n = ao_normal(v_uv, c);
     float radius_px = ao_disc_px(-c.z);
-    if (radius_px < 1.0) {
-        o_color = vec4(1.0); // background, or a disc under a pixel
-        return;
-    }
+    AO_RETURN_OPEN_IF(radius_px < 1.0); // background, or a disc under a pixel (common/preamble.glsl)
 
     vec2 noise = ao_slice_noise(ivec2(gl_FragCoord.xy));
-    float phi = noise.x * (VBAO_PI / float(VBAO_SLICES));
+    float phi = noise.x * (VBAO_PI / float(AO_SLICES));
     float jitter = noise.y + 0.125; // centres of 4 strata in (0, 1)
-    float step_px = radius_px / float(VBAO_STEPS);
+    float step_px = radius_px / float(AO_SLICE_STEPS);
 
     AOP vec3 v = ao_safe_normalize(-c);
     AOP float nv = dot(n, v);
     AOP vec2 sum = vec2(0.0); // (visible, open)
-    for (int s = 0; s < VBAO_SLICES; ++s) {
-        float a = phi + float(s) * (VBAO_PI / float(VBAO_SLICES));
+    for (int s = 0; s < AO_SLICES; ++s) {
+        float a = phi + float(s) * (VBAO_PI / float(AO_SLICES));
         sum += vbao_slice(c, v, n, nv, vec2(cos(a), sin(a)), step_px, jitter, s);
     }
     AOP float visibility = sum.y > 1e-3 ? clamp(sum.x / sum.y, 0.0, 1.0) : 1.0;

@@ -38,6 +38,7 @@
 #include "common/depth_plane.glsl"
 #include "common/kernels.glsl"
 #include "common/noise.glsl"
+#include "common/preamble.glsl"
 
 AO_UBO(1) uniform AOParams {
     float lower_bound; // taps with an occupied ratio below it are invalid (surface behind the segment)
@@ -48,30 +49,16 @@ AO_UBO(1) uniform AOParams {
 AO_LOC(0) in vec2 v_uv;
 layout(location = 0) out vec4 o_color;
 
-const int AO_PAIRS = AO_SAMPLES / 2;
-#if AO_PROGRESSIVE
-const int AO_PAIR_TAPS = (AO_PAIRS + 1) / 2;
-#else
-const int AO_PAIR_TAPS = AO_PAIRS;
-#endif
+#include "common/pairs.glsl"
 
 void main() {
-    ivec2 size = textureSize(ao_depth_tex, 0);
-    ivec2 t_c = ao_texel(v_uv, size);
-    float z_c = ao_depth_texel(t_c);
-    if (ao_is_background(z_c)) {
-        o_color = vec4(1.0);
-        return;
-    }
+    AO_CENTRE_FROM_DEPTH(); // size, t_c, z_c; open on background (common/preamble.glsl)
 
-    // Disc radius in AO pixels, capped at a quarter of the screen; the world radius shrinks with the cap.
+    // Disc radius in AO pixels, capped at a quarter of the screen; in view units and in depth texels.
     float radius_px = ao_radius_px(z_c);
-    // The floor only keeps a zero radius finite; relative to depth so that it never binds on a small scene.
-    float radius = max(radius_px * z_c / frame.clip.w, 1e-7 * z_c);
-    // In depth texels (the AO pass may run at a lower resolution than the G-buffer).
-    float radius_tx = radius_px * float(size.x) * frame.ao_size.z;
-    vec2 rot = ao_rotation(ivec2(gl_FragCoord.xy));
-    mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x);
+    float radius = AO_VIEW_RADIUS(radius_px, z_c);
+    float radius_tx = AO_DEPTH_TEXELS(radius_px, size);
+    AO_ROTATION_MATRIX(ivec2(gl_FragCoord.xy)); // rotation (common/noise.glsl)
 
     // Lengths in units of R from here on, so that mediump sums stay small whatever the scene's units.
     AOP float lower = params.lower_bound;
@@ -80,18 +67,14 @@ void main() {
     vec2 inv_z_grad = range_check > 0.0 ? ao_inverse_depth_gradient(t_c, z_c) : vec2(0.0);
     AOP float occupied = 0.0;
     AOP float total = 0.0;
-#if AO_PROGRESSIVE
-    bool odd = frame.frame_index.y != 0;
-#endif
+    AO_FRAME_HALF(); // common/kernels.glsl
     for (int k = 0; k < AO_PAIR_TAPS; ++k) {
 #if AO_PROGRESSIVE
         if (odd && 2 * k + 1 >= AO_PAIRS) {
-            continue;
+            continue; // the odd half of an odd pair count (common/pairs.glsl)
         }
-        vec2 d = odd ? ao_disc_sample(2 * k + 1, AO_PAIRS) : ao_disc_sample(2 * k, AO_PAIRS);
-#else
-        vec2 d = ao_disc_sample(k, AO_PAIRS);
 #endif
+        vec2 d = AO_FRAME_SAMPLE(ao_disc_sample, k, AO_PAIRS);
         ivec2 o = ivec2(round((rotation * d) * radius_tx));
         ivec2 t_a = t_c + o;
         ivec2 t_b = t_c - o;

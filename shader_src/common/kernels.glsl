@@ -8,6 +8,10 @@
 //
 // Progressive halves (Sunet 2018, §4.10): half h (0 or 1) uses samples i = 2k + h, k in [0, n/2). Each half is
 // itself a spiral (angle step 2 x golden angle) covering the whole disc, and the two halves interleave.
+// Needs the progressive axis (AO_FRAME_SAMPLE).
+#if !defined(AO_PROGRESSIVE)
+#error "aovar: common/kernels.glsl needs the progressive axis in `reads`"
+#endif
 
 const float AO_GOLDEN_ANGLE = 2.39996323; // pi * (3 - sqrt(5))
 
@@ -44,3 +48,15 @@ vec3 ao_ball_pair_sample(int j, int p) {
     float r = sqrt(max(0.0, 1.0 - z * z));
     return pow(ao_kernel_t(j), 1.0 / 3.0) * vec3(r * cos(a), r * sin(a), z);
 }
+
+// The k-th sample this frame takes of a kernel(i, n) above: i = k, or i = 2k + h with progressive halves.
+// AO_FRAME_HALF() declares bool odd (h = 1) for it, and nothing without `progressive`. The half is a select
+// between two calls with constant arguments, which unrolled loops fold to constants, rather than trigonometry
+// on a runtime index. Macros, so that the programs keep their SPIR-V (common/preamble.glsl says why).
+#if AO_PROGRESSIVE
+#define AO_FRAME_HALF() bool odd = frame.frame_index.y != 0
+#define AO_FRAME_SAMPLE(kernel, k, n) (odd ? kernel(2 * (k) + 1, n) : kernel(2 * (k), n))
+#else
+#define AO_FRAME_HALF()
+#define AO_FRAME_SAMPLE(kernel, k, n) kernel(k, n)
+#endif

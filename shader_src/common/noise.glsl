@@ -21,6 +21,13 @@ vec2 ao_rotation(ivec2 pixel) {
     return vec2(cos(angle), sin(angle));
 }
 
+// Declares vec2 rot = ao_rotation(pixel) and mat2 rotation, which turns a kernel offset by that angle. A macro,
+// so that the programs keep their SPIR-V (common/preamble.glsl says why). Alchemy, Crytek, HBAO, home-brewed
+// AO, Volumetric Obscurance.
+#define AO_ROTATION_MATRIX(pixel) \
+    vec2 rot = ao_rotation(pixel); \
+    mat2 rotation = mat2(rot.x, rot.y, -rot.y, rot.x)
+
 // Slice noise of the slice-marching methods (GTAO, VBAO; Dörries 2018, Listing 3.21, its spatial part):
 // x = slice rotation in [0, 1) of the slice spacing, 16 values on a 4x4 tile; y = step offset, 4 values; both
 // in the 4x4 blur footprint (Sunet 2018, §4.3.4).
