@@ -81,7 +81,8 @@ TEST(Stress, ShippedVariantsPassEveryCaseOnGles) {
   }
 }
 
-// Copy of the shader sources with Alchemy's tangent-plane guard removed (max(0, v . n - z beta): only taps
+// Copy of the shader sources with Alchemy's tangent-plane guard removed (max(0, v . n - z beta) in
+// common/obscurance.glsl, which Alchemy and SAO share; the test runs Alchemy: only taps
 // above C's tangent plane occlude): taps below it then add negative occlusion and AO rises above 1 wherever
 // the surface curves away or a tap falls off an edge. The suite must fail the shipped variant and print a
 // command that reproduces the failure on its own. (Removing the final max(0, ...) alone, or Alchemy's
@@ -92,13 +93,13 @@ TEST(Stress, RemovingAGuardFailsWithAReproducer) {
   TempDir dir;
   const fs::path src = dir / "shader src's";
   fs::copy(fs::path(AOVAR_SOURCE_DIR) / "shader_src", src, fs::copy_options::recursive);
-  const fs::path alchemy = src / "ao" / "alchemy.glsl";
-  std::string text = util::read_file(alchemy).value();
+  const fs::path obscurance = src / "common" / "obscurance.glsl";
+  std::string text = util::read_file(obscurance).value();
   const std::string guarded = "sum += max(0.0, dot(v, n) - z_bias) / (dot(v, v) + epsilon);";
   auto at = text.find(guarded);
   ASSERT_NE(at, std::string::npos) << "the guard this test removes moved: update the test";
   text.replace(at, guarded.size(), "sum += (dot(v, n) - z_bias) / (dot(v, v) + epsilon);");
-  util::write_atomic(alchemy, text);
+  util::write_atomic(obscurance, text);
 
   const std::string manifest = util::shell_quote((src / "aovar.toml").string());
   const std::string key = "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";

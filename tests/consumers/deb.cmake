@@ -1,9 +1,6 @@
 # Package test: `cpack -G DEB` from the build folder makes a .deb that holds the tool, the templates and the
 # CMake package, and declares the Debian packages it needs (the libraries the tool links, found by
 # dpkg-shlibdeps, and the Vulkan drivers it loads). Arguments: -DAOVAR_BUILD= -DWORK=
-# The compilers, CMake and dpkg these steps run are not aovar: under scripts/sanitize LD_PRELOAD holds the
-# ASan runtime, which would report their own leaks (aovar's instrumented tool links the runtime itself).
-unset(ENV{LD_PRELOAD})
 
 file(REMOVE_RECURSE ${WORK})
 execute_process(COMMAND cpack -G DEB --config ${AOVAR_BUILD}/CPackConfig.cmake -B ${WORK}

@@ -2,9 +2,6 @@
 # configure, build, run the lookup, prove a second build does nothing and that a newer tool regenerates.
 # Each failure is one FATAL_ERROR line naming the step.
 
-# The compilers, CMake and dpkg these steps run are not aovar: under scripts/sanitize LD_PRELOAD holds the
-# ASan runtime, which would report their own leaks (aovar's instrumented tool links the runtime itself).
-unset(ENV{LD_PRELOAD})
 
 # Configures SOURCE into BINARY (a fresh folder) with the extra -D arguments.
 function(consumer_configure source binary)
