@@ -370,6 +370,9 @@ std::string to_text(const ShipResult& r, const ShipOptions& o) {
   s += fmt::format("normals: {}; {} -> search {}normals, fit with normals = {}\n", r.lean_text,
                    r.lean ? "a lean" : "no lean", r.lean ? "depth " : "every source of ", r.fit_normals);
   s += fmt::format("space: {} selected, {} dropped by the profile, {} by the lean\n", r.selected, r.pruned, r.lean_dropped);
+  if (o.target.empty())
+    s += fmt::format("race margin: eliminated only when slower beyond {:.2f}x (the 95 % interval's low end; --race-margin)\n",
+                     o.race_margin);
   for (const auto& x : r.rounds)
     s += fmt::format("round {}: {} candidates ({}), {} eliminated, {:.0f} s\n", x.name, x.candidates, x.timing, x.eliminated,
                      x.seconds);
