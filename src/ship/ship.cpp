@@ -237,6 +237,8 @@ void check_options(const ShipOptions& o) {
   check_query(o.query);
   if (o.shard_count > 1 && !o.join.empty())
     throw std::runtime_error("ship: --shard and --join exclude each other (the shards screen, the join decides)");
+  if (!(o.race_margin >= 1.0 && o.race_margin < 10.0))
+    throw std::runtime_error("--race-margin must be a time ratio in [1, 10) (1 eliminates on any slowdown beyond the noise)");
   if (!o.target.empty()) {
     gpu::CostRequest request;
     request.families = {o.target};
