@@ -2,6 +2,7 @@
 // lavapipe at the estimate's frame size, replays the traces through each product's caches, and prints per
 // variant and pass: reads and DRAM bytes per pixel, each level's hit rate, and (for RADV families) the
 // estimate on the traffic with its bound. Several radii in one run give the cost against the radius.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -45,7 +46,7 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 // `output_pixels`: the pixels the traffic is counted per (the frame without its guard band).
 void print_reference_traffic(runner::VariantRunner& runner, const std::vector<int>& variants,
                              const scene::View& view, float radius, const std::vector<std::string>& products,
-                             double window, double output_pixels) {
+                             double window, double output_pixels, const gpu::ReplayOrder& order) {
   trace::TraceOptions options;
   options.window_share = window;
   trace::TraceSet set(runner, view, radius, options);
@@ -55,19 +56,37 @@ void print_reference_traffic(runner::VariantRunner& runner, const std::vector<in
       const gpu::FamilySpec* spec = gpu::product_spec(name);
       if (!spec) throw std::runtime_error("no product " + name + " in src/gpu/families.json");
       std::map<std::string, std::vector<gpu::CacheSimResult>> by_pass;
-      // The whole effect's DRAM traffic per output pixel, as McGuire et al. 2012 (Table 2) count it: every
-      // draw's read misses (a window's bytes scaled to its whole draw) plus its render-target writes.
+      // The whole effect's traffic, counted two ways (docs/gpu-cost.md, "Table 2: what its bytes count"):
+      //   DRAM: every draw's read misses (a window's bytes scaled to its whole draw) plus its render-target
+      //         writes, per output pixel (the frame without its guard band);
+      //   compulsory: the DRAM count if every level were infinite: each distinct line of the last level once;
+      //   requested: the texel bytes the shaders fetch plus the bytes they write, per rendered pixel (with the
+      //         guard band), before any cache.
       const render::PipelinePlan plan = runner.plan(v);
-      double effect_bytes = 0;
+      double dram_bytes = 0, compulsory_bytes = 0, requested_bytes = 0, rendered_pixels = 0;
       for (const gpu::FetchTrace* t : traces) {
-        by_pass[t->pass].push_back(gpu::simulate(*t, gpu::hierarchy_of(*spec)));
+        by_pass[t->pass].push_back(gpu::simulate(*t, gpu::hierarchy_of(*spec), order));
+        const gpu::CacheSimResult& sim = by_pass[t->pass].back();
         const double draw_pixels = double(t->frame_width) * t->frame_height;
-        effect_bytes += by_pass[t->pass].back().dram_bytes_per_pixel() * draw_pixels;
+        rendered_pixels = std::max(rendered_pixels, draw_pixels);
+        dram_bytes += sim.dram_bytes_per_pixel() * draw_pixels;
+        if (!sim.levels.empty() && sim.pixels > 0) {
+          const gpu::CacheLevelStats& last = sim.levels.back();
+          compulsory_bytes += double(last.unique_lines * last.line_bytes) / double(sim.pixels) * draw_pixels;
+          requested_bytes += double(sim.levels.front().bytes_requested) / double(sim.pixels) * draw_pixels;
+        }
         for (const render::TextureRef& out : plan.draws.at(t->plan_draw).outputs)
-          if (out.texture >= 0) effect_bytes += render::format_bytes(plan.textures[out.texture].format) * draw_pixels;
+          if (out.texture >= 0) {
+            const double written = render::format_bytes(plan.textures[out.texture].format) * draw_pixels;
+            dram_bytes += written;
+            compulsory_bytes += written;
+            requested_bytes += written;
+          }
       }
-      fmt::print("{} | effect | {} | r {} | DRAM B/px {:.1f} (reads missing the last level + render-target writes)\n",
-                 runner.compiled().space.variants[v].key, spec->product, radius, effect_bytes / output_pixels);
+      fmt::print("{} | effect | {} | r {} | DRAM B/px {:.1f} | compulsory B/px {:.1f} | requested B/px {:.1f} "
+                 "(per rendered pixel)\n",
+                 runner.compiled().space.variants[v].key, spec->product, radius, dram_bytes / output_pixels,
+                 compulsory_bytes / output_pixels, rendered_pixels > 0 ? requested_bytes / rendered_pixels : 0.0);
       for (const auto& [pass, sims] : by_pass) {
         const gpu::CacheSimResult m = gpu::merge(sims);
         std::string levels;
@@ -89,6 +108,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> globs;
   double window = 1.0;
   int guard = 0;
+  gpu::ReplayOrder order;
   app.add_option("--scene", scene_spec);
   app.add_option("--view", view_name);
   app.add_option("--size", size);
@@ -97,6 +117,8 @@ int main(int argc, char** argv) {
   app.add_option("--products", products, "reference products (families.json): traffic only");
   app.add_option("--radii", radii, "AO radii in scene units (default: the scene's)");
   app.add_option("--window", window, "share of each draw traced (a centred window)");
+  app.add_option("--waves-per-cu", order.waves_per_cu,
+                 "reference products: waves resident per CU (SM) whose taps interleave (default 1, as the estimate)");
   app.add_option("--guard", guard, "guard band in pixels on every side (rendered and traced, not counted as output)");
   app.add_option("--variants", globs)->required();
   CLI11_PARSE(app, argc, argv);
@@ -140,7 +162,7 @@ int main(int argc, char** argv) {
     fmt::print("bench/gpu_cache: {} ({}), {}x{} + {} px guard band, {} variants, window {}\n", scene_spec, view_name, w,
                h, guard, variants.size(), window);
     for (double r : rs) {
-      if (!products.empty()) print_reference_traffic(runner, variants, *view, float(r), split(products), window, double(w) * h);
+      if (!products.empty()) print_reference_traffic(runner, variants, *view, float(r), split(products), window, double(w) * h, order);
       if (base.empty()) continue;
       auto costs = base;
       trace::TraceOptions options;
