@@ -30,10 +30,11 @@ const std::string kVariants =
 TEST(GpuRows, SweepCarriesEstimatesIntoTableReportAndSelect) {
   REQUIRE_RADV();
   TempDir dir;
+  // Its own cache dir: with the shared one an earlier run's traffic is read back and nothing is traced.
   auto r = run_aovar("sweep --scene builtin:stairs --view overview --gpu navi21 --gpu-size 1280x720" + kVariants +
-                     " --out " + dir.path().string());
+                     " --cache-dir " + (dir / "cache").string() + " --out " + (dir / "out").string());
   ASSERT_EQ(r.status, 0) << r.output;
-  auto t = table::read_table(dir / "cost_table.json");
+  auto t = table::read_table(dir / "out" / "cost_table.json");
   ASSERT_EQ(t.rows.size(), 3u);
   for (const auto& row : t.rows) {
     ASSERT_TRUE(row.gpu.count("navi21")) << row.variant;
@@ -58,15 +59,15 @@ TEST(GpuRows, SweepCarriesEstimatesIntoTableReportAndSelect) {
   }
   EXPECT_EQ(t.meta.at("gpu").at("families"), nlohmann::json::array({"navi21"}));
   EXPECT_GT(t.meta.at("gpu").at("trace").at("traced_draws").get<int>(), 0);
-  auto md = util::read_file(dir / "report.md").value();
+  auto md = util::read_file(dir / "out" / "report.md").value();
   EXPECT_NE(md.find("## GPU estimate: navi21"), std::string::npos) << md;
-  EXPECT_NE(util::read_file(dir / "cost_table.csv").value().find("gpu.navi21.est_ms"), std::string::npos);
+  EXPECT_NE(util::read_file(dir / "out" / "cost_table.csv").value().find("gpu.navi21.est_ms"), std::string::npos);
 
   // s04 is cheaper than s08 for alchemy on the estimate; select by it.
-  auto pick = run_aovar("select --table " + (dir / "cost_table.json").string() + " --max-error 1 --target navi21");
+  auto pick = run_aovar("select --table " + (dir / "out" / "cost_table.json").string() + " --max-error 1 --target navi21");
   ASSERT_EQ(pick.status, 0) << pick.output;
   EXPECT_NE(pick.output.find("est. on navi21"), std::string::npos) << pick.output;
-  auto other = run_aovar("select --table " + (dir / "cost_table.json").string() + " --max-error 1 --target polaris10");
+  auto other = run_aovar("select --table " + (dir / "out" / "cost_table.json").string() + " --max-error 1 --target polaris10");
   EXPECT_EQ(other.status, 2) << "an error, not a check that failed";
   EXPECT_NE(other.output.find("estimates for: navi21"), std::string::npos) << other.output;
 }
