@@ -18,9 +18,11 @@ bool beyond_margin(const table::TimeComparison& slower, double min_ratio) {
 
 }  // namespace
 
+double margin_in_force(const std::string& target, double margin) { return target.empty() ? margin : 1.0; }
+
 std::vector<Elimination> dominated_beyond_noise(const table::CostTable& rows, const std::string& target,
                                                 double min_ratio) {
-  if (!target.empty()) min_ratio = 1.0;
+  min_ratio = margin_in_force(target, min_ratio);
   table::SelectQuery q;
   q.target = target;
   std::vector<table::Candidate> cs = table::candidates(rows, q);

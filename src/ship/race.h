@@ -21,6 +21,9 @@ struct Elimination {
   std::string reason;  // "slower than X beyond the noise (1.21x [1.10, 1.33], paired rounds) with more error (0.071 > 0.064)"
 };
 
+// The margin the rule applies: `margin` on a measured backend, 1 with a GPU target (an estimate has no noise).
+double margin_in_force(const std::string& target, double margin);
+
 // Every candidate of `rows` (one per variant and backend; rows without an error, or without an estimate on
 // `target` when one is given, are not candidates) that another candidate dominates as above. Sorted by variant.
 // `min_ratio` (>= 1) applies to measured times only: a target's estimate has no noise.

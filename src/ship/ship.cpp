@@ -220,7 +220,7 @@ json ship_meta(const ShipOptions& o, const ShipResult& r, const profile::ScenePr
           {"holdout_views", r.holdout},
           {"target", o.target},
           {"backend", o.backend},
-          {"race_margin", o.target.empty() ? o.race_margin : 1.0},
+          {"race_margin", margin_in_force(o.target, o.race_margin)},
           {"normals_lean", r.lean},
           {"normals_lean_evidence", r.lean_text},
           {"fit_normals", r.fit_normals},
@@ -237,6 +237,9 @@ void check_options(const ShipOptions& o) {
   check_query(o.query);
   if (o.shard_count > 1 && !o.join.empty())
     throw std::runtime_error("ship: --shard and --join exclude each other (the shards screen, the join decides)");
+  if (o.race_reps < 6) throw std::runtime_error("--race-reps must be at least 6 (fewer rounds give no 95 % interval)");
+  if (o.fit_evaluations < 1) throw std::runtime_error("--evaluations must be at least 1");
+  if (o.target.find(',') != std::string::npos) throw std::runtime_error("--target takes one AMD family");
   if (!(o.race_margin >= 1.0 && o.race_margin < 10.0))
     throw std::runtime_error("--race-margin must be a time ratio in [1, 10) (1 eliminates on any slowdown beyond the noise)");
   if (!o.target.empty()) {
