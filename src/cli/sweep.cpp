@@ -40,8 +40,8 @@ ExitCode run_sweep(const SweepArgs& a) {
   m.size = parse_size(a.size);
   a.reps.apply(m);
   const shard::ShardSpec shard = shard_option(a.shard);
-  m.shard_index = shard.index;
-  m.shard_count = shard.count;
+  o.shard_index = shard.index;
+  o.shard_count = shard.count;
   o.shard_convention = shard.convention;
   if (m.reference_rays < 1) throw std::runtime_error("--rays must be at least 1");
   m.cache_dir = m.reference_cache = a.common.cache();

@@ -43,8 +43,6 @@ void check_options(const MeasureOptions& o) {
   // traced for a path frame would match none of them.
   if (o.auto_reps && o.camera_path) throw std::runtime_error("--camera-path needs a fixed --reps N, not auto");
   if (o.size.width < 1 || o.size.height < 1) throw std::runtime_error("--size must be WxH with W, H >= 1");
-  if (o.shard_count < 1 || o.shard_index < 0 || o.shard_index >= o.shard_count)
-    throw std::runtime_error(fmt::format("--shard {}/{}: use k/n with 1 <= k <= n", o.shard_index + 1, o.shard_count));
 }
 
 // The views to measure: each named one once, in the order given; none named: the scene's first (overview).
@@ -240,8 +238,8 @@ MeasureResult MeasureRun::run() {
                                          c.diagnostics.empty() ? 0 : c.diagnostics.size() - 1));
 
   Selection sel = select_variants(c, o_, res_.pruning.get(), progress_);
-  if (sel.measured.empty() && o_.shard_count > 1) {
-    say(fmt::format("note: shard {}/{} holds none of the selected variants", o_.shard_index + 1, o_.shard_count));
+  if (sel.measured.empty() && o_.shard_keys) {
+    say("note: this shard holds none of the selected variants");
     return std::move(res_);
   }
   if (sel.measured.empty()) throw std::runtime_error(empty_selection(c, o_));
@@ -315,18 +313,6 @@ void keep_heap_mapped() {
     return true;
   }();
   (void)once;
-}
-
-bool MeasureOptions::in_shard(const std::string& key) const {
-  if (shard_count <= 1) return true;
-  return shard_keys ? shard_keys->count(key) > 0 : shard_of(key, shard_count) == shard_index;
-}
-
-int shard_of(const std::string& key, int shard_count) {
-  if (shard_count <= 1) return 0;
-  util::Hasher h;
-  h.add(key);
-  return static_cast<int>(std::stoull(h.hex().substr(0, 12), nullptr, 16) % static_cast<unsigned long long>(shard_count));
 }
 
 void MeasureRow::list_images() {

@@ -65,13 +65,10 @@ struct MeasureOptions {
   // Calibrated parameter values by algorithm (aovar calibrate); --param values win over them.
   std::map<std::string, render::ParamOverrides> calibration;
   std::string calibration_file, calibration_hash;  // where `calibration` came from (recorded; empty: none)
-  // Shard k of n (0-based k): only selected variants whose key hashes to k (stable across machines), so
-  // n machines split one selection without overlap (the baseline is timed in every shard regardless).
-  int shard_index = 0, shard_count = 1;
-  // The keys this shard measures when a plan chose them (sweep's cost-balanced shard_plan.h); null: the
-  // hash of shard_of. Use in_shard().
+  // A shard's share of the selection, as sweep's cost-balanced plan chose it (sweep/shard_plan.h, the one
+  // planner of a sharded measurement); null: every selected variant. The baseline is timed regardless.
   std::shared_ptr<const std::set<std::string>> shard_keys;
-  bool in_shard(const std::string& key) const;
+  bool in_shard(const std::string& key) const { return !shard_keys || shard_keys->count(key) > 0; }
   // Variant keys the globs select but not to measure (sweep --prune-dominated); the baseline is still timed.
   std::set<std::string> skip;
   bool contact_sheets = true;              // with images; false leaves the earlier sheets (sweep's pruning phases)
@@ -113,9 +110,6 @@ trace::RowGpuRequest gpu_request(const MeasureOptions& o);
 
 // The calibration measure.json and cost_table.json meta record: {"file", "hash"}, or null for none.
 nlohmann::json calibration_json(const MeasureOptions& options);
-
-// The shard (0 .. n-1) a variant key belongs to: a stable hash of the key modulo n.
-int shard_of(const std::string& key, int shard_count);
 
 // A measured row: the cost-table row (variant, axes, scene, view, backend, size, threads, time_ms with its
 // paired time, rel_time, error, health, flicker, images) and how it was measured.

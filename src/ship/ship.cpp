@@ -183,8 +183,8 @@ table::CostTable round_rows(const ShipOptions& o, const Fitted& fit, const sweep
   }
   record_input(o.out, "screen_inputs", inputs);
   sweep::SweepOptions shard = so;
-  shard.measure.shard_index = o.shard_index;
-  shard.measure.shard_count = o.shard_count;
+  shard.shard_index = o.shard_index;
+  shard.shard_count = o.shard_count;
   shard.shard_convention = o.shard_convention;
   sweep::SweepResult done = sweep::run_sweep(shard, progress);
   res.shard = fmt::format("{}/{}", o.shard_index + 1, o.shard_count);

@@ -138,8 +138,8 @@ ShardPlan plan_shards(const SweepOptions& o) {
   plan.units = units_by_static_cost(statics, unit_ids(o, statics));
   plan.costs_from = "static cost";
   if (!o.shard_times.empty()) apply_times(plan.units, o.shard_times, plan.costs_from);
-  plan.assignment = shard::assign(plan.units, o.measure.shard_count);
-  const auto mine = shard::members_of(plan.units, plan.assignment, o.measure.shard_index);
+  plan.assignment = shard::assign(plan.units, o.shard_count);
+  const auto mine = shard::members_of(plan.units, plan.assignment, o.shard_index);
   plan.keys = std::make_shared<const std::set<std::string>>(mine.begin(), mine.end());
   plan.inputs = input_hashes(o, statics);
   return plan;
@@ -148,7 +148,7 @@ ShardPlan plan_shards(const SweepOptions& o) {
 void write_sweep_manifest(const SweepOptions& o, const ShardPlan& plan, const std::vector<table::CostRow>& rows,
                           bool complete, double wall_s) {
   shard::ShardManifest m = shard::planned_manifest("sweep", compile::tool_version(), plan.inputs, plan.assignment,
-                                                   o.measure.shard_index, o.shard_convention, plan.costs_from);
+                                                   o.shard_index, o.shard_convention, plan.costs_from);
   m.done = static_cast<int>(rows.size());
   if (complete) {  // pins the table just written: merge refuses it with rows removed or added
     std::vector<std::string> keys;

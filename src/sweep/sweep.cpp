@@ -139,7 +139,7 @@ json table_meta(const SweepOptions& o, const SweepResult& res, const json& scene
                {"rays", o.measure.reference_rays},
                {"calibrated", !o.measure.calibration.empty()},
                {"calibration", measure::calibration_json(o.measure)},
-               {"shard", fmt::format("{}/{}", o.measure.shard_index + 1, o.measure.shard_count)},
+               {"shard", fmt::format("{}/{}", o.shard_index + 1, o.shard_count)},
                {"cost_models", models}};
   meta["profile_prune"] = o.measure.prune_by_profile;
   if (o.measure.prune_by_profile) meta["pruned"] = profile_pruned;
@@ -162,12 +162,14 @@ SweepResult run_sweep(const SweepOptions& options, const Progress& progress) {
   SweepResult res;
   SweepOptions o = options;  // a shard's plan chooses its variants
   std::optional<ShardPlan> shard_plan;
-  if (o.measure.shard_count > 1) {
+  if (o.shard_count < 1 || o.shard_index < 0 || o.shard_index >= o.shard_count)
+    throw std::runtime_error(fmt::format("--shard {}/{}: use k/n with 1 <= k <= n", o.shard_index + 1, o.shard_count));
+  if (o.shard_count > 1) {
     if (progress) progress("planning the shards: static cost of the selected variants");
     shard_plan = plan_shards(o);
     o.measure.shard_keys = shard_plan->keys;
-    res.shard_balance = shard::balance_line(shard_plan->assignment, o.measure.shard_index) + ", by " + shard_plan->costs_from;
-    if (progress) progress(fmt::format("note: shard {}/{}: {}", o.measure.shard_index + 1, o.measure.shard_count, res.shard_balance));
+    res.shard_balance = shard::balance_line(shard_plan->assignment, o.shard_index) + ", by " + shard_plan->costs_from;
+    if (progress) progress(fmt::format("note: shard {}/{}: {}", o.shard_index + 1, o.shard_count, res.shard_balance));
     write_sweep_manifest(o, *shard_plan, {}, false, 0);  // incomplete until the table is written
   }
   json scenes = json::array(), dominated = json::array(), profile_pruned = json::array();

@@ -32,9 +32,10 @@ struct SweepOptions {
   // rounded up) anyway and report how many would have reached the Pareto front.
   bool prune_dominated = false;
   int prune_check = 2;
-  // Sharding (measure.shard_index / shard_count > 1): the variants are split by cost (shard_plan.h), from
-  // the static cost or, with shard_times, an earlier cost_table.json's times; `shard_convention` says where
-  // k/n came from (shard::ShardSpec::convention), for OUT/shard.json.
+  // Shard k of n (0-based k; n > 1): the variants are split by cost (shard_plan.h, which sets
+  // measure.shard_keys), from the static cost or, with shard_times, an earlier cost_table.json's times;
+  // `shard_convention` says where k/n came from (shard::ShardSpec::convention), for OUT/shard.json.
+  int shard_index = 0, shard_count = 1;
   std::filesystem::path shard_times;
   std::string shard_convention = "--shard";
 };
