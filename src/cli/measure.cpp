@@ -10,9 +10,12 @@
 #include "cli/options.h"
 #include "cli/render_options.h"
 #include "cli/whole_space.h"
+#include "gpu/by_key.h"
 #include "measure/measure.h"
 #include "measure/text.h"
 #include "profile/scene_prune.h"
+#include "sweep/sweep.h"
+#include "trace/row_traffic.h"
 #include "util/fs.h"
 
 namespace aovar::cli {
@@ -48,6 +51,18 @@ render::ParamOverrides parse_params(const std::vector<std::string>& items) {
   return out;
 }
 
+// --gpu: the measured rows estimated on each family (sweep::gpu_request, as sweep --gpu), then measure.json
+// written again with them.
+void estimate_on_gpu(measure::MeasureResult& res, const measure::MeasureOptions& o, const trace::GpuEstimateOptions& gpu,
+                     const measure::Progress& progress) {
+  std::vector<table::CostRow*> rows;
+  for (auto& r : res.rows) rows.push_back(&r);
+  res.gpu_meta = trace::add_gpu_costs(rows, sweep::gpu_request(o, gpu), [&](const std::string& line) {
+                   if (progress) progress(line);
+                 }).to_json();
+  if (!o.out.empty()) util::write_atomic(o.out / "measure.json", measure::to_json(res, o).dump(1) + "\n");
+}
+
 ExitCode run_measure(const MeasureArgs& a) {
   measure::MeasureOptions o = a.options;
   o.scene = a.scene;
@@ -67,11 +82,16 @@ ExitCode run_measure(const MeasureArgs& a) {
   o.params = parse_params(a.params);
   o.out = a.out;
   o.cache_dir = a.common.cache();
-  a.gpu.apply(o);
+  const trace::GpuEstimateOptions gpu = a.gpu.options();
+  gpu::check_request({gpu.families});  // an unknown family fails before anything is measured
   const std::size_t views = std::max<std::size_t>(o.views.size(), 1) * std::max<std::size_t>(o.backends.size(), 1);
   check_whole_space(a.common.manifest, a.common.globs, a.all, {"measure", views, 1});
   const auto lock = lock_output(o.out);
-  auto r = with_status([&](const auto& progress) { return measure::run_measure(o, progress); });
+  auto r = with_status([&](const auto& progress) {
+    measure::MeasureResult res = measure::run_measure(o, progress);
+    if (!gpu.families.empty()) estimate_on_gpu(res, o, gpu, progress);
+    return res;
+  });
   std::cout << measure::to_text(r) << measure::notes_text(r, o, cal_file);
   return ExitCode::ok;
 }

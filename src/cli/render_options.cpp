@@ -67,12 +67,7 @@ void add_gpu(CLI::App* cmd, GpuOption& o) {
       ->check(CLI::Range(0.05, 1.0))->capture_default_str()->needs(families);
 }
 
-void GpuOption::apply(measure::MeasureOptions& o) const {
-  o.gpu_families = family_list();
-  o.gpu_frame = frame_size();
-  o.gpu_trace = trace;
-  o.gpu_window = window;
-}
+trace::GpuEstimateOptions GpuOption::options() const { return {family_list(), frame_size(), trace, window}; }
 
 void RepsOption::apply(measure::MeasureOptions& o) const {
   if (reps == "auto") {

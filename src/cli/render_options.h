@@ -11,6 +11,7 @@
 
 #include "measure/measure.h"
 #include "render/frame.h"
+#include "trace/row_traffic.h"
 
 namespace aovar::cli {
 
@@ -43,7 +44,7 @@ struct GpuOption {
   // The families (empty without --gpu) and the frame; throws std::runtime_error naming the option.
   std::vector<std::string> family_list() const;
   render::Extent frame_size() const;
-  void apply(measure::MeasureOptions& o) const;  // families, frame, trace, window
+  trace::GpuEstimateOptions options() const;  // families, frame, trace, window
 };
 void add_gpu(CLI::App* cmd, GpuOption& o);
 

@@ -45,7 +45,7 @@ ExitCode run_sweep(const SweepArgs& a) {
   o.shard_convention = shard.convention;
   if (m.reference_rays < 1) throw std::runtime_error("--rays must be at least 1");
   m.cache_dir = m.reference_cache = a.common.cache();
-  a.gpu.apply(m);
+  o.gpu = a.gpu.options();
   const auto cal_file = a.calibration.load(a.common.manifest, m.calibration, m.calibration_file, m.calibration_hash);
   // Every view of each scene: 3 for the built-in scenes and the derived views of a mesh.
   const std::size_t views = (m.views.empty() ? 3 : m.views.size()) * std::max<std::size_t>(o.scenes.size(), 1);

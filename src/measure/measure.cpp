@@ -17,7 +17,6 @@
 #include "measure/batch.h"
 #include "measure/contact_sheets.h"
 #include "measure/inputs.h"
-#include "gpu/by_key.h"
 #include "measure/rows_json.h"
 #include "util/clock.h"
 #include "util/fs.h"
@@ -159,7 +158,6 @@ class MeasureRun {
   void say(const std::string& s) const { if (progress_) progress_(s); }
   bool prune(const std::vector<const scene::View*>& views, compile::CompileOptions& co);
   void finish();
-  void add_gpu_costs();
   void write() const {
     if (!o_.out.empty()) util::write_atomic(o_.out / "measure.json", to_json(res_, o_).dump(1) + "\n");
   }
@@ -265,7 +263,6 @@ void MeasureRun::finish() {
     return std::tie(a.backend, a.view, a.variant) < std::tie(b.backend, b.view, b.variant);
   });
   pair_times(res_.rows);
-  if (!o_.gpu_families.empty()) add_gpu_costs();
   // Composing the sheets reads every image again: not when the sheets on disk already show these rows.
   const std::string shown = rows_fingerprint(res_.rows);
   bool current = !earlier_.contact_sheets.empty() && earlier_.contact_sheets_rows == shown &&
@@ -280,14 +277,6 @@ void MeasureRun::finish() {
   }
   res_.wall_s = seconds_since(start_);
   write();
-}
-
-void MeasureRun::add_gpu_costs() {
-  std::vector<table::CostRow*> rows;
-  for (auto& r : res_.rows) rows.push_back(&r);
-  const trace::RowGpuResult gpu = trace::add_gpu_costs(rows, gpu_request(o_), [&](const std::string& line) { say(line); });
-  res_.gpu_errors = gpu.errors;
-  res_.gpu_meta = gpu.to_json();
 }
 
 // The scene profile's pruning: every selected variant it drops with its rule and reason (null: not pruned).
@@ -336,25 +325,7 @@ std::vector<table::CostRow> cost_rows(const MeasureResult& result, const fs::pat
 }
 
 MeasureResult run_measure(const MeasureOptions& options, const Progress& progress) {
-  gpu::CostRequest gpu_request;  // only the families: checked before anything is measured
-  gpu_request.families = options.gpu_families;
-  gpu::check_request(gpu_request);
   return MeasureRun(options, progress).run();
-}
-
-trace::RowGpuRequest gpu_request(const MeasureOptions& o) {
-  trace::RowGpuRequest r;
-  r.costs = {o.gpu_families, o.gpu_frame, o.manifest, o.cache_dir, o.jobs};
-  r.trace = o.gpu_trace;
-  r.traffic.manifest = o.manifest;
-  r.traffic.cache_dir = o.cache_dir;
-  r.traffic.frame = o.gpu_frame;
-  r.traffic.window_share = o.gpu_window;
-  r.traffic.views_file = o.views_file;
-  r.traffic.radius = o.radius;
-  r.traffic.calibration = o.calibration;
-  r.traffic.threads = o.threads;
-  return r;
 }
 
 json calibration_json(const MeasureOptions& o) {
@@ -399,10 +370,7 @@ json to_json(const MeasureResult& res, const MeasureOptions& o) {
           {"rows", rows},
           {"kept_rows", res.kept_rows.is_null() ? json::array() : res.kept_rows},  // null: returned before selecting
           {"pruned", pruned_json(res, o)},
-          {"gpu", res.gpu_meta.is_null()
-                      ? json{{"families", o.gpu_families}, {"frame", fmt::format("{}x{}", o.gpu_frame.width, o.gpu_frame.height)},
-                             {"errors", res.gpu_errors}}
-                      : res.gpu_meta}};
+          {"gpu", res.gpu_meta}};
 }
 
 }  // namespace aovar::measure

@@ -15,7 +15,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "trace/row_traffic.h"
 #include "measure/timing.h"
 #include "metrics/metrics.h"
 #include "profile/scene_prune.h"
@@ -78,14 +77,6 @@ struct MeasureOptions {
   // `pruning`: computed by the caller (sweep, over all its scenes' selections); else run_measure computes it.
   bool prune_by_profile = false;
   std::shared_ptr<const ScenePruning> pruning;
-  // --gpu: every row's variant analysed and estimated on these AMD families (gpu/by_key.h; manifest, cache
-  // and jobs are this measurement's). Not part of a row's inputs: the estimate does not change the timing.
-  std::vector<std::string> gpu_families;
-  render::Extent gpu_frame{1920, 1080};
-  // The estimate on each row's view: its variant's fetches traced there and replayed through each family's
-  // caches (trace/row_traffic.h), a centred window of this share of every draw.
-  bool gpu_trace = true;
-  double gpu_window = 0.5;
 };
 
 // The scene-profile pruning options of a measurement: its manifest, scene, size, radius, threads and compile
@@ -102,11 +93,6 @@ std::string reps_words(const MeasureOptions& options);
 // The rule of --reps auto in measure.json and cost_table.json meta: {"min_rounds", "ci_target", "cap_s",
 // "max_rounds"}, or null for a fixed --reps N.
 nlohmann::json reps_auto_json(const MeasureOptions& options);
-
-// The --gpu request of a measurement: its families, frame, manifest, compile cache and jobs for the statistics,
-// and the trace on the rows' views with its views file, radius, calibration and threads. measure --gpu and
-// sweep --gpu both send it (trace::add_gpu_costs).
-trace::RowGpuRequest gpu_request(const MeasureOptions& o);
 
 // The calibration measure.json and cost_table.json meta record: {"file", "hash"}, or null for none.
 nlohmann::json calibration_json(const MeasureOptions& options);
@@ -169,8 +155,9 @@ struct MeasureResult {
   double wall_s = 0, compile_s = 0;
   int reused = 0;
   std::shared_ptr<const ScenePruning> pruning;  // with prune_by_profile
-  std::vector<std::string> gpu_errors;          // --gpu: one line per family that failed
-  nlohmann::json gpu_meta;                      // --gpu: trace::RowGpuResult::to_json() (null without --gpu)
+  // A GPU estimate of the rows, when the caller made one (measure estimates nothing itself: the measure
+  // command and sweep add it, sweep::gpu_request): trace::RowGpuResult::to_json(), null without.
+  nlohmann::json gpu_meta;
 };
 
 RepsReached reps_reached(const MeasureResult& result);

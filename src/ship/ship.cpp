@@ -139,9 +139,9 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
     m.reps = 1;
     m.warmup = 0;
     // The screen renders only: its candidates are estimated afterwards, in order of error (bounded_estimate.h).
-    if (final_round) m.gpu_families = {o.target};
-    m.gpu_frame = o.gpu_frame;
-    m.gpu_window = o.gpu_window;
+    if (final_round) s.gpu.families = {o.target};
+    s.gpu.frame = o.gpu_frame;
+    s.gpu.window = o.gpu_window;
   } else if (final_round) {
     m.reps = o.race_reps;
     m.auto_reps = o.final_reps;
@@ -161,8 +161,8 @@ std::string screen_inputs(const Fitted& fit, const sweep::SweepOptions& so) {
                        {"size", fmt::format("{}x{}", m.size.width, m.size.height)},
                        {"reps", measure::reps_text(m)}, {"warmup", m.warmup},
                        {"threads", m.threads},  {"rays", m.reference_rays},
-                       {"gpu", m.gpu_families}, {"gpu_frame", fmt::format("{}x{}", m.gpu_frame.width, m.gpu_frame.height)},
-                       {"gpu_window", m.gpu_window}};
+                       {"gpu", so.gpu.families}, {"gpu_frame", fmt::format("{}x{}", so.gpu.frame.width, so.gpu.frame.height)},
+                       {"gpu_window", so.gpu.window}};
   return util::hash_hex(inputs.dump());
 }
 
@@ -319,8 +319,8 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
     last = round_rows(o, fit, so, final_round, res, r, say);
     int untraced = 0;  // eliminated by their bound, before the race's rule
     if (!final_round && !o.target.empty() && res.shard.empty()) {
-      const measure::MeasureOptions estimated = round_options(o, fit, views, globs, skip, true).measure;
-      BoundedEstimate b = estimate_in_error_order(last, res.training, measure::gpu_request(estimated),
+      const sweep::SweepOptions estimated = round_options(o, fit, views, globs, skip, true);
+      BoundedEstimate b = estimate_in_error_order(last, res.training, sweep::gpu_request(estimated.measure, estimated.gpu),
                                                   o.query.budget_of, [&](const std::string& line) { say(r.name + ": " + line); });
       last.meta["gpu"] = b.gpu.to_json();
       for (auto& e : b.eliminated) res.eliminated.push_back({r.name, std::move(e)});

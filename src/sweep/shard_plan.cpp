@@ -117,13 +117,13 @@ json input_hashes(const SweepOptions& o, const std::map<std::string, VariantStat
                   {"rays", m.reference_rays}, {"radius", m.radius}, {"params", m.params}, {"baseline", m.baseline},
                   {"calibration", m.calibration_hash}, {"profile_prune", m.prune_by_profile},
                   {"prune_dominated", o.prune_dominated}, {"prune_check", o.prune_check},
-                  {"min_model_spearman", o.min_model_spearman}, {"gpu", m.gpu_families},
+                  {"min_model_spearman", o.min_model_spearman}, {"gpu", o.gpu.families},
                   {"shard_times", file_hash(o.shard_times)}};
   if (!m.temporal) options["temporal"] = false;  // shards without flicker rows (ship's screen) are another run
   // The estimate's frame and trace change every row's gpu costs: shards must agree on them (issue 33).
-  if (!m.gpu_families.empty())
-    options["gpu_estimate"] = {{"frame", fmt::format("{}x{}", m.gpu_frame.width, m.gpu_frame.height)},
-                               {"trace", m.gpu_trace}, {"window", m.gpu_window}};
+  if (!o.gpu.families.empty())
+    options["gpu_estimate"] = {{"frame", fmt::format("{}x{}", o.gpu.frame.width, o.gpu.frame.height)},
+                               {"trace", o.gpu.trace}, {"window", o.gpu.window}};
   return {{"manifest", file_hash(m.manifest)}, {"templates", programs.hex()}, {"scenes", scenes},
           {"views_file", file_hash(m.views_file)}, {"options", util::hash_hex(options.dump())}};
 }

@@ -30,6 +30,21 @@ namespace aovar::sweep {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
+trace::RowGpuRequest gpu_request(const measure::MeasureOptions& m, const trace::GpuEstimateOptions& gpu) {
+  trace::RowGpuRequest r;
+  r.costs = {gpu.families, gpu.frame, m.manifest, m.cache_dir, m.jobs};
+  r.trace = gpu.trace;
+  r.traffic.manifest = m.manifest;
+  r.traffic.cache_dir = m.cache_dir;
+  r.traffic.frame = gpu.frame;
+  r.traffic.window_share = gpu.window;
+  r.traffic.views_file = m.views_file;
+  r.traffic.radius = m.radius;
+  r.traffic.calibration = m.calibration;
+  r.traffic.threads = m.threads;
+  return r;
+}
+
 std::string scene_folder(const std::string& scene) {
   std::string out;
   if (scene.rfind("builtin:", 0) == 0) {
@@ -64,7 +79,6 @@ ScenePlans plan_scenes(const SweepOptions& o, SweepResult& res, const std::funct
     mo.scene = o.scenes[i];
     mo.ground_truth = true;
     mo.out = o.out / "measure" / scene_folder(o.scenes[i]);
-    mo.gpu_families.clear();  // the sweep estimates every variant once, over all scenes (add_gpu_costs)
     if (mo.views.empty() || mo.prune_by_profile) {
       scene::LoadOptions lo;
       lo.views_file = mo.views_file;
@@ -120,7 +134,7 @@ std::vector<table::CostRow> predicted_rows(const SweepOptions& o, const std::vec
 json add_gpu_costs(const SweepOptions& o, std::vector<table::CostRow>& rows, const Progress& progress) {
   std::vector<table::CostRow*> pointers;
   for (auto& r : rows) pointers.push_back(&r);
-  return trace::add_gpu_costs(pointers, measure::gpu_request(o.measure), [&](const std::string& line) {
+  return trace::add_gpu_costs(pointers, gpu_request(o.measure, o.gpu), [&](const std::string& line) {
            if (progress) progress(line);
          }).to_json();
 }
@@ -157,7 +171,7 @@ SweepResult run_sweep(const SweepOptions& options, const Progress& progress) {
   if (options.scenes.empty()) throw std::runtime_error("sweep: give at least one --scene");
   util::remove_stale_temps(options.out);  // what a killed earlier run was writing
   gpu::CostRequest gpu_request;  // only the families: checked before anything is measured
-  gpu_request.families = options.measure.gpu_families;
+  gpu_request.families = options.gpu.families;
   gpu::check_request(gpu_request);
   SweepResult res;
   SweepOptions o = options;  // a shard's plan chooses its variants
@@ -229,7 +243,7 @@ SweepResult run_sweep(const SweepOptions& options, const Progress& progress) {
     res.rows_predicted = static_cast<int>(predicted.size());
     for (auto& r : predicted) res.table.rows.push_back(std::move(r));
   }
-  json gpu = o.measure.gpu_families.empty() ? json(nullptr) : add_gpu_costs(o, res.table.rows, progress);
+  json gpu = o.gpu.families.empty() ? json(nullptr) : add_gpu_costs(o, res.table.rows, progress);
   table::mark_pareto(res.table);
   res.cost_models = gm.models;
   res.table.meta = table_meta(o, res, scenes, to_json(gm.models), profile_pruned, dominated);

@@ -14,6 +14,7 @@
 #include "measure/measure.h"
 #include "sweep/cost_models.h"
 #include "table/table.h"
+#include "trace/row_traffic.h"
 
 namespace aovar::sweep {
 
@@ -22,6 +23,9 @@ struct SweepOptions {
                                      // size, reps, rays, calibration, shard...; `scene` and `out` are set per scene
   std::vector<std::string> scenes = {"builtin:atrium"};
   std::filesystem::path out;
+  // --gpu: every row's variant analysed and estimated on these AMD families, once over all scenes, after the
+  // measurements (the estimate is no row input: it does not change the timing).
+  trace::GpuEstimateOptions gpu;
   // Variants (globs) to predict rather than measure: each one not measured gets a row per scene, view and
   // backend with the time of that group's predicting cost model, marked `predicted` (no error, not on the
   // front); a group whose models are all not predictive (min_model_spearman) fails the sweep instead.
@@ -54,6 +58,11 @@ struct SweepResult {
 
 // Throws std::runtime_error (and the scene/manifest/backend errors) with one-line messages.
 SweepResult run_sweep(const SweepOptions& options, const std::function<void(const std::string&)>& progress = {});
+
+// The GPU estimate's request for rows measured with `m`: `gpu`'s families, frame and trace, and the
+// measurement's manifest, compile cache and jobs for the statistics, its views file, radius, calibration and
+// threads for the trace. sweep --gpu, ship and measure --gpu all send it (trace::add_gpu_costs).
+trace::RowGpuRequest gpu_request(const measure::MeasureOptions& m, const trace::GpuEstimateOptions& gpu);
 
 // OUT/measure/<this> for a scene name: builtin:atrium -> builtin_atrium, a file -> its stem plus a short
 // hash of the path (two sponza.obj in different folders stay apart).

@@ -32,6 +32,15 @@ struct RowTrafficRequest {
 // render::BackendError (no lavapipe).
 TrafficStats add_row_traffic(const std::vector<table::CostRow*>& rows, const RowTrafficRequest& request);
 
+// What a user asks of the GPU estimate (--gpu, --gpu-size, --gpu-trace, --gpu-window); the orchestration
+// that estimates (sweep, ship, the measure command) turns it into a RowGpuRequest (sweep::gpu_request).
+struct GpuEstimateOptions {
+  std::vector<std::string> families;  // empty: no estimate
+  render::Extent frame{1920, 1080};
+  bool trace = true;                  // the estimate on each row's traced view; off: the view-free roofline
+  double window = 0.5;                // share of each draw's width and height traced (a centred window)
+};
+
 // `measure --gpu` and `sweep --gpu`: each row's ISA statistics and roofline per family (gpu::costs_by_key),
 // then, unless `trace` is off, the traced estimate on its view. `say` gets the progress lines.
 struct RowGpuRequest {
