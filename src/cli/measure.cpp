@@ -51,6 +51,17 @@ render::ParamOverrides parse_params(const std::vector<std::string>& items) {
   return out;
 }
 
+// What the scene's profile drops (the default; --no-prune keeps every selected variant), on the views the
+// measurement renders, stored with it in OUT/profile.json and reused from there.
+std::shared_ptr<const profile::ScenePruning> profile_pruning(const measure::MeasureOptions& o,
+                                                             const measure::Progress& progress) {
+  scene::LoadOptions load;
+  load.views_file = o.views_file;
+  const scene::Scene scene = scene::load_scene(o.scene, load);
+  return std::make_shared<const profile::ScenePruning>(
+      profile::prune_scene(measure::prune_options(o), scene, measure::chosen_views(scene, o.views), o.globs, progress));
+}
+
 // --gpu: the measured rows estimated on each family (sweep::gpu_request, as sweep --gpu), then measure.json
 // written again with them.
 void estimate_on_gpu(measure::MeasureResult& res, const measure::MeasureOptions& o, const trace::GpuEstimateOptions& gpu,
@@ -67,7 +78,6 @@ ExitCode run_measure(const MeasureArgs& a) {
   measure::MeasureOptions o = a.options;
   o.scene = a.scene;
   o.views_file = a.views_file;
-  o.prune_by_profile = !a.no_prune;
   o.manifest = a.common.manifest;
   o.reference_mode = reference::parse_mode(a.reference_mode);
   if (o.reference_rays < 1) throw std::runtime_error("--rays must be at least 1");
@@ -88,6 +98,7 @@ ExitCode run_measure(const MeasureArgs& a) {
   check_whole_space(a.common.manifest, a.common.globs, a.all, {"measure", views, 1});
   const auto lock = lock_output(o.out);
   auto r = with_status([&](const auto& progress) {
+    if (!a.no_prune) o.pruning = profile_pruning(o, progress);
     measure::MeasureResult res = measure::run_measure(o, progress);
     if (!gpu.families.empty()) estimate_on_gpu(res, o, gpu, progress);
     return res;

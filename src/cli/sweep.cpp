@@ -33,7 +33,7 @@ ExitCode run_sweep(const SweepArgs& a) {
   sweep::SweepOptions o = a.options;
   o.out = a.out;
   measure::MeasureOptions& m = o.measure;
-  m.prune_by_profile = !a.no_prune;
+  o.prune_by_profile = !a.no_prune;
   m.manifest = a.common.manifest;
   m.globs = a.common.globs;
   m.jobs = a.common.jobs;

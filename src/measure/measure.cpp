@@ -44,16 +44,6 @@ void check_options(const MeasureOptions& o) {
   if (o.size.width < 1 || o.size.height < 1) throw std::runtime_error("--size must be WxH with W, H >= 1");
 }
 
-// The views to measure: each named one once, in the order given; none named: the scene's first (overview).
-std::vector<const scene::View*> chosen_views(const scene::Scene& sc, const std::vector<std::string>& names) {
-  std::vector<const scene::View*> views;
-  if (names.empty()) views.push_back(&sc.views.front());
-  for (const auto& name : names)
-    if (std::none_of(views.begin(), views.end(), [&](const scene::View* v) { return v->name == name; }))
-      views.push_back(&sc.view(name));
-  return views;
-}
-
 Selection select_variants(const compile::CompiledSpace& c, const MeasureOptions& o, const ScenePruning* pruning,
                           const Progress& say) {
   Selection s;
@@ -134,6 +124,15 @@ void check_params(const variants::Manifest& manifest, const variants::VariantSpa
 
 }  // namespace
 
+std::vector<const scene::View*> chosen_views(const scene::Scene& sc, const std::vector<std::string>& names) {
+  std::vector<const scene::View*> views;
+  if (names.empty()) views.push_back(&sc.views.front());
+  for (const auto& name : names)
+    if (std::none_of(views.begin(), views.end(), [&](const scene::View* v) { return v->name == name; }))
+      views.push_back(&sc.view(name));
+  return views;
+}
+
 profile::PruneOptions prune_options(const MeasureOptions& o) {
   profile::PruneOptions p;
   p.profile.manifest = o.manifest;
@@ -156,7 +155,7 @@ class MeasureRun {
 
  private:
   void say(const std::string& s) const { if (progress_) progress_(s); }
-  bool prune(const std::vector<const scene::View*>& views, compile::CompileOptions& co);
+  bool prune(compile::CompileOptions& co);
   void finish();
   void write() const {
     if (!o_.out.empty()) util::write_atomic(o_.out / "measure.json", to_json(res_, o_).dump(1) + "\n");
@@ -172,11 +171,9 @@ class MeasureRun {
 
 // What the scene's profile drops is not compiled (the baseline, the pairing reference, is timed anyway).
 // Returns false when it drops every selected variant: the run then ends with the log of what was dropped.
-bool MeasureRun::prune(const std::vector<const scene::View*>& views, compile::CompileOptions& co) {
-  if (!o_.prune_by_profile && !o_.pruning) return true;
-  res_.pruning = o_.pruning ? o_.pruning
-                            : std::make_shared<const ScenePruning>(profile::prune_scene(prune_options(o_), scene_, views,
-                                                                                        o_.globs, progress_));
+bool MeasureRun::prune(compile::CompileOptions& co) {
+  if (!o_.pruning) return true;
+  res_.pruning = o_.pruning;
   const ScenePruning& pr = *res_.pruning;
   say(pr.summary(o_.globs) + (pr.reused ? " (profile reused)" : fmt::format(" (profiled in {:.1f} s)", pr.seconds)));
   bool dropped = false;
@@ -226,7 +223,7 @@ MeasureResult MeasureRun::run() {
     std::iota(all.begin(), all.end(), 0);
     check_params(manifest, space, all, o_.params);
   }
-  if (!prune(views, co)) return std::move(res_);
+  if (!prune(co)) return std::move(res_);
   auto compile_start = Clock::now();
   compile::CompiledSpace c = compile::compile_space(o_.manifest, co);
   res_.compile_s = seconds_since(compile_start);

@@ -71,13 +71,15 @@ struct MeasureOptions {
   // Variant keys the globs select but not to measure (sweep --prune-dominated); the baseline is still timed.
   std::set<std::string> skip;
   bool contact_sheets = true;              // with images; false leaves the earlier sheets (sweep's pruning phases)
-  // Scene-profile pruning (scene_prune.h; on in the CLI unless --no-prune): the selected variants the scene's
-  // profile drops are neither compiled nor measured, and are listed in measure.json's "pruned" section with
-  // their reasons (the baseline, when dropped, is still timed as the pairing reference: a timing-only row).
-  // `pruning`: computed by the caller (sweep, over all its scenes' selections); else run_measure computes it.
-  bool prune_by_profile = false;
+  // What the scene's profile drops (scene_prune.h), computed by the caller: sweep over all its scenes'
+  // selections, the measure command with prune_options and chosen_views below; null: nothing pruned. The
+  // dropped variants are neither compiled nor measured and are listed in measure.json's "pruned" section
+  // with their reasons (the baseline, when dropped, is still timed as the pairing reference: a timing-only row).
   std::shared_ptr<const ScenePruning> pruning;
 };
+
+// The views a measurement renders: each named one once, in the order given; none named: the scene's first.
+std::vector<const scene::View*> chosen_views(const scene::Scene& scene, const std::vector<std::string>& names);
 
 // The scene-profile pruning options of a measurement: its manifest, scene, size, radius, threads and compile
 // cache; the profile stored in its output folder and reused with it.
@@ -154,7 +156,7 @@ struct MeasureResult {
   nlohmann::json kept_rows;
   double wall_s = 0, compile_s = 0;
   int reused = 0;
-  std::shared_ptr<const ScenePruning> pruning;  // with prune_by_profile
+  std::shared_ptr<const ScenePruning> pruning;  // the options' pruning, when given
   // A GPU estimate of the rows, when the caller made one (measure estimates nothing itself: the measure
   // command and sweep add it, sweep::gpu_request): trace::RowGpuResult::to_json(), null without.
   nlohmann::json gpu_meta;

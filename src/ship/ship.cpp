@@ -133,7 +133,7 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   m.calibration_file = fit.source.file;
   m.calibration_hash = fit.source.hash;
   m.cache_dir = m.reference_cache = o.cache_dir;
-  m.prune_by_profile = false;  // ship pruned already (the skip list), with the profile of all views
+  s.prune_by_profile = false;  // ship pruned already (the skip list), with the profile of all views
   m.images = m.temporal = final_round;
   if (!o.target.empty()) {  // the time is the estimate: one render for the error
     m.reps = 1;

@@ -79,19 +79,15 @@ ScenePlans plan_scenes(const SweepOptions& o, SweepResult& res, const std::funct
     mo.scene = o.scenes[i];
     mo.ground_truth = true;
     mo.out = o.out / "measure" / scene_folder(o.scenes[i]);
-    if (mo.views.empty() || mo.prune_by_profile) {
+    if (mo.views.empty() || o.prune_by_profile) {
       scene::LoadOptions lo;
       lo.views_file = mo.views_file;
       const scene::Scene sc = scene::load_scene(mo.scene, lo);
       if (mo.views.empty())  // every view of the scene: the Pareto front per view and for the worst view
         for (const auto& v : sc.views) mo.views.push_back(v.name);
-      if (mo.prune_by_profile) {
-        std::vector<const scene::View*> views;
-        for (const auto& name : mo.views)
-          if (std::none_of(views.begin(), views.end(), [&](const scene::View* v) { return v->name == name; }))
-            views.push_back(&sc.view(name));
+      if (o.prune_by_profile) {
         mo.pruning = std::make_shared<const profile::ScenePruning>(
-            profile::prune_scene(measure::prune_options(mo), sc, views, covered, say_for(i)));
+            profile::prune_scene(measure::prune_options(mo), sc, measure::chosen_views(sc, mo.views), covered, say_for(i)));
         plans.pruning[mo.scene] = mo.pruning;
         res.profile_s += mo.pruning->seconds;
         res.profiles_reused += mo.pruning->reused;
@@ -155,8 +151,8 @@ json table_meta(const SweepOptions& o, const SweepResult& res, const json& scene
                {"calibration", measure::calibration_json(o.measure)},
                {"shard", fmt::format("{}/{}", o.shard_index + 1, o.shard_count)},
                {"cost_models", models}};
-  meta["profile_prune"] = o.measure.prune_by_profile;
-  if (o.measure.prune_by_profile) meta["pruned"] = profile_pruned;
+  meta["profile_prune"] = o.prune_by_profile;
+  if (o.prune_by_profile) meta["pruned"] = profile_pruned;
   if (o.prune_dominated)
     meta["prune"] = {{"skipped", res.variants_skipped}, {"checked", res.variants_checked},
                      {"checked_on_front", res.checked_on_front}, {"scenes", dominated}};

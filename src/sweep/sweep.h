@@ -26,6 +26,9 @@ struct SweepOptions {
   // --gpu: every row's variant analysed and estimated on these AMD families, once over all scenes, after the
   // measurements (the estimate is no row input: it does not change the timing).
   trace::GpuEstimateOptions gpu;
+  // Each scene's profile drops what it does not need before anything is compiled (profile/scene_prune.h,
+  // over all views and the --variants and --predict selections); the CLI's default, off with --no-prune.
+  bool prune_by_profile = false;
   // Variants (globs) to predict rather than measure: each one not measured gets a row per scene, view and
   // backend with the time of that group's predicting cost model, marked `predicted` (no error, not on the
   // front); a group whose models are all not predictive (min_model_spearman) fails the sweep instead.
@@ -49,7 +52,7 @@ struct SweepResult {
   std::vector<ModelFit> cost_models;  // per scene, view and backend (meta.cost_models in the table's JSON)
   int rows_measured = 0, rows_reused = 0, rows_predicted = 0;
   int variants_skipped = 0, variants_checked = 0, checked_on_front = 0;  // --prune-dominated, over all scenes
-  double profile_s = 0;     // scene profiles (measure.prune_by_profile): profiling or reading back, and pruning
+  double profile_s = 0;     // scene profiles (prune_by_profile): profiling or reading back, and pruning
   int profiles_reused = 0;  // read back from OUT/measure/<scene>/profile.json
   double wall_s = 0;
   measure::RepsReached reps;  // over every scene's timed rows (meta.reps_reached)

@@ -28,7 +28,7 @@ std::string notes_text(const SweepResult& r, const SweepOptions& o, const fs::pa
     s += fmt::format("# prune: {} variants skipped as predicted dominated; {} more measured anyway as a check, "
                      "{} of them on the Pareto front (cost_table.json meta.prune)\n",
                      r.variants_skipped, r.variants_checked, r.checked_on_front);
-  if (o.measure.prune_by_profile)
+  if (o.prune_by_profile)
     s += fmt::format("# scene profiles: {} ({} reused) in {:.2f} s; each dropped variant with its reason: "
                      "cost_table.json meta.pruned (--no-prune measures them)\n",
                      o.scenes.size(), r.profiles_reused, r.profile_s);
