@@ -14,7 +14,7 @@
 #include "table/fronts.h"
 #include "table/select.h"
 #include "test_support.h"
-#include "timed_rows.h"
+#include "cost_rows.h"
 #include "util/fs.h"
 #include "util/hash.h"
 

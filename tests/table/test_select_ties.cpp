@@ -12,7 +12,7 @@
 #include "table/select.h"
 #include "table/table.h"
 #include "table/time_compare.h"
-#include "timed_rows.h"
+#include "cost_rows.h"
 
 namespace {
 using namespace aovar;

@@ -17,7 +17,7 @@
 #include "cli/exit_code.h"
 #include "table/table.h"
 #include "test_support.h"
-#include "timed_rows.h"
+#include "cost_rows.h"
 #include "util/fs.h"
 #include "util/progress.h"
 #include "util/schema.h"

@@ -11,7 +11,7 @@
 #include "table/table.h"
 #include "table/time_compare.h"
 #include "test_support.h"
-#include "timed_rows.h"
+#include "cost_rows.h"
 #include "util/fs.h"
 
 namespace {

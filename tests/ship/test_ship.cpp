@@ -11,7 +11,7 @@
 #include "ship/bounded_estimate.h"
 #include "ship/race.h"
 #include "ship/ship.h"
-#include "timed_rows.h"
+#include "cost_rows.h"
 
 namespace {
 using namespace aovar;

@@ -14,7 +14,7 @@
 #include "table/time_compare.h"
 #include "table/top_set.h"
 #include "test_support.h"
-#include "timed_rows.h"
+#include "cost_rows.h"
 
 namespace {
 using namespace aovar;
