@@ -77,13 +77,14 @@ std::string sweep_args(const fs::path& cache, const fs::path& out) {
 
 // scripts/slurm-local's cluster, stopped (by the pids it recorded) when the test ends.
 struct LocalSlurm {
+  ScopedEnv conf;  // SLURM_CONF while the cluster is up
   fs::path dir;
   bool up = false;
   std::string why_not;
   explicit LocalSlurm(const fs::path& d) : dir(d) {
     auto r = run_command((source_dir() / "scripts" / "slurm-local").string() + " start " + dir.string());
     up = r.status == 0;
-    if (up) setenv("SLURM_CONF", (dir / "slurm.conf").c_str(), 1);
+    if (up) conf.set("SLURM_CONF", (dir / "slurm.conf").c_str());
     else why_not = r.output;
   }
   ~LocalSlurm() { run_command((source_dir() / "scripts" / "slurm-local").string() + " stop " + dir.string()); }
@@ -95,9 +96,10 @@ TEST(Distributed, SlurmArrayOfFourMergesToTheRowsOfOneProcess) {
   auto whole = run_aovar(sweep_args(shards / "cache", dir / "whole"));  // the compile cache the shards use
   ASSERT_EQ(whole.status, 0) << whole.output;
   // The example batch scripts, as a user submits them (their environment: AOVAR, AOVAR_OUT, AOVAR_SWEEP_ARGS).
-  setenv("AOVAR", AOVAR_EXE, 1);
-  setenv("AOVAR_OUT", shards.c_str(), 1);
-  setenv("AOVAR_SWEEP_ARGS", kSelection.c_str(), 1);
+  ScopedEnv env;
+  env.set("AOVAR", AOVAR_EXE);
+  env.set("AOVAR_OUT", shards.c_str());
+  env.set("AOVAR_SWEEP_ARGS", kSelection.c_str());
   const std::string sweep = example("slurm/sweep.sbatch").string(), merge = example("slurm/merge.sbatch").string();
   LocalSlurm slurm(dir / "slurm");
   CommandResult array, merged;
@@ -196,8 +198,6 @@ TEST(Distributed, AKilledShardIsRefusedThenResumesAndMerges) {
   for (const auto* r : {&incomplete, &missing, &twice, &foreign})
     EXPECT_EQ(std::count(r->output.begin(), r->output.end(), '\n'), 1) << "one line: " << r->output;
 }
-
-json read_json(const fs::path& file) { return json::parse(util::read_file(file).value_or("{}")); }
 
 TEST(Distributed, ShardTimesBalanceByAnEarlierTablesTimes) {
   TempDir dir;

@@ -1,6 +1,5 @@
 // Calibration: the bounded minimiser, fitting a method against ray-traced references (error falls on the
-// training views, values stay in range), the calibration file, and `measure --reference` with a calibration,
-// progressive errors and flicker.
+// training views, values stay in range), the calibration file, and `measure --reference` with a calibration.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,7 +12,6 @@
 #include "calibrate/optimize.h"
 #include "compile/generate.h"
 #include "measure/measure.h"
-#include "render/plan.h"
 #include "runner/variant_runner.h"
 #include "variants/manifest.h"
 #include "test_support.h"
@@ -288,65 +286,6 @@ TEST(Calibrate, RunsRecordTheCalibrationTheyApplied) {
   EXPECT_NE(other.find("measure again with --calibration"), std::string::npos) << other;
   EXPECT_NE(calibrate::measured_with(nlohmann::json::object(), source, "t.json").find("no calibration file recorded"),
             std::string::npos);
-}
-
-}  // namespace
-}  // namespace aovar::test
-
-namespace aovar::test {
-namespace {
-
-// --reference on a progressive variant: the converged error (halves averaged), the error of one frame
-// alone, and flicker along the camera path; a non-progressive variant gets flicker only.
-TEST(Measure, ReferenceGivesProgressiveVariantsOneFrameErrorAndFlicker) {
-  TempDir dir;
-  measure::MeasureOptions mo;
-  mo.manifest = source_dir() / "shader_src" / "aovar.toml";
-  mo.scene = "builtin:stairs";
-  const std::string full = "alchemy-s16-p0-nrgb8-zdep-rst-d32-bsep-x1-hp";
-  const std::string half = "alchemy-s16-p1-nrgb8-zdep-rst-d32-bsep-x1-hp";
-  mo.globs = {full, half};
-  mo.baseline = full;
-  mo.size = {96, 54};
-  mo.reps = 2;
-  mo.ground_truth = true;
-  mo.reference_rays = 64;
-  mo.reference_cache = dir / "cache";
-  auto r = measure::run_measure(mo);
-  ASSERT_EQ(r.rows.size(), 2u);
-  for (const auto& row : r.rows) {
-    ASSERT_TRUE(row.error) << row.variant;
-    ASSERT_TRUE(row.flicker) << row.variant;
-    EXPECT_GT(*row.flicker, 0.0) << row.variant << ": the stairs' camera path moves";
-    EXPECT_LT(*row.flicker, 0.1) << row.variant;
-    EXPECT_EQ(row.error_one_frame.has_value(), row.variant == half) << row.variant;
-  }
-  const auto& p = r.rows[0].variant == half ? r.rows[0] : r.rows[1];
-  // One frame has half the samples: its error differs from the converged one, both stay in a sane range.
-  EXPECT_NE(p.error_one_frame->rmse, p.error->rmse);
-  EXPECT_LT(p.error_one_frame->rmse, 0.3);
-}
-
-TEST(Plan, SingleFramePlanReadsThisFramesHalfTwice) {
-  compile::CompileOptions co;
-  co.targets = {variants::Target::vulkan};
-  co.globs = {"alchemy-s16-p[01]-nrgb8-zdep-rst-d32-bsep-x1-hp"};
-  auto c = compile::compile_space(source_dir() / "shader_src" / "aovar.toml", co);
-  ASSERT_TRUE(c.ok());
-  for (std::size_t v = 0; v < c.space.variants.size(); ++v) {
-    auto plan = render::plan_pipeline(c, static_cast<int>(v), variants::Target::vulkan);
-    auto one = render::plan_single_frame(plan);
-    ASSERT_EQ(one.draws.size(), plan.draws.size());
-    for (std::size_t d = 0; d < plan.draws.size(); ++d) {
-      if (plan.draws[d].name != "progressive") {
-        EXPECT_EQ(one.draws[d].inputs.size(), plan.draws[d].inputs.size());
-        continue;
-      }
-      std::map<int, render::TextureRef> in(one.draws[d].inputs.begin(), one.draws[d].inputs.end());
-      EXPECT_EQ(in.at(5).texture, in.at(6).texture);
-      EXPECT_FALSE(in.at(6).previous) << "no history";
-    }
-  }
 }
 
 }  // namespace

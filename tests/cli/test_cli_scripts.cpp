@@ -136,13 +136,13 @@ TEST(CliScripts, ProgressReporterPrintsAPlainLineAtMostOncePerInterval) {
 TEST(CliScripts, LongCommandsPrintProgressLinesIntoAPipe) {
   test::TempDir dir;
   const std::string args = "reference --scene builtin:spheres --size 32x18 --rays 4 --no-cache --out ";
-  ::setenv(util::kProgressIntervalVariable, "0", 1);
-  auto every = test::run_aovar(args + (dir / "a").string());  // stderr is the pipe popen reads
-  ::setenv(util::kProgressIntervalVariable, "3600", 1);
-  auto quiet = test::run_aovar(args + (dir / "b").string());
-  ::setenv(util::kProgressIntervalVariable, "soon", 1);
-  auto bad = test::run_aovar(args + (dir / "c").string());
-  ::unsetenv(util::kProgressIntervalVariable);
+  auto with_interval = [&](const char* interval, const char* out) {
+    test::ScopedEnv env(util::kProgressIntervalVariable, interval);
+    return test::run_aovar(args + (dir / out).string());  // stderr is the pipe popen reads
+  };
+  auto every = with_interval("0", "a");
+  auto quiet = with_interval("3600", "b");
+  auto bad = with_interval("soon", "c");
   ASSERT_EQ(every.status, 0) << every.output;
   std::smatch m;
   EXPECT_TRUE(std::regex_search(every.output, m, std::regex(R"(\n?\[\d+ s\] \[view 1/1 overview\] .*%)")))

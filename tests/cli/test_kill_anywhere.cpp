@@ -122,12 +122,6 @@ void kill_anywhere(const Command& c, unsigned seed) {
                                 << " runs were still running at their kill moment";
 }
 
-json read_json(const fs::path& file) {
-  auto text = util::read_file(file);
-  EXPECT_TRUE(text) << file;
-  return text ? json::parse(*text) : json();
-}
-
 }  // namespace
 
 TEST(KillAnywhere, SweepResumesToTheSameRows) {

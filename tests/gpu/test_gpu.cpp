@@ -106,21 +106,21 @@ TEST(Gpu, UnknownFamilyIsOneLineListingTheKnownOnes) {
 }
 
 TEST(Gpu, MissingDriverNamesThePackage) {
-  setenv("AOVAR_RADV_ICD", "/nonexistent/radeon_icd.x86_64.json", 1);
+  test::ScopedEnv icd("AOVAR_RADV_ICD", "/nonexistent/radeon_icd.x86_64.json");
   try {
     gpu::find_radeon_icd();
     FAIL() << "a missing ICD was accepted";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("mesa-vulkan-drivers"), std::string::npos) << e.what();
   }
-  unsetenv("AOVAR_RADV_ICD");
 }
 
 TEST(Gpu, CrashInOneFamilyLeavesTheOthers) {
   REQUIRE_RADV();
-  setenv("AOVAR_GPU_TEST_CRASH", "polaris10", 1);
-  const auto a = analyze({"navi21", "polaris10", "vangogh"});
-  unsetenv("AOVAR_GPU_TEST_CRASH");
+  const auto a = [] {
+    test::ScopedEnv crash("AOVAR_GPU_TEST_CRASH", "polaris10");
+    return analyze({"navi21", "polaris10", "vangogh"});
+  }();
   ASSERT_EQ(a.families.size(), 3u);
   EXPECT_TRUE(a.families[0].ok()) << a.families[0].error;
   EXPECT_EQ(a.families[0].variants.size(), 3u);

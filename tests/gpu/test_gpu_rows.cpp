@@ -7,21 +7,13 @@
 
 #include "gpu/families.h"
 #include "gpu/family_specs.h"
+#include "radv_support.h"
 #include "table/table.h"
 #include "test_support.h"
 #include "util/fs.h"
 
 namespace aovar::test {
 namespace {
-
-#define REQUIRE_RADV()                                    \
-  do {                                                    \
-    try {                                                 \
-      gpu::find_radeon_icd();                             \
-    } catch (const std::exception& e) {                   \
-      GTEST_SKIP() << "RADV not installed: " << e.what(); \
-    }                                                     \
-  } while (0)
 
 const std::string kVariants =
     " --size 96x54 --reps 2 --rays 32 --batch 4 --no-prune --variants 'alchemy-s0[48]-p0-nrgb8-zdep-rst-d32-bsep-x1-hp'"

@@ -1,16 +1,12 @@
 // --reps auto (issue 18): the stopping rule on synthetic rounds (no timing: which pipelines go on after a
-// round), what a real --reps auto measurement reports per row, its place in the inputs hash and its CLI.
+// round). A real --reps auto measurement and its CLI: test_measure.cpp; its place in the inputs hash:
+// test_reuse.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
-
-#include <nlohmann/json.hpp>
 
 #include "measure/measure.h"
 #include "measure/timing.h"
-#include "render_support.h"
-#include "test_support.h"
 
 namespace aovar::test {
 namespace {
@@ -86,68 +82,6 @@ TEST(Reps, StopNamesRoundTrip) {
   for (Stop s : {Stop::running, Stop::fixed, Stop::target, Stop::cap})
     EXPECT_EQ(measure::stop_from_name(measure::stop_name(s)), s);
   EXPECT_EQ(measure::stop_from_name(""), Stop::fixed) << "rows written before --reps auto";
-}
-
-// A real --reps auto measurement: every row went past the minimum and either reached the target or says
-// it stopped on the cap; measure.json holds each row's reach and the run's widest half-width.
-TEST(Measure, RepsAutoRowsReachTheTargetOrSayCap) {
-  TempDir dir;
-  auto o = tiny_measure(dir.path(), {"alchemy-s08-p0-nrgb8-zdep-rst-d32-bsep-x1-hp", "gtao-s04-p0-nrgb8-zdep-rst-d32-bsep-x1-hp"},
-                        "alchemy-s04-p0-nrgb8-zdep-rst-d32-bsep-x1-hp");
-  o.reps = 10;
-  o.auto_reps = AutoReps{0.02, 0.5, 200};
-  o.images = false;
-  const auto r = measure::run_measure(o);
-  ASSERT_EQ(r.rows.size(), 3u);
-  for (const auto& row : r.rows) {
-    const std::size_t rounds = row.rounds.ratios.size();
-    EXPECT_GE(rounds, 10u) << row.variant;
-    if (row.stop == Stop::target) {
-      EXPECT_LE(row.ci_half_width, 0.02) << row.variant;
-    } else {
-      EXPECT_EQ(row.stop, Stop::cap) << row.variant;
-      EXPECT_GT(row.ci_half_width, 0.02) << row.variant << ": the target is looked at before the cap";
-    }
-  }
-  std::ifstream in(o.out / "measure.json");
-  const auto doc = nlohmann::json::parse(in);
-  EXPECT_EQ(doc.at("reps_auto").at("ci_target"), 0.02);
-  EXPECT_EQ(doc.at("reps_reached").at("rows"), 2) << "the baseline's timing-only row is not counted";
-  for (const auto& row : doc.at("rows")) {
-    EXPECT_TRUE(row.at("stop") == "target" || row.at("stop") == "cap") << row.dump();
-    EXPECT_TRUE(row.at("ci_half_width").is_number());
-  }
-}
-
-// Inputs hash: a fixed count, auto, and auto with another target are different measurements.
-TEST(Reuse, RepsAutoAndItsTargetAreInputs) {
-  TempDir dir;
-  auto o = tiny_measure(dir.path(), {"alchemy-s08-p0-nrgb8-zdep-rst-d32-bsep-x1-hp"}, "alchemy-s04-p0-nrgb8-zdep-rst-d32-bsep-x1-hp");
-  o.images = false;
-  o.reps = 10;
-  auto fresh = [&] {
-    int n = 0;
-    for (const auto& row : measure::run_measure(o).rows) n += row.reused ? 0 : 1;
-    return n;
-  };
-  EXPECT_EQ(fresh(), 2);
-  o.auto_reps = AutoReps{0.05, 0.2, 200};
-  EXPECT_EQ(fresh(), 2) << "auto after a fixed 10";
-  EXPECT_EQ(fresh(), 0) << "the same auto";
-  o.auto_reps->ci_target = 0.03;
-  EXPECT_EQ(fresh(), 2) << "another target";
-  o.auto_reps.reset();
-  EXPECT_EQ(fresh(), 2) << "back to a fixed 10 (the earlier fixed rows were replaced)";
-}
-
-TEST(Measure, RepsOptionRefusesWhatIsNotACountOrAuto) {
-  for (const char* reps : {"0", "ten", "auto5"}) {
-    auto r = run_aovar(std::string("measure --reps ") + reps + " --size 16x16 --variants nothing");
-    EXPECT_NE(r.status, 0) << reps;
-    EXPECT_NE(r.output.find("--reps"), std::string::npos) << r.output;
-  }
-  auto r = run_aovar("measure --reps auto --camera-path --size 16x16 --variants 'alchemy-s04-p0-nrgb8-zdep-rst-d32-bsep-x1-hp'");
-  EXPECT_NE(r.output.find("--camera-path needs a fixed --reps N"), std::string::npos) << r.output;
 }
 
 }  // namespace

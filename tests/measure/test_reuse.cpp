@@ -227,5 +227,26 @@ TEST(Reuse, PruneDominatedSkipsPredictedDominatedVariantsAndChecksASample) {
   EXPECT_NE(full.output.find(fmt::format("26 rows ({} measured", skipped + 1)), std::string::npos) << full.output;
 }
 
+// Inputs hash: a fixed count, auto, and auto with another target are different measurements.
+TEST(Reuse, RepsAutoAndItsTargetAreInputs) {
+  TempDir dir;
+  auto o = tiny_measure(dir.path(), {"alchemy-s08-p0-nrgb8-zdep-rst-d32-bsep-x1-hp"}, "alchemy-s04-p0-nrgb8-zdep-rst-d32-bsep-x1-hp");
+  o.images = false;
+  o.reps = 10;
+  auto fresh = [&] {
+    int n = 0;
+    for (const auto& row : measure::run_measure(o).rows) n += row.reused ? 0 : 1;
+    return n;
+  };
+  EXPECT_EQ(fresh(), 2);
+  o.auto_reps = measure::AutoReps{0.05, 0.2, 200};
+  EXPECT_EQ(fresh(), 2) << "auto after a fixed 10";
+  EXPECT_EQ(fresh(), 0) << "the same auto";
+  o.auto_reps->ci_target = 0.03;
+  EXPECT_EQ(fresh(), 2) << "another target";
+  o.auto_reps.reset();
+  EXPECT_EQ(fresh(), 2) << "back to a fixed 10 (the earlier fixed rows were replaced)";
+}
+
 }  // namespace
 }  // namespace aovar::test

@@ -10,20 +10,19 @@
 
 #include "metrics/breakdown.h"
 #include "metrics/breakdown_text.h"
+#include "render_support.h"
 #include "runner/score.h"
+#include "test_support.h"
 
 namespace aovar::test {
 namespace {
 
 using image::FloatImage;
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-constexpr float kInf = std::numeric_limits<float>::infinity();
 
-FloatImage filled(int w, int h, float v) { return {w, h, std::vector<float>(static_cast<std::size_t>(w) * h, v)}; }
 
 // 10 x 10, depth 1 on the left half (x < 5) and 2 on the right: the median (lower, nearest rank) is 1.
 FloatImage two_depths() {
-  FloatImage d = filled(10, 10, 1.0f);
+  FloatImage d = filled_image(10, 10, 1.0f);
   for (int y = 0; y < 10; ++y)
     for (int x = 5; x < 10; ++x) d.at(x, y) = 2.0f;
   return d;
@@ -31,7 +30,7 @@ FloatImage two_depths() {
 
 TEST(Breakdown, ErrorOnlyInTheEdgeBand) {
   // Band 1 px on a 10 x 10 image: the outer ring, 100 - 8 * 8 = 36 pixels, off by +0.2.
-  const FloatImage ref = filled(10, 10, 0.5f);
+  const FloatImage ref = filled_image(10, 10, 0.5f);
   FloatImage img = ref;
   for (int y = 0; y < 10; ++y)
     for (int x = 0; x < 10; ++x)
@@ -59,7 +58,7 @@ TEST(Breakdown, ErrorOnlyInTheEdgeBand) {
 }
 
 TEST(Breakdown, ErrorOnlyInTheFarHalfAndTooLight) {
-  const FloatImage ref = filled(10, 10, 0.5f), depth = two_depths();
+  const FloatImage ref = filled_image(10, 10, 0.5f), depth = two_depths();
   FloatImage img = ref;
   for (int y = 0; y < 10; ++y)
     for (int x = 5; x < 10; ++x) img.at(x, y) = 0.8f;  // the far half, lighter by 0.3
@@ -86,10 +85,10 @@ TEST(Breakdown, ErrorOnlyInTheFarHalfAndTooLight) {
 
 TEST(Breakdown, LightAndDarkShareTheSquaredError) {
   // Four pixels: +0.1, -0.2, -0.2, exact. Squared: 0.01, 0.04, 0.04 -> light 1/9, dark 8/9.
-  const FloatImage ref = filled(2, 2, 0.5f);
+  const FloatImage ref = filled_image(2, 2, 0.5f);
   FloatImage img = ref;
   img.pixels = {0.6f, 0.3f, 0.3f, 0.5f};
-  const auto b = metrics::error_breakdown(img, ref, {}, filled(2, 2, 1.0f), 0.0);
+  const auto b = metrics::error_breakdown(img, ref, {}, filled_image(2, 2, 1.0f), 0.0);
   EXPECT_NEAR(b.light.error_share, 1.0 / 9, 1e-6);
   EXPECT_NEAR(b.dark.error_share, 8.0 / 9, 1e-6);
   EXPECT_DOUBLE_EQ(b.light.pixel_share, 0.25);
@@ -106,10 +105,10 @@ TEST(Breakdown, LightAndDarkShareTheSquaredError) {
 TEST(Breakdown, BackgroundAndNonFinitePixelsAreLeftOut) {
   // Background and NaN pixels carry huge "errors" that must change nothing; a compared pixel without a finite
   // depth is in neither half.
-  const FloatImage ref = filled(4, 1, 0.5f);
+  const FloatImage ref = filled_image(4, 1, 0.5f);
   FloatImage img = ref;
   img.pixels = {0.7f, 0.0f, kNaN, 0.5f};
-  FloatImage depth = filled(4, 1, 1.0f);
+  FloatImage depth = filled_image(4, 1, 1.0f);
   depth.pixels[3] = kInf;
   const std::vector<std::uint8_t> background = {0, 1, 0, 0};
   const auto b = metrics::error_breakdown(img, ref, background, depth, 0.0);
@@ -121,15 +120,15 @@ TEST(Breakdown, BackgroundAndNonFinitePixelsAreLeftOut) {
 }
 
 TEST(Breakdown, EmptyAndIdenticalAreNaNNotZero) {
-  const FloatImage ref = filled(3, 3, 0.5f);
+  const FloatImage ref = filled_image(3, 3, 0.5f);
   // Nothing compared: every figure NaN.
-  const auto empty = metrics::error_breakdown(ref, ref, std::vector<std::uint8_t>(9, 1), filled(3, 3, 1.0f), 1.0);
+  const auto empty = metrics::error_breakdown(ref, ref, std::vector<std::uint8_t>(9, 1), filled_image(3, 3, 1.0f), 1.0);
   EXPECT_TRUE(std::isnan(empty.edge.pixel_share));
   EXPECT_TRUE(std::isnan(empty.far.rmse));
   EXPECT_TRUE(std::isnan(empty.split_depth));
   EXPECT_EQ(metrics::breakdown_reading(empty), "no error to attribute");
   // Identical: pixel shares known, no squared error to share out.
-  const auto same = metrics::error_breakdown(ref, ref, {}, filled(3, 3, 1.0f), 1.0);
+  const auto same = metrics::error_breakdown(ref, ref, {}, filled_image(3, 3, 1.0f), 1.0);
   EXPECT_DOUBLE_EQ(same.edge.pixel_share, 8.0 / 9);
   EXPECT_TRUE(std::isnan(same.edge.error_share));
   EXPECT_DOUBLE_EQ(same.interior.rmse, 0.0);
@@ -140,12 +139,12 @@ TEST(Breakdown, EmptyAndIdenticalAreNaNNotZero) {
 }
 
 TEST(Breakdown, BadInputIsAnErrorNamingIt) {
-  const FloatImage a = filled(3, 3, 0.5f);
-  EXPECT_THROW(metrics::error_breakdown(a, a, {}, filled(2, 3, 1.0f), 1.0), std::invalid_argument);
-  EXPECT_THROW(metrics::error_breakdown(a, a, {}, filled(3, 3, 1.0f), -1.0), std::invalid_argument);
-  EXPECT_THROW(metrics::error_breakdown(a, a, {}, filled(3, 3, 1.0f), kNaN), std::invalid_argument);
+  const FloatImage a = filled_image(3, 3, 0.5f);
+  EXPECT_THROW(metrics::error_breakdown(a, a, {}, filled_image(2, 3, 1.0f), 1.0), std::invalid_argument);
+  EXPECT_THROW(metrics::error_breakdown(a, a, {}, filled_image(3, 3, 1.0f), -1.0), std::invalid_argument);
+  EXPECT_THROW(metrics::error_breakdown(a, a, {}, filled_image(3, 3, 1.0f), kNaN), std::invalid_argument);
   try {
-    metrics::error_breakdown(a, a, {1, 0}, filled(3, 3, 1.0f), 1.0);
+    metrics::error_breakdown(a, a, {1, 0}, filled_image(3, 3, 1.0f), 1.0);
     ADD_FAILURE() << "a short mask must throw";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("background mask has 2 entries"), std::string::npos) << e.what();

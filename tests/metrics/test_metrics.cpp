@@ -20,26 +20,18 @@
 
 #include "image/image.h"
 #include "metrics/metrics.h"
+#include "render_support.h"
 #include "test_support.h"
 
 namespace aovar::test {
 namespace {
 
 using image::FloatImage;
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-constexpr float kInf = std::numeric_limits<float>::infinity();
 
-FloatImage filled(int w, int h, float v) {
-  FloatImage img;
-  img.width = w;
-  img.height = h;
-  img.pixels.assign(static_cast<std::size_t>(w) * h, v);
-  return img;
-}
 
 // Smooth shading plus hard edges, well inside (0, 1), values on a 1/256 grid (exact offsets stay exact).
 FloatImage structured(int w, int h) {
-  FloatImage img = filled(w, h, 0);
+  FloatImage img = filled_image(w, h, 0);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       double v = 0.5 + 0.2 * std::sin(0.35 * x) * std::cos(0.22 * y) + ((x / 8 + y / 8) % 2 ? 0.1 : -0.1);
@@ -186,7 +178,7 @@ TEST(Metrics, SsimFallsWithNoiseAndBlur) {
 TEST(Metrics, SsimMatchesDirectWindowSum) {
   std::mt19937 rng(42);
   std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
-  auto ref = filled(37, 29, 0);
+  auto ref = filled_image(37, 29, 0);
   for (float& v : ref.pixels) v = uniform(rng);
   auto img = with_noise(ref, 0.15, 11);
   EXPECT_NEAR(metrics::compare(img, ref).ssim, direct_ssim(img, ref, {}), 1e-6);
@@ -261,7 +253,7 @@ TEST(Metrics, NanAndInfAreCountedNotAveraged) {
   expect_same_stats(r, metrics::compare(img, ref, one));
 
   // Nothing finite to compare: NaN, not a perfect score.
-  auto all_nan = filled(40, 30, kNaN);
+  auto all_nan = filled_image(40, 30, kNaN);
   auto n = metrics::compare(all_nan, ref);
   EXPECT_EQ(n.health.nan, 40 * 30);
   EXPECT_EQ(n.finite, 0);
@@ -269,7 +261,7 @@ TEST(Metrics, NanAndInfAreCountedNotAveraged) {
 }
 
 TEST(Metrics, OutOfRangeValuesAreCounted) {
-  auto ref = filled(8, 4, 0.5f);
+  auto ref = filled_image(8, 4, 0.5f);
   auto img = ref;
   img.at(0, 0) = -0.25f;  // counted
   img.at(1, 0) = 1.5f;    // counted
@@ -290,7 +282,7 @@ TEST(Metrics, OutOfRangeValuesAreCounted) {
 }
 
 TEST(Metrics, ShareOverTenthIsExact) {
-  auto ref = filled(10, 10, 0.5f);
+  auto ref = filled_image(10, 10, 0.5f);
   auto img = ref;
   std::vector<std::uint8_t> background(100, 0);
   for (int i = 0; i < 100; ++i) {
@@ -314,7 +306,7 @@ TEST(Metrics, ShareOverTenthIsExact) {
 }
 
 TEST(Metrics, SizeMismatchThrowsNamingBothSizes) {
-  auto a = filled(4, 3, 0.5f), b = filled(3, 4, 0.5f);
+  auto a = filled_image(4, 3, 0.5f), b = filled_image(3, 4, 0.5f);
   try {
     metrics::compare(a, b);
     FAIL() << "no exception";
@@ -332,7 +324,7 @@ TEST(Metrics, SizeMismatchThrowsNamingBothSizes) {
 }
 
 TEST(Metrics, HeatmapHasDocumentedColours) {
-  auto ref = filled(4, 3, 0.5f);
+  auto ref = filled_image(4, 3, 0.5f);
   auto img = ref;
   std::vector<std::uint8_t> background(12, 0);
   img.at(1, 0) = 0.25f;    // -0.25 = -scale: red
@@ -382,11 +374,11 @@ TEST(Metrics, HeatmapHasDocumentedColours) {
 TEST(Metrics, FlickerMeasuresFrameToFrameChange) {
   auto a = structured(20, 10);
   EXPECT_EQ(metrics::flicker({a, a, a}), 0.0);
-  auto zero = filled(20, 10, 0.0f), one = filled(20, 10, 1.0f);
+  auto zero = filled_image(20, 10, 0.0f), one = filled_image(20, 10, 1.0f);
   EXPECT_EQ(metrics::flicker({zero, one, zero, one}), 1.0);
 
   // Background and non-finite pixels are left out; the pairs are pooled.
-  auto b = filled(20, 10, 0.25f);
+  auto b = filled_image(20, 10, 0.25f);
   std::vector<std::uint8_t> background(200, 0);
   background[0] = 1;
   b.pixels[0] = 1e6f;  // under the mask
@@ -397,7 +389,7 @@ TEST(Metrics, FlickerMeasuresFrameToFrameChange) {
 
 TEST(Metrics, AverageIsPerPixel) {
   auto a = structured(6, 5);
-  auto b = filled(6, 5, 0.0f);
+  auto b = filled_image(6, 5, 0.0f);
   for (std::size_t i = 0; i < b.pixels.size(); ++i) b.pixels[i] = static_cast<float>(i) / 32.0f;
   auto m = metrics::average(a, b);
   ASSERT_EQ(m.width, 6);

@@ -12,12 +12,12 @@
 #include <vector>
 
 #include "profile/half.h"
+#include "test_support.h"
 
 namespace aovar::test {
 namespace {
 
 using profile::round_to_half;
-constexpr float kInf = std::numeric_limits<float>::infinity();
 
 std::uint32_t bits(float f) { return std::bit_cast<std::uint32_t>(f); }
 

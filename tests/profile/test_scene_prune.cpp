@@ -26,8 +26,6 @@ const std::set<std::string> kDropped = {"alchemy-s04-p0-nrgb8-zdep-rst-d16-bsep-
 const std::string kSelection =
     " --view overview --size 320x180 --reps 1 --warmup 0 --variants 'alchemy-s04-p0-nrgb8-zdep-rst-d*-bsep-x[12]-hp'";
 
-json read_json(const fs::path& file) { return json::parse(util::read_file(file).value()); }
-
 std::set<std::string> row_variants(const json& rows) {
   std::set<std::string> out;
   for (const auto& r : rows)

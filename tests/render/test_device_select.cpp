@@ -116,10 +116,12 @@ TEST(DeviceSelect, AnotherDeviceDoesNotReuseRows) {
   auto wide = run_aovar(args);
   ASSERT_EQ(wide.status, 0) << wide.output;
   const std::string wide_device = device_of_rows();
-  setenv("LP_NATIVE_VECTOR_WIDTH", "128", 1);
-  auto narrow = run_aovar(args);
-  auto narrow_again = run_aovar(args);
-  unsetenv("LP_NATIVE_VECTOR_WIDTH");
+  test::CommandResult narrow, narrow_again;
+  {
+    ScopedEnv width("LP_NATIVE_VECTOR_WIDTH", "128");
+    narrow = run_aovar(args);
+    narrow_again = run_aovar(args);
+  }
   ASSERT_EQ(narrow.status, 0) << narrow.output;
   if (device_of_rows() == wide_device) GTEST_SKIP() << "LP_NATIVE_VECTOR_WIDTH did not change the device name";
   EXPECT_NE(narrow.output.find("1 rows (0 reused)"), std::string::npos) << narrow.output;

@@ -1,7 +1,7 @@
 // The gles backend (OpenGL ES 3.0 through EGL surfaceless on llvmpipe): what only it does. The rendering
-// itself is shared with osmesa (render/gl_plan.cpp) and checked for every method through all backends in
-// test_methods.cpp; here: the device description, mediump measured, the ES-only errors, and GL contexts of
-// both GL backends alive in one process.
+// itself is shared with osmesa (render/gl_plan.cpp); the contract every backend keeps is in
+// test_backend_contract.cpp, every method through all backends in test_methods.cpp. Here: mediump measured,
+// the ES-only errors, and GL contexts of both GL backends alive in one process.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -26,13 +26,9 @@ using render::BackendError;
 const char* kMediump = "alchemy-s08-p1-ndep-zdep-rip-d16-bsep-x4-mp";
 const char* kHighp = "alchemy-s08-p1-ndep-zdep-rip-d16-bsep-x4-hp";
 
-const compile::CompiledSpace& twins() {
-  static const compile::CompiledSpace c = compile_variants({kMediump, kHighp}, /*with_gles=*/true);
-  return c;
-}
-
-render::PipelinePlan plan_of(const std::string& key, const std::string& backend = "gles") {
-  return render::plan_pipeline(twins(), variant_index(twins(), key), target_of(backend));
+const CompiledVariants kGlesTwins({kMediump, kHighp}, /*with_gles=*/true);
+render::PipelinePlan gles_plan(const std::string& key, const std::string& backend = "gles") {
+  return kGlesTwins.plan(key, backend);
 }
 
 std::string error_of(const std::function<void()>& f) {
@@ -44,23 +40,19 @@ std::string error_of(const std::function<void()>& f) {
   return "(no BackendError)";
 }
 
-TEST(Gles, DescribesAnOpenGLES3ContextOnLlvmpipe) {
+// The device description (the rest of it: test_backend_contract.cpp) says whether this driver honours mediump,
+// as measured when the context was made.
+TEST(Gles, DescribesHowTheDriverRunsMediump) {
   auto b = render::make_backend("gles", {});
   const render::DeviceInfo& d = b->info();
-  EXPECT_EQ(d.backend, "gles");
-  EXPECT_NE(d.device.find("llvmpipe"), std::string::npos) << d.device;
-  EXPECT_EQ(d.api_version.rfind("OpenGL ES 3.", 0), 0u) << d.api_version;
-  EXPECT_EQ(d.driver.rfind("Mesa ", 0), 0u) << d.driver;
-  EXPECT_EQ(d.threads, 2);
   EXPECT_EQ(d.precision.rfind(d.ignores_relaxed_precision ? "mediump runs in fp32 (measured" : "mediump honoured", 0), 0u)
       << d.precision;
-  EXPECT_EQ(render::target_of("gles"), variants::Target::gles30);
 }
 
 // The ES programs carry their precision statements, and whether the driver honours mediump is what the
 // backend measured: a mediump variant renders its highp twin's image bit for bit exactly when it says fp32.
 TEST(Gles, MediumpTwinRendersTheHighpImageExactlyWhenTheDriverRunsFp32) {
-  const render::PipelinePlan mp = plan_of(kMediump), hp = plan_of(kHighp);
+  const render::PipelinePlan mp = gles_plan(kMediump), hp = gles_plan(kHighp);
   auto declares = [](const render::PipelinePlan& p, const char* text) {
     for (const auto& s : p.shaders)
       if (s.glsl.find(text) != std::string::npos) return true;
@@ -102,7 +94,7 @@ TEST(Gles, FloatTargetsWithoutExtColorBufferFloatAreRefusedInOneLine) {
   auto backend = render::gles::make_backend_with({}, without);
   EXPECT_EQ(backend->info().precision.rfind("mediump not measured (no float render target)", 0), 0u)
       << backend->info().precision;
-  const std::string what = error_of([&] { backend->prepare(plan_of(kHighp), {64, 36}); });
+  const std::string what = error_of([&] { backend->prepare(gles_plan(kHighp), {64, 36}); });
   EXPECT_NE(what.find("GL_EXT_color_buffer_float"), std::string::npos) << what;
   EXPECT_NE(what.find(kHighp), std::string::npos) << what;
   EXPECT_EQ(what.find('\n'), std::string::npos) << what;
@@ -112,7 +104,7 @@ TEST(Gles, FloatTargetsWithoutExtColorBufferFloatAreRefusedInOneLine) {
 // shaders): the error names the program key and the template line of the #line directives (Mesa's ES compiler
 // reports source string 0 whatever the directive says, so the line is what it can give).
 TEST(Gles, EsOnlyCompileErrorNamesTheProgramAndTheTemplateLine) {
-  render::PipelinePlan plan = plan_of(kHighp);
+  render::PipelinePlan plan = gles_plan(kHighp);
   plan.shaders.back().glsl = "#version 300 es\n#line 41 3\nout vec4 broken_out;\nvoid main() { broken_out = vec4(1.0); }\n";
   const std::string key = plan.shaders.back().program_key;
   auto backend = render::make_backend("gles", {});
@@ -121,44 +113,6 @@ TEST(Gles, EsOnlyCompileErrorNamesTheProgramAndTheTemplateLine) {
   EXPECT_NE(what.find(":41("), std::string::npos) << what;  // "<source>:<line>(<column>)"
   EXPECT_NE(what.find("precision"), std::string::npos) << what;
   EXPECT_EQ(what.find('\n'), std::string::npos) << what;
-}
-
-// Read-back through ES (glReadPixels of RGBA/FLOAT from an FBO; ES has no glGetTexImage): row order, exact
-// values, NaN and Inf, at an odd width.
-TEST(Gles, ReadBackKeepsRowOrderExactValuesNaNAndInf) {
-  render::PipelinePlan plan;
-  plan.variant = "test-readback";
-  auto shader = [](const std::string& key, variants::StageKind stage, const std::string& glsl) {
-    render::Shader sh;
-    sh.program_key = key;
-    sh.stage = stage;
-    sh.glsl = glsl;
-    return sh;
-  };
-  plan.shaders = {
-      shader("fullscreen.vert", variants::StageKind::vertex,
-             "#version 300 es\nvoid main() { gl_Position = vec4(gl_VertexID == 1 ? 3.0 : -1.0, "
-             "gl_VertexID == 2 ? 3.0 : -1.0, 0.0, 1.0); }\n"),
-      // highp int too: ES fragment shaders default int to mediump, and float(mediump int) is mediump, which
-      // llvmpipe runs in fp16 (3001 came back as 3000 without it).
-      shader("pattern.frag", variants::StageKind::fragment,
-             std::string("#version 300 es\nprecision highp float;\nprecision highp int;\n"
-                         "layout(location = 0) out vec4 o_color;\n") + kReadbackPatternMain)};
-  plan.textures = {render::Texture{"result", render::Format::r32f}};
-  render::Draw d;
-  d.name = d.pass = "pattern";
-  d.vertex = 0;
-  d.fragment = 1;
-  d.outputs = {render::TextureRef{0}};
-  plan.draws = {d};
-  plan.result = 0;
-  auto backend = render::make_backend("gles", {});
-  auto p = backend->prepare(plan, {37, 5});
-  scene::View view;
-  render::FrameSetup f;
-  f.view = &view;
-  backend->render(*p, f);
-  expect_readback_pattern(backend->read_result(*p), 37, 5);
 }
 
 // SAO's z pyramid (one draw per MIP level reading the level below it alone, which ES does by narrowing the
@@ -193,8 +147,8 @@ TEST(Gles, SharesAProcessWithOsmesaAndDeletesItsObjects) {
   osmesa->set_scene(sc);
   render::gl::GlNames names;
   {
-    auto pg = gles->prepare(plan_of(kHighp), {96, 54});
-    auto po = osmesa->prepare(plan_of(kHighp, "osmesa"), {96, 54});
+    auto pg = gles->prepare(gles_plan(kHighp), {96, 54});
+    auto po = osmesa->prepare(gles_plan(kHighp, "osmesa"), {96, 54});
     render::FrameSetup f;
     f.view = &sc.views.front();
     f.radius = sc.ao_radius;

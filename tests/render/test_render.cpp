@@ -9,17 +9,13 @@
 
 #include <fmt/format.h>
 
-#include <nlohmann/json.hpp>
-
-#include "measure/measure.h"
-#include "util/fs.h"
 #include "render_support.h"
 #include "test_support.h"
 
 namespace aovar::test {
 namespace {
 
-const std::vector<std::string> kBackends = {"lavapipe", "osmesa"};
+const std::vector<std::string> kRenderBackends = {"lavapipe", "osmesa"};
 
 // A handful of variants covering every buffer format, blur, resolution and precision choice.
 const std::vector<std::string> kVariety = {
@@ -74,10 +70,10 @@ TEST(Render, LavapipeAndOsmesaAgree) {
   const auto& c = variety();
   std::map<std::string, image::FloatImage> images[2];
   for (int b = 0; b < 2; ++b) {
-    auto backend = render::make_backend(kBackends[b], {});
+    auto backend = render::make_backend(kRenderBackends[b], {});
     backend->set_scene(sc);
     for (const auto& key : kVariety) {
-      auto plan = render::plan_pipeline(c, variant_index(c, key), target_of(kBackends[b]));
+      auto plan = render::plan_pipeline(c, variant_index(c, key), target_of(kRenderBackends[b]));
       images[b][key] = render_plan(*backend, plan, sc.views.front(), {320, 180}, sc.ao_radius, 3);
     }
   }
@@ -92,7 +88,7 @@ TEST(Render, OpenPlaneIsOpenOnBothBackends) {
   auto view = floor_view();
   auto sc = quad_scene({kFloor}, view, 0.5f);
   const auto& c = variety();
-  for (const auto& b : kBackends) {
+  for (const auto& b : kRenderBackends) {
     auto backend = render::make_backend(b, {});
     backend->set_scene(sc);
     for (const auto& key : kVariety) {
@@ -115,7 +111,7 @@ TEST(Render, InnerCornerIsDarkerThanTheOpenFloorNextToIt) {
   ASSERT_TRUE(pc.x >= 0 && pc.x < size.width && pc.y >= 0 && pc.y < size.height);
   ASSERT_TRUE(po.x >= 0 && po.x < size.width && po.y >= 0 && po.y < size.height);
   const auto& c = variety();
-  for (const auto& b : kBackends) {
+  for (const auto& b : kRenderBackends) {
     auto backend = render::make_backend(b, {});
     backend->set_scene(sc);
     for (const auto& key : kVariety) {
@@ -133,7 +129,7 @@ TEST(Render, ProgressiveHalvesAlternateAndAverageToTheFullKernel) {
   auto c = compile_variants({half, full});
   auto sc = scene::load_scene("builtin:stairs");
   const auto& view = sc.views.front();
-  for (const auto& b : kBackends) {
+  for (const auto& b : kRenderBackends) {
     auto backend = render::make_backend(b, {});
     backend->set_scene(sc);
     // The raw AO pass of each frame (before averaging and blur): parity 0 and 1 use different samples.
@@ -179,79 +175,6 @@ TEST(Render, CameraPathMovesTheViewAndLoops) {
   auto first = frame(0), last = frame(view.path_frames - 1), looped = frame(view.path_frames);
   EXPECT_GT(compare(first, last).mean_abs, 1e-3) << "the camera moved along the path";
   EXPECT_EQ(compare(first, looped).max_abs, 0.0) << "frame path_frames is the path's first pose again";
-}
-
-TEST(Measure, WritesJsonAndImagesAndReusesUnchangedRows) {
-  TempDir dir;
-  measure::MeasureOptions o;
-  o.manifest = source_dir() / "shader_src" / "aovar.toml";
-  o.scene = "builtin:spheres";
-  o.globs = {"alchemy-s0[48]-p0-nrg8-zdep-rst-d16-bsep-x1-hp"};
-  o.size = {160, 90};
-  o.reps = 3;
-  o.out = dir.path();
-  auto first = measure::run_measure(o);
-  ASSERT_EQ(first.rows.size(), 2u);
-  EXPECT_EQ(first.reused, 0);
-  auto json = nlohmann::json::parse(util::read_file(dir / "measure.json").value());
-  ASSERT_EQ(json.at("rows").size(), 2u);
-  for (std::size_t i = 0; i < 2; ++i) {
-    const auto& row = json["rows"][i];
-    EXPECT_EQ(row.at("backend"), "lavapipe");
-    EXPECT_EQ(row.at("size"), "160x90");
-    EXPECT_EQ(row.at("time_ms").at("n"), 3);
-    EXPECT_GT(row.at("time_ms").at("min").get<double>(), 0.0);
-    EXPECT_TRUE(row.at("passes").contains("ao"));
-    EXPECT_TRUE(row.at("passes").contains("blur"));
-    auto img = image::read_pfm(dir / row.at("image").get<std::string>());
-    EXPECT_EQ(img.pixels, first.rows[i].result.pixels) << "the PFM holds the read-back floats bit for bit";
-    EXPECT_TRUE(std::filesystem::exists(dir / row.at("preview").get<std::string>()));
-  }
-  const auto& ref_row = first.rows[1].variant == measure::kDefaultBaseline ? first.rows[1] : first.rows[0];
-  const auto& other = &ref_row == &first.rows[0] ? first.rows[1] : first.rows[0];
-  ASSERT_EQ(ref_row.variant, measure::kDefaultBaseline);
-  EXPECT_DOUBLE_EQ(other.rel_time, other.time_ms.min / ref_row.time_ms.min) << "both were timed in the same rounds";
-
-  // One contact sheet for the backend and view: both 160 x 90 images side by side under their labels.
-  ASSERT_EQ(json.at("contact_sheets"), nlohmann::json::array({"contact_sheet-lavapipe-overview.png"}));
-  EXPECT_TRUE(std::filesystem::exists(dir / "contact_sheet-lavapipe-overview.png"));
-
-  auto second = measure::run_measure(o);
-  EXPECT_EQ(second.reused, 2) << "identical inputs: nothing is measured again";
-  EXPECT_TRUE(second.runs.empty());
-  EXPECT_EQ(second.contact_sheets.size(), 1u) << "reused rows still make the sheet, from their files";
-  o.size = {160, 96};  // a changed input measures again
-  auto third = measure::run_measure(o);
-  EXPECT_EQ(third.reused, 0);
-
-  // A reference outside the selection gets its own row, and it is reused with the rest.
-  o.globs = {"alchemy-s04-p0-nrg8-zdep-rst-d16-bsep-x1-hp"};
-  auto fourth = measure::run_measure(o);
-  ASSERT_EQ(fourth.rows.size(), 2u);
-  EXPECT_EQ(std::count_if(fourth.rows.begin(), fourth.rows.end(), [](const auto& r) { return r.is_baseline; }), 1);
-  auto fifth = measure::run_measure(o);
-  EXPECT_EQ(fifth.reused, 2);
-  EXPECT_EQ(fifth.rows.size(), 2u);
-}
-
-TEST(MeasureCli, BadInputGetsOneLineErrors) {
-  const std::pair<const char*, const char*> cases[] = {  // arguments, what the message must name
-      {"--size 640by360", "--size"},
-      {"--scene /nonexistent/scene.obj --variants 'alchemy-s04-*'", "/nonexistent/scene.obj"},
-      {"--variants 'nothing-like-this-*'", "no variant matches"},
-      {"--backend metal --variants 'alchemy-s04-*'", "unknown backend 'metal'"},
-      {"--param ao.nonsense=2 --variants 'alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp'", "ao.nonsense"},
-      // Outside the manifest's [0, 10]: refused with the parameter, the range and the manifest line.
-      {"--param ao.intensity=1e9 --variants 'alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp'",
-       "outside the range [0, 10] that "},
-      {"--param ao.intensity=-1 --variants 'alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp'", "[0, 10]"},
-  };
-  for (const auto& [args, expected] : cases) {
-    auto r = run_aovar(std::string("measure ") + args);
-    EXPECT_NE(r.status, 0) << args;
-    EXPECT_NE(r.output.find(expected), std::string::npos) << args << ": " << r.output;
-    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": one line: " << r.output;
-  }
 }
 
 }  // namespace

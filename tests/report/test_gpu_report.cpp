@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "cost_rows.h"
 #include "report/gpu_section.h"
 #include "report/report.h"
 #include "table/select.h"
@@ -17,17 +18,7 @@ using namespace aovar::table;
 // A row measured here (time `ms`, error `rmse`) with an estimate on each family given.
 CostRow row(const std::string& variant, std::map<std::string, std::string> axes, double ms, double rmse,
             std::map<std::string, double> est) {
-  CostRow r;
-  r.variant = variant;
-  r.axes = std::move(axes);
-  r.scene = "s";
-  r.view = "v";
-  r.backend = "lavapipe";
-  r.time_ms = {ms, ms, ms, 5};
-  metrics::ErrorStats e;
-  e.rmse = rmse;
-  e.ssim = 1 - rmse;
-  r.error = e;
+  CostRow r = test::axes_row(variant, std::move(axes), ms, rmse);
   for (const auto& [family, t] : est) {
     GpuPassCost ao;
     ao.pass = "ao";

@@ -8,6 +8,7 @@
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb/stb_image.h>
 
+#include "cost_rows.h"
 #include "report/report.h"
 #include "test_support.h"
 #include "util/fs.h"
@@ -15,27 +16,14 @@
 namespace aovar::test {
 namespace {
 
-table::CostRow row(const std::string& variant, std::map<std::string, std::string> axes, double ms, double rmse) {
-  table::CostRow r;
-  r.variant = variant;
-  r.axes = std::move(axes);
-  r.scene = "s";
-  r.view = "v";
-  r.backend = "lavapipe";
-  r.time_ms.min = ms;
-  r.time_ms.n = 3;
-  r.error = metrics::ErrorStats{rmse, rmse, 20, 0.9, 0, rmse};
-  return r;
-}
-
 TEST(Report, SeedPairsMatchRowsDifferingInOneAxis) {
   table::CostTable t;
-  t.rows.push_back(row("a-bsep", {{"algorithm", "alchemy"}, {"blur", "separable"}, {"samples", "8"}}, 10, 0.050));
-  t.rows.push_back(row("a-bbil", {{"algorithm", "alchemy"}, {"blur", "bilateral"}, {"samples", "8"}}, 12, 0.052));
-  t.rows.push_back(row("b-bsep", {{"algorithm", "alchemy"}, {"blur", "separable"}, {"samples", "16"}}, 20, 0.040));
-  t.rows.push_back(row("b-bbil", {{"algorithm", "alchemy"}, {"blur", "bilateral"}, {"samples", "16"}}, 30, 0.044));
+  t.rows.push_back(axes_row("a-bsep", {{"algorithm", "alchemy"}, {"blur", "separable"}, {"samples", "8"}}, 10, 0.050));
+  t.rows.push_back(axes_row("a-bbil", {{"algorithm", "alchemy"}, {"blur", "bilateral"}, {"samples", "8"}}, 12, 0.052));
+  t.rows.push_back(axes_row("b-bsep", {{"algorithm", "alchemy"}, {"blur", "separable"}, {"samples", "16"}}, 20, 0.040));
+  t.rows.push_back(axes_row("b-bbil", {{"algorithm", "alchemy"}, {"blur", "bilateral"}, {"samples", "16"}}, 30, 0.044));
   // Differs in two axes from every other row: must not be matched.
-  t.rows.push_back(row("c-bbil", {{"algorithm", "gtao"}, {"blur", "bilateral"}, {"samples", "32"}}, 99, 0.9));
+  t.rows.push_back(axes_row("c-bbil", {{"algorithm", "gtao"}, {"blur", "bilateral"}, {"samples", "32"}}, 99, 0.9));
   table::mark_pareto(t);
   auto pairs = report::seed_pairs(t);
   auto blur = std::find_if(pairs.begin(), pairs.end(), [](const auto& p) { return p.axis == "blur"; });
@@ -82,9 +70,9 @@ TEST(Report, WhereTheErrorComesFromPerView) {
     return b;
   };
   table::CostTable t;
-  t.rows.push_back(row("alchemy-fast", {{"algorithm", "alchemy"}}, 10, 0.10));
-  t.rows.push_back(row("gtao-good", {{"algorithm", "gtao"}}, 20, 0.05));
-  t.rows.push_back(row("sao-bad", {{"algorithm", "sao"}}, 30, 0.20));  // dominated
+  t.rows.push_back(axes_row("alchemy-fast", {{"algorithm", "alchemy"}}, 10, 0.10));
+  t.rows.push_back(axes_row("gtao-good", {{"algorithm", "gtao"}}, 20, 0.05));
+  t.rows.push_back(axes_row("sao-bad", {{"algorithm", "sao"}}, 30, 0.20));  // dominated
   t.rows[0].error->breakdown = breakdown(0.7, 0.08);
   t.rows[1].error->breakdown = breakdown(0.9, 0.04);
   t.rows[2].error->breakdown = breakdown(0.1, 0.5);
@@ -119,14 +107,14 @@ TEST(Report, WhereTheErrorComesFromPerView) {
 TEST(Report, CliWritesReportsFromATable) {
   table::CostTable t;
   auto add = [&](const std::string& v, const std::string& view, double ms, double rmse) {
-    auto r = row(v, {{"algorithm", v.substr(0, v.find('-'))}}, ms, rmse);
+    auto r = axes_row(v, {{"algorithm", v.substr(0, v.find('-'))}}, ms, rmse);
     r.view = view;
     t.rows.push_back(r);
   };
   add("alchemy-fast", "a", 10, 0.10), add("alchemy-fast", "b", 11, 0.12);
   add("gtao-good", "a", 20, 0.05), add("gtao-good", "b", 22, 0.06);
   add("sao-bad", "a", 30, 0.20), add("sao-bad", "b", 31, 0.21);  // dominated on both views
-  auto predicted = row("hbao-guess", {{"algorithm", "hbao"}}, 15, 0);
+  auto predicted = axes_row("hbao-guess", {{"algorithm", "hbao"}}, 15, 0);
   predicted.error.reset();
   predicted.predicted = true;
   predicted.time_ms.n = 0;
@@ -157,7 +145,7 @@ TEST(Report, HtmlRendersInHeadlessChromium) {
   table::CostTable t;
   for (int i = 0; i < 12; ++i) {
     std::string alg = i % 2 ? "gtao" : "alchemy";
-    t.rows.push_back(row(alg + "-" + std::to_string(i), {{"algorithm", alg}, {"samples", std::to_string(4 + i)}},
+    t.rows.push_back(axes_row(alg + "-" + std::to_string(i), {{"algorithm", alg}, {"samples", std::to_string(4 + i)}},
                          10 + 2 * i, 0.1 - 0.005 * i + 0.01 * (i % 3)));
   }
   table::mark_pareto(t);

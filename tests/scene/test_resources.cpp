@@ -16,11 +16,6 @@ using namespace aovar;
 namespace fs = std::filesystem;
 using test::TempDir;
 
-void write(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p, std::ios::binary) << text;
-}
-
 // One triangle's positions (36 bytes, floats) as a .bin.
 std::string triangle_bin() {
   const float p[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
@@ -38,7 +33,7 @@ std::string gltf_naming(const std::string& uri, std::uint64_t byte_length = 36, 
          std::to_string(byte_length) + R"(, "uri": ")" + uri + R"("}])" + images + "}";
 }
 
-std::string load_error(const fs::path& gltf, std::uint64_t memory_limit = 64u << 20) {
+std::string gltf_load_error(const fs::path& gltf, std::uint64_t memory_limit = 64u << 20) {
   scene::LoadOptions o;
   o.memory_limit = memory_limit;
   return test::thrown_message([&] { scene::load_scene(gltf.string(), o); });
@@ -46,30 +41,30 @@ std::string load_error(const fs::path& gltf, std::uint64_t memory_limit = 64u <<
 
 TEST(ScenePaths, BuffersBesideOrBelowTheSceneLoad) {
   TempDir dir;
-  write(dir / "scene/tri.bin", triangle_bin());
-  write(dir / "scene/sub/deep/tri.bin", triangle_bin());
-  write(dir / "scene/my tri.bin", triangle_bin());
+  test::write_text(dir / "scene/tri.bin", triangle_bin());
+  test::write_text(dir / "scene/sub/deep/tri.bin", triangle_bin());
+  test::write_text(dir / "scene/my tri.bin", triangle_bin());
   for (const std::string uri : {"tri.bin", "./tri.bin", "sub/deep/tri.bin", "sub/./deep/tri.bin", "my%20tri.bin",
                                 "my+tri.bin", "sub/deep/..tri.bin.missing"}) {
-    write(dir / "scene/s.gltf", gltf_naming(uri));
-    const std::string e = load_error(dir / "scene/s.gltf");
+    test::write_text(dir / "scene/s.gltf", gltf_naming(uri));
+    const std::string e = gltf_load_error(dir / "scene/s.gltf");
     if (uri.ends_with(".missing"))  // ".." inside a name is not a segment: allowed, and then not found
       EXPECT_TRUE(test::has_text(e, "cannot open")) << e;
     else
       EXPECT_EQ(e, "") << uri;
   }
   // Through a relative scene path, and a data: URI (no file at all).
-  write(dir / "scene/s.gltf", gltf_naming("tri.bin"));
-  EXPECT_EQ(load_error(fs::relative(dir / "scene/s.gltf")), "");
-  write(dir / "scene/inline.gltf",
+  test::write_text(dir / "scene/s.gltf", gltf_naming("tri.bin"));
+  EXPECT_EQ(gltf_load_error(fs::relative(dir / "scene/s.gltf")), "");
+  test::write_text(dir / "scene/inline.gltf",
         gltf_naming("data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"));
-  EXPECT_EQ(load_error(dir / "scene/inline.gltf"), "");
+  EXPECT_EQ(gltf_load_error(dir / "scene/inline.gltf"), "");
 }
 
 TEST(ScenePaths, EveryWayOutOfTheFolderIsRefusedNamingSceneAndUri) {
   TempDir dir;
-  write(dir / "outside.bin", triangle_bin());
-  write(dir / "scene/tri.bin", triangle_bin());
+  test::write_text(dir / "outside.bin", triangle_bin());
+  test::write_text(dir / "scene/tri.bin", triangle_bin());
   fs::create_symlink("../outside.bin", dir / "scene/link.bin");
   fs::create_symlink(dir.path(), dir / "scene/linkdir");
   const std::pair<std::string, std::string> cases[] = {
@@ -99,18 +94,18 @@ TEST(ScenePaths, EveryWayOutOfTheFolderIsRefusedNamingSceneAndUri) {
       {"sub/", "names a folder"},
   };
   for (const auto& [uri, why] : cases) {
-    write(dir / "scene/s.gltf", gltf_naming(uri));
-    const std::string e = load_error(dir / "scene/s.gltf");
+    test::write_text(dir / "scene/s.gltf", gltf_naming(uri));
+    const std::string e = gltf_load_error(dir / "scene/s.gltf");
     EXPECT_TRUE(test::has_text(e, "s.gltf: error: buffer 0 '")) << uri << ": " << e;
     EXPECT_TRUE(test::has_text(e, why)) << uri << ": " << e;
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
   }
   // An image is never read (AO needs no texture), but the same policy holds for it.
-  write(dir / "scene/s.gltf", gltf_naming("tri.bin", 36, "../secret.png"));
-  const std::string image = load_error(dir / "scene/s.gltf");
+  test::write_text(dir / "scene/s.gltf", gltf_naming("tri.bin", 36, "../secret.png"));
+  const std::string image = gltf_load_error(dir / "scene/s.gltf");
   EXPECT_TRUE(test::has_text(image, "s.gltf: error: image 0 '../secret.png' is refused: it has a '..' segment")) << image;
-  write(dir / "scene/s.gltf", gltf_naming("tri.bin", 36, "textures/missing.png"));
-  EXPECT_EQ(load_error(dir / "scene/s.gltf"), "");
+  test::write_text(dir / "scene/s.gltf", gltf_naming("tri.bin", 36, "textures/missing.png"));
+  EXPECT_EQ(gltf_load_error(dir / "scene/s.gltf"), "");
 }
 
 TEST(ScenePaths, ResolverKeepsEveryAcceptedPathInsideTheFolder) {
@@ -127,16 +122,16 @@ TEST(ScenePaths, ResolverKeepsEveryAcceptedPathInsideTheFolder) {
 
 TEST(SceneBuffers, DeclaredAndRealSizesAreCheckedBeforeReading) {
   TempDir dir;
-  write(dir / "s/tri.bin", triangle_bin());
+  test::write_text(dir / "s/tri.bin", triangle_bin());
   // A 50 GB sparse file whose byteLength claims 36 bytes: refused from its size, never read.
   { std::ofstream(dir / "s/huge.bin"); }
   fs::resize_file(dir / "s/huge.bin", 50'000'000'000ull);
-  write(dir / "s/a.gltf", gltf_naming("huge.bin"));
-  std::string e = load_error(dir / "s/a.gltf");
+  test::write_text(dir / "s/a.gltf", gltf_naming("huge.bin"));
+  std::string e = gltf_load_error(dir / "s/a.gltf");
   EXPECT_TRUE(test::has_text(e, "a.gltf: error: buffer 0 'huge.bin': is a file of 46.6 GiB, more than the")) << e;
   // A byteLength of 50 GB on a small file.
-  write(dir / "s/a.gltf", gltf_naming("tri.bin", 50'000'000'000ull));
-  e = load_error(dir / "s/a.gltf");
+  test::write_text(dir / "s/a.gltf", gltf_naming("tri.bin", 50'000'000'000ull));
+  e = gltf_load_error(dir / "s/a.gltf");
   EXPECT_TRUE(test::has_text(e, "a.gltf: error: buffer 0 'tri.bin': declares a byteLength of 46.6 GiB")) << e;
   // Two buffers that fit alone but not together.
   { std::ofstream(dir / "s/40m.bin"); }
@@ -144,13 +139,13 @@ TEST(SceneBuffers, DeclaredAndRealSizesAreCheckedBeforeReading) {
   std::string two = gltf_naming("40m.bin", 40u << 20);
   const std::size_t buffers = two.find("\"buffers\": [") + 12;
   two.insert(buffers, R"({"byteLength": 41943040, "uri": "40m.bin"}, )");
-  write(dir / "s/two.gltf", two);
-  e = load_error(dir / "s/two.gltf");
+  test::write_text(dir / "s/two.gltf", two);
+  e = gltf_load_error(dir / "s/two.gltf");
   EXPECT_TRUE(test::has_text(e, "two.gltf: error: buffer 1 '40m.bin'")) << e;
   // A FIFO and a directory named as buffers: the checked reader refuses them without blocking.
   ASSERT_EQ(::mkfifo((dir / "s/fifo.bin").c_str(), 0644), 0);
-  write(dir / "s/a.gltf", gltf_naming("fifo.bin"));
-  e = load_error(dir / "s/a.gltf");
+  test::write_text(dir / "s/a.gltf", gltf_naming("fifo.bin"));
+  e = gltf_load_error(dir / "s/a.gltf");
   EXPECT_TRUE(test::has_text(e, "a.gltf: error: cannot read a buffer:") && test::has_text(e, "it is a FIFO")) << e;
 }
 

@@ -28,8 +28,6 @@ namespace fs = std::filesystem;
 
 fs::path scenes_dir() { return test::source_dir() / ".." / "shared" / "scenes"; }
 
-void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
-
 // The message of the SceneError that `f` throws ("" when it throws none).
 template <class F>
 std::string error_of(F&& f) {
@@ -45,7 +43,6 @@ std::string load_error(const fs::path& p, LoadOptions o = {}) {
   return error_of([&] { load_scene(p.string(), o); });
 }
 
-bool one_line(const std::string& s) { return !s.empty() && s.find('\n') == std::string::npos; }
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
@@ -241,7 +238,7 @@ TEST(BuiltinScenes, AtriumIsModeratelySizedAndOpenToTheSky) {
 
 TEST(BuiltinScenes, UnknownNameListsTheBuiltins) {
   std::string e = error_of([] { load_scene("builtin:nope"); });
-  EXPECT_TRUE(one_line(e)) << e;
+  EXPECT_TRUE(test::is_one_line(e)) << e;
   EXPECT_TRUE(contains(e, "builtin:nope")) << e;
   for (const std::string& n : scene::builtin_scene_names()) EXPECT_TRUE(contains(e, n)) << e;
 }
@@ -376,7 +373,7 @@ TEST(ObjScenes, SponzaAndCornellLoadWithTheirTrianglesAndDerivedViews) {
 
 TEST(ObjScenes, NormalsAreComputedWhenMissing) {
   test::TempDir dir;
-  write(dir / "quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+  test::write_text(dir / "quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
   Scene s = load_scene((dir / "quad.obj").string());
   EXPECT_EQ(s.triangle_count(), 2u);
   EXPECT_EQ(s.positions.size(), 4u);
@@ -385,12 +382,12 @@ TEST(ObjScenes, NormalsAreComputedWhenMissing) {
   // Smooth across a gentle fold (30 degrees, under the crease): the shared edge's normals are the
   // area-weighted average of both faces, and no vertex is split.
   const float c30 = std::cos(glm::radians(30.0f)), s30 = std::sin(glm::radians(30.0f));
-  write(dir / "fold.obj", fmt::format("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 {} {}\nf 1 2 3\nf 1 4 2\n", -c30, s30));
+  test::write_text(dir / "fold.obj", fmt::format("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 {} {}\nf 1 2 3\nf 1 4 2\n", -c30, s30));
   Scene fold = load_scene((dir / "fold.obj").string());
   EXPECT_EQ(fold.positions.size(), 4u);
   EXPECT_NEAR(glm::distance(fold.normals[0], glm::normalize(glm::vec3(0, 0, 1) + glm::vec3(0, s30, c30))), 0.0f, 1e-5f);
   // A 90-degree fold is a crease: each face keeps its own normal, the two shared corners are copied.
-  write(dir / "crease.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\n");
+  test::write_text(dir / "crease.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\n");
   Scene crease = load_scene((dir / "crease.obj").string());
   EXPECT_EQ(crease.positions.size(), 6u);
   EXPECT_NEAR(glm::distance(crease.normals[crease.indices[0]], glm::vec3(0, 0, 1)), 0.0f, 1e-6f);
@@ -416,7 +413,7 @@ TEST(ObjScenes, ComputedNormalsKeepABoxFlatAndASphereSmooth) {
   std::string cube;
   for (const auto& p : kCubePositions) cube += fmt::format("v {} {} {}\n", p[0], p[1], p[2]);
   for (const auto& q : kCubeQuads) cube += fmt::format("f {} {} {} {}\n", q[0], q[1], q[2], q[3]);
-  write(dir / "cube.obj", cube);
+  test::write_text(dir / "cube.obj", cube);
   Scene box = load_scene((dir / "cube.obj").string());
   ASSERT_EQ(box.triangle_count(), 12u);
   EXPECT_EQ(box.positions.size(), 24u) << "each corner once per face meeting there";
@@ -442,7 +439,7 @@ TEST(ObjScenes, ComputedNormalsKeepABoxFlatAndASphereSmooth) {
       sphere += fmt::format("f {} {} {} {}\n", at(r, k), at(r + 1, k), at(r + 1, k + 1), at(r, k + 1));
     sphere += fmt::format("f {} {} {}\n", south, at(rings - 1, k + 1), at(rings - 1, k));
   }
-  write(dir / "sphere.obj", sphere);
+  test::write_text(dir / "sphere.obj", sphere);
   Scene ball = load_scene((dir / "sphere.obj").string());
   EXPECT_EQ(ball.positions.size(), static_cast<std::size_t>(south)) << "one normal per position";
   for (std::size_t v = 0; v < ball.positions.size(); ++v)
@@ -452,7 +449,7 @@ TEST(ObjScenes, ComputedNormalsKeepABoxFlatAndASphereSmooth) {
 TEST(ObjScenes, FileNormalsAreUsedAndBrokenOnesNeverGiveNaN) {
   test::TempDir dir;
   // A normal of length 2, a zero normal, a degenerate (collinear) triangle without normals, relative indices.
-  write(dir / "n.OBJ",
+  test::write_text(dir / "n.OBJ",
         "o a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 2\nvn 0 0 0\nf 1//1 2//1 3//1\n"
         "o b\nv 5 0 0\nv 6 0 0\nv 7 0 0\nf -3 -2 -1\n"
         "v 0 0 5\nv 1 0 5\nv 0 1 5\nf 7//2 9//2 8//2\n");
@@ -480,9 +477,9 @@ TEST(ObjScenes, BrokenFilesGiveOneLineErrorsWithFileAndLine) {
         Case{"relative.obj", "v 0 0 0\nf -1 -2 -3\nv 1 1 1\n", "relative.obj:2: error: "},
         Case{"empty.obj", "", "empty.obj:1: error: "},
         Case{"points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "points.obj:3: error: "}}) {
-    write(dir / c.name, c.text);
+    test::write_text(dir / c.name, c.text);
     std::string e = load_error(dir / c.name);
-    EXPECT_TRUE(one_line(e)) << e;
+    EXPECT_TRUE(test::is_one_line(e)) << e;
     EXPECT_TRUE(contains(e, c.want)) << e;
   }
   EXPECT_TRUE(contains(load_error(dir / "range.obj"), "out of range")) << load_error(dir / "range.obj");
@@ -492,19 +489,19 @@ TEST(ObjScenes, BrokenFilesGiveOneLineErrorsWithFileAndLine) {
 TEST(SceneFiles, MissingUnknownAndTooLargeFilesAreRefused) {
   test::TempDir dir;
   std::string e = load_error(dir / "nothing.obj");
-  EXPECT_TRUE(one_line(e) && contains(e, "nothing.obj: error: cannot open (check the path)")) << e;
-  write(dir / "mesh.ply", "ply\n");
+  EXPECT_TRUE(test::is_one_line(e) && contains(e, "nothing.obj: error: cannot open (check the path)")) << e;
+  test::write_text(dir / "mesh.ply", "ply\n");
   e = load_error(dir / "mesh.ply");
-  EXPECT_TRUE(one_line(e) && contains(e, "mesh.ply") && contains(e, ".obj, .gltf, .glb")) << e;
+  EXPECT_TRUE(test::is_one_line(e) && contains(e, "mesh.ply") && contains(e, ".obj, .gltf, .glb")) << e;
 
-  write(dir / "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  test::write_text(dir / "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   LoadOptions tiny;
   tiny.memory_limit = 64;
   e = load_error(dir / "tri.obj", tiny);
-  EXPECT_TRUE(one_line(e) && contains(e, "tri.obj: error: scene too large")) << e;
-  write(dir / "tri.gltf", R"({"asset": {"version": "2.0"}, "note": "more than 16 bytes of glTF"})");
+  EXPECT_TRUE(test::is_one_line(e) && contains(e, "tri.obj: error: scene too large")) << e;
+  test::write_text(dir / "tri.gltf", R"({"asset": {"version": "2.0"}, "note": "more than 16 bytes of glTF"})");
   e = load_error(dir / "tri.gltf", tiny);
-  EXPECT_TRUE(one_line(e) && contains(e, "tri.gltf: error: scene too large")) << e;
+  EXPECT_TRUE(test::is_one_line(e) && contains(e, "tri.gltf: error: scene too large")) << e;
   tiny.memory_limit = 1 << 20;  // enough for the file, and for the scene
   EXPECT_NO_THROW(load_scene((dir / "tri.obj").string(), tiny));
 }
@@ -607,7 +604,7 @@ TEST(GltfScenes, TextWithEmbeddedBufferAppliesNodeTransforms) {
   test::TempDir dir;
   for (int index_type : {0, 5121, 5123, 5125}) {
     SCOPED_TRACE(index_type);
-    write(dir / "tri.gltf", triangle_gltf(index_type, true, true).json);
+    test::write_text(dir / "tri.gltf", triangle_gltf(index_type, true, true).json);
     Scene s = load_scene((dir / "tri.gltf").string());
     expect_transformed_triangle(s);
     expect_sane(s, "tri.gltf");
@@ -622,18 +619,18 @@ TEST(GltfScenes, ExternalBufferIsReadAndAMissingOneIsNamed) {
   json.replace(json.find("\"byteLength\":" + std::to_string(g.bin.size()) + "}"),
                std::string("\"byteLength\":" + std::to_string(g.bin.size()) + "}").size(),
                "\"byteLength\":" + std::to_string(g.bin.size()) + ",\"uri\":\"tri.bin\"}");
-  write(dir / "tri.gltf", json);
-  write(dir / "tri.bin", g.bin);
+  test::write_text(dir / "tri.gltf", json);
+  test::write_text(dir / "tri.bin", g.bin);
   expect_transformed_triangle(load_scene((dir / "tri.gltf").string()));
   fs::remove(dir / "tri.bin");
   std::string e = load_error(dir / "tri.gltf");
-  EXPECT_TRUE(one_line(e) && contains(e, "tri.gltf: error: ") && contains(e, "tri.bin")) << e;
+  EXPECT_TRUE(test::is_one_line(e) && contains(e, "tri.gltf: error: ") && contains(e, "tri.bin")) << e;
 }
 
 TEST(GltfScenes, BinaryGlbLoadsTheSame) {
   test::TempDir dir;
-  write(dir / "tri.gltf", triangle_gltf(5123, true, true).json);
-  write(dir / "tri.GLB", glb(triangle_gltf(5123, true, false)));
+  test::write_text(dir / "tri.gltf", triangle_gltf(5123, true, true).json);
+  test::write_text(dir / "tri.GLB", glb(triangle_gltf(5123, true, false)));
   Scene text = load_scene((dir / "tri.gltf").string()), binary = load_scene((dir / "tri.GLB").string());
   expect_transformed_triangle(binary);
   EXPECT_EQ(text.content_hash, binary.content_hash);
@@ -641,11 +638,11 @@ TEST(GltfScenes, BinaryGlbLoadsTheSame) {
 
 TEST(GltfScenes, MissingNormalsAreComputedAndMirroringKeepsTheWinding) {
   test::TempDir dir;
-  write(dir / "tri.gltf", triangle_gltf(0, false, true).json);
+  test::write_text(dir / "tri.gltf", triangle_gltf(0, false, true).json);
   expect_transformed_triangle(load_scene((dir / "tri.gltf").string()));
   // A second, mirrored instance of the mesh (scale x -1): two primitive instances, and each triangle
   // still faces the way its normal points.
-  write(dir / "two.gltf", triangle_gltf(0, true, true, R"(,{"scale":[-1,1,1],"mesh":0})").json);
+  test::write_text(dir / "two.gltf", triangle_gltf(0, true, true, R"(,{"scale":[-1,1,1],"mesh":0})").json);
   Scene s = load_scene((dir / "two.gltf").string());
   EXPECT_EQ(s.mesh_count, 2);
   ASSERT_EQ(s.triangle_count(), 2u);
@@ -679,7 +676,7 @@ TEST(GltfScenes, ComputedNormalsKeepABoxFlatLikeTheObjLoader) {
   std::vector<std::uint32_t> indices;
   for (const auto& q : kCubeQuads)
     for (int k : {0, 1, 2, 0, 2, 3}) indices.push_back(static_cast<std::uint32_t>(q[k] - 1));
-  write(dir / "cube.gltf", mesh_gltf(positions, indices));
+  test::write_text(dir / "cube.gltf", mesh_gltf(positions, indices));
   Scene box = load_scene((dir / "cube.gltf").string());
   ASSERT_EQ(box.triangle_count(), 12u);
   EXPECT_EQ(box.positions.size(), 24u);
@@ -689,30 +686,30 @@ TEST(GltfScenes, ComputedNormalsKeepABoxFlatLikeTheObjLoader) {
 
 TEST(GltfScenes, BrokenFilesGiveOneLineErrorsWithFileAndOffset) {
   test::TempDir dir;
-  write(dir / "garbage.glb", std::string("\x01\x02garbage\xff\x00 more bytes", 21));
+  test::write_text(dir / "garbage.glb", std::string("\x01\x02garbage\xff\x00 more bytes", 21));
   std::string e = load_error(dir / "garbage.glb");
-  EXPECT_TRUE(one_line(e) && contains(e, "garbage.glb: offset 0: error: ")) << e;
+  EXPECT_TRUE(test::is_one_line(e) && contains(e, "garbage.glb: offset 0: error: ")) << e;
 
   std::string whole = glb(triangle_gltf(5123, true, false));
-  write(dir / "short.glb", whole.substr(0, whole.size() - 10));
+  test::write_text(dir / "short.glb", whole.substr(0, whole.size() - 10));
   e = load_error(dir / "short.glb");
-  EXPECT_TRUE(one_line(e) && contains(e, "short.glb: offset 8: error: ") && contains(e, "truncated")) << e;
+  EXPECT_TRUE(test::is_one_line(e) && contains(e, "short.glb: offset 8: error: ") && contains(e, "truncated")) << e;
 
   std::string json = triangle_gltf(0, true, true).json;
-  write(dir / "cut.gltf", json.substr(0, 60));
+  test::write_text(dir / "cut.gltf", json.substr(0, 60));
   e = load_error(dir / "cut.gltf");
-  EXPECT_TRUE(one_line(e) && contains(e, "cut.gltf: offset ") && contains(e, "invalid JSON")) << e;
+  EXPECT_TRUE(test::is_one_line(e) && contains(e, "cut.gltf: offset ") && contains(e, "invalid JSON")) << e;
 
   // Valid JSON, but an accessor reads past its buffer view: tinygltf or our own checks refuse it.
   std::string bad = json;
   bad.replace(bad.find("\"count\":3"), 9, "\"count\":9");
-  write(dir / "overrun.gltf", bad);
+  test::write_text(dir / "overrun.gltf", bad);
   e = load_error(dir / "overrun.gltf");
-  EXPECT_TRUE(one_line(e) && contains(e, "overrun.gltf")) << e;
+  EXPECT_TRUE(test::is_one_line(e) && contains(e, "overrun.gltf")) << e;
 
-  write(dir / "empty.gltf", R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[]}],"scene":0})");
+  test::write_text(dir / "empty.gltf", R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[]}],"scene":0})");
   e = load_error(dir / "empty.gltf");
-  EXPECT_TRUE(one_line(e) && contains(e, "empty.gltf") && contains(e, "no triangles")) << e;
+  EXPECT_TRUE(test::is_one_line(e) && contains(e, "empty.gltf") && contains(e, "no triangles")) << e;
 }
 
 // The triangle file with its node list replaced by `nodes` (JSON array body) and the scene's roots by `roots`.
@@ -729,14 +726,14 @@ TEST(GltfScenes, SharedChildrenAreCountedBeforeTheyAreBuilt) {
   // Node i has node i+1 twice as its children: 2^48 instances of the one triangle from 49 nodes.
   std::string nodes;
   for (int i = 0; i < 48; ++i) nodes += fmt::format("{{\"children\":[{0},{0}]}},", i + 1);
-  write(dir / "bomb.gltf", with_nodes("0", nodes + "{\"mesh\":0}"));
+  test::write_text(dir / "bomb.gltf", with_nodes("0", nodes + "{\"mesh\":0}"));
   std::string e = load_error(dir / "bomb.gltf");
-  EXPECT_TRUE(one_line(e) && contains(e, "bomb.gltf: error: the node graph expands to 281474976710656 mesh instances") &&
+  EXPECT_TRUE(test::is_one_line(e) && contains(e, "bomb.gltf: error: the node graph expands to 281474976710656 mesh instances") &&
               contains(e, "give each node one parent"))
       << e;
 
   // Sharing within the limit is instancing, and the instances land where their paths put them.
-  write(dir / "twice.gltf", with_nodes("0", R"({"children":[1,1]},{"translation":[5,0,0],"mesh":0})"));
+  test::write_text(dir / "twice.gltf", with_nodes("0", R"({"children":[1,1]},{"translation":[5,0,0],"mesh":0})"));
   Scene s = load_scene((dir / "twice.gltf").string());
   EXPECT_EQ(s.triangle_count(), 2u);
   EXPECT_NEAR(s.bounds.min.x, 5.0f, 1e-5f);
@@ -748,18 +745,18 @@ TEST(GltfScenes, DeepChainsAndCyclesGiveOneLineErrorsNotACrash) {
   std::string nodes;
   const int depth = 300'000;
   for (int i = 0; i < depth; ++i) nodes += fmt::format("{{\"children\":[{}]}},", i + 1);
-  write(dir / "deep.gltf", with_nodes("0", nodes + "{\"translation\":[0,0,3],\"mesh\":0}"));
+  test::write_text(dir / "deep.gltf", with_nodes("0", nodes + "{\"translation\":[0,0,3],\"mesh\":0}"));
   Scene s = load_scene((dir / "deep.gltf").string());
   EXPECT_EQ(s.triangle_count(), 1u);
   EXPECT_NEAR(s.bounds.min.z, 3.0f, 1e-5f);
 
-  write(dir / "cycle.gltf", with_nodes("0", R"({"children":[1]},{"children":[2],"mesh":0},{"children":[1]})"));
+  test::write_text(dir / "cycle.gltf", with_nodes("0", R"({"children":[1]},{"children":[2],"mesh":0},{"children":[1]})"));
   std::string e = load_error(dir / "cycle.gltf");
-  EXPECT_TRUE(one_line(e) && contains(e, "cycle.gltf: error: node 1 is its own ancestor")) << e;
+  EXPECT_TRUE(test::is_one_line(e) && contains(e, "cycle.gltf: error: node 1 is its own ancestor")) << e;
 
-  write(dir / "dangling.gltf", with_nodes("0", R"({"children":[7]},{"mesh":0})"));
+  test::write_text(dir / "dangling.gltf", with_nodes("0", R"({"children":[7]},{"mesh":0})"));
   e = load_error(dir / "dangling.gltf");
-  EXPECT_TRUE(one_line(e) && contains(e, "node 0 has child 7, which does not exist")) << e;
+  EXPECT_TRUE(test::is_one_line(e) && contains(e, "node 0 has child 7, which does not exist")) << e;
 }
 
 // ---- views ----
@@ -768,7 +765,7 @@ TEST(Views, LookupListsTheNames) {
   Scene s = load_scene("builtin:stairs");
   EXPECT_EQ(&s.view("closeup"), &s.views[1]);
   std::string e = error_of([&] { s.view("top"); });
-  EXPECT_TRUE(one_line(e) && contains(e, "'top'") && contains(e, "overview, closeup, background")) << e;
+  EXPECT_TRUE(test::is_one_line(e) && contains(e, "'top'") && contains(e, "overview, closeup, background")) << e;
 }
 
 TEST(Views, CameraPathMovesLinearlyAndClamps) {
@@ -807,9 +804,9 @@ up = [0, 0, -1]
 
 TEST(Views, SideFileNextToTheSceneReplacesAndAdds) {
   test::TempDir dir;
-  write(dir / "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  test::write_text(dir / "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   Scene derived = load_scene((dir / "tri.obj").string());
-  write(dir / "tri.obj.views.toml", kToml);
+  test::write_text(dir / "tri.obj.views.toml", kToml);
   Scene s = load_scene((dir / "tri.obj").string());
   ASSERT_EQ(s.views.size(), 4u);
   EXPECT_EQ(s.views[0].name, "overview");
@@ -824,9 +821,9 @@ TEST(Views, SideFileNextToTheSceneReplacesAndAdds) {
   EXPECT_EQ(o.path_offset, glm::vec3(0.1f, 0, 0));
   EXPECT_EQ(o.path_frames, 4);
   EXPECT_EQ(s.view("closeup").eye, derived.view("closeup").eye);
-  write(dir / "tri.obj.views.json", R"({"views": []})");
+  test::write_text(dir / "tri.obj.views.json", R"({"views": []})");
   std::string e = error_of([&] { load_scene((dir / "tri.obj").string()); });
-  EXPECT_TRUE(one_line(e) && contains(e, "keep one")) << e;
+  EXPECT_TRUE(test::is_one_line(e) && contains(e, "keep one")) << e;
   const View& top = s.view("top");
   EXPECT_EQ(top.up, glm::vec3(0, 0, -1));
   EXPECT_GT(top.near_plane, 0.0f);  // fitted to the scene when not given
@@ -835,7 +832,7 @@ TEST(Views, SideFileNextToTheSceneReplacesAndAdds) {
 
 TEST(Views, JsonSideFileForABuiltinScene) {
   test::TempDir dir;
-  write(dir / "v.json", R"({"views": [
+  test::write_text(dir / "v.json", R"({"views": [
   {"name": "closeup", "eye": [1, 0.5, 1], "target": [0, 0.2, 0], "near": 0.01, "far": 30},
   {"name": "corner", "eye": [-3, 1, 1], "target": [-4, 0, 0], "fov": 70}
 ]})");
@@ -852,9 +849,9 @@ TEST(Views, JsonSideFileForABuiltinScene) {
 
 TEST(Views, BadSideFilesNameTheLine) {
   test::TempDir dir;
-  write(dir / "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  test::write_text(dir / "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   auto toml_error = [&](const std::string& text) {
-    write(dir / "v.toml", text);
+    test::write_text(dir / "v.toml", text);
     LoadOptions o;
     o.views_file = dir / "v.toml";
     return error_of([&] { load_scene((dir / "tri.obj").string(), o); });
@@ -878,12 +875,12 @@ TEST(Views, BadSideFilesNameTheLine) {
            Case{head + "eye = [0, 0, 1\n", "v.toml:3:"},
        }) {
     std::string e = toml_error(c.text);
-    EXPECT_TRUE(one_line(e)) << e;
+    EXPECT_TRUE(test::is_one_line(e)) << e;
     EXPECT_TRUE(contains(e, c.want)) << "got: " << e << "\nwant: " << c.want;
   }
 
   auto json_error = [&](const std::string& text) {
-    write(dir / "v.json", text);
+    test::write_text(dir / "v.json", text);
     LoadOptions o;
     o.views_file = dir / "v.json";
     return error_of([&] { load_scene("builtin:cornell", o); });
@@ -900,7 +897,7 @@ TEST(Views, BadSideFilesNameTheLine) {
            Case{std::string("{\"views\": []}\n\0{\"views\": [[\"a\": 1]]}", 33), "v.json:2:1: error: a NUL byte"},
        }) {
     std::string e = json_error(c.text);
-    EXPECT_TRUE(one_line(e)) << e;
+    EXPECT_TRUE(test::is_one_line(e)) << e;
     EXPECT_TRUE(contains(e, c.want)) << "got: " << e << "\nwant: " << c.want;
   }
 }
@@ -936,7 +933,7 @@ fs::path write_obj(const Scene& s, const fs::path& path) {
   for (const auto& p : s.positions) out << "v " << p.x << ' ' << p.y << ' ' << p.z << '\n';
   for (std::size_t i = 0; i < s.indices.size(); i += 3)
     out << "f " << s.indices[i] + 1 << ' ' << s.indices[i + 1] + 1 << ' ' << s.indices[i + 2] + 1 << '\n';
-  write(path, out.str());
+  test::write_text(path, out.str());
   return path;
 }
 
@@ -959,7 +956,7 @@ TEST(ScaledScenes, DerivedViewsAreTheSameUpToScale) {
 
 TEST(ScaledScenes, BuiltinRadiusAndSideFileViewsScaleWithTheScene) {
   test::TempDir dir;
-  write(dir / "v.toml", "[[view]]\nname = \"corner\"\neye = [-3, 1, 1]\ntarget = [-4, 0, 0]\nnear = 0.01\n");
+  test::write_text(dir / "v.toml", "[[view]]\nname = \"corner\"\neye = [-3, 1, 1]\ntarget = [-4, 0, 0]\nnear = 0.01\n");
   LoadOptions o;
   o.views_file = dir / "v.toml";
   const Scene unit = load_scene("builtin:stairs", o), scaled = load_scene("builtin:stairs@scale=100", o);

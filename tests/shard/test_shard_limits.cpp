@@ -23,7 +23,7 @@ namespace {
 using json = nlohmann::json;
 
 template <class F>
-std::string error_of(F&& f) {
+std::string limit_error_of(F&& f) {
   try {
     f();
   } catch (const std::runtime_error& e) {
@@ -35,14 +35,14 @@ std::string error_of(F&& f) {
 TEST(ShardLimits, ACountNobodyCouldMeanIsRefusedAtOnce) {
   const auto start = std::chrono::steady_clock::now();
   for (const char* text : {"1/1000000000", "1/10001", "10001/10001", "1/99999999999999999999", "1/2147483648"}) {
-    const std::string e = error_of([&] { shard::parse_shard_option(text, {}); });
+    const std::string e = limit_error_of([&] { shard::parse_shard_option(text, {}); });
     EXPECT_NE(e.find("--shard"), std::string::npos) << text << ": " << e;
   }
   EXPECT_EQ(shard::parse_shard_option("1/10000", {}).count, shard::kMaxShards);
   for (const shard::Env& env : {shard::Env{{"AOVAR_SHARD_INDEX", "0"}, {"AOVAR_SHARD_TOTAL", "1000000000"}},
                                 shard::Env{{"JOB_COMPLETION_INDEX", "3"}, {"AOVAR_SHARD_TOTAL", "1000000000"}},
                                 shard::Env{{"CI_NODE_INDEX", "1"}, {"CI_NODE_TOTAL", "20000"}}}) {
-    const std::string e = error_of([&] { shard::parse_shard_option("auto", env); });
+    const std::string e = limit_error_of([&] { shard::parse_shard_option("auto", env); });
     EXPECT_NE(e.find("more than 10000 shards"), std::string::npos) << e;
   }
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
@@ -51,10 +51,10 @@ TEST(ShardLimits, ACountNobodyCouldMeanIsRefusedAtOnce) {
 TEST(ShardLimits, MoreShardsThanUnitsIsRefusedBeforeTheAssignment) {
   std::vector<shard::Unit> units = {{"a", 1}, {"b", 2}, {"c", 3}};
   EXPECT_NO_THROW(shard::assign(units, 3));
-  EXPECT_NE(error_of([&] { shard::assign(units, 4); }).find("4 shards for 3 units of work; use at most 3 shards"),
+  EXPECT_NE(limit_error_of([&] { shard::assign(units, 4); }).find("4 shards for 3 units of work; use at most 3 shards"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { shard::assign(units, shard::kMaxShards); }).find("use at most 3"), std::string::npos);
-  EXPECT_NE(error_of([&] { shard::assign({}, 2); }).find("2 shards for 0 units"), std::string::npos);
+  EXPECT_NE(limit_error_of([&] { shard::assign(units, shard::kMaxShards); }).find("use at most 3"), std::string::npos);
+  EXPECT_NE(limit_error_of([&] { shard::assign({}, 2); }).find("2 shards for 0 units"), std::string::npos);
 }
 
 json manifest_json() {
@@ -82,7 +82,7 @@ TEST(ShardLimits, ManifestNumbersAreWholeNumbers) {
     json j = manifest_json();
     j[json::json_pointer(pointer)] = value;
     util::write_atomic(dir / "shard.json", j.dump());
-    const std::string e = error_of([&] { shard::read_manifest(dir / "shard.json"); });
+    const std::string e = limit_error_of([&] { shard::read_manifest(dir / "shard.json"); });
     EXPECT_NE(e.find("shard.json: "), std::string::npos) << pointer << " " << value << ": " << e;
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
     if (value.is_number()) EXPECT_NE(e.find("not a whole number"), std::string::npos) << pointer << " " << value << ": " << e;
@@ -92,13 +92,13 @@ TEST(ShardLimits, ManifestNumbersAreWholeNumbers) {
 TEST(ShardLimits, PinnedRowsMustBeThoseOfTheTable) {
   shard::ShardManifest m = shard::ShardManifest::from_json(manifest_json(), "s2");
   EXPECT_NO_THROW(shard::check_pinned_rows("s2", m, "t.json", {"b", "a"}));  // any order
-  EXPECT_NE(error_of([&] { shard::check_pinned_rows("s2", m, "t.json", {"a"}); })
+  EXPECT_NE(limit_error_of([&] { shard::check_pinned_rows("s2", m, "t.json", {"a"}); })
                 .find("shard 2/3 (s2): t.json has 1 rows, its shard.json says the shard wrote 2"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { shard::check_pinned_rows("s2", m, "t.json", {"a", "c"}); }).find("are not the ones"),
+  EXPECT_NE(limit_error_of([&] { shard::check_pinned_rows("s2", m, "t.json", {"a", "c"}); }).find("are not the ones"),
             std::string::npos);
   m.rows_hash.clear();
-  EXPECT_NE(error_of([&] { shard::check_pinned_rows("s2", m, "t.json", {"a", "b"}); }).find("pins no row set"),
+  EXPECT_NE(limit_error_of([&] { shard::check_pinned_rows("s2", m, "t.json", {"a", "b"}); }).find("pins no row set"),
             std::string::npos);
   m.tool = "stress";  // stress and generate have no table to pin
   EXPECT_NO_THROW(shard::check_pinned_rows("s2", m, "t.json", {"a"}));

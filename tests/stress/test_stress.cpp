@@ -22,8 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(util::read_file(p).value()); }
-
 // The reduced suite CI runs: every shipped variant of the default manifest, every default case, both backends.
 TEST(Stress, ShippedVariantsPassEveryCaseOnBothBackends) {
   TempDir dir;
@@ -135,9 +133,11 @@ TEST(Stress, ChildProcessesMatchOneProcessAndSurviveACrash) {
   EXPECT_EQ(a, b);
 
   const std::string crashing = "hbao-s04-p0-nrgb8-zdep-rst-d32-bbil-x1-hp";
-  ::setenv("AOVAR_STRESS_TEST_CRASH", crashing.c_str(), 1);
-  auto crashed = run_aovar("stress " + variants + " --renders-per-process 2 --out " + (dir / "crash").string());
-  ::unsetenv("AOVAR_STRESS_TEST_CRASH");
+  test::CommandResult crashed;
+  {
+    ScopedEnv crash("AOVAR_STRESS_TEST_CRASH", crashing.c_str());
+    crashed = run_aovar("stress " + variants + " --renders-per-process 2 --out " + (dir / "crash").string());
+  }
   EXPECT_EQ(crashed.status, 0) << crashed.output;  // not shipped: listed, not fatal
   auto j = read_json(dir / "crash" / "stress.json");
   ASSERT_EQ(j.at("checks").size(), 6u) << crashed.output;
@@ -166,9 +166,11 @@ TEST(Stress, AGarbledChildLineCostsOnlyThatVariant) {
   TempDir dir;
   const std::string variants = "--variants 'hbao-s04-p0-nrgb8-zdep-rst-d*-bbil-x1-??' --case baseline --no-reuse";
   const std::string garbled = "hbao-s04-p0-nrgb8-zdep-rst-d16-bbil-x1-hp";
-  ::setenv("AOVAR_STRESS_TEST_GARBLE", garbled.c_str(), 1);
-  auto r = run_aovar("stress " + variants + " --renders-per-process 2 --out " + (dir / "garbled").string());
-  ::unsetenv("AOVAR_STRESS_TEST_GARBLE");
+  test::CommandResult r;
+  {
+    ScopedEnv garble("AOVAR_STRESS_TEST_GARBLE", garbled.c_str());
+    r = run_aovar("stress " + variants + " --renders-per-process 2 --out " + (dir / "garbled").string());
+  }
   auto j = read_json(dir / "garbled" / "stress.json");
   ASSERT_EQ(j.at("checks").size(), 3u) << r.output;
   EXPECT_EQ(j.at("failed").get<int>(), 1) << r.output;
@@ -210,9 +212,11 @@ TEST(Stress, ACrashAnywhereInAGroupCostsOnlyThatVariant) {
   for (const std::string& crashing : {d32, d16}) {
     SCOPED_TRACE("crash on " + crashing);
     const fs::path out = dir / ("crash-" + crashing);
-    ::setenv("AOVAR_STRESS_TEST_CRASH", crashing.c_str(), 1);
-    auto r = run_aovar("stress " + variants + " --out " + out.string());
-    ::unsetenv("AOVAR_STRESS_TEST_CRASH");
+    test::CommandResult r;
+    {
+      ScopedEnv crash("AOVAR_STRESS_TEST_CRASH", crashing.c_str());
+      r = run_aovar("stress " + variants + " --out " + out.string());
+    }
     EXPECT_EQ(r.status, 0) << r.output;  // not shipped: listed, not fatal
     auto j = read_json(out / "stress.json");
     ASSERT_EQ(j.at("checks").size(), 6u) << r.output;

@@ -25,7 +25,6 @@
 namespace aovar::test {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
 const std::vector<std::string> kBackends = {"lavapipe", "osmesa"};
 
 bool finite(const glm::mat4& m) {

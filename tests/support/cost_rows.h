@@ -1,13 +1,21 @@
 #pragma once
-// A measured cost-table row as measure writes it, for the table tests: builtin:atrium / overview on lavapipe
-// at 64x36 with 2 threads, its per-round ratios to the baseline, the paired time (baseline min x median
-// ratio), min / median / p90 from the ratios and the intervals set_intervals derives from them.
+// Cost-table rows built by hand for the tests of table, report, shard and the CLI: a measured row as measure
+// writes it (builtin:atrium / overview on lavapipe at 64x36 with 2 threads, its per-round ratios to the
+// baseline, the paired time (baseline min x median ratio), min / median / p90 from the ratios and the
+// intervals set_intervals derives from them), rows decided by a point time, and the front they are on.
 #include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include <gtest/gtest.h>
 
 #include "table/table.h"
 #include "table/time_compare.h"
+#include "util/stats.h"
 
 namespace aovar::test {
 
@@ -45,6 +53,63 @@ inline table::CostRow timed_row(const std::string& variant, std::vector<double> 
   r.rounds = {kAtriumScale, batch, std::move(ratios)};
   table::set_intervals(r);
   return r;
+}
+
+// A row of scene "s", view "v" on lavapipe with these axes, decided by its min time `ms` (3 rounds), with a
+// full error record (rmse, mae = rmse, psnr 20, ssim 0.9).
+inline table::CostRow axes_row(const std::string& variant, std::map<std::string, std::string> axes, double ms,
+                               double rmse) {
+  table::CostRow r;
+  r.variant = variant;
+  r.axes = std::move(axes);
+  r.scene = "s";
+  r.view = "v";
+  r.backend = "lavapipe";
+  r.time_ms.min = ms;
+  r.time_ms.n = 3;
+  metrics::ErrorStats e;
+  e.rmse = e.mae = e.max = rmse;
+  e.psnr = 20;
+  e.ssim = 0.9;
+  r.error = e;
+  return r;
+}
+
+// Per-round ratios to the baseline: `median` times log-normal noise of `noise` (relative), fixed seed.
+inline std::vector<double> lognormal_ratios(double median, double noise, int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> z(0, noise);
+  std::vector<double> out;
+  for (int i = 0; i < n; ++i) out.push_back(median * std::exp(z(rng)));
+  return out;
+}
+
+// A row of scene "s" on lavapipe with these per-round ratios in batch `batch`, without an error: its time
+// is the baseline's `baseline_ms` times the median ratio, and its intervals follow from the rounds.
+inline table::CostRow rounds_row(const std::string& variant, std::vector<double> ratios, const std::string& batch,
+                                 const std::string& view = "v", double baseline_ms = 10) {
+  table::CostRow row;
+  row.variant = variant;
+  row.scene = "s";
+  row.view = view;
+  row.backend = "lavapipe";
+  row.rounds = {"base@s/" + view, batch, std::move(ratios)};
+  std::vector<double> copy = row.rounds.ratios;
+  row.rel_time_median = util::summarize(copy).median;
+  row.time_ms.min = row.time_ms.median = baseline_ms * row.rel_time_median;
+  row.time_ms.n = static_cast<int>(row.rounds.ratios.size());
+  row.time_ms.paired = baseline_ms * row.rel_time_median;
+  table::set_intervals(row);
+  return row;
+}
+
+// Whether the row of `variant` in `view` is on the Pareto front (a failure when there is no such row).
+inline bool on_front(const std::vector<table::CostRow>& rows, const std::string& variant,
+                     const std::string& view = "overview") {
+  for (const auto& r : rows)
+    if (r.variant == variant && r.view == view) return r.pareto;
+  ADD_FAILURE() << "no row " << variant << " in view " << view;
+  return false;
 }
 
 }  // namespace aovar::test

@@ -25,6 +25,14 @@ void main() {
 }
 )";
 
+render::Shader glsl_shader(const std::string& key, variants::StageKind stage, const std::string& glsl) {
+  render::Shader s;
+  s.program_key = key;
+  s.stage = stage;
+  s.glsl = glsl;
+  return s;
+}
+
 void expect_readback_pattern(const image::FloatImage& img, int width, int height) {
   ASSERT_EQ(img.width, width);
   ASSERT_EQ(img.height, height);
@@ -68,6 +76,15 @@ int variant_index(const compile::CompiledSpace& c, const std::string& key) {
 
 variants::Target target_of(const std::string& backend) { return render::target_of(backend); }
 
+const compile::CompiledSpace& CompiledVariants::space() const {
+  std::call_once(once_, [this] { space_ = compile_variants(keys_, with_gles_); });
+  return space_;
+}
+
+render::PipelinePlan CompiledVariants::plan(const std::string& key, const std::string& backend) const {
+  return render::plan_pipeline(space(), variant_index(space(), key), target_of(backend));
+}
+
 scene::Scene quad_scene(const std::vector<Quad>& quads, const scene::View& view, float radius) {
   scene::Scene s;
   s.name = "test:quads";
@@ -87,6 +104,73 @@ scene::Scene quad_scene(const std::vector<Quad>& quads, const scene::View& view,
   s.ao_radius = radius;
   s.views = {view};
   return s;
+}
+
+Quad square_floor(float size) { return {{-size / 2, 0, size / 2}, {size, 0, 0}, {0, 0, -size}}; }
+
+scene::Scene box_scene(const scene::View& view, float radius, float floor_size) {
+  std::vector<Quad> quads = {
+      {{-1, 0, 1}, {2, 0, 0}, {0, 2, 0}},   // front (+z)
+      {{1, 0, -1}, {-2, 0, 0}, {0, 2, 0}},  // back
+      {{1, 0, 1}, {0, 0, -2}, {0, 2, 0}},   // right (+x)
+      {{-1, 0, -1}, {0, 0, 2}, {0, 2, 0}},  // left
+      {{-1, 2, 1}, {2, 0, 0}, {0, 0, -2}},  // top
+      square_floor(floor_size),
+  };
+  scene::Scene s = quad_scene(quads, view, radius);
+  s.name = "test:box";
+  return s;
+}
+
+const std::vector<std::string>& backend_test_keys() {
+  static const std::vector<std::string> keys = {
+      "alchemy-s08-p0-nrg8-zdep-rst-d32-bno-x1-hp",   "alchemy-s08-p0-nrgb8-zdep-rip-d32-bsep-x2-hp",
+      "alchemy-s08-p0-nrgb8-zpos-rip-d16-bsep-x2-hp", "alchemy-s08-p0-noct-zdep-rst-d16-bbil-x4-mp",
+      "alchemy-s08-p0-ndep-zpos-rip-d16-bsep-x1-hp",  "alchemy-s08-p1-nrg8-zdep-rst-d32-bsep-x1-hp",
+      "alchemy-s08-p1-ndep-zdep-rip-d16-bsep-x4-mp",  "sao-s08-p1-ndep-zdep-rst-d32-bsep-x2-hp",
+      "unsharp-s08-p0-ndep-zdep-_r-d16-bbil-x1-hp",
+  };
+  return keys;
+}
+
+scene::View box_view(float far_plane) {
+  scene::View v;
+  v.name = "box";
+  v.eye = {2.0f, 2.5f, 6.0f};
+  v.target = {0.0f, 0.5f, 0.0f};
+  v.near_plane = 0.1f;
+  v.far_plane = far_plane;
+  return v;
+}
+
+scene::Scene box_on_floor() { return box_scene(box_view(), kBoxRadius); }
+
+render::FrameSetup box_frame(const scene::View& view, int frame) {
+  render::FrameSetup s;
+  s.view = &view;
+  s.frame = frame;
+  s.static_camera = true;
+  s.radius = kBoxRadius;
+  return s;
+}
+
+void expect_sane(const image::FloatImage& img, render::Extent size, const std::string& what) {
+  ASSERT_EQ(img.width, size.width) << what;
+  ASSERT_EQ(img.height, size.height) << what;
+  ASSERT_EQ(img.pixels.size(), std::size_t(size.width) * size.height) << what;
+  int bad = 0;
+  for (float v : img.pixels) bad += !(std::isfinite(v) && v >= 0.0f && v <= 1.0f);
+  EXPECT_EQ(bad, 0) << what << ": non-finite or out-of-range pixels";
+}
+
+void expect_box_occlusion(const image::FloatImage& img, render::Extent size, const std::string& what) {
+  const scene::View view = box_view();
+  const glm::ivec2 open = project(view, size, {-3.0f, 0.0f, 3.5f});
+  const glm::ivec2 corner = project(view, size, {0.3f, 0.0f, 1.0f + 0.1f * kBoxRadius});
+  auto inside = [&](glm::ivec2 p) { return p.x >= 0 && p.y >= 0 && p.x < size.width && p.y < size.height; };
+  ASSERT_TRUE(inside(open) && inside(corner)) << what;
+  EXPECT_GE(img.at(open.x, open.y), 0.95f) << what << ": open floor";
+  EXPECT_LT(img.at(corner.x, corner.y), img.at(open.x, open.y) - 0.1f) << what << ": box/floor contact";
 }
 
 scene::View floor_view() {

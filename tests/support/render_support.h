@@ -1,6 +1,7 @@
 #pragma once
 // Shared helpers of the rendering tests: compiled variants, hand-built scenes, one-call rendering.
 #include <map>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,23 @@ int variant_index(const compile::CompiledSpace& c, const std::string& key);  // 
 
 variants::Target target_of(const std::string& backend);
 
+// Variants compiled once, on first use, for the tests of one file (a file-scope object with a name of its
+// own: unity batches put several test files in one translation unit).
+class CompiledVariants {
+ public:
+  explicit CompiledVariants(std::vector<std::string> keys, bool with_gles = false)
+      : keys_(std::move(keys)), with_gles_(with_gles) {}
+  const compile::CompiledSpace& space() const;
+  // The plan of variant `key` (throws when it was not compiled) for `backend`'s target.
+  render::PipelinePlan plan(const std::string& key, const std::string& backend) const;
+
+ private:
+  std::vector<std::string> keys_;
+  bool with_gles_;
+  mutable std::once_flag once_;
+  mutable compile::CompiledSpace space_;
+};
+
 // Compiles the variants the kinds' globs select and picks, per kind (its index), the key of the first glob
 // (in order of preference) that matches a variant; kinds that match nothing are absent from `keys`.
 struct PickedVariants {
@@ -39,6 +57,11 @@ PickedVariants pick_variants(const std::vector<std::vector<std::string>>& kinds,
 // without a progressive form keeps p0.
 std::vector<std::vector<std::string>> method_kinds(const std::string& algorithm);
 
+// A w x h image of one value.
+inline image::FloatImage filled_image(int w, int h, float v) {
+  return {w, h, std::vector<float>(static_cast<std::size_t>(w) * h, v)};
+}
+
 // Axis-aligned quads merged into a scene with one view; each quad is (corner, edge u, edge v), normal u x v.
 struct Quad {
   glm::vec3 corner, u, v;
@@ -50,12 +73,35 @@ scene::View floor_view();
 inline const Quad kFloor{{-20.0f, 0.0f, 20.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -40.0f}};
 inline const Quad kWall{{-20.0f, 0.0f, -2.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 20.0f, 0.0f}};
 
+// A 2 x 2 x 2 box standing on the centre of a square floor `floor_size` wide (y = 0), seen from `view`.
+scene::Scene box_scene(const scene::View& view, float radius, float floor_size = 20.0f);
+Quad square_floor(float size);  // centred on the origin at y = 0, facing up
+
+// The variants the backend tests render (the first is the plain baseline): separable / bilateral blur, half
+// and quarter resolution, r16f depth, mediump, every normal encoding, the position buffer, progressive, SAO's
+// z MIP pyramid (per-level views) and unsharp's depth prefilter (binding 7).
+const std::vector<std::string>& backend_test_keys();
+
+// The backend tests' box: box_scene() on a 20 x 20 floor at AO radius kBoxRadius, seen by box_view() from the
+// front, slightly from the right and above; box_frame() is a still frame of it.
+inline constexpr float kBoxRadius = 0.5f;
+scene::View box_view(float far_plane = 50.0f);
+scene::Scene box_on_floor();  // box_scene(box_view(), kBoxRadius)
+render::FrameSetup box_frame(const scene::View& view, int frame);
+// The image has `size` and only finite pixels in [0, 1].
+void expect_sane(const image::FloatImage& img, render::Extent size, const std::string& what);
+// Open floor far from the box stays open; the floor at the foot of the box's front face is darker.
+void expect_box_occlusion(const image::FloatImage& img, render::Extent size, const std::string& what);
+
 // Renders `frames` frames of a plan (static camera) and reads the result back.
 image::FloatImage render_plan(render::Backend& backend, const render::PipelinePlan& plan, const scene::View& view,
                               render::Extent size, float radius, int frames, int first_frame = 0);
 
 // Pixel (x, y; row 0 = bottom) where a world point lands in `view` at `size`.
 glm::ivec2 project(const scene::View& view, render::Extent size, glm::vec3 world);
+
+// A hand-written GLSL program of a plan (the GL backends' tests).
+render::Shader glsl_shader(const std::string& key, variants::StageKind stage, const std::string& glsl);
 
 // The GL backends' read-back tests: a fragment main() writing x + 1000 y to o_color.r (pixel coordinates),
 // NaN at (0, 0), +Inf at (1, 0), -Inf at (2, 0); and the check of its image.

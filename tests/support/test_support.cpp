@@ -8,6 +8,9 @@
 #include <stdexcept>
 #include <sys/wait.h>
 
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
 #include "util/fs.h"
 
 namespace aovar::test {
@@ -30,6 +33,11 @@ fs::path copy_shader_src(const TempDir& dir) {
   return dir / "shader_src" / "aovar.toml";
 }
 
+void write_text(const fs::path& file, const std::string& text) {
+  if (file.has_parent_path()) fs::create_directories(file.parent_path());
+  std::ofstream(file, std::ios::binary) << text;
+}
+
 void append_line(const fs::path& file, const std::string& line) {
   std::ofstream(file, std::ios::app) << line << "\n";
 }
@@ -40,6 +48,15 @@ void replace_in_file(const fs::path& file, const std::string& from, const std::s
   if (at == std::string::npos) throw std::runtime_error("'" + from + "' not found in " + file.string());
   text.replace(at, from.size(), to);
   util::write_atomic(file, text);
+}
+
+nlohmann::json read_json(const fs::path& file) {
+  const auto text = util::read_file(file);
+  if (!text) {
+    ADD_FAILURE() << "cannot read " << file;
+    return nullptr;
+  }
+  return nlohmann::json::parse(*text);
 }
 
 std::filesystem::path aovar_executable() { return AOVAR_EXE; }

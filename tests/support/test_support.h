@@ -1,13 +1,19 @@
 #pragma once
 #include <cstdlib>
 #include <exception>
+#include <limits>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 namespace aovar::test {
+
+inline constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+inline constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // A fresh folder under the system temp dir, removed when the object goes away.
 class TempDir {
@@ -24,7 +30,11 @@ class TempDir {
 std::filesystem::path source_dir();                 // the repository root
 std::filesystem::path copy_shader_src(const TempDir& dir);  // copy of shader_src/, returns its manifest
 void append_line(const std::filesystem::path& file, const std::string& line);
+void write_text(const std::filesystem::path& file, const std::string& text);  // its folders made; not atomic
 void replace_in_file(const std::filesystem::path& file, const std::string& from, const std::string& to);
+
+// The JSON document in `file`; a test failure naming the file (and null) when it cannot be read.
+nlohmann::json read_json(const std::filesystem::path& file);
 
 struct CommandResult {
   int status = -1;
@@ -46,6 +56,8 @@ std::string thrown_message(F&& f) {
 }
 
 inline bool has_text(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+// A non-empty message of one line (what every error a user meets must be).
+inline bool is_one_line(const std::string& s) { return !s.empty() && s.find('\n') == std::string::npos; }
 
 // Sets environment variables for a scope and restores what they were (set or unset) when it ends.
 class ScopedEnv {

@@ -17,6 +17,7 @@
 namespace {
 using namespace aovar;
 using namespace aovar::table;
+using aovar::test::on_front;
 
 constexpr double kBaselineMs = 10;
 constexpr int kRounds = 15;
@@ -39,13 +40,6 @@ CostRow timed(const std::string& variant, std::vector<double> ratios, double rms
 }
 
 std::string interval_ms(const util::Interval& ci) { return fmt::format("[{:.3f}, {:.3f}]", ci.lo, ci.hi); }
-
-bool on_front(const std::vector<CostRow>& rows, const std::string& variant) {
-  for (const auto& r : rows)
-    if (r.variant == variant) return r.pareto;
-  ADD_FAILURE() << "no row " << variant;
-  return false;
-}
 
 TEST(SelectTies, BudgetOfAVariantAdmitsItsTiesAndNothingSlower) {
   std::mt19937 gen(21);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "cost_rows.h"
 #include "measure/measure.h"
 #include "measure/rows_json.h"
 #include "table/compare.h"
@@ -17,6 +18,7 @@
 namespace {
 using namespace aovar;
 using namespace aovar::table;
+using aovar::test::on_front;
 namespace fs = std::filesystem;
 
 CostRow row(std::string variant, double time, std::optional<double> rmse, std::string view = "overview",
@@ -39,13 +41,6 @@ CostRow row(std::string variant, double time, std::optional<double> rmse, std::s
     r.error = e;
   }
   return r;
-}
-
-bool on_front(const std::vector<CostRow>& rows, const std::string& variant, const std::string& view = "overview") {
-  for (const auto& r : rows)
-    if (r.variant == variant && r.view == view) return r.pareto;
-  ADD_FAILURE() << "no row " << variant;
-  return false;
 }
 
 // Every figure distinct (and exact in binary), so a field written under the wrong name cannot round-trip.

@@ -16,10 +16,10 @@ namespace {
 using namespace aovar::variants;
 using aovar::test::ScopedEnv;
 
-Manifest default_manifest() { return load_manifest(aovar::test::source_dir() / "shader_src/aovar.toml"); }
+Manifest shipped_manifest() { return load_manifest(aovar::test::source_dir() / "shader_src/aovar.toml"); }
 
 TEST(Space, CountsFollowTheProductAndTheRules) {
-  Manifest m = default_manifest();
+  Manifest m = shipped_manifest();
   VariantSpace s = build_space(m);
   std::uint64_t product = 1;
   for (const auto& values : m.values) product *= values.size();
@@ -45,7 +45,7 @@ std::string space_error(const Manifest& m) {
 }
 
 TEST(Space, AProductAboveTheCapIsRefusedBeforeItIsEnumerated) {
-  Manifest m = default_manifest();
+  Manifest m = shipped_manifest();
   const std::uint64_t product = build_space(m).space;
   ASSERT_LT(product, kDefaultMaxSpacePoints) << "the default manifest fits the default cap";
   {
@@ -73,7 +73,7 @@ TEST(Space, AProductAboveTheCapIsRefusedBeforeItIsEnumerated) {
 }
 
 TEST(Space, RulesDropWhatTheySayAndNothingElse) {
-  Manifest m = default_manifest();
+  Manifest m = shipped_manifest();
   VariantSpace s = build_space(m);
   for (const auto& v : s.variants) {
     // skip progressive without blur; only r16f with mediump (the default manifest's rules)
@@ -93,7 +93,7 @@ TEST(Space, RulesDropWhatTheySayAndNothingElse) {
 }
 
 TEST(Space, AxesAnAlgorithmDoesNotReadCollapse) {
-  Manifest m = default_manifest();
+  Manifest m = shipped_manifest();
   // Alchemy alone (the first algorithm), pretending it read no normals and no precision: those axes
   // collapse to "_n" and "_f".
   m.values[index(Axis::algorithm)].resize(1);
@@ -119,9 +119,9 @@ TEST(Space, AxesAnAlgorithmDoesNotReadCollapse) {
 }
 
 TEST(Space, KeysAreCanonicalSortedAndStable) {
-  Manifest m = default_manifest();
+  Manifest m = shipped_manifest();
   VariantSpace a = build_space(m);
-  VariantSpace b = build_space(default_manifest());
+  VariantSpace b = build_space(shipped_manifest());
   ASSERT_EQ(a.variants.size(), b.variants.size());
   for (std::size_t i = 0; i < a.variants.size(); ++i) EXPECT_EQ(a.variants[i].key, b.variants[i].key);
   EXPECT_TRUE(std::is_sorted(a.variants.begin(), a.variants.end(),
@@ -149,7 +149,7 @@ TEST(Space, KeysAreCanonicalSortedAndStable) {
 }
 
 TEST(Space, ProgramsAreSharedBetweenVariants) {
-  VariantSpace s = build_space(default_manifest());
+  VariantSpace s = build_space(shipped_manifest());
   // The AO program does not read blur, resolution or depth format: 3 x 3 x 2 variants could share one.
   std::size_t ao_programs = std::count_if(s.programs.begin(), s.programs.end(),
                                           [](const ProgramSpec& p) { return p.key.rfind("alchemy-", 0) == 0; });
@@ -170,7 +170,7 @@ TEST(Space, ProgramsAreSharedBetweenVariants) {
 // depth_mip (issue 33) is optional: off is left out of keys, defines and program keys, so every variant and
 // program from before the axis keeps its name and its source; on is "-zmip" and the wrapper ao/on/<method>.
 TEST(Space, DepthMipOffLeavesNamesAsTheyWereAndOnIsZmip) {
-  Manifest m = default_manifest();
+  Manifest m = shipped_manifest();
   VariantSpace s = build_space(m);
   const std::set<std::string> far_samplers = {"alchemy", "hbao", "gtao", "vbao", "sc2"};
   std::set<std::string> with_mip;
@@ -201,7 +201,7 @@ TEST(Space, DepthMipOffLeavesNamesAsTheyWereAndOnIsZmip) {
 }
 
 TEST(Space, GlobsSelectVariants) {
-  Manifest m = default_manifest();
+  Manifest m = shipped_manifest();
   VariantSpace s = build_space(m, {"alchemy-s04-*-x4-*"});
   ASSERT_FALSE(s.variants.empty());
   for (const auto& v : s.variants) EXPECT_NE(v.key.find("-x4-"), std::string::npos);
