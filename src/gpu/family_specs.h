@@ -41,7 +41,7 @@ struct FamilySpec {
 };
 
 // Every family of the embedded data file, in file order. Parsed once; throws std::runtime_error naming the
-// entry when the embedded file is malformed (a build error in effect: tests/test_roofline.cpp checks it).
+// entry when the embedded file is malformed (a build error in effect: tests/gpu/test_roofline.cpp checks it).
 const std::vector<FamilySpec>& family_specs();
 
 // The spec of `family` (or of a family it is an alias of); nullptr when the data file has none.

@@ -99,7 +99,7 @@ int compile_family(const Work& w, const std::string& family, const std::filesyst
   try {
     NullDevice device(family, icd);
     out.line("d " + nlohmann::json{{"device", device.device_name()}, {"driver", device.driver()}}.dump());
-    // Test hook: a compiler crash in this family must cost this family only (tests/test_gpu.cpp).
+    // Test hook: a compiler crash in this family must cost this family only (tests/gpu/test_gpu.cpp).
     if (const char* crash = std::getenv("AOVAR_GPU_TEST_CRASH"); crash && family == crash) std::raise(SIGSEGV);
     for (std::size_t i = 0; i < w.pipelines.size(); ++i) {
       const UniquePipeline& p = w.pipelines[i];

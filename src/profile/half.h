@@ -8,7 +8,7 @@
 //  - magnitudes under 2^-14 land on the subnormal grid of 2^-24 (ties to even: 2^-25 becomes 0, anything
 //    above it 2^-24), and underflow to a zero of the float's sign;
 //  - NaN stays NaN (quiet).
-// tests/test_half.cpp compares it with _Float16 where the compiler has it.
+// tests/profile/test_half.cpp compares it with _Float16 where the compiler has it.
 #include <bit>
 #include <cmath>
 #include <cstdint>

@@ -48,7 +48,7 @@ struct FrameSetup {
 // Capping makes r16f and r32f agree on what is background (depth >= 0.999 of it), keeps SAO's depth key
 // (common/key.glsl reads clip.y) finite, and changes nothing for far planes up to 65504 (every scene's own
 // views). Measured: with +inf instead, no NaN reached the result, but the atrium's AO moved by up to 1.0
-// at pixels next to the sky (tests/test_stress_geometry.cpp, InfiniteFarRendersLikeTheFittedFar).
+// at pixels next to the sky (tests/stress/test_stress_geometry.cpp, InfiniteFarRendersLikeTheFittedFar).
 inline constexpr float kMaxBackgroundDepth = 65504.0f;
 float background_depth(float far_plane);
 

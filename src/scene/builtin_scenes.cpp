@@ -443,7 +443,7 @@ void degenerate(Scene& s) {
 // 2 at 2048-4096), so a radius spans only 4-30 r16f steps where the atrium's 0.5 m spans 30-200. Float
 // spacing is relative, and so are the templates' depth biases, so what bands is a small radius for its
 // depth (radius / depth 0.002-0.02 here, 0.0125-0.1 in the atrium), not the distance itself: r16f bands
-// here where r32f (steps under 0.5 mm) does not (tests/test_stress_geometry.cpp measures it).
+// here where r32f (steps under 0.5 mm) does not (tests/stress/test_stress_geometry.cpp measures it).
 void far_city(Scene& s) {
   Builder b(s);
   b.box({-1500.0f, -20.0f, -3600.0f}, {1500.0f, 0.0f, 0.0f});  // ground

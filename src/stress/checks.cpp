@@ -177,7 +177,7 @@ void render_groups(const Run& run, const std::string& backend_name, const std::v
                    const Starting& starting, const Emit& emit, bool in_child) {
   runner::VariantRunner runner(run.c, runner_options(run.o, backend_name));
   const std::vector<std::string> probe_failure = probe_or_throw(run, runner);
-  // Test hook: a driver crash on this variant must cost that variant, not the run (tests/test_stress.cpp).
+  // Test hook: a driver crash on this variant must cost that variant, not the run (tests/stress/test_stress.cpp).
   const char* crash_on = in_child ? std::getenv("AOVAR_STRESS_TEST_CRASH") : nullptr;
   for (const Group& group : groups) {
     Images images;

@@ -18,7 +18,7 @@ namespace {
 int render_and_stream(const Run& run, const std::string& backend_name, const std::vector<Group>& groups,
                       util::LineWriter& out) {
   // Test hook: a check line the parent cannot read (a child whose memory went bad) must cost that slice's
-  // variant, not the run (tests/test_stress.cpp).
+  // variant, not the run (tests/stress/test_stress.cpp).
   const char* garble = std::getenv("AOVAR_STRESS_TEST_GARBLE");
   try {
     render_groups(
