@@ -96,6 +96,7 @@ ExitCode run_measure(const MeasureArgs& a) {
   gpu::check_request({gpu.families});  // an unknown family fails before anything is measured
   const std::size_t views = std::max<std::size_t>(o.views.size(), 1) * std::max<std::size_t>(o.backends.size(), 1);
   check_whole_space(a.common.manifest, a.common.globs, a.all, {"measure", views, 1});
+  measure::check_request(o);  // before the profile: a bad --param costs no profiling
   const auto lock = lock_output(o.out);
   auto r = with_status([&](const auto& progress) {
     if (!a.no_prune) o.pruning = profile_pruning(o, progress);

@@ -124,6 +124,19 @@ void check_params(const variants::Manifest& manifest, const variants::VariantSpa
 
 }  // namespace
 
+void check_request(const MeasureOptions& o) {
+  check_options(o);
+  if (o.params.empty()) return;
+  // The selection as compile will see it (the baseline too): a bad --param fails here, not after the profile.
+  std::vector<std::string> globs = o.globs;
+  if (!globs.empty()) globs.push_back(o.baseline);
+  const variants::Manifest manifest = variants::load_manifest(o.manifest);
+  const variants::VariantSpace space = variants::build_space(manifest, globs);
+  std::vector<int> all(space.variants.size());
+  std::iota(all.begin(), all.end(), 0);
+  check_params(manifest, space, all, o.params);
+}
+
 std::vector<const scene::View*> chosen_views(const scene::Scene& sc, const std::vector<std::string>& names) {
   std::vector<const scene::View*> views;
   if (names.empty()) views.push_back(&sc.views.front());
@@ -197,7 +210,7 @@ bool MeasureRun::prune(compile::CompileOptions& co) {
 
 MeasureResult MeasureRun::run() {
   keep_heap_mapped();
-  check_options(o_);
+  check_request(o_);
   scene::LoadOptions load;
   load.views_file = o_.views_file;
   scene_ = scene::load_scene(o_.scene, load);
@@ -216,13 +229,6 @@ MeasureResult MeasureRun::run() {
   if (!co.globs.empty()) co.globs.push_back(o_.baseline);
   co.cache_dir = o_.cache_dir;
   co.jobs = o_.jobs;
-  if (!o_.params.empty()) {  // a bad --param fails before the scene is profiled, not minutes later
-    const variants::Manifest manifest = variants::load_manifest(o_.manifest);
-    const variants::VariantSpace space = variants::build_space(manifest, co.globs);
-    std::vector<int> all(space.variants.size());
-    std::iota(all.begin(), all.end(), 0);
-    check_params(manifest, space, all, o_.params);
-  }
   if (!prune(co)) return std::move(res_);
   auto compile_start = Clock::now();
   compile::CompiledSpace c = compile::compile_space(o_.manifest, co);

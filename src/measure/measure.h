@@ -78,6 +78,11 @@ struct MeasureOptions {
   std::shared_ptr<const ScenePruning> pruning;
 };
 
+// What fails before any scene is loaded: the options' own rules, and each --param against the manifest (a
+// parameter some selected variant has, inside its range). run_measure checks it too; a caller that profiles
+// the scene first (the measure command) calls it before, so a bad option costs no profile.
+void check_request(const MeasureOptions& options);
+
 // The views a measurement renders: each named one once, in the order given; none named: the scene's first.
 std::vector<const scene::View*> chosen_views(const scene::Scene& scene, const std::vector<std::string>& names);
 

@@ -94,6 +94,17 @@ TEST(MeasureCli, BadInputGetsOneLineErrors) {
   }
 }
 
+// A bad --param fails before the scene is profiled (seconds on a large scene): no profile.json is written.
+TEST(MeasureCli, BadParamFailsBeforeTheProfile) {
+  TempDir dir;
+  const auto out = dir / "out";
+  auto r = run_aovar("measure --param ao.nonsense=2 --variants 'alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp' --out " +
+                     out.string());
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("ao.nonsense"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out / "profile.json")) << "profiled before the options were checked";
+}
+
 // --reference on a progressive variant: the converged error (halves averaged), the error of one frame
 // alone, and flicker along the camera path; a non-progressive variant gets flicker only.
 TEST(Measure, ReferenceGivesProgressiveVariantsOneFrameErrorAndFlicker) {
