@@ -93,7 +93,9 @@ ExitCode run_measure(const MeasureArgs& a) {
   o.out = a.out;
   o.cache_dir = a.common.cache();
   const trace::GpuEstimateOptions gpu = a.gpu.options();
-  gpu::check_request({gpu.families});  // an unknown family fails before anything is measured
+  gpu::CostRequest families;
+  families.families = gpu.families;
+  gpu::check_request(families);  // an unknown family fails before anything is measured
   const std::size_t views = std::max<std::size_t>(o.views.size(), 1) * std::max<std::size_t>(o.backends.size(), 1);
   check_whole_space(a.common.manifest, a.common.globs, a.all, {"measure", views, 1});
   measure::check_request(o);  // before the profile: a bad --param costs no profiling

@@ -1,6 +1,7 @@
 #include "measure/batch.h"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include <fmt/format.h>
@@ -219,7 +220,8 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
     }
     run.prepare_s = seconds_since(prep_start);
 
-    TimingOptions to{o_.warmup, o_.reps, res_.radius, o_.camera_path, o_.auto_reps};
+    TimingOptions to{o_.warmup, o_.reps, res_.radius, o_.camera_path, o_.auto_reps, std::nullopt};
+    if (o_.auto_reps && o_.race_errors) to.retire = retire_rule(ref, todo, lo, hi, view.name);
     auto timed = time_round_robin(runner.backend(), pointers, view, to, [&](const std::string& s) {
       status(fmt::format("{}: batch {}/{}: {} ({} pipelines)", where, b + 1, batches, s, pointers.size()));
     });
@@ -267,6 +269,17 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
     after_batch();
     prep_start = Clock::now();
   }
+}
+
+Retire BatchMeasurer::retire_rule(const Candidate& reference, const std::vector<Candidate>& todo, std::size_t lo,
+                                  std::size_t hi, const std::string& view) const {
+  auto known = [&](const Candidate& c) {
+    auto it = o_.race_errors->find({c.plan.variant, view});
+    return it == o_.race_errors->end() ? NAN : it->second;
+  };
+  Retire r{{known(reference)}, o_.race_margin};
+  for (std::size_t i = lo; i < hi; ++i) r.known_error.push_back(known(todo[i]));
+  return r;
 }
 
 // Variants that run the same code as an earlier one in key order on this device (same_code.h), once this

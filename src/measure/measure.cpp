@@ -42,6 +42,7 @@ void check_options(const MeasureOptions& o) {
   // traced for a path frame would match none of them.
   if (o.auto_reps && o.camera_path) throw std::runtime_error("--camera-path needs a fixed --reps N, not auto");
   if (o.size.width < 1 || o.size.height < 1) throw std::runtime_error("--size must be WxH with W, H >= 1");
+  if (o.race_errors && !(o.race_margin >= 1.0)) throw std::runtime_error("the race's margin must be a time ratio >= 1");
 }
 
 Selection select_variants(const compile::CompiledSpace& c, const MeasureOptions& o, const ScenePruning* pruning,

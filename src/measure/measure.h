@@ -40,6 +40,11 @@ struct MeasureOptions {
   render::Extent size{640, 360};
   int reps = 10;                           // timed rounds; with auto_reps the least number of them
   std::optional<AutoReps> auto_reps;       // --reps auto: rounds until each row's interval is narrow (timing.h)
+  // aovar ship's race: the still error each variant already showed on each view (its screen), by (key, view).
+  // With auto_reps, a variant stops being timed on a view once a more accurate one of its batch is faster
+  // beyond race_margin there (timing.h, Retire). Null: every row is timed to its target or cap.
+  std::shared_ptr<const std::map<std::pair<std::string, std::string>, double>> race_errors;
+  double race_margin = 1.0;
   int warmup = 2;
   int threads = 2;
   std::string device;                      // lavapipe backend: --device NAME|INDEX (render::BackendOptions::device)
@@ -134,10 +139,11 @@ struct MeasureRow : table::CostRow {
 // on the cap, for the text output and the meta of measure.json and cost_table.json.
 struct RepsReached {
   int rows = 0, on_cap = 0;
+  int dominated = 0;  // raced rows stopped as dominated (Stop::dominated), kept out of `widest`
   double widest = 0;  // relative half-width; 0 when no row has an interval
   std::vector<double> rounds;  // per row: rounds reached
   void add(const MeasureRow& row);
-  nlohmann::json to_json() const;  // {"rows", "on_cap", "widest_half_width", "rounds_median", "rounds_max"}
+  nlohmann::json to_json() const;  // {"rows", "on_cap", "dominated", "widest_half_width", "rounds_median", "rounds_max"}
   std::string text() const;        // "widest 95 % half-width 1.8 %, 0 of 75 rows on the cap, rounds median 14, max 200"
 };
 

@@ -11,13 +11,18 @@ namespace aovar::measure {
 std::string reps_text(const MeasureOptions& o) {
   if (!o.auto_reps) return std::to_string(o.reps);  // as before --reps auto: fixed-count rows stay reusable
   const AutoReps& a = *o.auto_reps;
-  return fmt::format("auto:min{}:ci{}:cap{}s:max{}", o.reps, a.ci_target, a.cap_s, a.max_rounds);
+  // A raced row may stop before its target: not the row a plain --reps auto gives.
+  const std::string race = o.race_errors ? fmt::format(":race{}", o.race_margin) : std::string();
+  return fmt::format("auto:min{}:ci{}:cap{}s:max{}{}", o.reps, a.ci_target, a.cap_s, a.max_rounds, race);
 }
 
 std::string reps_words(const MeasureOptions& o) {
   if (!o.auto_reps) return fmt::format("{} reps", o.reps);
-  return fmt::format("--reps auto (95 % interval within {:g} %, at least {} rounds, cap {:g} s or {} rounds)",
-                     100 * o.auto_reps->ci_target, o.reps, o.auto_reps->cap_s, o.auto_reps->max_rounds);
+  return fmt::format("--reps auto (95 % interval within {:g} %, at least {} rounds, cap {:g} s or {} rounds{})",
+                     100 * o.auto_reps->ci_target, o.reps, o.auto_reps->cap_s, o.auto_reps->max_rounds,
+                     o.race_errors ? fmt::format("; raced: stopped once slower beyond {:.2f}x than a more accurate one",
+                                                 o.race_margin)
+                                   : std::string());
 }
 
 nlohmann::json reps_auto_json(const MeasureOptions& o) {
@@ -41,22 +46,23 @@ void RepsReached::add(const MeasureRow& row) {
   if (row.is_baseline) return;
   ++rows;
   if (row.stop == Stop::cap) ++on_cap;
-  if (std::isfinite(row.ci_half_width)) widest = std::max(widest, row.ci_half_width);
+  if (row.stop == Stop::dominated) ++dominated;  // left unresolved on purpose: not the widest that matters
+  else if (std::isfinite(row.ci_half_width)) widest = std::max(widest, row.ci_half_width);
   rounds.push_back(static_cast<double>(row.rounds.ratios.size()));
 }
 
 nlohmann::json RepsReached::to_json() const {
   const util::TimeStats r = util::summarize(rounds);
-  return {{"rows", rows}, {"on_cap", on_cap}, {"widest_half_width", widest},
+  return {{"rows", rows}, {"on_cap", on_cap}, {"dominated", dominated}, {"widest_half_width", widest},
           {"rounds_median", rounds.empty() ? 0.0 : r.median},
           {"rounds_max", rounds.empty() ? 0.0 : *std::max_element(rounds.begin(), rounds.end())}};
 }
 
 std::string RepsReached::text() const {
   if (rounds.empty()) return "no timed rows";
-  return fmt::format("widest 95 % half-width {:.1f} %, {} of {} rows on the cap, rounds median {:.0f}, max {:.0f}",
-                     100 * widest, on_cap, rows, util::summarize(rounds).median,
-                     *std::max_element(rounds.begin(), rounds.end()));
+  return fmt::format("widest 95 % half-width {:.1f} %, {} of {} rows on the cap{}, rounds median {:.0f}, max {:.0f}",
+                     100 * widest, on_cap, rows, dominated ? fmt::format(", {} stopped as dominated", dominated) : "",
+                     util::summarize(rounds).median, *std::max_element(rounds.begin(), rounds.end()));
 }
 
 }  // namespace aovar::measure

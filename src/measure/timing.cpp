@@ -52,7 +52,7 @@ RoundRobinResult time_round_robin(render::Backend& backend, const std::vector<re
       r.sum_timed_s += total / 1000.0;
     }
     if (o.adaptive) {
-      stop_after_round(r.pipelines, o.reps, *o.adaptive);
+      stop_after_round(r.pipelines, o.reps, *o.adaptive, o.retire ? &*o.retire : nullptr);
       std::erase_if(active, [&](std::size_t i) { return r.pipelines[i].stop != Stop::running; });
     }
     if (progress)
@@ -109,14 +109,31 @@ Stop stop_of(const PipelineTiming& t, const PipelineTiming& reference, int min_r
   const double timed_s = std::accumulate(t.total_ms.begin(), t.total_ms.end(), 0.0) / 1000.0;
   return timed_s >= rule.cap_s || rounds >= rule.max_rounds ? Stop::cap : Stop::running;
 }
+
+// Retire's rule for pipeline i: some j with a lower known error whose rounds, paired with i's (the rounds
+// both ran, from the first), give i / j an interval at or above the margin.
+bool dominated(const std::vector<PipelineTiming>& pipelines, std::size_t i, const Retire& retire) {
+  const double error = i < retire.known_error.size() ? retire.known_error[i] : NAN;
+  if (!std::isfinite(error)) return false;
+  const PipelineTiming& t = pipelines[i];
+  for (std::size_t j = 0; j < pipelines.size() && j < retire.known_error.size(); ++j) {
+    if (j == i || !(retire.known_error[j] < error)) continue;  // NaN compares false: unknown never retires
+    const util::Interval ci = util::median_interval(round_ratios(t, pipelines[j]));
+    if (ci.known() && ci.lo >= retire.margin) return true;
+  }
+  return false;
+}
 }  // namespace
 
-void stop_after_round(std::vector<PipelineTiming>& pipelines, int min_rounds, const AutoReps& rule) {
+void stop_after_round(std::vector<PipelineTiming>& pipelines, int min_rounds, const AutoReps& rule, const Retire* retire) {
   if (pipelines.empty()) return;
   bool others_run = false;
   for (std::size_t i = 1; i < pipelines.size(); ++i) {
     PipelineTiming& t = pipelines[i];
     if (t.stop == Stop::running) t.stop = stop_of(t, pipelines[0], min_rounds, rule);
+    if (t.stop == Stop::running && retire && static_cast<int>(t.total_ms.size()) >= min_rounds &&
+        dominated(pipelines, i, *retire))
+      t.stop = Stop::dominated;
     others_run = others_run || t.stop == Stop::running;
   }
   PipelineTiming& reference = pipelines[0];
@@ -131,12 +148,13 @@ const char* stop_name(Stop s) {
     case Stop::fixed: return "fixed";
     case Stop::target: return "target";
     case Stop::cap: return "cap";
+    case Stop::dominated: return "dominated";
   }
   return "fixed";
 }
 
 Stop stop_from_name(const std::string& name) {
-  for (Stop s : {Stop::running, Stop::fixed, Stop::target, Stop::cap})
+  for (Stop s : {Stop::running, Stop::fixed, Stop::target, Stop::cap, Stop::dominated})
     if (name == stop_name(s)) return s;
   return Stop::fixed;
 }

@@ -23,17 +23,28 @@ struct AutoReps {
   bool operator==(const AutoReps&) const = default;
 };
 
+// Racing (aovar ship's race; the idea of F-race, Birattari et al. 2002): with --reps auto, a pipeline whose
+// error is known stops being timed once another pipeline of its batch with a lower known error is faster
+// beyond `margin`: the 95 % sign-test interval of their per-round time ratio lies wholly at or above it.
+// More rounds would only narrow an interval the race no longer needs; the rounds it had stay in its row.
+struct Retire {
+  std::vector<double> known_error;  // per pipeline, as ordered for time_round_robin; NaN: unknown (never compared)
+  double margin = 1.0;
+};
+
 struct TimingOptions {
   int warmup = 2;   // frames after the first (JIT) frame that are discarded
   int reps = 10;    // timed rounds (with `adaptive`: the least number)
   float radius = 1.0f;
   bool camera_path = false;  // frames walk the view's camera path (else its first pose, static)
   std::optional<AutoReps> adaptive;  // --reps auto
+  std::optional<Retire> retire;      // with `adaptive` only
 };
 
-// Why a pipeline's timing ended: a fixed --reps N, its interval reached the target, or its cap.
-enum class Stop { running, fixed, target, cap };
-const char* stop_name(Stop s);  // "running", "fixed", "target", "cap"
+// Why a pipeline's timing ended: a fixed --reps N, its interval reached the target, its cap, or a more
+// accurate pipeline was faster beyond the race's margin (Retire).
+enum class Stop { running, fixed, target, cap, dominated };
+const char* stop_name(Stop s);  // "running", "fixed", "target", "cap", "dominated"
 Stop stop_from_name(const std::string& name);  // unknown names: fixed (rows written before --reps auto)
 
 struct PipelineTiming {
@@ -76,7 +87,10 @@ double relative_half_width(const std::vector<double>& ratios);
 // pipelines[0] is the reference, the others have run every round since the first until they stopped. A
 // running pipeline with at least `min_rounds` rounds stops on the target when its relative half-width is
 // within `rule.ci_target`, else on the cap when its timed frames reach cap_s or its rounds max_rounds. The
-// reference stops only when no other pipeline runs: every ratio needs it in the same round.
-void stop_after_round(std::vector<PipelineTiming>& pipelines, int min_rounds, const AutoReps& rule);
+// reference stops only when no other pipeline runs: every ratio needs it in the same round. With `retire`,
+// a running pipeline that neither target nor cap stopped, with at least `min_rounds` rounds, stops as
+// dominated when Retire's rule says so (the reference is never retired, but may retire others).
+void stop_after_round(std::vector<PipelineTiming>& pipelines, int min_rounds, const AutoReps& rule,
+                      const Retire* retire = nullptr);
 
 }  // namespace aovar::measure

@@ -201,6 +201,14 @@ table::CostTable on_views(const table::CostTable& t, const std::vector<std::stri
   return out;
 }
 
+// The screen's still error of each candidate on each view it rendered, for the race to retire the beaten.
+std::shared_ptr<const std::map<std::pair<std::string, std::string>, double>> still_errors(const table::CostTable& screen) {
+  auto out = std::make_shared<std::map<std::pair<std::string, std::string>, double>>();
+  for (const auto& r : screen.rows)
+    if (r.error) (*out)[{r.variant, r.view}] = r.error->rmse;
+  return out;
+}
+
 std::vector<std::string> variants_of(const table::CostTable& t) {
   std::set<std::string> keys;
   for (const auto& r : t.rows)
@@ -307,6 +315,10 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
     // The screen decides on the training views only (its eliminations look at nothing else), so it renders
     // nothing else; the survivors are measured on every view, the held-out one for the choice.
     sweep::SweepOptions so = round_options(o, fit, final_round ? views : res.training, globs, skip, final_round);
+    if (final_round && o.target.empty()) {  // the race times a view's beaten candidates no longer than it must
+      so.measure.race_errors = still_errors(last);
+      so.measure.race_margin = o.race_margin;
+    }
     r.timing = !o.target.empty() ? "one render, estimate on " + o.target
                : final_round     ? measure::reps_words(so.measure)
                                  : fmt::format("{} reps", so.measure.reps);

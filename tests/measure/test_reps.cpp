@@ -78,8 +78,39 @@ TEST(Reps, TheCapStopsANoisyPipeline) {
   EXPECT_EQ(p[1].stop, Stop::running);
 }
 
+// The race's retirement (timing.h, Retire): noisy pipelines that no target would stop. One with a more
+// accurate pipeline twice as fast in the same rounds stops as dominated; a tie inside the margin, a faster
+// one that is less accurate, or an unknown error keep it running; the reference retires others, never itself.
+TEST(Reps, ARaceRetiresAPipelineAMoreAccurateOneBeatsBeyondTheMargin) {
+  const measure::Retire race{{0.05, 0.04, 0.06, 0.03}, 1.10};
+  std::vector<PipelineTiming> p{timed(steady(12, 10)), timed(noisy(12, 10, 0.3)), timed(noisy(12, 20, 0.3)),
+                                timed(noisy(12, 10.5, 0.3))};
+  measure::stop_after_round(p, 10, kRule, &race);
+  EXPECT_EQ(p[2].stop, Stop::dominated) << "2x slower than p[1], which is more accurate";
+  EXPECT_EQ(p[1].stop, Stop::running) << "p[3] is more accurate but only 1.05x faster: inside the margin";
+  EXPECT_EQ(p[3].stop, Stop::running) << "the most accurate: nothing dominates it";
+  EXPECT_EQ(p[0].stop, Stop::running) << "the reference is never retired";
+
+  p = {timed(steady(12, 10)), timed(noisy(12, 10, 0.3)), timed(noisy(12, 20, 0.3))};
+  const measure::Retire less_accurate{{0.09, 0.07, 0.06}, 1.10};  // the reference: less accurate too
+  measure::stop_after_round(p, 10, kRule, &less_accurate);
+  EXPECT_EQ(p[2].stop, Stop::running) << "the faster one has more error: no domination";
+  const measure::Retire unknown{{0.09, 0.04, NAN}, 1.10};
+  measure::stop_after_round(p, 10, kRule, &unknown);
+  EXPECT_EQ(p[2].stop, Stop::running) << "an unknown error is never compared";
+  const measure::Retire by_reference{{0.01, 0.07, 0.06}, 1.10};
+  p = {timed(steady(12, 10)), timed(noisy(12, 25, 0.3))};
+  measure::stop_after_round(p, 10, kRule, &by_reference);
+  EXPECT_EQ(p[1].stop, Stop::dominated) << "the reference, more accurate and faster, retires it";
+  EXPECT_EQ(p[0].stop, Stop::target) << "nothing else is timed";
+
+  p = {timed(steady(9, 10)), timed(noisy(9, 10, 0.3)), timed(noisy(9, 20, 0.3))};
+  measure::stop_after_round(p, 10, kRule, &race);
+  EXPECT_EQ(p[2].stop, Stop::running) << "below the minimum of rounds";
+}
+
 TEST(Reps, StopNamesRoundTrip) {
-  for (Stop s : {Stop::running, Stop::fixed, Stop::target, Stop::cap})
+  for (Stop s : {Stop::running, Stop::fixed, Stop::target, Stop::cap, Stop::dominated})
     EXPECT_EQ(measure::stop_from_name(measure::stop_name(s)), s);
   EXPECT_EQ(measure::stop_from_name(""), Stop::fixed) << "rows written before --reps auto";
 }
