@@ -56,18 +56,18 @@ int main(int argc, char** argv) {
              "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x2-hp", "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x4-hp",
              "alchemy-s08-p1-nrg8-zdep-rst-d16-bsep-x1-hp", "alchemy-s08-p0-ndep-zdep-rst-d16-bsep-x1-hp",
              "alchemy-s08-p0-nrg8-zpos-rst-d16-bsep-x1-hp"};
-  o.reps = 10;
+  o.timing.reps = 10;
   const bool smoke = bench_smoke();  // three variants at 64x36, 3 reps: the steps, not the figures
   if (smoke) {
     o.globs = {"alchemy-s0[48]-p0-nrg8-zdep-rst-d16-bsep-x1-hp", "alchemy-s08-p0-nrg8-zdep-rst-d16-bno-x1-hp"};
     o.size = {64, 36};
-    o.reps = 3;
-    o.warmup = 0;
+    o.timing.reps = 3;
+    o.timing.warmup = 0;
   }
   o.images = false;
   o.reuse = false;
   std::printf("bench/measure: builtin:atrium %dx%d, %d reps, %d warm-up, LP_NUM_THREADS=%d\n", o.size.width,
-              o.size.height, o.reps, o.warmup, o.threads);
+              o.size.height, o.timing.reps, o.timing.warmup, o.threads);
   auto progress = [](const std::string& s) { std::fprintf(stderr, "\r\033[K%s", s.c_str()); };
 
   bool ok = true, measured = true;  // the targets met; every backend measured 2 variants or more

@@ -25,7 +25,7 @@ void add_round(SampleTimes& t) {
   o.baseline = "alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp";
   o.backends = kBackends;
   o.size = {320, 180};
-  o.reps = 7;
+  o.timing.reps = 7;
   o.images = false;
   o.reuse = false;
   auto r = measure::run_measure(o);

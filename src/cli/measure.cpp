@@ -79,16 +79,16 @@ ExitCode run_measure(const MeasureArgs& a) {
   o.scene = a.scene;
   o.views_file = a.views_file;
   o.manifest = a.common.manifest;
-  o.reference_mode = reference::parse_mode(a.reference_mode);
-  if (o.reference_rays < 1) throw std::runtime_error("--rays must be at least 1");
-  o.reference_cache = a.common.cache();
-  const auto cal_file = a.calibration.load(a.common.manifest, o.calibration, o.calibration_file, o.calibration_hash);
+  o.truth.mode = reference::parse_mode(a.reference_mode);
+  if (o.truth.rays < 1) throw std::runtime_error("--rays must be at least 1");
+  o.truth.cache = a.common.cache();
+  const auto cal_file = a.calibration.load(a.common.manifest, o.calibration.values, o.calibration.file, o.calibration.hash);
   o.globs = a.common.globs;
   o.jobs = a.common.jobs;
   o.size = parse_size(a.size);
   a.reps.apply(o);
   if (o.radius < 0) throw std::runtime_error("--radius must be positive (world units; omit it for the scene's default)");
-  if (o.warmup < 0) throw std::runtime_error("--warmup must be 0 or more");
+  if (o.timing.warmup < 0) throw std::runtime_error("--warmup must be 0 or more");
   o.params = parse_params(a.params);
   o.out = a.out;
   o.cache_dir = a.common.cache();
@@ -125,24 +125,24 @@ Command add_measure(CLI::App& app) {
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
   add_reps(cmd, a->reps);
-  cmd->add_option("--warmup", mo.warmup, "discarded frames after the first (JIT) frame")->capture_default_str();
+  cmd->add_option("--warmup", mo.timing.warmup, "discarded frames after the first (JIT) frame")->capture_default_str();
   cmd->add_option("--threads", mo.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
   cmd->add_option("--device", mo.device, "lavapipe backend: Vulkan device by name substring or index (default: lavapipe)");
-  cmd->add_option("--batch", mo.batch, "pipelines prepared and interleaved at once")->capture_default_str();
+  cmd->add_option("--batch", mo.timing.batch, "pipelines prepared and interleaved at once")->capture_default_str();
   add_gpu(cmd, a->gpu);
   cmd->add_option("--baseline", mo.baseline, "variant timed in every round (rel_time = 1)")->capture_default_str();
   cmd->add_option("--radius", mo.radius, "AO radius in world units (default: the scene's)");
   cmd->add_option("--param", a->params, "override a parameter of the variants that take it: PASS.NAME=VALUE (repeatable)");
   cmd->add_option("--out,-o", a->out, "output folder: measure.json and images/");
-  cmd->add_flag("--camera-path", mo.camera_path,
+  cmd->add_flag("--camera-path", mo.timing.camera_path,
                 "frames walk each view's camera path (default: its first pose; the image is the last frame)");
   cmd->add_flag("!--no-images", mo.images, "write no PFM/PNG images");
   cmd->add_flag("!--no-reuse", mo.reuse, "measure everything again even when OUT/measure.json has the row");
   cmd->add_flag("--no-prune", a->no_prune,
                 "measure every selected variant (default: drop, before compiling, those the scene's profile drops)");
-  cmd->add_flag("--reference", mo.ground_truth,
+  cmd->add_flag("--reference", mo.truth.enabled,
                 "score every row against a ray-traced reference of its view (error: rmse, mae, psnr, ssim, bias, max)");
-  cmd->add_option("--rays", mo.reference_rays, "reference rays per pixel (with --reference)")->capture_default_str();
+  cmd->add_option("--rays", mo.truth.rays, "reference rays per pixel (with --reference)")->capture_default_str();
   cmd->add_option("--reference-mode", a->reference_mode, "occlusion or obscurance (with --reference)")
       ->capture_default_str();
   add_calibration(cmd, a->calibration,

@@ -71,8 +71,8 @@ trace::GpuEstimateOptions GpuOption::options() const { return {family_list(), fr
 
 void RepsOption::apply(measure::MeasureOptions& o) const {
   if (reps == "auto") {
-    o.auto_reps = measure::AutoReps{ci_target_pct / 100, cap_s};
-    return;  // o.reps: the least number of rounds (the fixed default)
+    o.timing.auto_reps = measure::AutoReps{ci_target_pct / 100, cap_s};
+    return;  // o.timing.reps: the least number of rounds (the fixed default)
   }
   std::size_t used = 0;
   int n = 0;
@@ -83,8 +83,8 @@ void RepsOption::apply(measure::MeasureOptions& o) const {
   }
   if (used == 0 || used != reps.size() || n < 1)
     throw std::runtime_error("--reps: expected a number of rounds (1 or more) or auto, got '" + reps + "'");
-  o.reps = n;
-  o.auto_reps.reset();
+  o.timing.reps = n;
+  o.timing.auto_reps.reset();
 }
 
 void add_reps(CLI::App* cmd, RepsOption& o) {

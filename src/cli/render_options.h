@@ -54,7 +54,7 @@ struct RepsOption {
   std::string reps;
   double ci_target_pct = 2;
   double cap_s = 2;
-  // Sets options.reps and options.auto_reps; throws std::runtime_error naming --reps.
+  // Sets options.timing.reps and options.timing.auto_reps; throws std::runtime_error naming --reps.
   void apply(measure::MeasureOptions& options) const;
 };
 void add_reps(CLI::App* cmd, RepsOption& o);

@@ -43,10 +43,10 @@ ExitCode run_sweep(const SweepArgs& a) {
   o.shard_index = shard.index;
   o.shard_count = shard.count;
   o.shard_convention = shard.convention;
-  if (m.reference_rays < 1) throw std::runtime_error("--rays must be at least 1");
-  m.cache_dir = m.reference_cache = a.common.cache();
+  if (m.truth.rays < 1) throw std::runtime_error("--rays must be at least 1");
+  m.cache_dir = m.truth.cache = a.common.cache();
   o.gpu = a.gpu.options();
-  const auto cal_file = a.calibration.load(a.common.manifest, m.calibration, m.calibration_file, m.calibration_hash);
+  const auto cal_file = a.calibration.load(a.common.manifest, m.calibration.values, m.calibration.file, m.calibration.hash);
   // Every view of each scene: 3 for the built-in scenes and the derived views of a mesh.
   const std::size_t views = (m.views.empty() ? 3 : m.views.size()) * std::max<std::size_t>(o.scenes.size(), 1);
   check_whole_space(a.common.manifest, a.common.globs, a.all,
@@ -76,8 +76,8 @@ Command add_sweep(CLI::App& app) {
   add_reps(cmd, a->reps);
   cmd->add_option("--threads", so.measure.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
   cmd->add_option("--device", so.measure.device, "lavapipe backend: Vulkan device by name substring or index (default: lavapipe)");
-  cmd->add_option("--rays", so.measure.reference_rays, "reference rays per pixel")->capture_default_str();
-  cmd->add_option("--batch", so.measure.batch, "pipelines prepared and interleaved at once (rows are saved per batch)")
+  cmd->add_option("--rays", so.measure.truth.rays, "reference rays per pixel")->capture_default_str();
+  cmd->add_option("--batch", so.measure.timing.batch, "pipelines prepared and interleaved at once (rows are saved per batch)")
       ->capture_default_str();
   cmd->add_option("--predict", so.predict,
                   "variants (globs, repeatable) to predict from the cost model instead of measuring: rows marked predicted");
@@ -90,7 +90,7 @@ Command add_sweep(CLI::App& app) {
                   "with --shard: balance the shards by the times of this earlier cost_table.json (default: static cost)");
   add_calibration(cmd, a->calibration, calibration_help);
   cmd->add_option("--views-file", so.measure.views_file, "views side file (TOML or JSON) for the scene(s)");
-  cmd->add_option("--warmup", so.measure.warmup, "discarded frames after the first (JIT) frame")
+  cmd->add_option("--warmup", so.measure.timing.warmup, "discarded frames after the first (JIT) frame")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   add_gpu(cmd, a->gpu);

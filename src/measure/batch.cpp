@@ -79,10 +79,10 @@ reference::ReferenceOptions BatchMeasurer::reference_options() const {
   reference::ReferenceOptions ro;
   ro.size = o_.size;
   ro.radius = res_.radius;
-  ro.rays = o_.reference_rays;
-  ro.mode = o_.reference_mode;
-  ro.frame = o_.camera_path ? o_.warmup + o_.reps : 0;
-  ro.cache_dir = o_.reference_cache;
+  ro.rays = o_.truth.rays;
+  ro.mode = o_.truth.mode;
+  ro.frame = o_.timing.camera_path ? o_.timing.warmup + o_.timing.reps : 0;
+  ro.cache_dir = o_.truth.cache;
   return ro;
 }
 
@@ -113,11 +113,11 @@ std::string BatchMeasurer::context(const runner::VariantRunner& runner, const sc
   const auto& info = runner.device();
   std::string context = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", shadergen::generator_version(),
                                     scene_.content_hash, scene::camera_text(view), info.backend, info.device,
-                                    info.driver, info.mediump_fp16, size_text(o_.size), o_.threads, reps_text(o_), o_.warmup,
+                                    info.driver, info.mediump_fp16, size_text(o_.size), o_.threads, reps_text(o_), o_.timing.warmup,
                                     res_.radius, c_.space.variants[sel_.baseline].key);
-  if (o_.camera_path) context += "|path";
-  if (!o_.temporal) context += "|still";  // a row without flicker is not one with it
-  if (o_.ground_truth) context += "|truth:" + reference::cache_key(scene_, view, reference_options());
+  if (o_.timing.camera_path) context += "|path";
+  if (!o_.truth.temporal) context += "|still";  // a row without flicker is not one with it
+  if (o_.truth.enabled) context += "|truth:" + reference::cache_key(scene_, view, reference_options());
   return context;
 }
 
@@ -172,7 +172,7 @@ void BatchMeasurer::measure_all(const std::vector<const scene::View*>& views, co
     ro.device.threads = o_.threads;
     ro.device.device = o_.device;
     ro.size = o_.size;
-    ro.calibration = o_.calibration;
+    ro.calibration = o_.calibration.values;
     runner::VariantRunner runner(c_, ro);
     res_.devices.push_back(runner.device());
     runner.use_scene(scene_);
@@ -199,14 +199,14 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
     add_twin_rows(twin, device, view.name);
     return;
   }
-  if (o_.ground_truth) ground_truth(view);  // before the timing, which it would disturb
+  if (o_.truth.enabled) ground_truth(view);  // before the timing, which it would disturb
 
   const std::string where = fmt::format("{} {}", backend, view.name);
   auto prep_start = Clock::now();
   auto ref_pipeline = runner.prepare(ref.plan);
   PipelineTiming ref_timing;  // accumulates over batches
   double ref_first_ms = 0;
-  const int batch_size = std::max(1, o_.batch - 1);
+  const int batch_size = std::max(1, o_.timing.batch - 1);
   const int batches = std::max<int>(1, static_cast<int>((todo.size() + batch_size - 1) / batch_size));
   for (int b = 0; b < batches; ++b) {
     const std::size_t lo = static_cast<std::size_t>(b) * batch_size, hi = std::min(todo.size(), lo + batch_size);
@@ -220,8 +220,8 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
     }
     run.prepare_s = seconds_since(prep_start);
 
-    TimingOptions to{o_.warmup, o_.reps, res_.radius, o_.camera_path, o_.auto_reps, std::nullopt};
-    if (o_.auto_reps && o_.race_errors) to.retire = retire_rule(ref, todo, lo, hi, view.name);
+    TimingOptions to{o_.timing.warmup, o_.timing.reps, res_.radius, o_.timing.camera_path, o_.timing.auto_reps, std::nullopt};
+    if (o_.timing.auto_reps && o_.timing.race_errors) to.retire = retire_rule(ref, todo, lo, hi, view.name);
     auto timed = time_round_robin(runner.backend(), pointers, view, to, [&](const std::string& s) {
       status(fmt::format("{}: batch {}/{}: {} ({} pipelines)", where, b + 1, batches, s, pointers.size()));
     });
@@ -274,10 +274,10 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
 Retire BatchMeasurer::retire_rule(const Candidate& reference, const std::vector<Candidate>& todo, std::size_t lo,
                                   std::size_t hi, const std::string& view) const {
   auto known = [&](const Candidate& c) {
-    auto it = o_.race_errors->find({c.plan.variant, view});
-    return it == o_.race_errors->end() ? NAN : it->second;
+    auto it = o_.timing.race_errors->find({c.plan.variant, view});
+    return it == o_.timing.race_errors->end() ? NAN : it->second;
   };
-  Retire r{{known(reference)}, o_.race_margin};
+  Retire r{{known(reference)}, o_.timing.race_margin};
   for (std::size_t i = lo; i < hi; ++i) r.known_error.push_back(known(todo[i]));
   return r;
 }
@@ -381,10 +381,10 @@ void BatchMeasurer::finish_row(MeasureRow& row, runner::VariantRunner& runner, c
     row.image = rel + ".pfm";
     row.preview = rel + ".png";
   }
-  if (o_.ground_truth) {
+  if (o_.truth.enabled) {
     const auto& truth = ground_truth(view);
     row.error = runner::score(row.result, truth, view, res_.radius);  // with where the error comes from
-    if (o_.temporal) temporal_errors(row, runner, cand.plan, p, view, truth);
+    if (o_.truth.temporal) temporal_errors(row, runner, cand.plan, p, view, truth);
     if (!o_.out.empty() && o_.images) {
       metrics::write_error_heatmap(o_.out / (rel + ".error.png"), row.result, truth.visibility, truth.background);
       row.error_map = rel + ".error.png";

@@ -35,14 +35,14 @@ using util::seconds_since;
 namespace {
 
 void check_options(const MeasureOptions& o) {
-  if (o.reps < 1) throw std::runtime_error("--reps must be at least 1");
-  if (o.auto_reps && !(o.auto_reps->ci_target > 0 && o.auto_reps->cap_s > 0))
+  if (o.timing.reps < 1) throw std::runtime_error("--reps must be at least 1");
+  if (o.timing.auto_reps && !(o.timing.auto_reps->ci_target > 0 && o.timing.auto_reps->cap_s > 0))
     throw std::runtime_error("--reps auto needs --ci-target and --reps-cap-s above 0");
   // The image is each pipeline's last frame, which --reps auto makes differ between rows: the reference
   // traced for a path frame would match none of them.
-  if (o.auto_reps && o.camera_path) throw std::runtime_error("--camera-path needs a fixed --reps N, not auto");
+  if (o.timing.auto_reps && o.timing.camera_path) throw std::runtime_error("--camera-path needs a fixed --reps N, not auto");
   if (o.size.width < 1 || o.size.height < 1) throw std::runtime_error("--size must be WxH with W, H >= 1");
-  if (o.race_errors && !(o.race_margin >= 1.0)) throw std::runtime_error("the race's margin must be a time ratio >= 1");
+  if (o.timing.race_errors && !(o.timing.race_margin >= 1.0)) throw std::runtime_error("the race's margin must be a time ratio >= 1");
 }
 
 Selection select_variants(const compile::CompiledSpace& c, const MeasureOptions& o, const ScenePruning* pruning,
@@ -257,7 +257,7 @@ MeasureResult MeasureRun::run() {
     res_.wall_s = seconds_since(start_);
     write();  // after every batch: an interruption loses at most one batch
   });
-  if (o_.ground_truth && o_.images && !o_.out.empty()) measurer.store_references(views);  // the sheets lead with them
+  if (o_.truth.enabled && o_.images && !o_.out.empty()) measurer.store_references(views);  // the sheets lead with them
   finish();
   return std::move(res_);
 }
@@ -333,8 +333,8 @@ MeasureResult run_measure(const MeasureOptions& options, const Progress& progres
 }
 
 json calibration_json(const MeasureOptions& o) {
-  if (o.calibration_file.empty()) return nullptr;
-  return {{"file", o.calibration_file}, {"hash", o.calibration_hash}};
+  if (o.calibration.file.empty()) return nullptr;
+  return {{"file", o.calibration.file}, {"hash", o.calibration.hash}};
 }
 
 json to_json(const MeasureResult& res, const MeasureOptions& o) {
@@ -358,14 +358,14 @@ json to_json(const MeasureResult& res, const MeasureOptions& o) {
           {"contact_sheets", res.contact_sheets},
           {"contact_sheets_rows", res.contact_sheets_rows},
           {"size", fmt::format("{}x{}", o.size.width, o.size.height)},
-          {"reps", o.reps},
+          {"reps", o.timing.reps},
           {"reps_auto", reps_auto_json(o)},
           {"reps_reached", reps_reached(res).to_json()},
-          {"warmup", o.warmup},
+          {"warmup", o.timing.warmup},
           {"threads", o.threads},
           {"radius", res.radius},
           {"calibration", calibration_json(o)},
-          {"camera_path", o.camera_path},
+          {"camera_path", o.timing.camera_path},
           {"devices", devices},
           {"runs", runs},
           {"wall_s", res.wall_s},

@@ -29,7 +29,40 @@ using profile::ScenePruning;
 // The default baseline variant (timed in every round): Alchemy, 8 samples, the mobile-typical buffers (Sunet 2018's configuration).
 inline constexpr const char* kDefaultBaseline = "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
 
+// How rows are timed (timing.h runs it): round-robin rounds against the baseline in batches.
+struct TimingPlan {
+  int reps = 10;                      // timed rounds; with auto_reps the least number of them
+  std::optional<AutoReps> auto_reps;  // --reps auto: rounds until each row's interval is narrow (timing.h)
+  int warmup = 2;
+  int batch = 24;                     // pipelines prepared and interleaved at once (memory bound)
+  bool camera_path = false;           // frames walk each view's camera path (progressive in motion)
+  // aovar ship's race: the still error each variant already showed on each view (its screen), by (key, view).
+  // With auto_reps, a variant stops being timed on a view once a more accurate one of its batch is faster
+  // beyond race_margin there (timing.h, Retire). Null: every row is timed to its target or cap.
+  std::shared_ptr<const std::map<std::pair<std::string, std::string>, double>> race_errors;
+  double race_margin = 1.0;
+};
+
+// Ground truth (--reference): every row gets `error` against a ray-traced reference of its view at the
+// measured size and radius (traced once per view, cached under `cache` when set).
+struct GroundTruth {
+  bool enabled = false;
+  int rays = 256;
+  reference::Mode mode = reference::Mode::occlusion;
+  std::filesystem::path cache;
+  // Each row's flicker along its view's camera path, and a progressive variant's error from one frame
+  // (view.path_frames more renders a row). false: the still error only (ship's screening).
+  bool temporal = true;
+};
+
+// Calibrated parameter values by algorithm (aovar calibrate) and where they came from; --param wins over them.
+struct CalibrationInUse {
+  std::map<std::string, render::ParamOverrides> values;
+  std::string file, hash;  // recorded; empty: none
+};
+
 struct MeasureOptions {
+  // What is measured: the scene, its views, the backends, and which variants.
   std::filesystem::path manifest = "shader_src/aovar.toml";
   std::string scene = "builtin:atrium";
   std::filesystem::path views_file;        // side file for the scene's views (optional)
@@ -37,50 +70,36 @@ struct MeasureOptions {
   std::vector<std::string> backends = {"lavapipe"};
   std::vector<std::string> globs;          // --variants
   std::string baseline = kDefaultBaseline;  // timed in every round (rel_time = 1); falls back to the first selected variant when absent
-  render::Extent size{640, 360};
-  int reps = 10;                           // timed rounds; with auto_reps the least number of them
-  std::optional<AutoReps> auto_reps;       // --reps auto: rounds until each row's interval is narrow (timing.h)
-  // aovar ship's race: the still error each variant already showed on each view (its screen), by (key, view).
-  // With auto_reps, a variant stops being timed on a view once a more accurate one of its batch is faster
-  // beyond race_margin there (timing.h, Retire). Null: every row is timed to its target or cap.
-  std::shared_ptr<const std::map<std::pair<std::string, std::string>, double>> race_errors;
-  double race_margin = 1.0;
-  int warmup = 2;
-  int threads = 2;
-  std::string device;                      // lavapipe backend: --device NAME|INDEX (render::BackendOptions::device)
-  int batch = 24;                          // pipelines prepared and interleaved at once (memory bound)
-  float radius = 0;                        // world units; 0 = the scene's default
-  render::ParamOverrides params;           // "<pass>.<name>" -> value
-  std::filesystem::path out;               // empty: no files (tests)
-  bool images = true;
-  bool camera_path = false;                // frames walk each view's camera path (progressive in motion)
-  // With ground_truth: each row's flicker along its view's camera path, and a progressive variant's error
-  // from one frame (view.path_frames more renders a row). false: the still error only (ship's screening).
-  bool temporal = true;
-  bool reuse = true;                       // keep rows of an earlier measure.json whose inputs match
-  std::filesystem::path cache_dir;         // compile cache (empty = none)
-  int jobs = 0;
-  // Ground truth (--reference): every row gets `error` against a ray-traced reference of its view at the
-  // measured size and radius (traced once per view, cached under reference_cache when set).
-  bool ground_truth = false;
-  int reference_rays = 256;
-  reference::Mode reference_mode = reference::Mode::occlusion;
-  std::filesystem::path reference_cache;
-  // Calibrated parameter values by algorithm (aovar calibrate); --param values win over them.
-  std::map<std::string, render::ParamOverrides> calibration;
-  std::string calibration_file, calibration_hash;  // where `calibration` came from (recorded; empty: none)
+  // Variant keys the globs select but not to measure (sweep --prune-dominated); the baseline is still timed.
+  std::set<std::string> skip;
   // A shard's share of the selection, as sweep's cost-balanced plan chose it (sweep/shard_plan.h, the one
   // planner of a sharded measurement); null: every selected variant. The baseline is timed regardless.
   std::shared_ptr<const std::set<std::string>> shard_keys;
   bool in_shard(const std::string& key) const { return !shard_keys || shard_keys->count(key) > 0; }
-  // Variant keys the globs select but not to measure (sweep --prune-dominated); the baseline is still timed.
-  std::set<std::string> skip;
-  bool contact_sheets = true;              // with images; false leaves the earlier sheets (sweep's pruning phases)
   // What the scene's profile drops (scene_prune.h), computed by the caller: sweep over all its scenes'
   // selections, the measure command with prune_options and chosen_views below; null: nothing pruned. The
   // dropped variants are neither compiled nor measured and are listed in measure.json's "pruned" section
   // with their reasons (the baseline, when dropped, is still timed as the pairing reference: a timing-only row).
   std::shared_ptr<const ScenePruning> pruning;
+
+  // How it is rendered.
+  render::Extent size{640, 360};
+  int threads = 2;
+  std::string device;                      // lavapipe backend: --device NAME|INDEX (render::BackendOptions::device)
+  float radius = 0;                        // world units; 0 = the scene's default
+  render::ParamOverrides params;           // "<pass>.<name>" -> value
+  CalibrationInUse calibration;
+
+  TimingPlan timing;
+  GroundTruth truth;
+
+  // Where it goes.
+  std::filesystem::path out;               // empty: no files (tests)
+  bool images = true;
+  bool contact_sheets = true;              // with images; false leaves the earlier sheets (sweep's pruning phases)
+  bool reuse = true;                       // keep rows of an earlier measure.json whose inputs match
+  std::filesystem::path cache_dir;         // compile cache (empty = none)
+  int jobs = 0;
 };
 
 // What fails before any scene is loaded: the options' own rules, and each --param against the manifest (a

@@ -9,26 +9,26 @@
 namespace aovar::measure {
 
 std::string reps_text(const MeasureOptions& o) {
-  if (!o.auto_reps) return std::to_string(o.reps);  // as before --reps auto: fixed-count rows stay reusable
-  const AutoReps& a = *o.auto_reps;
+  if (!o.timing.auto_reps) return std::to_string(o.timing.reps);  // as before --reps auto: fixed-count rows stay reusable
+  const AutoReps& a = *o.timing.auto_reps;
   // A raced row may stop before its target: not the row a plain --reps auto gives.
-  const std::string race = o.race_errors ? fmt::format(":race{}", o.race_margin) : std::string();
-  return fmt::format("auto:min{}:ci{}:cap{}s:max{}{}", o.reps, a.ci_target, a.cap_s, a.max_rounds, race);
+  const std::string race = o.timing.race_errors ? fmt::format(":race{}", o.timing.race_margin) : std::string();
+  return fmt::format("auto:min{}:ci{}:cap{}s:max{}{}", o.timing.reps, a.ci_target, a.cap_s, a.max_rounds, race);
 }
 
 std::string reps_words(const MeasureOptions& o) {
-  if (!o.auto_reps) return fmt::format("{} reps", o.reps);
+  if (!o.timing.auto_reps) return fmt::format("{} reps", o.timing.reps);
   return fmt::format("--reps auto (95 % interval within {:g} %, at least {} rounds, cap {:g} s or {} rounds{})",
-                     100 * o.auto_reps->ci_target, o.reps, o.auto_reps->cap_s, o.auto_reps->max_rounds,
-                     o.race_errors ? fmt::format("; raced: stopped once slower beyond {:.2f}x than a more accurate one",
-                                                 o.race_margin)
+                     100 * o.timing.auto_reps->ci_target, o.timing.reps, o.timing.auto_reps->cap_s, o.timing.auto_reps->max_rounds,
+                     o.timing.race_errors ? fmt::format("; raced: stopped once slower beyond {:.2f}x than a more accurate one",
+                                                 o.timing.race_margin)
                                    : std::string());
 }
 
 nlohmann::json reps_auto_json(const MeasureOptions& o) {
-  if (!o.auto_reps) return nullptr;
-  return {{"min_rounds", o.reps}, {"ci_target", o.auto_reps->ci_target}, {"cap_s", o.auto_reps->cap_s},
-          {"max_rounds", o.auto_reps->max_rounds}};
+  if (!o.timing.auto_reps) return nullptr;
+  return {{"min_rounds", o.timing.reps}, {"ci_target", o.timing.auto_reps->ci_target}, {"cap_s", o.timing.auto_reps->cap_s},
+          {"max_rounds", o.timing.auto_reps->max_rounds}};
 }
 
 RepsReached reps_reached(const MeasureResult& result) {

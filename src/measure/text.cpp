@@ -48,7 +48,7 @@ std::string notes_text(const MeasureResult& r, const MeasureOptions& o, const fs
   const std::string json = o.out.empty() ? "" : util::display_path(o.out / "measure.json");
   s += fmt::format("# scene {} ({} triangles), radius {:.3g}, {} at {}x{}, {} after {} warm-up; {}; "
                    "{} rows ({} reused) in {:.1f} s{}\n",
-                   r.scene, r.triangles, r.radius, o.baseline, o.size.width, o.size.height, reps_words(o), o.warmup,
+                   r.scene, r.triangles, r.radius, o.baseline, o.size.width, o.size.height, reps_words(o), o.timing.warmup,
                    r.counts, r.rows.size(), r.reused, r.wall_s, o.out.empty() ? "" : " -> " + json);
   s += "# timing reached: " + reps_reached(r).text() + "\n";
   if (r.pruning)
@@ -57,7 +57,7 @@ std::string notes_text(const MeasureResult& r, const MeasureOptions& o, const fs
                                        : fmt::format("profiled in {:.1f} s", r.pruning->seconds),
                      o.out.empty() ? std::string()
                                    : "; each with its reason in " + json + " \"pruned\" (--no-prune measures them)");
-  if (!o.calibration.empty())
+  if (!o.calibration.values.empty())
     s += "# calibrated parameters: " + util::display_path(cal_file) + " (--no-calibration: the manifest's defaults)\n";
   for (const auto& sheet : r.contact_sheets) s += "# contact sheet: " + util::display_path(o.out / sheet) + "\n";
   return s;

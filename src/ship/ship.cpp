@@ -128,26 +128,26 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   m.size = o.size;
   m.threads = o.threads;
   m.jobs = o.jobs;
-  m.reference_rays = o.rays;
-  m.calibration = fit.values;
-  m.calibration_file = fit.source.file;
-  m.calibration_hash = fit.source.hash;
-  m.cache_dir = m.reference_cache = o.cache_dir;
+  m.truth.rays = o.rays;
+  m.calibration.values = fit.values;
+  m.calibration.file = fit.source.file;
+  m.calibration.hash = fit.source.hash;
+  m.cache_dir = m.truth.cache = o.cache_dir;
   s.prune_by_profile = false;  // ship pruned already (the skip list), with the profile of all views
-  m.images = m.temporal = final_round;
+  m.images = m.truth.temporal = final_round;
   if (!o.target.empty()) {  // the time is the estimate: one render for the error
-    m.reps = 1;
-    m.warmup = 0;
+    m.timing.reps = 1;
+    m.timing.warmup = 0;
     // The screen renders only: its candidates are estimated afterwards, in order of error (bounded_estimate.h).
     if (final_round) s.gpu.families = {o.target};
     s.gpu.frame = o.gpu_frame;
     s.gpu.window = o.gpu_window;
   } else if (final_round) {
-    m.reps = o.race_reps;
-    m.auto_reps = o.final_reps;
+    m.timing.reps = o.race_reps;
+    m.timing.auto_reps = o.final_reps;
   } else {
-    m.reps = o.race_reps;
-    m.warmup = 1;
+    m.timing.reps = o.race_reps;
+    m.timing.warmup = 1;
   }
   return s;
 }
@@ -155,12 +155,12 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
 // What a screen depends on beyond the fit: a join takes only shards whose screens had the same.
 std::string screen_inputs(const Fitted& fit, const sweep::SweepOptions& so) {
   const measure::MeasureOptions& m = so.measure;
-  const json inputs = {{"fit", fit.inputs},     {"calibration", m.calibration_hash},
+  const json inputs = {{"fit", fit.inputs},     {"calibration", m.calibration.hash},
                        {"globs", m.globs},      {"skip", m.skip},
                        {"views", m.views},      {"backends", m.backends},
                        {"size", fmt::format("{}x{}", m.size.width, m.size.height)},
-                       {"reps", measure::reps_text(m)}, {"warmup", m.warmup},
-                       {"threads", m.threads},  {"rays", m.reference_rays},
+                       {"reps", measure::reps_text(m)}, {"warmup", m.timing.warmup},
+                       {"threads", m.threads},  {"rays", m.truth.rays},
                        {"gpu", so.gpu.families}, {"gpu_frame", fmt::format("{}x{}", so.gpu.frame.width, so.gpu.frame.height)},
                        {"gpu_window", so.gpu.window}};
   return util::hash_hex(inputs.dump());
@@ -316,12 +316,12 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
     // nothing else; the survivors are measured on every view, the held-out one for the choice.
     sweep::SweepOptions so = round_options(o, fit, final_round ? views : res.training, globs, skip, final_round);
     if (final_round && o.target.empty()) {  // the race times a view's beaten candidates no longer than it must
-      so.measure.race_errors = still_errors(last);
-      so.measure.race_margin = o.race_margin;
+      so.measure.timing.race_errors = still_errors(last);
+      so.measure.timing.race_margin = o.race_margin;
     }
     r.timing = !o.target.empty() ? "one render, estimate on " + o.target
                : final_round     ? measure::reps_words(so.measure)
-                                 : fmt::format("{} reps", so.measure.reps);
+                                 : fmt::format("{} reps", so.measure.timing.reps);
     if (!final_round) r.timing += ", still error only";
     say(fmt::format("round {}: {} ({})", r.name,
                     final_round        ? fmt::format("{} survivors", globs.size())

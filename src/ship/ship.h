@@ -6,7 +6,9 @@
 //   3. search the pruned space by racing (race.h): a screen of every candidate, its still error only (no
 //      flicker along the camera path, no images) and a few timed repetitions (with a GPU target: one render,
 //      the traced estimate for the time), the dominated ones eliminated with their reason, then the survivors
-//      with every measure of a sweep, timed until their intervals are narrow (--reps auto), eliminated again;
+//      with every measure of a sweep, timed until their intervals are narrow (--reps auto), except that a
+//      candidate a more accurate one of its batch already beats beyond the margin stops being timed on that
+//      view (measure::Retire), eliminated again;
 //   4. select among the survivors on the held-out views, write the cost table and the reports, and say what
 //      to ship with the line that generates exactly that variant.
 // Resumable: every round is a sweep into OUT/<round> (rows reused after a kill), the profile and the

@@ -113,13 +113,13 @@ json input_hashes(const SweepOptions& o, const std::map<std::string, VariantStat
   }
   json options = {{"variants", m.globs}, {"predict", o.predict}, {"views", m.views}, {"backends", m.backends},
                   {"device", m.device}, {"size", fmt::format("{}x{}", m.size.width, m.size.height)},
-                  {"reps", measure::reps_text(m)}, {"warmup", m.warmup}, {"threads", m.threads},
-                  {"rays", m.reference_rays}, {"radius", m.radius}, {"params", m.params}, {"baseline", m.baseline},
-                  {"calibration", m.calibration_hash}, {"profile_prune", o.prune_by_profile},
+                  {"reps", measure::reps_text(m)}, {"warmup", m.timing.warmup}, {"threads", m.threads},
+                  {"rays", m.truth.rays}, {"radius", m.radius}, {"params", m.params}, {"baseline", m.baseline},
+                  {"calibration", m.calibration.hash}, {"profile_prune", o.prune_by_profile},
                   {"prune_dominated", o.prune_dominated}, {"prune_check", o.prune_check},
                   {"min_model_spearman", o.min_model_spearman}, {"gpu", o.gpu.families},
                   {"shard_times", file_hash(o.shard_times)}};
-  if (!m.temporal) options["temporal"] = false;  // shards without flicker rows (ship's screen) are another run
+  if (!m.truth.temporal) options["temporal"] = false;  // shards without flicker rows (ship's screen) are another run
   // The estimate's frame and trace change every row's gpu costs: shards must agree on them (issue 33).
   if (!o.gpu.families.empty())
     options["gpu_estimate"] = {{"frame", fmt::format("{}x{}", o.gpu.frame.width, o.gpu.frame.height)},

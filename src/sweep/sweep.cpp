@@ -40,7 +40,7 @@ trace::RowGpuRequest gpu_request(const measure::MeasureOptions& m, const trace::
   r.traffic.window_share = gpu.window;
   r.traffic.views_file = m.views_file;
   r.traffic.radius = m.radius;
-  r.traffic.calibration = m.calibration;
+  r.traffic.calibration = m.calibration.values;
   r.traffic.threads = m.threads;
   return r;
 }
@@ -77,7 +77,7 @@ ScenePlans plan_scenes(const SweepOptions& o, SweepResult& res, const std::funct
   for (std::size_t i = 0; i < o.scenes.size(); ++i) {
     measure::MeasureOptions mo = o.measure;
     mo.scene = o.scenes[i];
-    mo.ground_truth = true;
+    mo.truth.enabled = true;
     mo.out = o.out / "measure" / scene_folder(o.scenes[i]);
     if (mo.views.empty() || o.prune_by_profile) {
       scene::LoadOptions lo;
@@ -143,11 +143,11 @@ json table_meta(const SweepOptions& o, const SweepResult& res, const json& scene
                {"scenes", scenes},
                {"backends", o.measure.backends},
                {"size", fmt::format("{}x{}", o.measure.size.width, o.measure.size.height)},
-               {"reps", o.measure.reps},
+               {"reps", o.measure.timing.reps},
                {"reps_auto", measure::reps_auto_json(o.measure)},
                {"reps_reached", res.reps.to_json()},
-               {"rays", o.measure.reference_rays},
-               {"calibrated", !o.measure.calibration.empty()},
+               {"rays", o.measure.truth.rays},
+               {"calibrated", !o.measure.calibration.values.empty()},
                {"calibration", measure::calibration_json(o.measure)},
                {"shard", fmt::format("{}/{}", o.shard_index + 1, o.shard_count)},
                {"cost_models", models}};

@@ -105,13 +105,13 @@ TEST(Calibrate, FittingLowersTrainingErrorWithinTheManifestsRanges) {
   mo.globs = {f.variant};
   mo.baseline = f.variant;
   mo.size = {96, 54};
-  mo.reps = 1;
-  mo.ground_truth = true;
-  mo.reference_rays = 64;
-  mo.reference_cache = dir / "cache";
+  mo.timing.reps = 1;
+  mo.truth.enabled = true;
+  mo.truth.rays = 64;
+  mo.truth.cache = dir / "cache";
   mo.out = dir / "default";
   auto plain = measure::run_measure(mo);
-  mo.calibration = loaded;
+  mo.calibration.values = loaded;
   mo.out = dir / "calibrated";
   auto tuned = measure::run_measure(mo);
   ASSERT_EQ(plain.rows.size(), 1u);
@@ -129,7 +129,7 @@ TEST(Calibrate, FittingLowersTrainingErrorWithinTheManifestsRanges) {
   EXPECT_EQ(again.reused, 1);
   ASSERT_TRUE(again.rows[0].error);
   EXPECT_DOUBLE_EQ(again.rows[0].error->rmse, tuned.rows[0].error->rmse);
-  mo.ground_truth = false;
+  mo.truth.enabled = false;
   auto without = measure::run_measure(mo);
   EXPECT_EQ(without.reused, 0);
   EXPECT_FALSE(without.rows[0].error);

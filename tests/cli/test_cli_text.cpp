@@ -218,7 +218,7 @@ TEST(CliText, MeasureNotesNameTheSceneTheCountsAndWhereTheyWentOnlyWithAnOutputF
   EXPECT_EQ(no_out.find("->"), std::string::npos);
   EXPECT_EQ(no_out.find("calibrated"), std::string::npos);
   o.out = "/tmp/somewhere";
-  o.calibration["alchemy"]["ao.intensity"] = 1.5;
+  o.calibration.values["alchemy"]["ao.intensity"] = 1.5;
   std::string with_out = measure::notes_text(r, o, "shader_src/calibration.json");
   EXPECT_NE(with_out.find("-> /tmp/somewhere/measure.json"), std::string::npos) << with_out;
   EXPECT_NE(with_out.find("# calibrated parameters: shader_src/calibration.json"), std::string::npos) << with_out;

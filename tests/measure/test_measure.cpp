@@ -28,7 +28,7 @@ TEST(Measure, WritesJsonAndImagesAndReusesUnchangedRows) {
   o.scene = "builtin:spheres";
   o.globs = {"alchemy-s0[48]-p0-nrg8-zdep-rst-d16-bsep-x1-hp"};
   o.size = {160, 90};
-  o.reps = 3;
+  o.timing.reps = 3;
   o.out = dir.path();
   auto first = measure::run_measure(o);
   ASSERT_EQ(first.rows.size(), 2u);
@@ -117,10 +117,10 @@ TEST(Measure, ReferenceGivesProgressiveVariantsOneFrameErrorAndFlicker) {
   mo.globs = {full, half};
   mo.baseline = full;
   mo.size = {96, 54};
-  mo.reps = 2;
-  mo.ground_truth = true;
-  mo.reference_rays = 64;
-  mo.reference_cache = dir / "cache";
+  mo.timing.reps = 2;
+  mo.truth.enabled = true;
+  mo.truth.rays = 64;
+  mo.truth.cache = dir / "cache";
   auto r = measure::run_measure(mo);
   ASSERT_EQ(r.rows.size(), 2u);
   for (const auto& row : r.rows) {
@@ -142,8 +142,8 @@ TEST(Measure, RepsAutoRowsReachTheTargetOrSayCap) {
   TempDir dir;
   auto o = tiny_measure(dir.path(), {"alchemy-s08-p0-nrgb8-zdep-rst-d32-bsep-x1-hp", "gtao-s04-p0-nrgb8-zdep-rst-d32-bsep-x1-hp"},
                         "alchemy-s04-p0-nrgb8-zdep-rst-d32-bsep-x1-hp");
-  o.reps = 10;
-  o.auto_reps = AutoReps{0.02, 0.5, 200};
+  o.timing.reps = 10;
+  o.timing.auto_reps = AutoReps{0.02, 0.5, 200};
   o.images = false;
   const auto r = measure::run_measure(o);
   ASSERT_EQ(r.rows.size(), 3u);

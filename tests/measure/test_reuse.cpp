@@ -59,8 +59,8 @@ TEST(Reuse, SelectionViewCalibrationAndReferenceReMeasureOnlyTheirRows) {
   write_views(dir / "views.toml", "4.5, 2.8, 6.5");
   o.views_file = dir / "views.toml";
   o.views = {"a", "b"};
-  o.ground_truth = true;
-  o.reference_rays = 8;
+  o.truth.enabled = true;
+  o.truth.rays = 8;
   const std::vector<std::string> all = {kBase, kAlchemy8, kGtao};
   EXPECT_EQ(measured(measure::run_measure(o)), rows(all, {"a", "b"}));
   EXPECT_EQ(measured(measure::run_measure(o)), Rows{}) << "unchanged inputs";
@@ -74,11 +74,11 @@ TEST(Reuse, SelectionViewCalibrationAndReferenceReMeasureOnlyTheirRows) {
   EXPECT_EQ(narrow.kept_rows.size(), 2u) << "gtao's rows, kept for a later run";
   o.globs = all;
   EXPECT_EQ(measured(measure::run_measure(o)), Rows{}) << "gtao's rows came back from kept_rows";
-  o.batch = 2;
+  o.timing.batch = 2;
   EXPECT_EQ(measured(measure::run_measure(o)), Rows{});
 
   // A calibrated value of one algorithm: its rows, and the baseline's (timed in the same rounds).
-  o.calibration["gtao"]["ao.falloff"] = 0.3;
+  o.calibration.values["gtao"]["ao.falloff"] = 0.3;
   EXPECT_EQ(measured(measure::run_measure(o)), rows({kGtao, kBase}, {"a", "b"}));
 
   // One view's camera (the name stays): that view's rows only.
@@ -86,7 +86,7 @@ TEST(Reuse, SelectionViewCalibrationAndReferenceReMeasureOnlyTheirRows) {
   EXPECT_EQ(measured(measure::run_measure(o)), rows(all, {"a"}));
 
   // The reference (rays here; radius, size and the camera are in its key too): every row's error.
-  o.reference_rays = 16;
+  o.truth.rays = 16;
   EXPECT_EQ(measured(measure::run_measure(o)), rows(all, {"a", "b"}));
   EXPECT_EQ(measured(measure::run_measure(o)), Rows{});
 }
@@ -100,9 +100,9 @@ TEST(Reuse, EachRenderSettingAndBackendReMeasures) {
   EXPECT_EQ(measured(measure::run_measure(o)), all) << "size";
   o.threads = 1;
   EXPECT_EQ(measured(measure::run_measure(o)), all) << "threads";
-  o.reps = 2;
+  o.timing.reps = 2;
   EXPECT_EQ(measured(measure::run_measure(o)), all) << "reps";
-  o.warmup = 1;
+  o.timing.warmup = 1;
   EXPECT_EQ(measured(measure::run_measure(o)), all) << "warmup";
   o.radius = 0.3f;
   EXPECT_EQ(measured(measure::run_measure(o)), all) << "radius";
@@ -232,19 +232,19 @@ TEST(Reuse, RepsAutoAndItsTargetAreInputs) {
   TempDir dir;
   auto o = tiny_measure(dir.path(), {"alchemy-s08-p0-nrgb8-zdep-rst-d32-bsep-x1-hp"}, "alchemy-s04-p0-nrgb8-zdep-rst-d32-bsep-x1-hp");
   o.images = false;
-  o.reps = 10;
+  o.timing.reps = 10;
   auto fresh = [&] {
     int n = 0;
     for (const auto& row : measure::run_measure(o).rows) n += row.reused ? 0 : 1;
     return n;
   };
   EXPECT_EQ(fresh(), 2);
-  o.auto_reps = measure::AutoReps{0.05, 0.2, 200};
+  o.timing.auto_reps = measure::AutoReps{0.05, 0.2, 200};
   EXPECT_EQ(fresh(), 2) << "auto after a fixed 10";
   EXPECT_EQ(fresh(), 0) << "the same auto";
-  o.auto_reps->ci_target = 0.03;
+  o.timing.auto_reps->ci_target = 0.03;
   EXPECT_EQ(fresh(), 2) << "another target";
-  o.auto_reps.reset();
+  o.timing.auto_reps.reset();
   EXPECT_EQ(fresh(), 2) << "back to a fixed 10 (the earlier fixed rows were replaced)";
 }
 

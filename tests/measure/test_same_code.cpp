@@ -127,9 +127,9 @@ TEST(SameCode, MeasureTimesOneTwinAndCopiesItsRow) {
   const std::string hp = hp_key("alchemy"), mp = mp_key("alchemy");
   auto o = tiny_measure(dir.path(), {hp, mp}, "alchemy-s04-p0-nrgb8-zdep-rst-d16-bsep-x1-hp");
   o.backends = kBackends;
-  o.reps = 3;
-  o.ground_truth = true;
-  o.reference_rays = 8;
+  o.timing.reps = 3;
+  o.truth.enabled = true;
+  o.truth.rays = 8;
   std::vector<std::string> notes;
   auto r = measure::run_measure(o, [&](const std::string& s) {
     if (s.rfind("note: ", 0) == 0) notes.push_back(s);

@@ -51,9 +51,9 @@ measure::MeasureOptions tiny_measure(const std::filesystem::path& dir, std::vect
   o.globs = std::move(globs);
   o.baseline = baseline;
   o.size = {64, 36};
-  o.reps = 1;
-  o.warmup = 0;
-  o.cache_dir = o.reference_cache = dir / "cache";
+  o.timing.reps = 1;
+  o.timing.warmup = 0;
+  o.cache_dir = o.truth.cache = dir / "cache";
   o.out = dir / "m";
   return o;
 }
