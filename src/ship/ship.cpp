@@ -328,6 +328,24 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
                     : o.globs.empty() ? std::string("the whole pruned space")
                                       : std::string("the selection"),
                     r.timing));
+    std::set<std::string> out;         // this round's eliminated
+    std::vector<std::string> candidates;  // this round's candidates
+    const auto eliminate = [&](const table::CostTable& rows) {
+      for (const auto& e : dominated_beyond_noise(on_views(rows, res.training), o.target, o.race_margin))
+        if (e.variant != o.query.budget_of && out.insert(e.variant).second)  // the budget's variant stays: select
+          res.eliminated.push_back({r.name, e});                             // resolves the budget by it
+    };
+    if (final_round && o.target.empty() && !res.holdout.empty()) {
+      // The race on the training views first: its rule looks at nothing else, so the candidates it eliminates
+      // are never timed on the held-out views. The sweep of every view that follows, into the same folder,
+      // reuses the survivors' training rows and measures only their held-out ones.
+      sweep::SweepOptions training = so;
+      training.measure.views = res.training;
+      const table::CostTable first = round_rows(o, fit, training, final_round, res, r, say);
+      candidates = variants_of(first);
+      eliminate(first);
+      std::erase_if(so.measure.globs, [&](const std::string& k) { return out.count(k) > 0; });
+    }
     last = round_rows(o, fit, so, final_round, res, r, say);
     int untraced = 0;  // eliminated by their bound, before the race's rule
     if (!final_round && !o.target.empty() && res.shard.empty()) {
@@ -346,14 +364,8 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
       res.wall_s = util::seconds_since(start);
       return res;
     }
-    const auto eliminated = dominated_beyond_noise(on_views(last, res.training), o.target, o.race_margin);
-    std::set<std::string> out;
-    for (const auto& e : eliminated)
-      if (e.variant != o.query.budget_of) {  // the budget's variant stays: select resolves the budget by it
-        out.insert(e.variant);
-        res.eliminated.push_back({r.name, e});
-      }
-    const std::vector<std::string> candidates = variants_of(last);
+    if (candidates.empty()) candidates = variants_of(last);
+    eliminate(last);
     r.candidates = int(candidates.size()) + untraced;
     r.eliminated = int(out.size()) + untraced;
     r.seconds = util::seconds_since(t0);
