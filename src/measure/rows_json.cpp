@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "table/time_compare.h"
+#include "table/row_intervals.h"
 #include "util/fs.h"
 #include "util/schema.h"
 

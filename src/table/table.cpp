@@ -1,5 +1,5 @@
 // The cost table's rows and JSON (cost_table.json), and writing its three files. Reading cost_table.json:
-// json_reader.cpp; CSV: csv.cpp; Markdown: markdown.cpp; Pareto front and worst view: pareto.cpp.
+// json_reader.cpp; CSV: csv.cpp; Markdown: markdown.cpp. The Pareto front and worst view are decide/pareto.h.
 #include "table/table.h"
 
 #include <fmt/format.h>

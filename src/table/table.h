@@ -20,7 +20,7 @@
 namespace aovar::table {
 
 // The rounds a row was timed in (measure/timing.h): per round, its frame time over the baseline's frame
-// time in the same round. What the intervals and ties are computed from (table/time_compare.h).
+// time in the same round. What the intervals (table/row_intervals.h) and ties (decide/time_compare.h) are computed from.
 struct Rounds {
   // Rows with the same scale hold ratios to the same baseline variant on the same scene, view, backend,
   // device, size and threads: "<baseline>@<scene>/<view>/<backend>/<device>/<size>/<threads>".
@@ -109,18 +109,5 @@ std::string pruned_summary(const CostTable& table);
 
 // cost_table.json, .csv and .md in `dir` (atomic each).
 void write_table_files(const CostTable& table, const std::filesystem::path& dir);
-
-// Pareto front of (time, error.rmse), both minimised, per (scene, view, backend): sets `pareto` on every
-// row (false for rows without an error and for same_code_as rows). Time is compared with its interval
-// (compare_time, table/time_compare.h): a row is dominated by another whose error is no higher and whose
-// time is lower or tied (the interval of the difference holds 0), with lower error or a time lower beyond
-// the noise. Rows tied in both are all on the front (deterministic).
-void mark_pareto(std::vector<CostRow>& rows);
-inline void mark_pareto(CostTable& t) { mark_pareto(t.rows); }
-
-// The worst view of each scene: per (scene, variant, backend, size, threads) one row with view
-// "worst(<views>)", error = the row with max rmse's error, time_ms = the max of each statistic over the
-// views; then Pareto-marked per (scene, backend). Rows without an error are left out.
-std::vector<CostRow> worst_view(const std::vector<CostRow>& rows);
 
 }  // namespace aovar::table
