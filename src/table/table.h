@@ -74,6 +74,15 @@ struct CostTable {
 
 // JSON (the §6 contract). Parsing throws std::runtime_error naming the field that is wrong.
 nlohmann::json to_json(const CostRow& row);
+// The fields a row has in both measure.json and cost_table.json, written one way for both (each file's writer
+// adds its own to it): variant, axes, spirv_hash, scene, view, backend, device, driver, size, threads,
+// time_ms {min, median, p90, n}, rel_time, rel_time_median, same_code_as, error, health {nan, inf,
+// out_of_range}, flicker, gpu.
+nlohmann::json shared_row_json(const CostRow& row);
+// Frame times {min, median, p90, n}: a row's time_ms, and each pass's in measure.json.
+nlohmann::json frame_times_json(const util::TimeStats& times);
+// `error`: rmse, mae, psnr, ssim, bias, max (a non-finite one, as +inf PSNR, as null) and the breakdown when known.
+nlohmann::json to_json(const metrics::ErrorStats& error);
 CostRow row_from_json(const nlohmann::json& j);
 nlohmann::json to_json(const CostTable& table);  // {"meta": ..., "rows": [...]}
 // The pieces measure.json shares: an interval as [lo, hi] (null when unknown), the rounds as

@@ -214,6 +214,31 @@ TEST(Table, RowsOfAMeasureJson) {
 }
 
 
+// One writer for the fields both files' rows have (table::shared_row_json): a measure.json row and the
+// cost_table.json row of the same CostRow agree on each of them; the objects each file extends (time_ms,
+// error, health) agree on the shared part.
+TEST(Table, MeasureAndCostTableRowsWriteTheSharedFieldsAlike) {
+  measure::MeasureRow m;
+  static_cast<CostRow&>(m) = sample_table().rows[0];  // +inf PSNR, a breakdown, a GPU estimate, flicker
+  const nlohmann::json shared = shared_row_json(m);
+  const nlohmann::json in_measure = measure::row_to_json(m, measure::MeasureResult{});
+  const nlohmann::json in_table = to_json(static_cast<const CostRow&>(m));
+  EXPECT_TRUE(shared.at("error").at("psnr").is_null());
+  for (const auto& [field, value] : shared.items()) {
+    if (!value.is_object() || field == "axes" || field == "gpu") {
+      EXPECT_EQ(in_measure.at(field), value) << field;
+      EXPECT_EQ(in_table.at(field), value) << field;
+      continue;
+    }
+    for (const auto& [part, inner] : value.items()) {
+      EXPECT_EQ(in_measure.at(field).at(part), inner) << field << "." << part;
+      EXPECT_EQ(in_table.at(field).at(part), inner) << field << "." << part;
+    }
+  }
+  EXPECT_TRUE(in_measure.at("health").contains("pixels")) << "measure.json's own";
+  EXPECT_TRUE(in_table.at("time_ms").contains("paired")) << "cost_table.json's own";
+}
+
 TEST(Merge, DisjointShardsJoinAndConflictsAreRefused) {
   test::TempDir dir;
   CostTable s1, s2, s3, other;
