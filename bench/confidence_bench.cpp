@@ -2,7 +2,7 @@
 //
 // Reads cost_table.json of two independent sweeps (RUN1, RUN2: same selection and options, no reuse between
 // them) and optionally a third (--reps 10, for comparison), and compares every two variants of the same
-// scene, view and backend with table::compare_time, the tool's own verdict. Prints:
+// scene, view and backend with decide::compare_time, the tool's own verdict. Prints:
 //   agreement:        of the pairs RUN1 declares different (not tied), the share whose order RUN2 keeps
 //                     (its ratio on the same side of 1), and how many RUN2 declares the other way round
 //   resolving power:  of all pairs, how many each run declares different
@@ -22,9 +22,10 @@
 
 #include "smoke.h"
 
+#include "decide/time_compare.h"
 #include "measure/timing.h"
+#include "table/row_intervals.h"
 #include "table/table.h"
-#include "table/time_compare.h"
 #include "util/stats.h"
 
 namespace {
@@ -80,7 +81,7 @@ void widths(const char* name, const std::map<Group, std::map<std::string, table:
 
 int resolved(const std::vector<Pair>& ps) {
   int n = 0;
-  for (const auto& p : ps) n += table::compare_time(*p.a, *p.b).tied() ? 0 : 1;
+  for (const auto& p : ps) n += decide::compare_time(*p.a, *p.b).tied() ? 0 : 1;
   return n;
 }
 
@@ -95,7 +96,7 @@ int main(int argc, char** argv) {
   const auto p1 = pairs(run1), p2 = pairs(run2);
   int different = 0, same_order = 0, reversed = 0, missing = 0;
   for (const auto& p : p1) {
-    const auto c1 = table::compare_time(*p.a, *p.b);
+    const auto c1 = decide::compare_time(*p.a, *p.b);
     if (c1.tied()) continue;
     ++different;
     const table::CostRow *a2 = find(run2, *p.a), *b2 = find(run2, *p.b);
@@ -103,7 +104,7 @@ int main(int argc, char** argv) {
       ++missing;
       continue;
     }
-    const auto c2 = table::compare_time(*a2, *b2);
+    const auto c2 = decide::compare_time(*a2, *b2);
     if ((c1.ratio < 1) == (c2.ratio < 1)) ++same_order;
     if (!c2.tied() && c2.verdict != c1.verdict) ++reversed;
   }

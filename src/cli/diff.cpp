@@ -5,7 +5,7 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
-#include "table/compare.h"
+#include "decide/diff.h"
 #include "table/table.h"
 
 namespace aovar::cli {
@@ -17,9 +17,9 @@ struct DiffArgs {
 };
 
 ExitCode run_diff(const DiffArgs& args) {
-  auto d = table::diff_tables(table::read_table(args.a), table::read_table(args.b));
-  if (args.json) std::cout << table::to_json(d, args.a, args.b).dump(1) << "\n";
-  else std::cout << table::format_diff(d, args.a, args.b);
+  auto d = decide::diff_tables(table::read_table(args.a), table::read_table(args.b));
+  if (args.json) std::cout << decide::to_json(d, args.a, args.b).dump(1) << "\n";
+  else std::cout << decide::format_diff(d, args.a, args.b);
   return ExitCode::ok;
 }
 

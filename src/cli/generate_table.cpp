@@ -1,5 +1,5 @@
 // generate --from-table: the cost table's fronts (or select's picks) per GPU family and backend, as the
-// variants to generate and the pick table to embed (table/fronts.h does the choosing).
+// variants to generate and the pick table to embed (decide/fronts.h does the choosing).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -7,8 +7,8 @@
 
 #include "cli/render_parts.h"
 #include "compile/pick_table.h"
+#include "decide/fronts.h"
 #include "render/backend.h"
-#include "table/fronts.h"
 #include "util/fs.h"
 #include "util/hash.h"
 
@@ -29,13 +29,13 @@ void check_target_names(const std::string& table, const std::vector<std::string>
           table, name, compile::amd_family_names()));
 }
 
-compile::PickFront pick_front(const table::TargetFront& f) {
+compile::PickFront pick_front(const decide::TargetFront& f) {
   compile::PickFront out{f.target, f.family, {}};
   for (const auto& p : f.points) out.points.push_back({p.variant, p.time_ms, p.rmse});
   return out;
 }
 
-std::string summary_line(const table::TargetFront& f) {
+std::string summary_line(const decide::TargetFront& f) {
   const auto& first = f.points.front();
   const auto& last = f.points.back();
   return fmt::format("{} {}: {} variant{} from {} ({:.3f} ms, rmse {:.5f}) to {} ({:.3f} ms, rmse {:.5f})\n",
@@ -57,11 +57,11 @@ TableChoice choose_from_table(const TableRequestArgs& a) {
           "{}; nothing was written (sweep with this manifest, or generate with the table's)",
           util::display_path(a.table), util::display_path(a.manifest)));
   }
-  table::TableRequest request{util::display_path(a.table), a.targets, {}};
+  decide::TableRequest request{util::display_path(a.table), a.targets, {}};
   request.pick.budget_ms = a.budget_ms;
   request.pick.max_error = a.max_error;
   request.pick.budget_of = a.budget_of;
-  const auto keep = table::keep_from_table(t, request, [](const std::string& name) { return !is_backend(name); });
+  const auto keep = decide::keep_from_table(t, request, [](const std::string& name) { return !is_backend(name); });
   TableChoice choice{keep.keys, {}, {}};
   for (const auto& f : keep.fronts) {
     choice.fronts.push_back(pick_front(f));

@@ -31,7 +31,7 @@ struct ListArgs {
 // JSON document.
 ExitCode run_list_scene(const ListArgs& a);
 
-// generate --from-table: what a cost table keeps (table/fronts.h). --for names GPU families and backends.
+// generate --from-table: what a cost table keeps (decide/fronts.h). --for names GPU families and backends.
 struct TableRequestArgs {
   std::string table;
   std::string manifest;  // what generate generates from: a table measured with another one is refused

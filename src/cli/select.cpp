@@ -6,7 +6,7 @@
 #include "calibrate/file.h"
 #include "cli/commands.h"
 #include "cli/options.h"
-#include "table/select.h"
+#include "decide/select.h"
 #include "table/table.h"
 
 namespace aovar::cli {
@@ -14,7 +14,7 @@ namespace {
 
 struct SelectArgs {
   std::string table, calibration;
-  table::SelectQuery query;
+  decide::SelectQuery query;
   bool json = false;
 };
 
@@ -23,8 +23,8 @@ ExitCode run_select(const SelectArgs& a) {
   if (!a.calibration.empty())
     if (auto why = calibrate::measured_with(t.meta, calibrate::calibration_source(a.calibration), a.table); !why.empty())
       throw std::runtime_error(why);
-  auto sel = table::select(t, a.query);
-  if (a.json) std::cout << table::to_json(sel).dump(1) << "\n";  // a script reads ok (or the exit status)
+  auto sel = decide::select(t, a.query);
+  if (a.json) std::cout << decide::to_json(sel).dump(1) << "\n";  // a script reads ok (or the exit status)
   else (sel.ok ? std::cout : std::cerr) << sel.text;
   return sel.ok ? ExitCode::ok : ExitCode::check_failed;
 }

@@ -23,7 +23,7 @@ namespace {
 std::string size_text(render::Extent e) { return fmt::format("{}x{}", e.width, e.height); }
 
 // An id no other batch shares, in this run or an earlier one whose rows are reused next to these: rows with
-// the same id are paired round by round (table/time_compare.h).
+// the same id are paired round by round (decide/time_compare.h).
 std::string batch_id(const std::string& where, int batch) {
   util::Hasher h;
   h.add(where).add(std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()))

@@ -324,7 +324,6 @@ std::vector<table::CostRow> cost_rows(const MeasureResult& result, const fs::pat
     for (auto& image : r.images) image = (prefix / image).generic_string();
     rows.push_back(std::move(r));
   }
-  table::mark_pareto(rows);
   return rows;
 }
 

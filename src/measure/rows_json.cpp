@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "table/time_compare.h"
+#include "table/row_intervals.h"
 #include "util/fs.h"
 #include "util/schema.h"
 
@@ -16,19 +16,16 @@ using json = nlohmann::json;
 
 namespace {
 
-json stats_json(const util::TimeStats& s) {
-  return {{"min", s.min}, {"median", s.median}, {"p90", s.p90}, {"n", s.n}};
-}
 util::TimeStats stats_from(const json& j) {
   return {j.at("min").get<double>(), j.at("median").get<double>(), j.at("p90").get<double>(), j.at("n").get<int>()};
 }
 
-// PSNR of identical images is +inf, which JSON cannot hold: written as null.
+// cost_table.json's error fields (PSNR of identical images is +inf, which JSON cannot hold: null), and the
+// share over 0.1 and the pixel count.
 json error_json(const metrics::ErrorStats& e) {
-  json j = {{"rmse", e.rmse}, {"mae", e.mae}, {"psnr", std::isfinite(e.psnr) ? json(e.psnr) : json(nullptr)},
-            {"ssim", e.ssim}, {"bias", e.bias}, {"max", e.max}, {"share_over_0_1", e.share_over_0_1},
-            {"pixels", e.health.pixels}};
-  if (e.breakdown) j["breakdown"] = table::to_json(*e.breakdown);  // the same shape as cost_table.json's
+  json j = table::to_json(e);
+  j["share_over_0_1"] = e.share_over_0_1;
+  j["pixels"] = e.health.pixels;
   return j;
 }
 metrics::ErrorStats error_from(const json& j) {
@@ -47,26 +44,31 @@ metrics::ErrorStats error_from(const json& j) {
 
 }  // namespace
 
+// The fields every cost-table row has (table::shared_row_json), then how the row was measured.
 json row_to_json(const MeasureRow& r, const MeasureResult& res) {
-  json axes = json::object();
-  for (const auto& [k, v] : r.axes) axes[k] = v;
+  json j = table::shared_row_json(r);
   json passes = json::object();
-  for (const auto& [k, s] : r.passes) passes[k] = stats_json(s);
-  return {{"variant", r.variant}, {"axes", axes}, {"duplicates", r.duplicates}, {"scene", r.scene},
-          {"view", r.view}, {"backend", r.backend}, {"device", r.device}, {"driver", r.driver}, {"size", r.size}, {"threads", r.threads},
-          {"radius", res.radius}, {"spirv_hash", r.spirv_hash}, {"inputs_hash", r.inputs_hash},
-          {"time_ms", stats_json(r.time_ms)}, {"passes", passes}, {"rel_time", r.rel_time},
-          {"rel_time_median", r.rel_time_median}, {"rounds", table::to_json(r.rounds)}, {"stop", stop_name(r.stop)},
-          {"ci_half_width", std::isfinite(r.ci_half_width) ? json(r.ci_half_width) : json(nullptr)}, {"same_code_as", r.same_code_as},
-          {"baseline", r.baseline}, {"is_baseline", r.is_baseline},
-          {"create_ms", r.create_ms}, {"first_frame_ms", r.first_frame_ms}, {"jit_ms", r.jit_ms},
-          {"health", {{"nan", r.health.nan}, {"inf", r.health.inf}, {"out_of_range", r.health.out_of_range},
-                      {"pixels", r.health.pixels}}},
-          {"mean_visibility", r.mean_visibility}, {"error", r.error ? error_json(*r.error) : json(nullptr)},
-          {"error_one_frame", r.error_one_frame ? error_json(*r.error_one_frame) : json(nullptr)},
-          {"flicker", r.flicker ? json(*r.flicker) : json(nullptr)},
-          {"gpu", table::to_json(r.gpu)},
-          {"image", r.image}, {"preview", r.preview}, {"error_map", r.error_map}};
+  for (const auto& [k, s] : r.passes) passes[k] = table::frame_times_json(s);
+  j["passes"] = passes;
+  j["duplicates"] = r.duplicates;
+  j["radius"] = res.radius;
+  j["inputs_hash"] = r.inputs_hash;
+  j["rounds"] = table::to_json(r.rounds);
+  j["stop"] = stop_name(r.stop);
+  j["ci_half_width"] = std::isfinite(r.ci_half_width) ? json(r.ci_half_width) : json(nullptr);
+  j["baseline"] = r.baseline;
+  j["is_baseline"] = r.is_baseline;
+  j["create_ms"] = r.create_ms;
+  j["first_frame_ms"] = r.first_frame_ms;
+  j["jit_ms"] = r.jit_ms;
+  j["health"]["pixels"] = r.health.pixels;
+  j["mean_visibility"] = r.mean_visibility;
+  if (r.error) j["error"] = error_json(*r.error);
+  j["error_one_frame"] = r.error_one_frame ? error_json(*r.error_one_frame) : json(nullptr);
+  j["image"] = r.image;
+  j["preview"] = r.preview;
+  j["error_map"] = r.error_map;
+  return j;
 }
 
 MeasureRow row_from_json(const json& j) {

@@ -8,8 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "decide/cost_model.h"
 #include "report/grid.h"
-#include "table/cost_model.h"
 
 namespace aovar::report {
 namespace {
@@ -119,7 +119,7 @@ std::vector<RankAgreement> family_agreement(const CostTable& t) {
       std::vector<double> x, y;
       for (const auto& [key, v] : a)
         if (auto it = b.find(key); it != b.end()) x.push_back(v.cost->est_ms), y.push_back(it->second.cost->est_ms);
-      if (x.size() >= 3) out.push_back({families[i], families[j], table::spearman(x, y), static_cast<int>(x.size())});
+      if (x.size() >= 3) out.push_back({families[i], families[j], decide::spearman(x, y), static_cast<int>(x.size())});
     }
   return out;
 }
@@ -138,7 +138,7 @@ std::vector<RankAgreement> measured_agreement(const CostTable& t) {
     }
     for (const auto& [group, xy] : groups)
       if (xy.first.size() >= 3)
-        out.push_back({family, group, table::spearman(xy.first, xy.second), static_cast<int>(xy.first.size())});
+        out.push_back({family, group, decide::spearman(xy.first, xy.second), static_cast<int>(xy.first.size())});
   }
   return out;
 }

@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "decide/pareto.h"
 #include "report/bounds.h"
 #include "report/error_sources.h"
 #include "report/gpu_section.h"
@@ -212,7 +213,7 @@ std::map<std::pair<std::string, std::string>, std::vector<CostRow>> worst_view_f
   std::map<std::pair<std::string, std::string>, std::set<std::string>> views;
   for (const auto& r : t.rows) views[{r.scene, r.backend}].insert(r.view);
   std::map<std::pair<std::string, std::string>, std::vector<CostRow>> out;
-  for (auto& r : table::worst_view(t.rows))
+  for (auto& r : decide::worst_view(t.rows))
     if (r.pareto && views[{r.scene, r.backend}].size() > 1) out[{r.scene, r.backend}].push_back(std::move(r));
   for (auto& [k, rows] : out)
     std::sort(rows.begin(), rows.end(), [](const CostRow& a, const CostRow& b) {
@@ -233,7 +234,7 @@ std::vector<const CostRow*> front_of(const std::vector<const CostRow*>& rows) {
 // (or a dominated one) would otherwise reach the report.
 CostTable with_recomputed_front(const CostTable& from_file) {
   CostTable t = from_file;
-  table::mark_pareto(t);
+  decide::mark_pareto(t);
   return t;
 }
 }  // namespace
@@ -412,7 +413,7 @@ std::string html_report(const CostTable& from_file, const fs::path& dir) {
 }
 
 void write_reports(CostTable&& t, const fs::path& dir, const fs::path& images_dir) {
-  table::mark_pareto(t);  // once for both reports: the front is the costly part
+  decide::mark_pareto(t);  // once for both reports: the front is the costly part
   util::write_atomic(dir / "report.md", markdown_with_front(t));
   util::write_atomic(dir / "report.html", html_with_front(t, images_dir));
 }

@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "table/time_compare.h"
+#include "decide/time_compare.h"
 
 namespace aovar::report {
 namespace {
@@ -81,13 +81,13 @@ double median(std::vector<double> v) {
 }
 
 // Verdicts per pair, then the finding's: most decisive pairs one way and none the other.
-void judge(PairFinding& f, std::vector<table::TimeComparison> cmp) {
+void judge(PairFinding& f, std::vector<decide::TimeComparison> cmp) {
   if (cmp.empty()) {
     f.verdict = "-";
     return;
   }
   for (const auto& c : cmp) {
-    const int sign = c.verdict == table::TimeVerdict::slower ? +1 : c.verdict == table::TimeVerdict::faster ? -1 : 0;
+    const int sign = c.verdict == decide::TimeVerdict::slower ? +1 : c.verdict == decide::TimeVerdict::faster ? -1 : 0;
     (sign == 0 ? f.inconclusive : sign == f.expected ? f.reproduced : f.refuted) += 1;
   }
   std::sort(cmp.begin(), cmp.end(), [](const auto& x, const auto& y) { return x.ratio < y.ratio; });
@@ -111,18 +111,18 @@ std::vector<PairFinding> findings(const CostTable& t, const TimeOf& time_of) {
     f.seed = sp.seed;
     f.expected = sp.expected;
     std::vector<double> dt, de;
-    std::vector<table::TimeComparison> cmp;
+    std::vector<decide::TimeComparison> cmp;
     for (const auto& [ra, rb] : matched(t, sp)) {
       const double ta = time_of ? time_of(*ra) : measured_time(*ra), tb = time_of ? time_of(*rb) : measured_time(*rb);
       if (!(ta > 0) || !(tb > 0)) continue;
       dt.push_back(100.0 * (tb - ta) / ta);
       if (ra->error && rb->error) de.push_back(rb->error->rmse - ra->error->rmse);
       // An estimate has no rounds: its comparison is the point's (compare_time does that for rows without).
-      table::TimeComparison c = time_of ? table::TimeComparison{tb / ta, {}, tb < ta   ? table::TimeVerdict::faster
-                                                                             : tb > ta ? table::TimeVerdict::slower
-                                                                                       : table::TimeVerdict::tied,
+      decide::TimeComparison c = time_of ? decide::TimeComparison{tb / ta, {}, tb < ta   ? decide::TimeVerdict::faster
+                                                                             : tb > ta ? decide::TimeVerdict::slower
+                                                                                       : decide::TimeVerdict::tied,
                                                                 "point estimates"}
-                                        : table::compare_time(*rb, *ra);
+                                        : decide::compare_time(*rb, *ra);
       cmp.push_back(c);
       ++f.pairs;
     }

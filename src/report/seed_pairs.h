@@ -19,7 +19,7 @@ struct PairFinding {
   int pairs = 0;                      // matched row pairs
   double time_delta_pct = 0;          // median of (time_b - time_a) / time_a, percent
   double rmse_delta = 0;              // median of rmse_b - rmse_a
-  // The median pair's time ratio b / a with its 95 % interval (table::compare_time; unknown for estimates).
+  // The median pair's time ratio b / a with its 95 % interval (decide::compare_time; unknown for estimates).
   double ratio = 0;
   util::Interval ci;
   int reproduced = 0, refuted = 0, inconclusive = 0;  // pairs, by their own interval
@@ -32,7 +32,7 @@ struct PairFinding {
 using TimeOf = std::function<double(const table::CostRow&)>;
 double measured_time(const table::CostRow& row);  // time_ms.decision(); NaN for predicted rows
 
-// Measured times: each pair judged by table::compare_time (intervals from the rows' rounds).
+// Measured times: each pair judged by decide::compare_time (intervals from the rows' rounds).
 std::vector<PairFinding> seed_pairs(const table::CostTable& table);
 // Another time (a GPU estimate: deterministic, so a pair is judged by the sign of its difference).
 std::vector<PairFinding> seed_pairs(const table::CostTable& table, const TimeOf& time_of);

@@ -4,15 +4,15 @@
 
 #include <fmt/format.h>
 
-#include "table/select.h"
-#include "table/time_compare.h"
+#include "decide/select.h"
+#include "decide/time_compare.h"
 
 namespace aovar::ship {
 
 namespace {
 
 // The slower one's whole interval (or, without rounds, its point ratio) lies above the margin.
-bool beyond_margin(const table::TimeComparison& slower, double min_ratio) {
+bool beyond_margin(const decide::TimeComparison& slower, double min_ratio) {
   return slower.ci.known() ? slower.ci.lo >= min_ratio : slower.ratio >= min_ratio;
 }
 
@@ -23,23 +23,23 @@ double margin_in_force(const std::string& target, double margin) { return target
 std::vector<Elimination> dominated_beyond_noise(const table::CostTable& rows, const std::string& target,
                                                 double min_ratio) {
   min_ratio = margin_in_force(target, min_ratio);
-  table::SelectQuery q;
+  decide::SelectQuery q;
   q.target = target;
-  std::vector<table::Candidate> cs = table::candidates(rows, q);
+  std::vector<decide::Candidate> cs = decide::candidates(rows, q);
   // Most accurate first: only a candidate earlier in this order can dominate a later one, and the first
   // dominator found is the most accurate one faster beyond the noise.
-  std::stable_sort(cs.begin(), cs.end(), [](const table::Candidate& a, const table::Candidate& b) { return a.rmse < b.rmse; });
+  std::stable_sort(cs.begin(), cs.end(), [](const decide::Candidate& a, const decide::Candidate& b) { return a.rmse < b.rmse; });
   std::vector<Elimination> out;
   for (std::size_t i = 0; i < cs.size(); ++i) {
     for (std::size_t j = 0; j < i && cs[j].rmse < cs[i].rmse; ++j) {
-      const table::TimeComparison c = table::compare_candidates(cs[j], cs[i], q);
-      if (c.verdict != table::TimeVerdict::faster) continue;
-      const table::TimeComparison slower = table::compare_candidates(cs[i], cs[j], q);
+      const decide::TimeComparison c = decide::compare_candidates(cs[j], cs[i], q);
+      if (c.verdict != decide::TimeVerdict::faster) continue;
+      const decide::TimeComparison slower = decide::compare_candidates(cs[i], cs[j], q);
       if (!beyond_margin(slower, min_ratio)) continue;
       out.push_back({cs[i].variant, cs[i].backend, cs[j].variant,
                      fmt::format("slower than {} beyond the noise{} ({}, {}) with more error ({:.4f} > {:.4f})", cs[j].variant,
                                  min_ratio > 1.0 ? fmt::format(" and the {:.2f}x margin", min_ratio) : std::string(),
-                                 table::ratio_text(slower), slower.method, cs[i].rmse, cs[j].rmse)});
+                                 decide::ratio_text(slower), slower.method, cs[i].rmse, cs[j].rmse)});
       break;
     }
   }

@@ -1,6 +1,6 @@
 #pragma once
 // The elimination rule of `aovar ship`'s race (issue 35; the idea of F-race, Birattari et al. 2002): a
-// candidate leaves the race once another one is both faster beyond the noise (table/time_compare.h: its
+// candidate leaves the race once another one is both faster beyond the noise (decide/time_compare.h: its
 // 95 % interval of the time ratio excludes 1) and strictly more accurate, each aggregated over the views the
 // race is run on (their worst, as `aovar select` aggregates). A candidate tied on time with everything more
 // accurate stays: the next round, with more repetitions, may still separate them. With a GPU target the time

@@ -11,6 +11,7 @@
 
 #include "calibrate/calibrate.h"
 #include "calibrate/file.h"
+#include "decide/pareto.h"
 #include "gpu/by_key.h"
 #include "profile/scene_prune.h"
 #include "report/report.h"
@@ -30,7 +31,7 @@ using json = nlohmann::json;
 
 namespace {
 
-void check_query(const table::SelectQuery& q) {
+void check_query(const decide::SelectQuery& q) {
   const int criteria = int(q.budget_ms.has_value()) + int(!q.budget_of.empty()) + int(q.max_error.has_value());
   if (criteria != 1) throw std::runtime_error("ship: give exactly one of --budget-of KEY, --budget-ms X, --max-error E");
 }
@@ -377,13 +378,13 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
   }
 
   // 4. Select among the survivors on the held-out views.
-  table::mark_pareto(last);
+  decide::mark_pareto(last);
   res.table = std::move(last);
   res.table.meta["ship"] = ship_meta(o, res, pruning);
-  table::SelectQuery q = o.query;
+  decide::SelectQuery q = o.query;
   q.target = o.target;
   q.backend = o.backend;
-  res.selection = table::select(on_views(res.table, res.holdout), q);
+  res.selection = decide::select(on_views(res.table, res.holdout), q);
   if (res.selection.choice)
     res.build_line = fmt::format("aovar generate --manifest {} --variants '{}' --out shaders", util::display_path(o.manifest),
                                  res.selection.choice->variant);

@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
+#include "decide/select.h"
 #include "measure/timing.h"
 #include "render/frame.h"
 #include "ship/race.h"
-#include "table/select.h"
 #include "table/table.h"
 
 namespace aovar::ship {
@@ -34,7 +34,7 @@ struct ShipOptions {
   std::vector<std::string> globs;          // the space searched (empty: every variant of the manifest)
   std::string target;                      // AMD family: time is its traced estimate (no timing rounds)
   std::string backend = "lavapipe";        // the measured backend (and, with a target, the one tracing)
-  table::SelectQuery query;                // budget_of, budget_ms or max_error; ship sets the filters
+  decide::SelectQuery query;                // budget_of, budget_ms or max_error; ship sets the filters
   render::Extent size{640, 360};
   render::Extent fit_size{320, 180};       // calibration renders (calibrate's default)
   int fit_evaluations = 40;                // per method
@@ -69,7 +69,7 @@ struct ShipResult {
   std::vector<Round> rounds;
   std::vector<std::pair<std::string, Elimination>> eliminated;  // round name, what and why
   table::CostTable table;                      // the last round's rows, meta.ship: every choice made
-  table::Selection selection;                  // on the held-out views, among the survivors
+  decide::Selection selection;                  // on the held-out views, among the survivors
   std::string build_line;                      // `aovar generate` of exactly the chosen variant
   std::string shard;                           // "2/4" when this run was one shard: its screen only, no selection
   std::string shard_balance;                   // a shard: its share of the plan; a join: the shards' balance

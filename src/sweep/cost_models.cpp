@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "table/cost_features.h"
+#include "decide/cost_features.h"
 
 namespace aovar::sweep {
 using json = nlohmann::json;
@@ -48,7 +48,7 @@ GroupModels fit_group_models(const std::vector<table::CostRow>& rows, double min
     // best cross-validated Spearman.
     struct Spec {
       std::string name;
-      table::FeatureSpec features;
+      decide::FeatureSpec features;
       double lambda;
     };
     // The target is the paired time (time_ms.paired: the ratio to the baseline timed in the same rounds,
@@ -56,12 +56,12 @@ GroupModels fit_group_models(const std::vector<table::CostRow>& rows, double min
     // which min-of-N alone does not remove. Spearman against the raw time_ms.min is reported next to it.
     std::vector<double> raw;
     for (const auto& r : rows) raw.push_back(r.time_ms.min);
-    auto full = table::axis_features(rows).then(table::static_features());
-    std::vector<Spec> specs = {{"compact static", table::compact_features(), 1e-2}, {"weighted classes", table::weighted_class_features(), 0.3}};
+    auto full = decide::axis_features(rows).then(decide::static_features());
+    std::vector<Spec> specs = {{"compact static", decide::compact_features(), 1e-2}, {"weighted classes", decide::weighted_class_features(), 0.3}};
     if (rows.size() >= 4 * full.names.size()) specs.push_back({"static + axes", full, 1e-2});
     std::optional<ModelFit> best_refused;  // the not predictive one of best held-out Spearman
     for (const auto& sp : specs) {
-      auto model = table::fit_cost_model(rows, sp.features, sp.lambda);
+      auto model = decide::fit_cost_model(rows, sp.features, sp.lambda);
       ModelFit fit;
       std::tie(fit.scene, fit.view, fit.backend) = g;
       fit.features = sp.name;
@@ -70,7 +70,7 @@ GroupModels fit_group_models(const std::vector<table::CostRow>& rows, double min
       fit.folds = model.cv.k;
       fit.cv_r2 = model.cv.r2;
       fit.cv_spearman = model.cv.spearman;
-      fit.cv_spearman_min = table::spearman(raw, model.cv.held_out);
+      fit.cv_spearman_min = decide::spearman(raw, model.cv.held_out);
       judge(fit, min_spearman);
       if (fit.predictive) {
         auto it = gm.best.find(g);
@@ -96,7 +96,7 @@ GroupModels fit_group_models(const std::vector<table::CostRow>& rows, double min
   return gm;
 }
 
-const table::CostModel* predicting_model(const GroupModels& gm, const Group& g) {
+const decide::CostModel* predicting_model(const GroupModels& gm, const Group& g) {
   if (auto it = gm.best.find(g); it != gm.best.end()) return &it->second.second;
   auto refused = gm.unpredictable.find(g);
   if (refused == gm.unpredictable.end()) return nullptr;

@@ -1,6 +1,6 @@
 #pragma once
 // The sweep's cost models: per (scene, view, backend) with 8 rows or more, how well static features (and the
-// axes) predict the measured time, cross-validated (table/cost_model.h); the best predictive one predicts.
+// axes) predict the measured time, cross-validated (decide/cost_model.h); the best predictive one predicts.
 #include <map>
 #include <string>
 #include <tuple>
@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "table/cost_model.h"
+#include "decide/cost_model.h"
 
 namespace aovar::sweep {
 
@@ -60,7 +60,7 @@ struct GroupModels {
   std::vector<ModelFit> models;  // every model fitted, with its skill
   std::map<Group, std::vector<table::CostRow>> groups;
   // The predicting model: among the predictive ones, the best held-out Spearman (name and model).
-  std::map<Group, std::pair<std::string, table::CostModel>> best;
+  std::map<Group, std::pair<std::string, decide::CostModel>> best;
   // Groups with fitted models, none predictive: the reason of the one with the best held-out Spearman.
   std::map<Group, std::string> unpredictable;
 };
@@ -70,6 +70,6 @@ GroupModels fit_group_models(const std::vector<table::CostRow>& rows, double min
 // The model that predicts group `g`'s rows; nullptr when the group has too few rows for any model (it gets
 // no predicted rows). Throws std::runtime_error with the one-line --predict refusal when its models are all
 // not predictive: a prediction from them would be a guess presented as a time.
-const table::CostModel* predicting_model(const GroupModels& gm, const Group& g);
+const decide::CostModel* predicting_model(const GroupModels& gm, const Group& g);
 
 }  // namespace aovar::sweep

@@ -4,9 +4,10 @@
 #include <set>
 #include <stdexcept>
 
+#include "decide/pareto.h"
 #include "shard/manifest.h"
 #include "sweep/cost_models.h"
-#include "table/compare.h"
+#include "table/merge.h"
 #include "util/fs.h"
 
 namespace aovar::sweep {
@@ -89,6 +90,7 @@ MergeResult merge_shards(const std::vector<fs::path>& inputs, const fs::path& ou
   for (const auto& [name, t] : read)
     if (t.meta.is_object() && t.meta.contains("gpu") && t.meta["gpu"].is_object()) gpu.push_back(t.meta["gpu"]);
   res.table = table::merge_tables(std::move(read), per_shard);
+  decide::mark_pareto(res.table);  // the merged table's front, not any shard's
   if (!shards.empty()) {
     if (!gpu.empty()) res.table.meta["gpu"] = merged_gpu_meta(gpu);
     res.table.meta["scenes"] = scenes;

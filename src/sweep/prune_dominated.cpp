@@ -23,6 +23,7 @@
 
 #include <fmt/format.h>
 
+#include "decide/pareto.h"
 #include "sweep/cost_models.h"
 #include "util/glob.h"
 #include "util/hash.h"
@@ -213,7 +214,7 @@ void check_front(DominatedPruning& pruning, const std::vector<table::CostRow>& r
     std::vector<table::CostRow> without;
     for (const auto& row : rows)
       if (keys.count(row.variant) || !all_checked.count(row.variant)) without.push_back(row);
-    table::mark_pareto(without);
+    decide::mark_pareto(without);
     if (std::any_of(without.begin(), without.end(), [&](const auto& row) { return keys.count(row.variant) && row.pareto; }))
       pruning.report["checked_on_front"].push_back(name);
   }

@@ -14,6 +14,7 @@
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
+#include "decide/pareto.h"
 #include "gpu/by_key.h"
 #include "profile/scene_prune.h"
 #include "report/report.h"
@@ -118,8 +119,8 @@ std::vector<table::CostRow> predicted_rows(const SweepOptions& o, const std::vec
     for (const auto& [g, grows] : gm.groups) {
       const table::CostRow& like = grows.front();  // scene, view, backend, size, threads
       if (auto p = plans.pruning.find(like.scene); p != plans.pruning.end() && p->second->drops(key)) continue;
-      if (const table::CostModel* model = predicting_model(gm, g))
-        predicted.push_back(std::move(table::predict_rows(*model, {unmeasured_row(like, key, vs)}).front()));
+      if (const decide::CostModel* model = predicting_model(gm, g))
+        predicted.push_back(std::move(decide::predict_rows(*model, {unmeasured_row(like, key, vs)}).front()));
     }
   }
   return predicted;
@@ -240,7 +241,7 @@ SweepResult run_sweep(const SweepOptions& options, const Progress& progress) {
     for (auto& r : predicted) res.table.rows.push_back(std::move(r));
   }
   json gpu = o.gpu.families.empty() ? json(nullptr) : add_gpu_costs(o, res.table.rows, progress);
-  table::mark_pareto(res.table);
+  decide::mark_pareto(res.table);
   res.cost_models = gm.models;
   res.table.meta = table_meta(o, res, scenes, to_json(gm.models), profile_pruned, dominated);
   if (!gpu.is_null()) res.table.meta["gpu"] = gpu;

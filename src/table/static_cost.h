@@ -2,7 +2,7 @@
 // A variant's static cost (a cost-table row's "static" object): per-pixel counts from the SPIR-V of its
 // fragment programs (src/analyze), for the AO pass alone and summed over all passes, the bytes per pixel
 // its formats imply, its work per output pixel and instruction classes weighted by the pixels each pass
-// covers. Built by sweep (sweep/static_costs.cpp); read by the cost model (cost_features.h) and the report.
+// covers. Built by sweep (sweep/static_costs.cpp); read by the cost model (decide/cost_features.h) and the report.
 #include <optional>
 
 #include <nlohmann/json.hpp>

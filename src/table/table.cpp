@@ -1,5 +1,5 @@
 // The cost table's rows and JSON (cost_table.json), and writing its three files. Reading cost_table.json:
-// json_reader.cpp; CSV: csv.cpp; Markdown: markdown.cpp; Pareto front and worst view: pareto.cpp.
+// json_reader.cpp; CSV: csv.cpp; Markdown: markdown.cpp. The Pareto front and worst view are decide/pareto.h.
 #include "table/table.h"
 
 #include <fmt/format.h>
@@ -69,16 +69,21 @@ std::string CostRow::key() const {
   return fmt::format("{}|{}|{}|{}|{}|{}", variant, scene, view, backend, size, threads);
 }
 
-json to_json(const CostRow& r) {
+json frame_times_json(const util::TimeStats& s) {
+  return {{"min", s.min}, {"median", s.median}, {"p90", s.p90}, {"n", s.n}};
+}
+
+json to_json(const metrics::ErrorStats& e) {
+  json error = json::object();
+  metrics::ErrorStats copy = e;
+  for (int i = 0; i < 6; ++i) error[kErrorFields[i]] = num(error_field(copy, i));
+  if (e.breakdown) error["breakdown"] = to_json(*e.breakdown);
+  return error;
+}
+
+json shared_row_json(const CostRow& r) {
   json axes = json::object();
   for (const auto& [k, v] : r.axes) axes[k] = v;
-  json error = nullptr;
-  if (r.error) {
-    error = json::object();
-    metrics::ErrorStats e = *r.error;
-    for (int i = 0; i < 6; ++i) error[kErrorFields[i]] = num(error_field(e, i));
-    if (e.breakdown) error["breakdown"] = to_json(*e.breakdown);
-  }
   return {{"variant", r.variant},
           {"axes", axes},
           {"spirv_hash", r.spirv_hash},
@@ -89,21 +94,29 @@ json to_json(const CostRow& r) {
           {"driver", r.driver},
           {"size", r.size},
           {"threads", r.threads},
-          {"static", to_json(r.static_cost)},
           {"gpu", to_json(r.gpu)},
-          {"time_ms", {{"min", r.time_ms.min}, {"median", r.time_ms.median}, {"p90", r.time_ms.p90}, {"n", r.time_ms.n},
-                       {"paired", r.time_ms.paired}, {"paired_ci", to_json(r.time_ms.paired_ci)}}},
+          {"time_ms", frame_times_json(r.time_ms)},
           {"rel_time", r.rel_time},
           {"rel_time_median", r.rel_time_median},
-          {"rel_time_ci", to_json(r.rel_time_ci)},
-          {"rounds", r.rounds.ratios.empty() ? json(nullptr) : to_json(r.rounds)},
           {"same_code_as", r.same_code_as},
-          {"error", error},
+          {"error", r.error ? to_json(*r.error) : json(nullptr)},
           {"health", {{"nan", r.health.nan}, {"inf", r.health.inf}, {"out_of_range", r.health.out_of_range}}},
-          {"pareto", r.pareto},
-          {"predicted", r.predicted},
-          {"flicker", r.flicker ? json(*r.flicker) : json(nullptr)},
-          {"images", r.images}};
+          {"flicker", r.flicker ? json(*r.flicker) : json(nullptr)}};
+}
+
+// cost_table.json's row: the shared fields, the static cost, the paired time's interval, the rounds (null
+// for rows without), the front and the images.
+json to_json(const CostRow& r) {
+  json j = shared_row_json(r);
+  j["time_ms"]["paired"] = r.time_ms.paired;
+  j["time_ms"]["paired_ci"] = to_json(r.time_ms.paired_ci);
+  j["static"] = to_json(r.static_cost);
+  j["rel_time_ci"] = to_json(r.rel_time_ci);
+  j["rounds"] = r.rounds.ratios.empty() ? json(nullptr) : to_json(r.rounds);
+  j["pareto"] = r.pareto;
+  j["predicted"] = r.predicted;
+  j["images"] = r.images;
+  return j;
 }
 
 json to_json(const CostTable& t) {

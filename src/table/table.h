@@ -20,7 +20,7 @@
 namespace aovar::table {
 
 // The rounds a row was timed in (measure/timing.h): per round, its frame time over the baseline's frame
-// time in the same round. What the intervals and ties are computed from (table/time_compare.h).
+// time in the same round. What the intervals (table/row_intervals.h) and ties (decide/time_compare.h) are computed from.
 struct Rounds {
   // Rows with the same scale hold ratios to the same baseline variant on the same scene, view, backend,
   // device, size and threads: "<baseline>@<scene>/<view>/<backend>/<device>/<size>/<threads>".
@@ -74,6 +74,15 @@ struct CostTable {
 
 // JSON (the §6 contract). Parsing throws std::runtime_error naming the field that is wrong.
 nlohmann::json to_json(const CostRow& row);
+// The fields a row has in both measure.json and cost_table.json, written one way for both (each file's writer
+// adds its own to it): variant, axes, spirv_hash, scene, view, backend, device, driver, size, threads,
+// time_ms {min, median, p90, n}, rel_time, rel_time_median, same_code_as, error, health {nan, inf,
+// out_of_range}, flicker, gpu.
+nlohmann::json shared_row_json(const CostRow& row);
+// Frame times {min, median, p90, n}: a row's time_ms, and each pass's in measure.json.
+nlohmann::json frame_times_json(const util::TimeStats& times);
+// `error`: rmse, mae, psnr, ssim, bias, max (a non-finite one, as +inf PSNR, as null) and the breakdown when known.
+nlohmann::json to_json(const metrics::ErrorStats& error);
 CostRow row_from_json(const nlohmann::json& j);
 nlohmann::json to_json(const CostTable& table);  // {"meta": ..., "rows": [...]}
 // The pieces measure.json shares: an interval as [lo, hi] (null when unknown), the rounds as
@@ -109,18 +118,5 @@ std::string pruned_summary(const CostTable& table);
 
 // cost_table.json, .csv and .md in `dir` (atomic each).
 void write_table_files(const CostTable& table, const std::filesystem::path& dir);
-
-// Pareto front of (time, error.rmse), both minimised, per (scene, view, backend): sets `pareto` on every
-// row (false for rows without an error and for same_code_as rows). Time is compared with its interval
-// (compare_time, table/time_compare.h): a row is dominated by another whose error is no higher and whose
-// time is lower or tied (the interval of the difference holds 0), with lower error or a time lower beyond
-// the noise. Rows tied in both are all on the front (deterministic).
-void mark_pareto(std::vector<CostRow>& rows);
-inline void mark_pareto(CostTable& t) { mark_pareto(t.rows); }
-
-// The worst view of each scene: per (scene, variant, backend, size, threads) one row with view
-// "worst(<views>)", error = the row with max rmse's error, time_ms = the max of each statistic over the
-// views; then Pareto-marked per (scene, backend). Rows without an error are left out.
-std::vector<CostRow> worst_view(const std::vector<CostRow>& rows);
 
 }  // namespace aovar::table

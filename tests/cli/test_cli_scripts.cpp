@@ -93,7 +93,7 @@ TEST(CliScripts, RuntimeErrorsExitTwoWithOneLine) {
 }
 
 // select: exit 0 with a choice, 1 when nothing satisfies, 2 for a missing table: Select.CliExitsOneAndNamesTheNearest
-// (test_table.cpp).
+// (tests/decide/test_select.cpp).
 
 TEST(CliScripts, GenerateCheckExitsOneWhenStaleAndZeroWhenCurrent) {
   test::TempDir dir;

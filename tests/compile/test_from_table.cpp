@@ -1,5 +1,5 @@
 // generate --from-table (issue 17): the AMD device map the generated pick table embeds (compile/amd_devices.h),
-// and a table of another manifest refused by its hash. Which variants it keeps: tests/table/test_table_fronts.cpp.
+// and a table of another manifest refused by its hash. Which variants it keeps: tests/decide/test_fronts.cpp.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>

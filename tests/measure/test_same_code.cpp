@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "compile/spirv_fingerprint.h"
+#include "decide/pareto.h"
 #include "measure/same_code.h"
 #include "render_support.h"
 #include "test_support.h"
@@ -152,7 +153,7 @@ TEST(SameCode, MeasureTimesOneTwinAndCopiesItsRow) {
   for (const auto& d : r.devices) EXPECT_NE(d.precision.find("verified"), std::string::npos) << d.precision;
 
   auto rows = measure::cost_rows(r);
-  table::mark_pareto(rows);
+  decide::mark_pareto(rows);
   for (const auto& b : kBackends) {
     int front = 0;
     for (const auto& row : rows)

@@ -6,14 +6,15 @@
 #include <cmath>
 
 #include "cost_rows.h"
+#include "decide/select.h"
 #include "report/gpu_section.h"
 #include "report/report.h"
-#include "table/select.h"
 #include "test_support.h"
 
 namespace {
 using namespace aovar;
 using namespace aovar::table;
+using aovar::decide::SelectQuery;
 
 // A row measured here (time `ms`, error `rmse`) with an estimate on each family given.
 CostRow row(const std::string& variant, std::map<std::string, std::string> axes, double ms, double rmse,

@@ -9,6 +9,7 @@
 #include <stb/stb_image.h>
 
 #include "cost_rows.h"
+#include "decide/pareto.h"
 #include "report/report.h"
 #include "test_support.h"
 #include "util/fs.h"
@@ -24,7 +25,7 @@ TEST(Report, SeedPairsMatchRowsDifferingInOneAxis) {
   t.rows.push_back(axes_row("b-bbil", {{"algorithm", "alchemy"}, {"blur", "bilateral"}, {"samples", "16"}}, 30, 0.044));
   // Differs in two axes from every other row: must not be matched.
   t.rows.push_back(axes_row("c-bbil", {{"algorithm", "gtao"}, {"blur", "bilateral"}, {"samples", "32"}}, 99, 0.9));
-  table::mark_pareto(t);
+  decide::mark_pareto(t);
   auto pairs = report::seed_pairs(t);
   auto blur = std::find_if(pairs.begin(), pairs.end(), [](const auto& p) { return p.axis == "blur"; });
   ASSERT_NE(blur, pairs.end());
@@ -76,7 +77,7 @@ TEST(Report, WhereTheErrorComesFromPerView) {
   t.rows[0].error->breakdown = breakdown(0.7, 0.08);
   t.rows[1].error->breakdown = breakdown(0.9, 0.04);
   t.rows[2].error->breakdown = breakdown(0.1, 0.5);
-  table::mark_pareto(t);
+  decide::mark_pareto(t);
   const std::string md = report::markdown_report(t);
   EXPECT_NE(md.find("### Where the error comes from"), std::string::npos) << md;
   EXPECT_NE(md.find("| alchemy-fast | 0.1000 | 7.5 | 10 % / 20 % | 0.0500 | 0.0900 | 30 % (0.0400) | 70 % (0.1200) | "
@@ -119,7 +120,7 @@ TEST(Report, CliWritesReportsFromATable) {
   predicted.predicted = true;
   predicted.time_ms.n = 0;
   t.rows.push_back(predicted);
-  table::mark_pareto(t);
+  decide::mark_pareto(t);
   TempDir dir;
   table::write_json(t, dir / "in" / "cost_table.json");
   auto r = run_aovar("report --table " + (dir / "in" / "cost_table.json").string() + " --out " + (dir / "out").string());
@@ -148,7 +149,7 @@ TEST(Report, HtmlRendersInHeadlessChromium) {
     t.rows.push_back(axes_row(alg + "-" + std::to_string(i), {{"algorithm", alg}, {"samples", std::to_string(4 + i)}},
                          10 + 2 * i, 0.1 - 0.005 * i + 0.01 * (i % 3)));
   }
-  table::mark_pareto(t);
+  decide::mark_pareto(t);
   TempDir dir;
   report::write_reports(t, dir.path());
   std::string cmd = "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --user-data-dir=" +

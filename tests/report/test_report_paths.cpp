@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "cost_rows.h"
+#include "decide/pareto.h"
 #include "report/report.h"
 #include "test_support.h"
 #include "util/fs.h"
@@ -27,7 +28,7 @@ TEST(PathNames, ReportEmbedsOnlyImagesUnderTheTablesFolder) {
   table::CostTable t;
   t.rows.push_back(algorithm_row("alchemy-a", 10, 0.1));
   t.rows[0].images = {"images/a.pfm", (dir / "secret.txt").string(), "images/link.png"};
-  table::mark_pareto(t);
+  decide::mark_pareto(t);
   ASSERT_TRUE(t.rows[0].pareto);
   report::write_reports(t, dir / "table");
   const std::string html = util::read_file(dir / "table" / "report.html").value();

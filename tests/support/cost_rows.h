@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <random>
 #include <string>
 #include <utility>
@@ -13,8 +14,8 @@
 
 #include <gtest/gtest.h>
 
+#include "table/row_intervals.h"
 #include "table/table.h"
-#include "table/time_compare.h"
 #include "util/stats.h"
 
 namespace aovar::test {
@@ -36,6 +37,31 @@ inline table::CostRow point_row(const std::string& variant, double ms, double rm
   e.rmse = rmse;
   e.ssim = 1 - rmse;
   r.error = e;
+  return r;
+}
+
+// A row decided by its point time: min `time`, median 1.1x, p90 1.2x (10 frames), rel_time time / 2; with an
+// error (mae rmse / 2, psnr 20, ssim 1 - rmse) when rmse is given.
+inline table::CostRow plain_row(std::string variant, double time, std::optional<double> rmse,
+                                std::string view = "overview", std::string backend = "lavapipe",
+                                std::string scene = "builtin:atrium") {
+  table::CostRow r;
+  r.variant = std::move(variant);
+  r.scene = std::move(scene);
+  r.view = std::move(view);
+  r.backend = std::move(backend);
+  r.size = "64x36";
+  r.threads = 2;
+  r.time_ms = {time, time * 1.1, time * 1.2, 10};
+  r.rel_time = time / 2;
+  if (rmse) {
+    metrics::ErrorStats e;
+    e.rmse = *rmse;
+    e.mae = *rmse / 2;
+    e.psnr = 20;
+    e.ssim = 1 - *rmse;
+    r.error = e;
+  }
   return r;
 }
 

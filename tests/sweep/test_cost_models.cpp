@@ -171,13 +171,13 @@ TEST(CostModels, TimeLinearInAStaticFeatureIsPredictiveAndPredictsRows) {
   }
   EXPECT_EQ(predicting, 1);
   EXPECT_FALSE(gm.unpredictable.count(kLinear));
-  const table::CostModel* model = sweep::predicting_model(gm, kLinear);
+  const decide::CostModel* model = sweep::predicting_model(gm, kLinear);
   ASSERT_NE(model, nullptr);
   EXPECT_GE(model->cv.spearman, sweep::kMinModelSpearman);
   // An unmeasured variant inside the measured range: its predicted time is the formula's, within 5 %.
   table::CostRow unmeasured = model_row("linear", 1000, 150.5, 0);
   unmeasured.time_ms = {};
-  auto predicted = table::predict_rows(*model, {unmeasured});
+  auto predicted = decide::predict_rows(*model, {unmeasured});
   ASSERT_EQ(predicted.size(), 1u);
   EXPECT_TRUE(predicted[0].predicted);
   EXPECT_NEAR(predicted[0].time_ms.min, linear_time(150.5), 0.05 * linear_time(150.5));

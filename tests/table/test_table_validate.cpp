@@ -8,10 +8,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "table/table.h"
-#include "table/time_compare.h"
-#include "test_support.h"
 #include "cost_rows.h"
+#include "table/row_intervals.h"
+#include "table/table.h"
+#include "test_support.h"
 #include "util/fs.h"
 
 namespace {

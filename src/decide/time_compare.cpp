@@ -1,11 +1,13 @@
-#include "table/time_compare.h"
+#include "decide/time_compare.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 
-namespace aovar::table {
+#include "table/row_intervals.h"
+
+namespace aovar::decide {
 namespace {
 
 TimeVerdict verdict_of(double ratio, const util::Interval& ci) {
@@ -25,26 +27,21 @@ TimeComparison from_ratios(std::vector<double> ratios, const char* method) {
   return make(median, util::median_interval(std::move(ratios)), method);
 }
 
-// The baseline min that scales a row's paired time (paired = min x median ratio).
-double scale_ms(const CostRow& r) {
-  return r.rel_time_median > 0 && r.time_ms.paired > 0 ? r.time_ms.paired / r.rel_time_median : 0;
-}
-
-std::vector<double> log_times(const CostRow& r, double scale) {
+std::vector<double> log_times(const table::CostRow& r, double scale) {
   std::vector<double> out;
   for (double x : r.rounds.ratios) out.push_back(std::log(x * scale));
   return out;
 }
 
-TimeComparison separate(const CostRow& a, const CostRow& b, bool same_scale) {
+TimeComparison separate(const table::CostRow& a, const table::CostRow& b, bool same_scale) {
   // On one scale the baseline min cancels; across scales the times are on each row's own baseline.
-  const double sa = same_scale ? 1 : scale_ms(a), sb = same_scale ? 1 : scale_ms(b);
+  const double sa = same_scale ? 1 : table::paired_scale_ms(a), sb = same_scale ? 1 : table::paired_scale_ms(b);
   util::Shift s = util::shift_interval(log_times(a, sa), log_times(b, sb));
   util::Interval ci = s.ci.known() ? util::Interval{std::exp(s.ci.lo), std::exp(s.ci.hi)} : util::Interval{};
   return make(std::exp(s.estimate), ci, "separate rounds");
 }
 
-bool has_rounds(const CostRow& r) {
+bool has_rounds(const table::CostRow& r) {
   return !r.rounds.ratios.empty() && (!r.rounds.is_baseline() || r.time_ms.paired > 0);
 }
 
@@ -59,7 +56,7 @@ const char* verdict_name(TimeVerdict v) {
   return "tied";
 }
 
-TimeComparison compare_time(const CostRow& a, const CostRow& b) {
+TimeComparison compare_time(const table::CostRow& a, const table::CostRow& b) {
   const double ta = a.time_ms.decision(), tb = b.time_ms.decision();
   if (!has_rounds(a) || !has_rounds(b) || a.predicted || b.predicted || tb <= 0)
     return make(tb > 0 ? ta / tb : 1, {}, "point estimates");
@@ -97,13 +94,5 @@ std::string ratio_text(const TimeComparison& c) {
   return fmt::format("{:.3f}x [{:.3f}, {:.3f}]", c.ratio, c.ci.lo, c.ci.hi);
 }
 
-void set_intervals(CostRow& r) {
-  r.rel_time_ci = {};
-  r.time_ms.paired_ci = {};
-  if (r.rounds.ratios.empty() || r.predicted) return;
-  r.rel_time_ci = util::median_interval(r.rounds.ratios);
-  const double scale = scale_ms(r);
-  if (r.rel_time_ci.known() && scale > 0) r.time_ms.paired_ci = {r.rel_time_ci.lo * scale, r.rel_time_ci.hi * scale};
-}
 
-}  // namespace aovar::table
+}  // namespace aovar::decide

@@ -5,11 +5,11 @@
 #include <string>
 #include <vector>
 
+#include "decide/time_compare.h"
 #include "table/table.h"
-#include "table/time_compare.h"
 #include "util/intervals.h"
 
-namespace aovar::table {
+namespace aovar::decide {
 
 struct SelectQuery {
   std::optional<double> budget_ms;   // lowest error with time_ms.decision() (paired, else min) <= budget
@@ -35,9 +35,9 @@ struct Candidate {
   std::vector<std::string> views;  // the rows it aggregates
   std::string worst_error_view, worst_time_view;
   // The row that gives its worst (max) time, with its rounds: what its time is compared by (compare_time).
-  CostRow time_row;
+  table::CostRow time_row;
   util::Interval time_ci;       // 95 % interval of time_ms (time_row.time_ms.paired_ci; unknown with a target)
-  double work_per_pixel = NAN;  // static cost (StaticCost::work_per_pixel) of that row; NaN when not analysed
+  double work_per_pixel = NAN;  // static cost (table::StaticCost::work_per_pixel) of that row; NaN when not analysed
 };
 
 // a's time against b's as the query sees it: compare_time on their time rows, or the point estimates on
@@ -70,14 +70,14 @@ struct Selection {
 
 // Candidates of the query (measured rows with an error only; with a target, those with an estimate on it),
 // sorted by variant then backend.
-std::vector<Candidate> candidates(const CostTable& table, const SelectQuery& q);
+std::vector<Candidate> candidates(const table::CostTable& table, const SelectQuery& q);
 
 // Throws std::runtime_error when the query is malformed (neither or both criteria), no row matches the
 // scene/view/backend filter, or no row has an estimate for the target (naming the families the table has).
-Selection select(const CostTable& table, const SelectQuery& q);
+Selection select(const table::CostTable& table, const SelectQuery& q);
 
 // `aovar select --json`: the selection as one JSON document (schema_version, the query, ok, choice, reason,
 // interval, ties, runners-up, margin, consider, nearest); candidates with their times, intervals and errors.
 nlohmann::json to_json(const Selection& s);
 
-}  // namespace aovar::table
+}  // namespace aovar::decide

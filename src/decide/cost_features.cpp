@@ -1,15 +1,15 @@
-#include "table/cost_features.h"
+#include "decide/cost_features.h"
 
 #include <string>
 
-namespace aovar::table {
+namespace aovar::decide {
 
 FeatureSpec static_features() {
   FeatureSpec f;
   f.names = {"ao.fetches", "ao.alu", "ao.transcendental", "passes.alu", "passes.fetches", "work_per_pixel"};
-  f.extract = [](const CostRow& r) {
+  f.extract = [](const table::CostRow& r) {
     if (!r.static_cost) return std::vector<double>(6, 0.0);
-    const StaticCost& s = *r.static_cost;
+    const table::StaticCost& s = *r.static_cost;
     return std::vector<double>{s.ao.fetches.total(), s.ao.alu,          s.ao.transcendental,
                                s.passes.alu,         s.passes.fetches.total(), s.work_per_pixel};
   };
@@ -19,7 +19,7 @@ FeatureSpec static_features() {
 FeatureSpec compact_features() {
   FeatureSpec f;
   f.names = {"work_per_pixel", "ao.fetches*res2", "res2", "blur.separable", "blur.bilateral", "progressive"};
-  f.extract = [](const CostRow& r) {
+  f.extract = [](const table::CostRow& r) {
     auto axis = [&](const char* k) {
       auto it = r.axes.find(k);
       return it == r.axes.end() ? std::string() : it->second;
@@ -40,11 +40,11 @@ FeatureSpec weighted_class_features() {
   for (const char* c : classes) f.names.push_back(std::string("ao.") + c);
   f.names.push_back("others.fetches");
   for (const char* c : classes) f.names.push_back(std::string("others.") + c);
-  f.extract = [](const CostRow& r) {
+  f.extract = [](const table::CostRow& r) {
     if (!r.static_cost) return std::vector<double>(13, 0.0);
-    const ClassCounts& ao = r.static_cost->weighted_ao;
-    const ClassCounts& others = r.static_cost->weighted_others;
-    auto five = [](const ClassCounts& k) { return std::vector<double>{k.alu, k.transcendental, k.div, k.cmp_select, k.branches}; };
+    const table::ClassCounts& ao = r.static_cost->weighted_ao;
+    const table::ClassCounts& others = r.static_cost->weighted_others;
+    auto five = [](const table::ClassCounts& k) { return std::vector<double>{k.alu, k.transcendental, k.div, k.cmp_select, k.branches}; };
     std::vector<double> x = {ao.fetches - ao.prefilter_fetches, ao.prefilter_fetches};
     for (double v : five(ao)) x.push_back(v);
     x.push_back(others.fetches);
@@ -54,4 +54,4 @@ FeatureSpec weighted_class_features() {
   return f;
 }
 
-}  // namespace aovar::table
+}  // namespace aovar::decide

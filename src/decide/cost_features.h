@@ -1,9 +1,9 @@
 #pragma once
 // The cost model's static features (sweep fits them per scene, view and backend): what of a row's typed
 // static cost (static_cost.h) and axes predicts its time. Rows without a static cost give zeros.
-#include "table/cost_model.h"
+#include "decide/cost_model.h"
 
-namespace aovar::table {
+namespace aovar::decide {
 
 // The AO pass's fetches, ALU and transcendentals, the passes' ALU and fetches, the work per pixel.
 FeatureSpec static_features();
@@ -20,4 +20,4 @@ FeatureSpec compact_features();
 // one sum of counts cannot capture. 13 features.
 FeatureSpec weighted_class_features();
 
-}  // namespace aovar::table
+}  // namespace aovar::decide

@@ -7,7 +7,7 @@
 #include "table/table.h"
 #include "util/intervals.h"
 
-namespace aovar::table {
+namespace aovar::decide {
 
 enum class TimeVerdict { faster, slower, tied };
 const char* verdict_name(TimeVerdict v);  // "faster", "slower", "tied"
@@ -23,16 +23,12 @@ struct TimeComparison {
   bool tied() const { return verdict == TimeVerdict::tied; }
 };
 
-// a against b. Rows on the same scale (Rounds::scale) are compared by their ratios to the shared baseline,
+// a against b. Rows on the same scale (table::Rounds::scale) are compared by their ratios to the shared baseline,
 // which cancels the drift between rounds and runs; other rows (two views of select's worst view) by their
 // paired times.
-TimeComparison compare_time(const CostRow& a, const CostRow& b);
+TimeComparison compare_time(const table::CostRow& a, const table::CostRow& b);
 
 // "1.042x [1.013, 1.071]" or "1.042x" when the interval is unknown.
 std::string ratio_text(const TimeComparison& c);
 
-// Per-row intervals from the rounds: rel_time_ci (sign test of the ratios) and time_ms.paired_ci (the same,
-// times the baseline min that scales `paired`). Rows without rounds get unknown intervals.
-void set_intervals(CostRow& row);
-
-}  // namespace aovar::table
+}  // namespace aovar::decide

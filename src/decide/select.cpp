@@ -1,4 +1,4 @@
-#include "table/select.h"
+#include "decide/select.h"
 
 #include <fmt/format.h>
 
@@ -9,21 +9,21 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "table/top_set.h"
+#include "decide/top_set.h"
 
-namespace aovar::table {
+namespace aovar::decide {
 
 namespace {
 
 // The time a query decides by: measured (paired, else min), or the estimate on the target GPU (NaN: none).
-double time_of(const CostRow& r, const SelectQuery& q) {
+double time_of(const table::CostRow& r, const SelectQuery& q) {
   if (q.target.empty()) return r.time_ms.decision();
   auto it = r.gpu.find(q.target);
   return it == r.gpu.end() ? NAN : it->second.est_ms;
 }
 
 // The families any row has an estimate for, for the error that names them.
-std::string families_of(const CostTable& table) {
+std::string families_of(const table::CostTable& table) {
   std::set<std::string> f;
   for (const auto& r : table.rows)
     for (const auto& [family, cost] : r.gpu)
@@ -35,9 +35,9 @@ std::string families_of(const CostTable& table) {
 
 }  // namespace
 
-std::vector<Candidate> candidates(const CostTable& table, const SelectQuery& q) {
+std::vector<Candidate> candidates(const table::CostTable& table, const SelectQuery& q) {
   // Each candidate with its slowest row so far, copied into time_row once at the end (a row is kilobytes).
-  std::map<std::pair<std::string, std::string>, std::pair<Candidate, const CostRow*>> by;
+  std::map<std::pair<std::string, std::string>, std::pair<Candidate, const table::CostRow*>> by;
   for (const auto& r : table.rows) {
     // A same_code_as row is its representative's measurement again: the representative stands for both.
     if (!r.error || r.predicted || !r.same_code_as.empty()) continue;
@@ -236,7 +236,7 @@ Selection nothing_fits(const std::vector<Candidate>& all, const SelectQuery& q, 
   return s;
 }
 
-std::vector<Candidate> checked_candidates(const CostTable& table, const SelectQuery& q) {
+std::vector<Candidate> checked_candidates(const table::CostTable& table, const SelectQuery& q) {
   if (q.budget_ms.has_value() == q.max_error.has_value())
     throw std::runtime_error("select: give exactly one of --budget-ms and --max-error");
   // NaN fits nothing and compares false everywhere: a malformed request, not "nothing fits".
@@ -295,7 +295,7 @@ void choose(Selection& s, const std::vector<Candidate>& ordered, std::size_t n_t
 }
 
 // --budget-of: the named variant's time becomes budget_ms (throws when the table has no such candidate).
-SelectQuery with_budget_of(const CostTable& table, SelectQuery q) {
+SelectQuery with_budget_of(const table::CostTable& table, SelectQuery q) {
   if (q.budget_of.empty()) return q;
   if (q.budget_ms || q.max_error)
     throw std::runtime_error("select: give exactly one of --budget-ms, --budget-of and --max-error");
@@ -311,7 +311,7 @@ SelectQuery with_budget_of(const CostTable& table, SelectQuery q) {
                                        q.budget_of));
 }
 
-Selection select_within(const CostTable& table, const SelectQuery& q) {
+Selection select_within(const table::CostTable& table, const SelectQuery& q) {
   const std::vector<Candidate> all = checked_candidates(table, q);
   const bool budget = q.budget_ms.has_value();
   // --budget-of: within the budget means not slower than that variant beyond the noise (its ties fit too).
@@ -342,7 +342,7 @@ Selection select_within(const CostTable& table, const SelectQuery& q) {
 
 }  // namespace
 
-Selection select(const CostTable& table, const SelectQuery& query) {
+Selection select(const table::CostTable& table, const SelectQuery& query) {
   const SelectQuery q = with_budget_of(table, query);
   Selection s = select_within(table, q);
   s.query = q;
@@ -352,4 +352,4 @@ Selection select(const CostTable& table, const SelectQuery& query) {
   return s;
 }
 
-}  // namespace aovar::table
+}  // namespace aovar::decide

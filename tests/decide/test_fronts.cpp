@@ -1,4 +1,4 @@
-// generate --from-table's choice (table/fronts.h): per target the variants select answers for some budget.
+// generate --from-table's choice (decide/fronts.h): per target the variants select answers for some budget.
 // The AMD device map the generated pick table embeds and the manifest check: tests/compile/test_from_table.cpp.
 #include <gtest/gtest.h>
 
@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "compile/pick_table.h"
-#include "table/fronts.h"
-#include "table/select.h"
-#include "test_support.h"
 #include "cost_rows.h"
+#include "decide/fronts.h"
+#include "decide/select.h"
+#include "test_support.h"
 #include "util/fs.h"
 
 namespace aovar {
@@ -41,8 +41,8 @@ table::CostTable two_target_table() {
 
 // The strict Pareto front of the worst-view points, fastest first: each point has less error than every
 // faster one. An oracle written apart from select.
-std::vector<std::string> staircase(const std::vector<table::Candidate>& all) {
-  std::vector<table::Candidate> sorted = all;
+std::vector<std::string> staircase(const std::vector<decide::Candidate>& all) {
+  std::vector<decide::Candidate> sorted = all;
   std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) {
     return std::tie(a.time_ms, a.rmse) < std::tie(b.time_ms, b.rmse);
   });
@@ -53,7 +53,7 @@ std::vector<std::string> staircase(const std::vector<table::Candidate>& all) {
   return out;
 }
 
-std::vector<std::string> keys_of(const table::TargetFront& f) {
+std::vector<std::string> keys_of(const decide::TargetFront& f) {
   std::vector<std::string> out;
   for (const auto& p : f.points) out.push_back(p.variant);
   return out;
@@ -62,26 +62,26 @@ std::vector<std::string> keys_of(const table::TargetFront& f) {
 TEST(TableFronts, EachTargetsFrontIsTheParetoStaircaseOfItsOwnTimes) {
   const auto t = two_target_table();
   for (const auto& [target, family] : std::vector<std::pair<std::string, bool>>{{"lavapipe", false}, {"navi21", true}}) {
-    table::SelectQuery q = table::query_for(target, family);
-    const table::TargetFront front = table::budget_front(t, target, family);
-    EXPECT_EQ(keys_of(front), staircase(table::candidates(t, q))) << target;
+    decide::SelectQuery q = decide::query_for(target, family);
+    const decide::TargetFront front = decide::budget_front(t, target, family);
+    EXPECT_EQ(keys_of(front), staircase(decide::candidates(t, q))) << target;
     for (std::size_t i = 1; i < front.points.size(); ++i) {
       EXPECT_LT(front.points[i - 1].time_ms, front.points[i].time_ms) << target;
       EXPECT_GT(front.points[i - 1].rmse, front.points[i].rmse) << target;
     }
   }
-  EXPECT_NE(keys_of(table::budget_front(t, "lavapipe", false)), keys_of(table::budget_front(t, "navi21", true)));
+  EXPECT_NE(keys_of(decide::budget_front(t, "lavapipe", false)), keys_of(decide::budget_front(t, "navi21", true)));
 }
 
 TEST(TableFronts, TheLastPointWithinABudgetIsSelectsAnswer) {
   const auto t = two_target_table();
   for (const auto& [target, family] : std::vector<std::pair<std::string, bool>>{{"lavapipe", false}, {"navi21", true}}) {
-    const table::TargetFront front = table::budget_front(t, target, family);
+    const decide::TargetFront front = decide::budget_front(t, target, family);
     for (double budget = 0.25; budget < 9; budget += 0.25) {
-      table::SelectQuery q = table::query_for(target, family);
+      decide::SelectQuery q = decide::query_for(target, family);
       q.budget_ms = budget;
-      const table::Selection s = table::select(t, q);
-      const table::FrontPoint* last = nullptr;
+      const decide::Selection s = decide::select(t, q);
+      const decide::FrontPoint* last = nullptr;
       for (const auto& p : front.points)
         if (p.time_ms <= budget) last = &p;
       ASSERT_EQ(s.ok, last != nullptr) << target << " " << budget;
@@ -95,7 +95,7 @@ TEST(TableFronts, TheLastPointWithinABudgetIsSelectsAnswer) {
 TEST(TableFronts, KeepsTheUnionOfTheRequestedFrontsOrSelectsPicks) {
   const auto t = two_target_table();
   auto is_family = [](const std::string& name) { return name != "lavapipe"; };
-  const table::TableKeep all = table::keep_from_table(t, {"t.json", {}, {}}, is_family);
+  const decide::TableKeep all = decide::keep_from_table(t, {"t.json", {}, {}}, is_family);
   ASSERT_EQ(all.fronts.size(), 2u);
   EXPECT_EQ(all.fronts[0].target, "navi21");  // families first, then backends
   EXPECT_EQ(all.fronts[1].target, "lavapipe");
@@ -105,9 +105,9 @@ TEST(TableFronts, KeepsTheUnionOfTheRequestedFrontsOrSelectsPicks) {
   expected.erase(std::unique(expected.begin(), expected.end()), expected.end());
   EXPECT_EQ(all.keys, expected);
 
-  table::TableRequest pick{"t.json", {"lavapipe"}, {}};
+  decide::TableRequest pick{"t.json", {"lavapipe"}, {}};
   pick.pick.budget_ms = 4.5;
-  const table::TableKeep picked = table::keep_from_table(t, pick, is_family);
+  const decide::TableKeep picked = decide::keep_from_table(t, pick, is_family);
   ASSERT_EQ(picked.keys, std::vector<std::string>{"d"});  // d: 4.4 ms worst view, rmse 0.12
 }
 
@@ -116,7 +116,7 @@ TEST(TableFronts, ATargetWithoutRowsOrAPickThatNothingFitsIsOneLineNamingTheTabl
   auto is_family = [](const std::string& name) { return name != "lavapipe" && name != "gles"; };
   for (const char* target : {"navi22", "gles"}) {
     try {
-      table::keep_from_table(t, {"sweep/cost_table.json", {target}, {}}, is_family);
+      decide::keep_from_table(t, {"sweep/cost_table.json", {target}, {}}, is_family);
       FAIL() << target;
     } catch (const std::runtime_error& e) {
       const std::string what = e.what();
@@ -125,9 +125,9 @@ TEST(TableFronts, ATargetWithoutRowsOrAPickThatNothingFitsIsOneLineNamingTheTabl
       EXPECT_EQ(what.find('\n'), std::string::npos) << what;
     }
   }
-  table::TableRequest too_tight{"t.json", {"navi21"}, {}};
+  decide::TableRequest too_tight{"t.json", {"navi21"}, {}};
   too_tight.pick.budget_ms = 0.1;
-  EXPECT_THROW(table::keep_from_table(t, too_tight, is_family), std::runtime_error);
+  EXPECT_THROW(decide::keep_from_table(t, too_tight, is_family), std::runtime_error);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "table/cost_model.h"
+#include "decide/cost_model.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,13 +7,13 @@
 #include <set>
 #include <stdexcept>
 
-namespace aovar::table {
+namespace aovar::decide {
 
 FeatureSpec FeatureSpec::then(FeatureSpec more) const {
   FeatureSpec out;
   out.names = names;
   out.names.insert(out.names.end(), more.names.begin(), more.names.end());
-  out.extract = [a = extract, b = std::move(more.extract)](const CostRow& r) {
+  out.extract = [a = extract, b = std::move(more.extract)](const table::CostRow& r) {
     auto x = a(r);
     auto y = b(r);
     x.insert(x.end(), y.begin(), y.end());
@@ -23,7 +23,7 @@ FeatureSpec FeatureSpec::then(FeatureSpec more) const {
 }
 
 namespace {
-double axis_number(const CostRow& r, const char* name, double fallback) {
+double axis_number(const table::CostRow& r, const char* name, double fallback) {
   auto it = r.axes.find(name);
   if (it == r.axes.end()) return fallback;
   try {
@@ -32,13 +32,13 @@ double axis_number(const CostRow& r, const char* name, double fallback) {
     return fallback;
   }
 }
-std::string axis_text(const CostRow& r, const char* name) {
+std::string axis_text(const table::CostRow& r, const char* name) {
   auto it = r.axes.find(name);
   return it == r.axes.end() ? std::string() : it->second;
 }
 }  // namespace
 
-FeatureSpec axis_features(const std::vector<CostRow>& rows) {
+FeatureSpec axis_features(const std::vector<table::CostRow>& rows) {
   std::set<std::string> blurs, algorithms;
   for (const auto& r : rows) {
     blurs.insert(axis_text(r, "blur"));
@@ -49,7 +49,7 @@ FeatureSpec axis_features(const std::vector<CostRow>& rows) {
   for (const auto& b : blurs) f.names.push_back("blur=" + b);
   for (const auto& a : algorithms) f.names.push_back("algorithm=" + a);
   std::vector<std::string> bl(blurs.begin(), blurs.end()), al(algorithms.begin(), algorithms.end());
-  f.extract = [bl, al](const CostRow& r) {
+  f.extract = [bl, al](const table::CostRow& r) {
     double s = axis_number(r, "samples", 0), res = axis_number(r, "resolution", 1);
     std::vector<double> x = {s, res * res, s * res * res, axis_text(r, "progressive") == "true" ? 1.0 : 0.0,
                              axis_text(r, "normals") == "depth" ? 1.0 : 0.0,
@@ -173,7 +173,7 @@ CrossValidation cross_validate(const std::vector<std::vector<double>>& x, const 
   return cv;
 }
 
-CostModel fit_cost_model(const std::vector<CostRow>& rows, const FeatureSpec& features, double lambda, int k,
+CostModel fit_cost_model(const std::vector<table::CostRow>& rows, const FeatureSpec& features, double lambda, int k,
                          const Target& target) {
   std::vector<std::vector<double>> x;
   std::vector<double> y;
@@ -193,7 +193,7 @@ CostModel fit_cost_model(const std::vector<CostRow>& rows, const FeatureSpec& fe
   return m;
 }
 
-std::vector<CostRow> predict_rows(const CostModel& model, std::vector<CostRow> rows) {
+std::vector<table::CostRow> predict_rows(const CostModel& model, std::vector<table::CostRow> rows) {
   for (auto& r : rows) {
     double t = model.predict(r);
     r.time_ms = {t, t, t, 0, t};
@@ -203,4 +203,4 @@ std::vector<CostRow> predict_rows(const CostModel& model, std::vector<CostRow> r
   return rows;
 }
 
-}  // namespace aovar::table
+}  // namespace aovar::decide

@@ -1,6 +1,6 @@
 // Time verdicts that form cycles (issue 34, point 3): "faster beyond the noise" is not transitive, and
 // medians of paired ratios can go round (a faster than b, b than c, c than a). select decides among the
-// Schwartz set of the verdicts (table/top_set.h, docs/confidence.md), which is never empty.
+// Schwartz set of the verdicts (decide/top_set.h, docs/confidence.md), which is never empty.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,16 +9,17 @@
 
 #include <fmt/format.h>
 
-#include "table/select.h"
-#include "table/table.h"
-#include "table/time_compare.h"
-#include "table/top_set.h"
-#include "test_support.h"
 #include "cost_rows.h"
+#include "decide/select.h"
+#include "decide/time_compare.h"
+#include "decide/top_set.h"
+#include "table/table.h"
+#include "test_support.h"
 
 namespace {
 using namespace aovar;
 using namespace aovar::table;
+using namespace aovar::decide;
 using Graph = std::vector<std::vector<bool>>;  // g[i][j]: i beats j
 
 // The definition, by brute force: x is in the set when everything that reaches x is reached from x.

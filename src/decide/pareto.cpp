@@ -1,19 +1,20 @@
 // The Pareto front of time against error per scene, view and backend, and the worst view of each scene.
+#include "decide/pareto.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <tuple>
 
-#include "table/table.h"
-#include "table/time_compare.h"
+#include "decide/time_compare.h"
 
-namespace aovar::table {
+namespace aovar::decide {
 
 namespace {
 
 // b is dominated by a: no more error, time lower or tied, and better in one of them beyond the noise.
-bool dominates(const CostRow& a, const CostRow& b) {
+bool dominates(const table::CostRow& a, const table::CostRow& b) {
   if (a.error->rmse > b.error->rmse) return false;
   const TimeComparison t = compare_time(a, b);
   if (t.verdict == TimeVerdict::slower) return false;
@@ -22,8 +23,8 @@ bool dominates(const CostRow& a, const CostRow& b) {
 
 }  // namespace
 
-void mark_pareto(std::vector<CostRow>& rows) {
-  std::map<std::tuple<std::string, std::string, std::string>, std::vector<CostRow*>> groups;
+void mark_pareto(std::vector<table::CostRow>& rows) {
+  std::map<std::tuple<std::string, std::string, std::string>, std::vector<table::CostRow*>> groups;
   for (auto& r : rows) {
     r.pareto = false;
     if (r.error && !std::isnan(r.error->rmse) && r.same_code_as.empty()) groups[{r.scene, r.view, r.backend}].push_back(&r);
@@ -31,14 +32,14 @@ void mark_pareto(std::vector<CostRow>& rows) {
   for (auto& [g, members] : groups) {
     // In order of error: only rows before a row (error no higher) can dominate it. Ties make the relation
     // non-transitive, so each row is checked against every earlier one, not only against the front so far.
-    std::sort(members.begin(), members.end(), [](const CostRow* a, const CostRow* b) {
+    std::sort(members.begin(), members.end(), [](const table::CostRow* a, const table::CostRow* b) {
       double ta = a->time_ms.decision(), tb = b->time_ms.decision();
       return std::tie(a->error->rmse, ta, a->variant) < std::tie(b->error->rmse, tb, b->variant);
     });
     // The fastest earlier row dominates most rows on its own: asking it first keeps a group of 100,000 rows
     // near linear (the full scan runs only for the rows it does not dominate, about the front's size). The
     // answer is the full scan's: the shortcut only ends it early when one dominator is found.
-    const CostRow* fastest = nullptr;
+    const table::CostRow* fastest = nullptr;
     for (std::size_t i = 0; i < members.size(); ++i) {
       bool dominated = fastest && dominates(*fastest, *members[i]);
       for (std::size_t j = 0; j < members.size() && members[j]->error->rmse <= members[i]->error->rmse && !dominated; ++j)
@@ -49,19 +50,19 @@ void mark_pareto(std::vector<CostRow>& rows) {
   }
 }
 
-std::vector<CostRow> worst_view(const std::vector<CostRow>& rows) {
-  std::map<std::tuple<std::string, std::string, std::string, std::string, int>, std::vector<const CostRow*>> groups;
+std::vector<table::CostRow> worst_view(const std::vector<table::CostRow>& rows) {
+  std::map<std::tuple<std::string, std::string, std::string, std::string, int>, std::vector<const table::CostRow*>> groups;
   for (const auto& r : rows)
     if (r.error) groups[{r.scene, r.variant, r.backend, r.size, r.threads}].push_back(&r);
-  std::vector<CostRow> out;
+  std::vector<table::CostRow> out;
   for (const auto& [g, members] : groups) {
-    std::vector<const CostRow*> sorted = members;
-    std::sort(sorted.begin(), sorted.end(), [](const CostRow* a, const CostRow* b) { return a->view < b->view; });
-    const CostRow* worst = sorted[0];
-    const CostRow* slowest = sorted[0];
-    CostRow agg = *worst;
+    std::vector<const table::CostRow*> sorted = members;
+    std::sort(sorted.begin(), sorted.end(), [](const table::CostRow* a, const table::CostRow* b) { return a->view < b->view; });
+    const table::CostRow* worst = sorted[0];
+    const table::CostRow* slowest = sorted[0];
+    table::CostRow agg = *worst;
     std::string views;
-    for (const CostRow* r : sorted) {
+    for (const table::CostRow* r : sorted) {
       if (r->error->rmse > worst->error->rmse) worst = r;
       if (r->time_ms.decision() > slowest->time_ms.decision()) slowest = r;
       agg.time_ms.min = std::max(agg.time_ms.min, r->time_ms.min);
@@ -90,7 +91,7 @@ std::vector<CostRow> worst_view(const std::vector<CostRow>& rows) {
     out.push_back(std::move(agg));
   }
   // Front per (scene, backend): the aggregated rows' view names differ only by which views were present.
-  std::map<std::pair<std::string, std::string>, std::vector<CostRow>> by;
+  std::map<std::pair<std::string, std::string>, std::vector<table::CostRow>> by;
   for (auto& r : out) by[{r.scene, r.backend}].push_back(r);
   out.clear();
   for (auto& [k, group] : by) {
@@ -105,4 +106,4 @@ std::vector<CostRow> worst_view(const std::vector<CostRow>& rows) {
   return out;
 }
 
-}  // namespace aovar::table
+}  // namespace aovar::decide

@@ -8,15 +8,17 @@
 
 #include <fmt/format.h>
 
-#include "table/compare.h"
-#include "table/select.h"
-#include "table/table.h"
-#include "table/time_compare.h"
 #include "cost_rows.h"
+#include "decide/diff.h"
+#include "decide/pareto.h"
+#include "decide/select.h"
+#include "decide/time_compare.h"
+#include "table/table.h"
 
 namespace {
 using namespace aovar;
 using namespace aovar::table;
+using namespace aovar::decide;
 using aovar::test::on_front;
 
 constexpr double kBaselineMs = 10;

@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "table/select.h"
+#include "decide/select.h"
 #include "table/table.h"
 
-namespace aovar::table {
+namespace aovar::decide {
 
 struct FrontPoint {
   std::string variant;
@@ -26,8 +26,8 @@ struct TargetFront {
 
 // The targets a table has: each GPU family some row with an error has an estimate for (sorted), then each
 // measured backend (sorted).
-std::vector<std::string> families_in(const CostTable& table);
-std::vector<std::string> backends_in(const CostTable& table);
+std::vector<std::string> families_in(const table::CostTable& table);
+std::vector<std::string> backends_in(const table::CostTable& table);
 
 // The select query for one target: a family decides by its estimate (SelectQuery::target), a backend by
 // the time measured on it (SelectQuery::backend).
@@ -36,7 +36,7 @@ SelectQuery query_for(const std::string& target, bool family, SelectQuery reques
 // The variants `select --budget-ms B` answers on `target` over every B, fastest first: select at the slowest
 // candidate's time, then again just under each answer's time, until nothing fits. Empty when the table has
 // no candidate for the target.
-TargetFront budget_front(const CostTable& table, const std::string& target, bool family);
+TargetFront budget_front(const table::CostTable& table, const std::string& target, bool family);
 
 struct TableRequest {
   std::string table_name;            // for the one-line errors
@@ -53,7 +53,7 @@ struct TableKeep {
 // Throws std::runtime_error, one line naming the table: a requested target the table has no rows for (with
 // the families and backends it has), or a pick that nothing satisfies on a target. `is_family` says which
 // names are GPU families (the caller knows the list; an unknown name is refused there).
-TableKeep keep_from_table(const CostTable& table, const TableRequest& request,
+TableKeep keep_from_table(const table::CostTable& table, const TableRequest& request,
                           const std::function<bool(const std::string&)>& is_family);
 
-}  // namespace aovar::table
+}  // namespace aovar::decide

@@ -1,4 +1,4 @@
-#include "table/compare.h"
+#include "decide/diff.h"
 
 #include <fmt/format.h>
 
@@ -7,14 +7,14 @@
 #include <map>
 #include <stdexcept>
 
-#include "table/time_compare.h"
+#include "decide/time_compare.h"
 #include "util/fs.h"
 
-namespace aovar::table {
+namespace aovar::decide {
 
 namespace {
 
-using RowMap = std::map<std::string, const CostRow*>;
+using RowMap = std::map<std::string, const table::CostRow*>;
 
 // How one common row changed: +1 helped, -1 hurt, 0 unchanged / inconclusive.
 struct Verdict {
@@ -41,7 +41,7 @@ int threshold_sign(double a, double b, bool relative, double threshold, bool hig
 
 // Time: b against a beyond the noise. The rows come from two runs: on one scale compare_time compares their
 // ratios to the baseline, which cancel the drift between the runs (Mann-Whitney on the two rows' rounds).
-Verdict time_verdict(const CostRow& a, const CostRow& b) {
+Verdict time_verdict(const table::CostRow& a, const table::CostRow& b) {
   if (!a.rounds.ratios.empty() && !b.rounds.ratios.empty()) {
     const TimeComparison t = compare_time(b, a);
     if (t.ci.known()) {
@@ -69,20 +69,20 @@ Verdict error_verdict(double a, double b, bool higher_better) {
 struct Spec {
   const char* name;
   bool higher_better;
-  bool (*has)(const CostRow&);
-  double (*get)(const CostRow&);
-  Verdict (*judge)(const CostRow&, const CostRow&);
+  bool (*has)(const table::CostRow&);
+  double (*get)(const table::CostRow&);
+  Verdict (*judge)(const table::CostRow&, const table::CostRow&);
 };
 
 const Spec kSpecs[] = {
-    {"time_ms", false, [](const CostRow& r) { return !r.predicted; },
-     [](const CostRow& r) { return r.time_ms.decision(); }, time_verdict},
-    {"error.rmse", false, [](const CostRow& r) { return r.error.has_value(); },
-     [](const CostRow& r) { return r.error->rmse; },
-     [](const CostRow& a, const CostRow& b) { return error_verdict(a.error->rmse, b.error->rmse, false); }},
-    {"error.ssim", true, [](const CostRow& r) { return r.error.has_value(); },
-     [](const CostRow& r) { return r.error->ssim; },
-     [](const CostRow& a, const CostRow& b) { return error_verdict(a.error->ssim, b.error->ssim, true); }},
+    {"time_ms", false, [](const table::CostRow& r) { return !r.predicted; },
+     [](const table::CostRow& r) { return r.time_ms.decision(); }, time_verdict},
+    {"error.rmse", false, [](const table::CostRow& r) { return r.error.has_value(); },
+     [](const table::CostRow& r) { return r.error->rmse; },
+     [](const table::CostRow& a, const table::CostRow& b) { return error_verdict(a.error->rmse, b.error->rmse, false); }},
+    {"error.ssim", true, [](const table::CostRow& r) { return r.error.has_value(); },
+     [](const table::CostRow& r) { return r.error->ssim; },
+     [](const table::CostRow& a, const table::CostRow& b) { return error_verdict(a.error->ssim, b.error->ssim, true); }},
 };
 
 void keep_top(std::vector<Delta>& list) {
@@ -131,7 +131,7 @@ MetricDiff diff_metric(const Spec& s, const RowMap& ra, const RowMap& rb) {
 
 }  // namespace
 
-TableDiff diff_tables(const CostTable& a, const CostTable& b) {
+TableDiff diff_tables(const table::CostTable& a, const table::CostTable& b) {
   RowMap ra, rb;
   for (const auto& r : a.rows) ra.emplace(r.key(), &r);
   for (const auto& r : b.rows) rb.emplace(r.key(), &r);
@@ -199,58 +199,4 @@ std::string format_diff(const TableDiff& d, const std::string& name_a, const std
   return s;
 }
 
-CostTable merge_tables(const std::vector<std::filesystem::path>& inputs, const std::vector<std::string>& per_shard) {
-  std::vector<std::pair<std::string, CostTable>> tables;
-  for (const auto& in : inputs) tables.emplace_back(util::display_path(in), read_table(in));
-  return merge_tables(std::move(tables), per_shard);
-}
-
-CostTable merge_tables(std::vector<std::pair<std::string, CostTable>> tables, const std::vector<std::string>& per_shard) {
-  if (tables.empty()) throw std::runtime_error("merge: no input tables");
-  CostTable out;
-  nlohmann::json first_meta;
-  std::map<std::string, std::pair<nlohmann::json, std::string>> seen;  // key -> row json, file
-  nlohmann::json from = nlohmann::json::array();
-  for (std::size_t i = 0; i < tables.size(); ++i) {
-    auto& [name, t] = tables[i];
-    nlohmann::json meta = t.meta;
-    if (meta.is_object()) meta.erase("shard");
-    if (meta.is_object()) meta.erase("reps_reached");  // what each shard's timing reached: its own
-    // The same calibration (by hash) read from each machine's own copy: `file` is where, not what.
-    if (meta.is_object() && meta.contains("calibration") && meta["calibration"].is_object())
-      meta["calibration"].erase("file");
-    for (const auto& k : per_shard)
-      if (meta.is_object()) meta.erase(k);
-    if (i == 0) {
-      first_meta = meta;
-    } else if (meta != first_meta) {
-      std::string field;
-      for (const auto& [k, v] : first_meta.items())
-        if (!meta.contains(k) || meta[k] != v) { field = k; break; }
-      if (field.empty())
-        for (const auto& [k, v] : meta.items())
-          if (!first_meta.contains(k)) { field = k; break; }
-      throw std::runtime_error(fmt::format("merge: {} and {} come from different runs (meta '{}' differs)",
-                                           tables[0].first, name, field));
-    }
-    from.push_back(name);
-    for (auto& r : t.rows) {
-      r.pareto = false;  // recomputed over the merged table
-      nlohmann::json j = to_json(r);
-      auto [it, fresh] = seen.try_emplace(r.key(), j, name);
-      if (!fresh) {
-        if (it->second.first != j)
-          throw std::runtime_error(fmt::format("merge: conflicting rows for {} in {} and {}", r.key(),
-                                               it->second.second, name));
-        continue;
-      }
-      out.rows.push_back(std::move(r));
-    }
-  }
-  out.meta = first_meta.is_object() ? first_meta : nlohmann::json::object();
-  out.meta["merged_from"] = from;
-  mark_pareto(out);
-  return out;
-}
-
-}  // namespace aovar::table
+}  // namespace aovar::decide

@@ -8,7 +8,7 @@
 #include <functional>
 #include <vector>
 
-namespace aovar::table {
+namespace aovar::decide {
 
 // beats(i, j): i beats j (irreflexive; need not be transitive, asymmetric or acyclic). `pivot` is any
 // member, best the one most likely to beat the rest (the fastest point): only the members it does not beat
@@ -17,4 +17,4 @@ namespace aovar::table {
 std::vector<std::size_t> schwartz_set(std::size_t n, std::size_t pivot,
                                       const std::function<bool(std::size_t, std::size_t)>& beats);
 
-}  // namespace aovar::table
+}  // namespace aovar::decide

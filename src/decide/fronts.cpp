@@ -1,4 +1,4 @@
-#include "table/fronts.h"
+#include "decide/fronts.h"
 
 #include <fmt/format.h>
 
@@ -8,11 +8,11 @@
 #include <set>
 #include <stdexcept>
 
-namespace aovar::table {
+namespace aovar::decide {
 
 namespace {
 
-bool candidate_row(const CostRow& r) { return r.error && !r.predicted && r.same_code_as.empty(); }
+bool candidate_row(const table::CostRow& r) { return r.error && !r.predicted && r.same_code_as.empty(); }
 
 std::string joined(const std::vector<std::string>& names) {
   std::string out;
@@ -22,7 +22,7 @@ std::string joined(const std::vector<std::string>& names) {
 
 }  // namespace
 
-std::vector<std::string> families_in(const CostTable& table) {
+std::vector<std::string> families_in(const table::CostTable& table) {
   std::set<std::string> f;
   for (const auto& r : table.rows)
     if (candidate_row(r))
@@ -31,7 +31,7 @@ std::vector<std::string> families_in(const CostTable& table) {
   return {f.begin(), f.end()};
 }
 
-std::vector<std::string> backends_in(const CostTable& table) {
+std::vector<std::string> backends_in(const table::CostTable& table) {
   std::set<std::string> b;
   for (const auto& r : table.rows)
     if (candidate_row(r)) b.insert(r.backend);
@@ -43,7 +43,7 @@ SelectQuery query_for(const std::string& target, bool family, SelectQuery reques
   return request;
 }
 
-TargetFront budget_front(const CostTable& table, const std::string& target, bool family) {
+TargetFront budget_front(const table::CostTable& table, const std::string& target, bool family) {
   TargetFront front{target, family, {}};
   SelectQuery q = query_for(target, family);
   q.max_error = 1e300;  // any criterion: candidates() only reads the filters
@@ -68,7 +68,7 @@ TargetFront budget_front(const CostTable& table, const std::string& target, bool
 namespace {
 
 // The targets asked for, each checked against the table: one line naming it and what the table has.
-std::vector<std::pair<std::string, bool>> checked_targets(const CostTable& table, const TableRequest& r,
+std::vector<std::pair<std::string, bool>> checked_targets(const table::CostTable& table, const TableRequest& r,
                                                           const std::function<bool(const std::string&)>& is_family) {
   const auto families = families_in(table), backends = backends_in(table);
   std::vector<std::pair<std::string, bool>> out;
@@ -96,7 +96,7 @@ bool has_pick(const SelectQuery& q) { return q.budget_ms || q.max_error || !q.bu
 
 }  // namespace
 
-TableKeep keep_from_table(const CostTable& table, const TableRequest& request,
+TableKeep keep_from_table(const table::CostTable& table, const TableRequest& request,
                           const std::function<bool(const std::string&)>& is_family) {
   TableKeep keep;
   std::set<std::string> keys;
@@ -116,4 +116,4 @@ TableKeep keep_from_table(const CostTable& table, const TableRequest& request,
   return keep;
 }
 
-}  // namespace aovar::table
+}  // namespace aovar::decide

@@ -1,12 +1,12 @@
 // The Schwartz set of a "beats" relation (top_set.h): the closure that can hold it, then its strongly
 // connected components (Tarjan 1972, iterative) and those no other component beats.
-#include "table/top_set.h"
+#include "decide/top_set.h"
 
 #include <algorithm>
 #include <limits>
 #include <utility>
 
-namespace aovar::table {
+namespace aovar::decide {
 namespace {
 
 constexpr std::size_t kUnset = std::numeric_limits<std::size_t>::max();
@@ -92,4 +92,4 @@ std::vector<std::size_t> schwartz_set(std::size_t n, std::size_t pivot,
   return out;
 }
 
-}  // namespace aovar::table
+}  // namespace aovar::decide

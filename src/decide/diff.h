@@ -1,17 +1,15 @@
 #pragma once
-// `aovar diff` (per-variant deltas between two cost tables, shader-db style) and `aovar merge` (join
-// shard tables).
-#include <filesystem>
+// `aovar diff`: per-variant deltas between two cost tables (shader-db style), each decided beyond the noise.
 #include <string>
 #include <vector>
 
 #include "table/table.h"
 #include "util/intervals.h"
 
-namespace aovar::table {
+namespace aovar::decide {
 
 struct Delta {
-  std::string key;   // CostRow::key()
+  std::string key;   // table::CostRow::key()
   double a = 0, b = 0;
   // 100 (b - a) / a; 0 when both are 0, +-inf when only a is 0. Time decided by rounds: 100 (ratio - 1) of
   // compare_time's ratio to the baseline, free of the drift between the two runs that a and b keep.
@@ -43,20 +41,12 @@ struct TableDiff {
   int common = 0;
 };
 
-// Rows match by CostRow::key(). Time: compare_time(b, a) on the rows' rounds (the decision time: paired, else
+// Rows match by table::CostRow::key(). Time: compare_time(b, a) on the rows' rounds (the decision time: paired, else
 // min); rows without rounds on both sides (older tables) fall back to |Δ| > 2 %. rmse and ssim: |Δ| > 1e-4
 // absolute. Time skips predicted rows; error metrics skip rows without an error on either side.
-TableDiff diff_tables(const CostTable& a, const CostTable& b);
+TableDiff diff_tables(const table::CostTable& a, const table::CostTable& b);
 std::string format_diff(const TableDiff& d, const std::string& name_a, const std::string& name_b);
 // `aovar diff --json`: the same as one JSON document, with every common row's verdict (not only the top 10).
 nlohmann::json to_json(const TableDiff& d, const std::string& name_a, const std::string& name_b);
 
-// Joins shard tables read from `inputs`: their meta must match except "shard"; rows with the same key
-// must be identical (else std::runtime_error "conflicting rows for KEY in A and B"). The result's
-// meta is the first's without "shard", plus "merged_from" (the file names); Pareto flags are recomputed.
-// `per_shard`: further meta keys each shard has its own of (not compared, left out of the result).
-CostTable merge_tables(const std::vector<std::filesystem::path>& inputs, const std::vector<std::string>& per_shard = {});
-// The same over tables already read, each with the name errors give it.
-CostTable merge_tables(std::vector<std::pair<std::string, CostTable>> tables, const std::vector<std::string>& per_shard = {});
-
-}  // namespace aovar::table
+}  // namespace aovar::decide

@@ -8,11 +8,11 @@
 
 #include "table/table.h"
 
-namespace aovar::table {
+namespace aovar::decide {
 
 struct FeatureSpec {
   std::vector<std::string> names;
-  std::function<std::vector<double>(const CostRow&)> extract;  // returns names.size() values
+  std::function<std::vector<double>(const table::CostRow&)> extract;  // returns names.size() values
   // This spec's features followed by `more`'s.
   FeatureSpec then(FeatureSpec more) const;
 };
@@ -20,7 +20,7 @@ struct FeatureSpec {
 // From the axes: samples, resolution factor squared, samples x resolution², blur one-hot, progressive,
 // normals from depth, position buffer, algorithm one-hot. The one-hot columns are the values found in
 // `rows` (sorted), so a spec fitted on some rows applies to others of the same manifest.
-FeatureSpec axis_features(const std::vector<CostRow>& rows);
+FeatureSpec axis_features(const std::vector<table::CostRow>& rows);
 
 struct LinearModel {
   std::vector<double> mean, scale;  // feature standardisation (train set)
@@ -45,22 +45,22 @@ CrossValidation cross_validate(const std::vector<std::vector<double>>& x, const 
                                double lambda, int k = 5);
 
 // What a model predicts for a row; default: time_ms.decision() (paired when known, else min).
-using Target = std::function<double(const CostRow&)>;
+using Target = std::function<double(const table::CostRow&)>;
 
 struct CostModel {
   FeatureSpec features;
   LinearModel model;   // fitted on all rows
   CrossValidation cv;
   int n = 0;
-  double predict(const CostRow& row) const { return model.predict(features.extract(row)); }
+  double predict(const table::CostRow& row) const { return model.predict(features.extract(row)); }
 };
 
 // Fits on the measured rows (predicted == false) of `rows`; the caller picks one scene/view/backend/size.
 // Throws std::runtime_error with fewer than k measured rows.
-CostModel fit_cost_model(const std::vector<CostRow>& rows, const FeatureSpec& features, double lambda = 1e-2,
+CostModel fit_cost_model(const std::vector<table::CostRow>& rows, const FeatureSpec& features, double lambda = 1e-2,
                          int k = 5, const Target& target = {});
 
 // Copies of `unmeasured` with time_ms (min = median = p90 = paired) from the model, n = 0, predicted = true.
-std::vector<CostRow> predict_rows(const CostModel& model, std::vector<CostRow> unmeasured);
+std::vector<table::CostRow> predict_rows(const CostModel& model, std::vector<table::CostRow> unmeasured);
 
-}  // namespace aovar::table
+}  // namespace aovar::decide

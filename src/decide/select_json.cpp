@@ -1,8 +1,8 @@
 // `aovar select --json`: the typed Selection the text is written from, as JSON (NaN and infinities: null).
-#include "table/select.h"
+#include "decide/select.h"
 #include "util/schema.h"
 
-namespace aovar::table {
+namespace aovar::decide {
 
 namespace {
 using nlohmann::json;
@@ -64,4 +64,4 @@ json to_json(const Selection& s) {
           {"nearest", optional_json(s.nearest)}};
 }
 
-}  // namespace aovar::table
+}  // namespace aovar::decide

@@ -1,4 +1,4 @@
-// Time comparisons of two rows (table/time_compare.h): paired rounds, the baseline's own interval, point
+// Time comparisons of two rows (decide/time_compare.h): paired rounds, the baseline's own interval, point
 // estimates, and the Pareto front's ties. The intervals they rest on: tests/util/test_intervals.cpp.
 #include <gtest/gtest.h>
 
@@ -6,10 +6,12 @@
 #include <random>
 
 #include "cost_rows.h"
-#include "table/time_compare.h"
+#include "decide/pareto.h"
+#include "decide/time_compare.h"
 
 namespace aovar::test {
 namespace {
+using namespace aovar::decide;
 
 TEST(CompareTime, NoiseIsATieAndAClearDifferenceIsNot) {
   const auto base = lognormal_ratios(1.0, 0.02, 10, 1);
@@ -17,14 +19,14 @@ TEST(CompareTime, NoiseIsATieAndAClearDifferenceIsNot) {
   auto a = rounds_row("a", lognormal_ratios(1.000, 0.02, 10, 2), "b/0");
   auto b = rounds_row("b", lognormal_ratios(1.005, 0.02, 10, 3), "b/0");
   auto c = compare_time(a, b);
-  EXPECT_TRUE(c.tied()) << table::ratio_text(c) << " " << c.method;
+  EXPECT_TRUE(c.tied()) << decide::ratio_text(c) << " " << c.method;
   EXPECT_TRUE(c.ci.contains(1.0));
   // 20 % apart: faster, whichever way it is paired.
   auto fast = rounds_row("fast", lognormal_ratios(0.80, 0.02, 10, 4), "b/0");
-  EXPECT_EQ(compare_time(fast, a).verdict, table::TimeVerdict::faster);
-  EXPECT_EQ(compare_time(a, fast).verdict, table::TimeVerdict::slower);
+  EXPECT_EQ(compare_time(fast, a).verdict, decide::TimeVerdict::faster);
+  EXPECT_EQ(compare_time(a, fast).verdict, decide::TimeVerdict::slower);
   auto fast_elsewhere = rounds_row("fast2", lognormal_ratios(0.80, 0.02, 10, 5), "b/1");
-  EXPECT_EQ(compare_time(fast_elsewhere, a).verdict, table::TimeVerdict::faster);
+  EXPECT_EQ(compare_time(fast_elsewhere, a).verdict, decide::TimeVerdict::faster);
   (void)base;
 }
 
@@ -36,19 +38,19 @@ TEST(CompareTime, PairedRoundsCancelWhatTheRoundsShare) {
   auto a = rounds_row("a", drift, "b/0"), b = rounds_row("b", slower, "b/0");
   auto paired = compare_time(b, a);
   EXPECT_STREQ(paired.method, "paired rounds");
-  EXPECT_EQ(paired.verdict, table::TimeVerdict::slower) << table::ratio_text(paired);
+  EXPECT_EQ(paired.verdict, decide::TimeVerdict::slower) << decide::ratio_text(paired);
   EXPECT_NEAR(paired.ratio, 1.04, 1e-9);
   auto b_elsewhere = rounds_row("b", slower, "b/1");
   auto separate = compare_time(b_elsewhere, a);
   EXPECT_STREQ(separate.method, "separate rounds");
-  EXPECT_TRUE(separate.tied()) << table::ratio_text(separate);
+  EXPECT_TRUE(separate.tied()) << decide::ratio_text(separate);
 }
 
 TEST(CompareTime, AgainstTheBaselineIsTheRowsOwnInterval) {
   auto base = rounds_row("base", std::vector<double>(10, 1.0), table::Rounds::kAll);
   auto a = rounds_row("a", lognormal_ratios(1.10, 0.02, 10, 8), "b/0");
   auto c = compare_time(a, base);
-  EXPECT_EQ(c.verdict, table::TimeVerdict::slower);
+  EXPECT_EQ(c.verdict, decide::TimeVerdict::slower);
   EXPECT_DOUBLE_EQ(c.ratio, a.rel_time_median);
   EXPECT_EQ(c.ci, a.rel_time_ci);
   // Rows without rounds (tables written before them, estimates): the point decides, without an interval.
@@ -58,7 +60,7 @@ TEST(CompareTime, AgainstTheBaselineIsTheRowsOwnInterval) {
   auto p = compare_time(old_a, old_b);
   EXPECT_STREQ(p.method, "point estimates");
   EXPECT_FALSE(p.ci.known());
-  EXPECT_EQ(p.verdict, table::TimeVerdict::slower);
+  EXPECT_EQ(p.verdict, decide::TimeVerdict::slower);
 }
 
 TEST(CompareTime, ParetoTreatsATieAsEqualTime) {
@@ -78,7 +80,7 @@ TEST(CompareTime, ParetoTreatsATieAsEqualTime) {
   twin.variant = "b-twin";
   twin.same_code_as = "b";
   std::vector<table::CostRow> rows = {a, b, fast, twin};
-  table::mark_pareto(rows);
+  decide::mark_pareto(rows);
   EXPECT_FALSE(rows[0].pareto) << "tied on time with a lower-error row";
   EXPECT_TRUE(rows[1].pareto);
   EXPECT_TRUE(rows[2].pareto) << "faster beyond the noise";

@@ -1,8 +1,8 @@
 // `aovar diff --json`: the typed TableDiff the text is written from, as JSON (NaN and infinities: null).
-#include "table/compare.h"
+#include "decide/diff.h"
 #include "util/schema.h"
 
-namespace aovar::table {
+namespace aovar::decide {
 
 namespace {
 using nlohmann::json;
@@ -53,4 +53,4 @@ json to_json(const TableDiff& d, const std::string& name_a, const std::string& n
           {"metrics", metrics}};
 }
 
-}  // namespace aovar::table
+}  // namespace aovar::decide
