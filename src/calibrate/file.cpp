@@ -129,20 +129,19 @@ std::map<std::string, render::ParamOverrides> load_calibration(const fs::path& p
   return out;
 }
 
-CalibrationSource calibration_source(const fs::path& path) {
+table::CalibrationRef calibration_source(const fs::path& path) {
   if (path.empty()) return {};
   auto text = util::read_file(path);
   if (!text) throw std::runtime_error(fmt::format("{}: error: cannot read the calibration file", util::display_path(path)));
   return {util::display_path(path), util::hash_hex(*text)};
 }
 
-std::string measured_with(const json& meta, const CalibrationSource& expected, const std::string& table) {
-  const json none = nullptr;
-  const json& used = meta.contains("calibration") ? meta.at("calibration") : none;
-  const std::string hash = used.is_object() ? used.value("hash", "") : "";
-  if (hash == expected.hash) return "";
-  const std::string what = used.is_object() ? fmt::format("{} (hash {})", used.value("file", "?"), hash.substr(0, 12))
-                                            : "no calibration file recorded";
+std::string measured_with(const std::optional<table::CalibrationRef>& used, const table::CalibrationRef& expected,
+                          const std::string& table) {
+  if (used && used->hash == expected.hash) return "";
+  if (!used && expected.hash.empty()) return "";
+  const std::string what = used ? fmt::format("{} (hash {})", used->file.empty() ? "?" : used->file, used->hash.substr(0, 12))
+                                : "no calibration file recorded";
   return fmt::format("{}: error: measured with {}, not {} (hash {}); measure again with --calibration {}", table, what,
                      expected.file, expected.hash.substr(0, 12), expected.file);
 }

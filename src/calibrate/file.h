@@ -3,12 +3,14 @@
 // Its contract is in docs/cli.md ("calibration.json").
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json_fwd.hpp>
 
 #include "calibrate/calibrate.h"
 #include "render/plan.h"
+#include "table/sweep_meta.h"
 #include "variants/manifest.h"
 
 namespace aovar::calibrate {
@@ -22,16 +24,14 @@ void write_calibration(const std::filesystem::path& path, const Calibration& cal
 std::map<std::string, render::ParamOverrides> load_calibration(const std::filesystem::path& path,
                                                                const variants::Manifest& manifest);
 
-// What a table or measure.json records about the calibration it was measured with.
-struct CalibrationSource {
-  std::string file;  // display path; empty: none (the manifest's defaults)
-  std::string hash;  // of the file's bytes
-  bool operator==(const CalibrationSource&) const = default;
-};
-CalibrationSource calibration_source(const std::filesystem::path& path);  // empty path: none
+// The calibration file at `path` as a table records it: its display path and the hash of its bytes (both empty for
+// an empty path: none, the manifest's defaults).
+table::CalibrationRef calibration_source(const std::filesystem::path& path);
 
-// Whether a table (or measure.json) whose meta is `meta` was measured with `expected`: empty when it was,
-// else the one-line reason ("<table> was measured with <file> (hash ...), not <file>; ...").
-std::string measured_with(const nlohmann::json& meta, const CalibrationSource& expected, const std::string& table);
+// Whether a table (or measure.json) that recorded `used` (nullopt: no calibration file) was measured with
+// `expected`: empty when it was, else the one-line reason ("<table>: error: measured with <file> (hash ...), not
+// <file>; ...").
+std::string measured_with(const std::optional<table::CalibrationRef>& used, const table::CalibrationRef& expected,
+                          const std::string& table);
 
 }  // namespace aovar::calibrate

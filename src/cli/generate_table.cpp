@@ -49,9 +49,9 @@ TableChoice choose_from_table(const TableRequestArgs& a) {
   check_target_names(util::display_path(a.table), a.targets);
   const auto t = table::read_table(a.table);
   // Sweeps record the manifest's hash (older tables do not: generate then checks that the keys exist).
-  if (t.meta.is_object() && t.meta.contains("manifest_hash")) {
+  if (t.meta.manifest_hash) {
     const auto text = util::read_file(a.manifest);
-    if (text && t.meta["manifest_hash"] != util::hash_hex(*text))
+    if (text && *t.meta.manifest_hash != util::hash_hex(*text))
       throw std::runtime_error(fmt::format(
           "{}: error: this cost table was measured with another manifest: its meta.manifest_hash is not the hash of "
           "{}; nothing was written (sweep with this manifest, or generate with the table's)",

@@ -21,7 +21,7 @@ struct SelectArgs {
 ExitCode run_select(const SelectArgs& a) {
   const auto t = table::read_table(a.table);
   if (!a.calibration.empty())
-    if (auto why = calibrate::measured_with(t.meta, calibrate::calibration_source(a.calibration), a.table); !why.empty())
+    if (auto why = calibrate::measured_with(t.meta.calibration.value_or(std::nullopt), calibrate::calibration_source(a.calibration), a.table); !why.empty())
       throw std::runtime_error(why);
   auto sel = decide::select(t, a.query);
   if (a.json) std::cout << decide::to_json(sel).dump(1) << "\n";  // a script reads ok (or the exit status)

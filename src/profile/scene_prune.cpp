@@ -21,30 +21,29 @@ using json = nlohmann::json;
 
 bool ScenePruning::drops(const std::string& key) const {
   auto it = std::lower_bound(dropped.begin(), dropped.end(), key,
-                             [](const PrunedVariant& d, const std::string& k) { return d.variant < k; });
+                             [](const table::DroppedVariant& d, const std::string& k) { return d.variant < k; });
   return it != dropped.end() && it->variant == key;
 }
 
-json ScenePruning::to_json(const std::vector<std::string>& globs) const {
-  std::size_t kept_n = 0;
-  for (const auto& k : kept) kept_n += util::glob_any(globs, k);
-  json variants = json::array();
-  std::map<std::string, int> rules;
+table::PruningCounts ScenePruning::counts(const std::vector<std::string>& globs) const {
+  table::PruningCounts c;
+  c.scene = scene;
+  for (const auto& k : kept) c.kept += util::glob_any(globs, k);
   for (const auto& d : dropped) {
     if (!util::glob_any(globs, d.variant)) continue;
-    ++rules[d.rule];
-    variants.push_back({{"variant", d.variant}, {"rule", d.rule}, {"reason", d.reason}});
+    ++c.rules[d.rule];
+    c.variants.push_back(d);
   }
-  return {{"scene", scene}, {"selected", kept_n + variants.size()}, {"kept", kept_n}, {"dropped", variants.size()},
-          {"rules", rules}, {"variants", variants}};
+  c.dropped = static_cast<int>(c.variants.size());
+  c.selected = c.kept + c.dropped;
+  return c;
 }
 
 std::string ScenePruning::summary(const std::vector<std::string>& globs) const {
-  const json j = to_json(globs);
+  const table::PruningCounts c = counts(globs);
   std::string rules;
-  for (const auto& [rule, n] : j.at("rules").items()) rules += fmt::format("{}{} {}", rules.empty() ? "" : ", ", rule, n.get<int>());
-  return fmt::format("{} keeps {} of {} selected variants; drops {}{}", scene, j.at("kept").get<std::size_t>(),
-                     j.at("selected").get<std::size_t>(), j.at("dropped").get<std::size_t>(),
+  for (const auto& [rule, n] : c.rules) rules += fmt::format("{}{} {}", rules.empty() ? "" : ", ", rule, n);
+  return fmt::format("{} keeps {} of {} selected variants; drops {}{}", scene, c.kept, c.selected, c.dropped,
                      rules.empty() ? std::string() : " (" + rules + ")");
 }
 
@@ -120,7 +119,7 @@ ScenePruning prune_scene(const PruneOptions& o, const scene::Scene& sc, const st
     out.dropped.push_back({pruned.dropped[i].first, pruned.rules[i], pruned.dropped[i].second});
   std::sort(out.kept.begin(), out.kept.end());
   std::sort(out.dropped.begin(), out.dropped.end(),
-            [](const PrunedVariant& a, const PrunedVariant& b) { return a.variant < b.variant; });
+            [](const table::DroppedVariant& a, const table::DroppedVariant& b) { return a.variant < b.variant; });
   out.seconds = util::seconds_since(start);
   return out;
 }

@@ -15,19 +15,14 @@
 
 #include "profile/profile.h"
 #include "scene/scene.h"
+#include "table/pruning_counts.h"
 
 namespace aovar::profile {
-
-struct PrunedVariant {
-  std::string variant;
-  std::string rule;    // the profile's decision: "<axis> <value>" ("depth_format r16f")
-  std::string reason;  // "<rule>: <evidence>", as `aovar list --scene S --pruned` prints it
-};
 
 struct ScenePruning {
   std::string scene;
   std::vector<std::string> kept;       // of the variants the globs given to prune_scene select, sorted
-  std::vector<PrunedVariant> dropped;  // the others, sorted by key
+  std::vector<table::DroppedVariant> dropped;  // the others, sorted by key
   Profile profile;                     // what the decisions were taken on
   std::string profile_file;            // where the profile is stored (empty without an output folder)
   bool reused = false;                 // read back from profile_file (its inputs were unchanged)
@@ -37,7 +32,8 @@ struct ScenePruning {
   // Over the variants `globs` select among those covered (every covered one when empty): the scene, the
   // counts before and after, dropped per rule and every dropped one with its rule and reason. No times:
   // shards of one sweep write the same section.
-  nlohmann::json to_json(const std::vector<std::string>& globs) const;
+  table::PruningCounts counts(const std::vector<std::string>& globs) const;
+  nlohmann::json to_json(const std::vector<std::string>& globs) const { return table::to_json(counts(globs)); }
   // "builtin:far keeps 3 of 5 selected variants; drops 2 (depth_format r16f 2)"
   std::string summary(const std::vector<std::string>& globs) const;
 };

@@ -284,42 +284,32 @@ std::string html_with_front(const CostTable& t, const fs::path& dir) {
        "#ccc;padding:2px 6px;font-size:12px}figure{display:inline-block;margin:4px}figcaption{font-size:10px;max-width:240px;"
        "word-break:break-all}svg{margin:6px}</style></head><body><h1>aovar sweep report</h1>";
   // What was measured, in words (the full header is in cost_table.json's meta).
-  const auto& m = t.meta;
+  const table::SweepMeta& m = t.meta;
   std::string scenes;
-  for (const auto& sc : m.value("scenes", nlohmann::json::array())) scenes += (scenes.empty() ? "" : ", ") + sc.value("scene", std::string());
-  h << "<p>" << t.rows.size() << " rows; scenes: " << escape(scenes) << "; " << escape(m.value("size", std::string())) << ", "
-    << (m.contains("reps_auto") && !m.at("reps_auto").is_null() ? "--reps auto" : std::to_string(m.value("reps", 0)) + " reps")
-    << ", references " << m.value("rays", 0) << " rays; "
-    << (m.value("calibrated", false) ? "calibrated parameters" : "manifest defaults") << "; shard "
-    << escape(m.value("shard", std::string("1/1"))) << ".</p><p>" << escape(kTimeNote) << "</p><ul>";
-  for (const auto& cm : m.value("cost_models", nlohmann::json::array())) {
-    // A not predictive model's numbers are its reason, not a result (tables older than "predictive": as before).
-    if (!cm.value("predictive", true)) {
-      h << fmt::format("<li>cost model {} / {} ({} features, {} rows): not predictive ({})</li>",
-                       escape(cm.value("scene", std::string())), escape(cm.value("view", std::string())),
-                       escape(cm.value("features", std::string())), cm.value("rows", 0), escape(cm.value("reason", std::string())));
+  for (const auto& sc : m.scenes.value_or(std::vector<table::MeasuredScene>{})) scenes += (scenes.empty() ? "" : ", ") + sc.scene;
+  h << "<p>" << t.rows.size() << " rows; scenes: " << escape(scenes) << "; " << escape(m.size.value_or("")) << ", "
+    << (m.reps_auto && !m.reps_auto->is_null() ? "--reps auto" : std::to_string(m.reps.value_or(0)) + " reps")
+    << ", references " << m.rays.value_or(0) << " rays; "
+    << (m.calibrated.value_or(false) ? "calibrated parameters" : "manifest defaults") << "; shard "
+    << escape(m.shard.value_or("1/1")) << ".</p><p>" << escape(kTimeNote) << "</p><ul>";
+  for (const auto& cm : m.cost_models.value_or(std::vector<table::ModelFit>{})) {
+    // A not predictive model's numbers are its reason, not a result.
+    if (!cm.predictive) {
+      h << fmt::format("<li>cost model {} / {} ({} features, {} rows): not predictive ({})</li>", escape(cm.scene),
+                       escape(cm.view), escape(cm.features), cm.rows, escape(cm.reason));
       continue;
     }
     h << fmt::format("<li>cost model {} / {}: {} rows, cross-validated R² {:.3f}, Spearman ρ {:.3f} against the paired time "
                      "({:.3f} against time_ms.min; {} features{})</li>",
-                     escape(cm.value("scene", std::string())), escape(cm.value("view", std::string())), cm.value("rows", 0),
-                     cm.value("cv_r2", 0.0), cm.value("cv_spearman", 0.0), cm.value("cv_spearman_min", 0.0),
-                     escape(cm.value("features", std::string())), cm.value("predicts", false) ? "; predicts" : "");
+                     escape(cm.scene), escape(cm.view), cm.rows, cm.cv_r2, cm.cv_spearman, cm.cv_spearman_min,
+                     escape(cm.features), cm.predicts ? "; predicts" : "");
   }
   h << "</ul>";
   // The scene profiles' pruning, counts only (the variants and reasons are in cost_table.json meta.pruned).
-  if (t.meta.is_object() && t.meta.contains("pruned") && !t.meta.at("pruned").empty()) {
+  if (m.pruned && !m.pruned->empty()) {
     h << "<p>Pruned before compiling by each scene's profile (every dropped variant with its reason: "
          "<code>cost_table.json</code> meta.pruned):</p><ul>";
-    for (const auto& p : t.meta.at("pruned")) {
-      std::string rules;
-      const nlohmann::json counts = p.value("rules", nlohmann::json::object());
-      for (const auto& [rule, n] : counts.items())
-        rules += fmt::format("{}{} {}", rules.empty() ? "" : ", ", rule, n.dump());
-      h << "<li>" << escape(fmt::format("{}: {} selected, {} kept, {} dropped{}", p.value("scene", ""), p.value("selected", 0),
-                                        p.value("kept", 0), p.value("dropped", 0), rules.empty() ? "" : " (" + rules + ")"))
-        << "</li>";
-    }
+    for (const auto& p : *m.pruned) h << "<li>" << escape(p.selection.line()) << "</li>";
     h << "</ul>";
   }
   std::set<std::string> algorithms;
@@ -360,21 +350,17 @@ std::string html_with_front(const CostTable& t, const fs::path& dir) {
                      statics);
     h << time_bars_svg("time per variant (fastest 60; outlined: predicted)", rows);
     // The predicting cost model's held-out predictions against the measured (paired) time.
-    for (const auto& cm : m.value("cost_models", nlohmann::json::array())) {
-      if (!cm.value("predicts", false) || cm.value("scene", std::string()) != std::get<0>(g) ||
-          cm.value("view", std::string()) != std::get<1>(g) || cm.value("backend", std::string()) != std::get<2>(g))
-        continue;
+    for (const auto& cm : m.cost_models.value_or(std::vector<table::ModelFit>{})) {
+      if (!cm.predicts || cm.scene != std::get<0>(g) || cm.view != std::get<1>(g) || cm.backend != std::get<2>(g)) continue;
       std::vector<Point> held;
       double lo = 1e300, hi = -1e300;
-      for (const auto& e : cm.value("held_out", nlohmann::json::array())) {
-        std::string v = e.value("variant", std::string());
-        double x = e.value("measured", 0.0), y = e.value("predicted", 0.0);
-        held.push_back({x, y, colour(v.substr(0, v.find('-'))), v});
-        lo = std::min({lo, x, y}), hi = std::max({hi, x, y});
+      for (const auto& e : cm.held_out) {
+        held.push_back({e.measured, e.predicted, colour(e.variant.substr(0, e.variant.find('-'))), e.variant});
+        lo = std::min({lo, e.measured, e.predicted}), hi = std::max({hi, e.measured, e.predicted});
       }
       if (held.empty()) continue;
-      h << scatter_svg(fmt::format("cost model ({}): held-out prediction, Spearman {:.3f} (dashed: equal)",
-                                   cm.value("features", std::string()), cm.value("cv_spearman", 0.0)),
+      h << scatter_svg(fmt::format("cost model ({}): held-out prediction, Spearman {:.3f} (dashed: equal)", cm.features,
+                                   cm.cv_spearman),
                        "measured paired time (ms)", "predicted by the model fitted without it (ms)", held, {{lo, lo}, {hi, hi}});
     }
     h << "<h3>The front: variant, reference, error</h3>";

@@ -69,7 +69,7 @@ std::string fit_inputs(const ShipOptions& o, const scene::Scene& sc, const calib
 
 struct Fitted {
   std::map<std::string, render::ParamOverrides> values;
-  calibrate::CalibrationSource source;
+  table::CalibrationRef source;
   std::string inputs;  // fit_inputs
   bool reused = false;
 };
@@ -353,7 +353,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
       const sweep::SweepOptions estimated = round_options(o, fit, views, globs, skip, true);
       BoundedEstimate b = estimate_in_error_order(last, res.training, sweep::gpu_request(estimated.measure, estimated.gpu),
                                                   o.query.budget_of, [&](const std::string& line) { say(r.name + ": " + line); });
-      last.meta["gpu"] = b.gpu.to_json();
+      last.meta.gpu = b.gpu.to_json();
       for (auto& e : b.eliminated) res.eliminated.push_back({r.name, std::move(e)});
       untraced = int(b.eliminated.size());
       r.timing += fmt::format(", {} traced in order of error", b.traced);
@@ -380,7 +380,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
   // 4. Select among the survivors on the held-out views.
   decide::mark_pareto(last);
   res.table = std::move(last);
-  res.table.meta["ship"] = ship_meta(o, res, pruning);
+  res.table.meta.ship = ship_meta(o, res, pruning);
   decide::SelectQuery q = o.query;
   q.target = o.target;
   q.backend = o.backend;

@@ -104,25 +104,4 @@ const decide::CostModel* predicting_model(const GroupModels& gm, const Group& g)
                            "); measure these variants or lower --min-model-spearman");
 }
 
-json to_json(const std::vector<ModelFit>& fits) {
-  json out = json::array();
-  for (const auto& m : fits) {
-    json j = {{"scene", m.scene},   {"view", m.view},         {"backend", m.backend},
-              {"rows", m.rows},     {"cv_r2", m.cv_r2},       {"cv_spearman", m.cv_spearman},
-              {"cv_spearman_min", m.cv_spearman_min},         {"target", "time_ms.paired"},
-              {"folds", m.folds},   {"features", m.features}, {"lambda", m.lambda},
-              {"predictive", m.predictive}, {"verdict", m.verdict}, {"reason", m.reason},
-              {"predicts", m.predicts}};
-    if (m.predicts) {
-      json held = json::array();
-      for (const auto& h : m.held_out)
-        held.push_back({{"variant", h.variant}, {"measured", h.measured}, {"measured_min", h.measured_min},
-                        {"predicted", h.predicted}});
-      j["held_out"] = held;
-    }
-    out.push_back(std::move(j));
-  }
-  return out;
-}
-
 }  // namespace aovar::sweep

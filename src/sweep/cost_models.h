@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "decide/cost_model.h"
+#include "table/model_fit.h"
 
 namespace aovar::sweep {
 
@@ -32,29 +33,10 @@ struct Verdict {
 Verdict judge_model(double cv_r2, double cv_spearman, double min_spearman = kMinModelSpearman);
 
 // One fitted model and its cross-validated skill (meta.cost_models[] in cost_table.json).
-struct ModelFit {
-  std::string scene, view, backend;
-  std::string features;  // "compact static", "weighted classes", "static + axes"
-  double lambda = 0;
-  int rows = 0, folds = 0;
-  double cv_r2 = 0, cv_spearman = 0;  // held-out, against the paired time (the target)
-  double cv_spearman_min = 0;         // the same predictions against time_ms.min
-  bool predictive = false;            // judge_model: its skill lets it predict at all
-  std::string reason;                 // judge_model's reason
-  std::string verdict;                // one line: "not predictive: <reason>" or "predictive: <reason>"
-  bool predicts = false;              // the group's best predictive one: predicted rows and pruning use it
-  struct HeldOut {
-    std::string variant;
-    double measured = 0, measured_min = 0, predicted = 0;
-  };
-  std::vector<HeldOut> held_out;      // the predicting model's held-out predictions (report chart)
-};
+using table::ModelFit;
 
 // "not predictive (<reason>)" for a model whose numbers are not a result, else "".
 std::string not_predictive_label(const ModelFit& fit);
-
-// meta.cost_models: every fit, with "target": "time_ms.paired", "predictive", "verdict" and "reason".
-nlohmann::json to_json(const std::vector<ModelFit>& fits);
 
 struct GroupModels {
   std::vector<ModelFit> models;  // every model fitted, with its skill

@@ -69,7 +69,7 @@ MergeResult merge_shards(const std::vector<fs::path>& inputs, const fs::path& ou
     res.balance = shard::balance_summary(shards);
   }
   std::vector<std::pair<std::string, table::CostTable>> read;
-  json scenes = json::array();
+  std::vector<table::MeasuredScene> scenes;
   std::set<std::string> seen_scenes;
   for (std::size_t i = 0; i < tables.size(); ++i) {
     read.emplace_back(util::display_path(tables[i]), table::read_table(tables[i]));
@@ -79,8 +79,8 @@ MergeResult merge_shards(const std::vector<fs::path>& inputs, const fs::path& ou
       shard::check_pinned_rows(shards[i].first, shards[i].second, read.back().first, keys);
     }
     rebase_images(read.back().second, dirs[i], out.has_parent_path() ? out.parent_path() : fs::path("."));
-    for (const auto& s : read.back().second.meta.value("scenes", json::array()))
-      if (seen_scenes.insert(s.value("scene", "")).second) scenes.push_back(s);
+    for (const auto& s : read.back().second.meta.scenes.value_or(std::vector<table::MeasuredScene>{}))
+      if (seen_scenes.insert(s.scene).second) scenes.push_back(s);
   }
   // Shards checked by their manifests each have their own cost models, scenes list (a shard may hold no
   // variant of a scene) and pruning counts; plain tables must agree in all of them as before.
@@ -88,14 +88,14 @@ MergeResult merge_shards(const std::vector<fs::path>& inputs, const fs::path& ou
       shards.empty() ? std::vector<std::string>{} : std::vector<std::string>{"cost_models", "prune", "scenes", "gpu"};
   std::vector<json> gpu;
   for (const auto& [name, t] : read)
-    if (t.meta.is_object() && t.meta.contains("gpu") && t.meta["gpu"].is_object()) gpu.push_back(t.meta["gpu"]);
+    if (t.meta.gpu.is_object()) gpu.push_back(t.meta.gpu);
   res.table = table::merge_tables(std::move(read), per_shard);
   decide::mark_pareto(res.table);  // the merged table's front, not any shard's
   if (!shards.empty()) {
-    if (!gpu.empty()) res.table.meta["gpu"] = merged_gpu_meta(gpu);
-    res.table.meta["scenes"] = scenes;
-    res.table.meta["cost_models"] = to_json(fit_group_models(res.table.rows).models);
-    res.table.meta["shards"] = res.shards;
+    if (!gpu.empty()) res.table.meta.gpu = merged_gpu_meta(gpu);
+    res.table.meta.scenes = scenes;
+    res.table.meta.cost_models = fit_group_models(res.table.rows).models;
+    res.table.meta.shards = res.shards;
   }
   return res;
 }

@@ -136,28 +136,32 @@ json add_gpu_costs(const SweepOptions& o, std::vector<table::CostRow>& rows, con
          }).to_json();
 }
 
-json table_meta(const SweepOptions& o, const SweepResult& res, const json& scenes, const json& models,
-                const json& profile_pruned, const json& dominated) {
-  json meta = {{"tool", "aovar sweep"},
-               {"manifest", util::display_path(o.measure.manifest)},
-               {"manifest_hash", util::hash_hex(util::read_file(o.measure.manifest).value_or(""))},
-               {"scenes", scenes},
-               {"backends", o.measure.backends},
-               {"size", fmt::format("{}x{}", o.measure.size.width, o.measure.size.height)},
-               {"reps", o.measure.timing.reps},
-               {"reps_auto", measure::reps_auto_json(o.measure)},
-               {"reps_reached", res.reps.to_json()},
-               {"rays", o.measure.truth.rays},
-               {"calibrated", !o.measure.calibration.values.empty()},
-               {"calibration", measure::calibration_json(o.measure)},
-               {"shard", fmt::format("{}/{}", o.shard_index + 1, o.shard_count)},
-               {"cost_models", models}};
-  meta["profile_prune"] = o.prune_by_profile;
-  if (o.prune_by_profile) meta["pruned"] = profile_pruned;
+table::SweepMeta table_meta(const SweepOptions& o, const SweepResult& res, std::vector<table::MeasuredScene> scenes,
+                            std::vector<table::ModelFit> models, std::vector<table::PrunedByProfile> profile_pruned,
+                            const json& dominated) {
+  table::SweepMeta m;
+  m.tool = "aovar sweep";
+  m.manifest = util::display_path(o.measure.manifest);
+  m.manifest_hash = util::hash_hex(util::read_file(o.measure.manifest).value_or(""));
+  m.scenes = std::move(scenes);
+  m.backends = o.measure.backends;
+  m.size = fmt::format("{}x{}", o.measure.size.width, o.measure.size.height);
+  m.reps = o.measure.timing.reps;
+  m.reps_auto = measure::reps_auto_json(o.measure);
+  m.reps_reached = res.reps.to_json();
+  m.rays = o.measure.truth.rays;
+  m.calibrated = !o.measure.calibration.values.empty();
+  m.calibration = o.measure.calibration.file.empty()
+                      ? std::optional<table::CalibrationRef>()
+                      : table::CalibrationRef{o.measure.calibration.file, o.measure.calibration.hash};
+  m.shard = fmt::format("{}/{}", o.shard_index + 1, o.shard_count);
+  m.cost_models = std::move(models);
+  m.profile_prune = o.prune_by_profile;
+  if (o.prune_by_profile) m.pruned = std::move(profile_pruned);
   if (o.prune_dominated)
-    meta["prune"] = {{"skipped", res.variants_skipped}, {"checked", res.variants_checked},
-                     {"checked_on_front", res.checked_on_front}, {"scenes", dominated}};
-  return meta;
+    m.prune = {{"skipped", res.variants_skipped}, {"checked", res.variants_checked},
+               {"checked_on_front", res.checked_on_front}, {"scenes", dominated}};
+  return m;
 }
 
 }  // namespace
@@ -183,7 +187,9 @@ SweepResult run_sweep(const SweepOptions& options, const Progress& progress) {
     if (progress) progress(fmt::format("note: shard {}/{}: {}", o.shard_index + 1, o.shard_count, res.shard_balance));
     write_sweep_manifest(o, *shard_plan, {}, false, 0);  // incomplete until the table is written
   }
-  json scenes = json::array(), dominated = json::array(), profile_pruned = json::array();
+  json dominated = json::array();
+  std::vector<table::MeasuredScene> scenes;
+  std::vector<table::PrunedByProfile> profile_pruned;
   auto say_for = [&](std::size_t i) -> measure::Progress {
     return [&, where = fmt::format("scene {}/{} {}", i + 1, o.scenes.size(), o.scenes[i])](const std::string& line) {
       if (progress) progress(line.rfind("note: ", 0) == 0 ? line : where + ": " + line);
@@ -200,10 +206,10 @@ SweepResult run_sweep(const SweepOptions& options, const Progress& progress) {
     const measure::MeasureOptions& mo = plans.per_scene[i];
     const std::string folder = scene_folder(o.scenes[i]);
     if (mo.pruning) {
-      json j = mo.pruning->to_json(o.measure.globs);
-      j["profile"] = (fs::path("measure") / folder / mo.pruning->profile_file).generic_string();
-      if (!o.predict.empty()) j["predict"] = mo.pruning->to_json(o.predict);
-      profile_pruned.push_back(std::move(j));
+      table::PrunedByProfile p{mo.pruning->counts(o.measure.globs),
+                               (fs::path("measure") / folder / mo.pruning->profile_file).generic_string(), {}};
+      if (!o.predict.empty()) p.predict = mo.pruning->counts(o.predict);
+      profile_pruned.push_back(std::move(p));
     }
     DominatedPruning pruning;
     auto r = o.prune_dominated ? measure_pruned(o, mo, statics, folder, say_for(i), pruning) : measure::run_measure(mo, say_for(i));
@@ -220,8 +226,7 @@ SweepResult run_sweep(const SweepOptions& options, const Progress& progress) {
       dominated.push_back(pruning.report);
     }
     for (auto& row : rows) res.table.rows.push_back(std::move(row));
-    scenes.push_back({{"scene", o.scenes[i]}, {"measure", (fs::path("measure") / folder / "measure.json").generic_string()},
-                      {"hash", r.scene_hash}, {"radius", r.radius}});
+    scenes.push_back({o.scenes[i], (fs::path("measure") / folder / "measure.json").generic_string(), r.scene_hash, r.radius});
   }
   // Static cost of every row's variant, then a cost model per (scene, view, backend).
   std::set<std::string> keys;
@@ -243,8 +248,8 @@ SweepResult run_sweep(const SweepOptions& options, const Progress& progress) {
   json gpu = o.gpu.families.empty() ? json(nullptr) : add_gpu_costs(o, res.table.rows, progress);
   decide::mark_pareto(res.table);
   res.cost_models = gm.models;
-  res.table.meta = table_meta(o, res, scenes, to_json(gm.models), profile_pruned, dominated);
-  if (!gpu.is_null()) res.table.meta["gpu"] = gpu;
+  res.table.meta = table_meta(o, res, std::move(scenes), gm.models, std::move(profile_pruned), dominated);
+  res.table.meta.gpu = gpu;
   table::write_table_files(res.table, o.out);
   report::write_reports(res.table, o.out);
   res.wall_s = util::seconds_since(start);

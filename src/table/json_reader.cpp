@@ -306,11 +306,11 @@ CostRow read_row(od::object o) {
 }
 
 // "meta" as read: an object (absent: an empty one).
-json checked_meta(const json& meta) {
+SweepMeta checked_meta(const json& meta) {
   if (!meta.is_object())
     throw std::runtime_error(fmt::format("\"meta\" is {}, not an object (write {{}} when there is nothing in it)",
                                          meta.type_name()));
-  return meta;
+  return sweep_meta_from_json(meta);
 }
 
 // The text being parsed, and the line a message points at. With `release`, the pages wholly before the row

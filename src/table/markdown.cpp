@@ -56,17 +56,8 @@ std::string to_markdown(const CostTable& t) {
 }
 
 std::string pruned_summary(const CostTable& t) {
-  const json none = json::array();
-  const json& pruned = t.meta.is_object() && t.meta.contains("pruned") ? t.meta.at("pruned") : none;
   std::string out;
-  for (const auto& p : pruned) {
-    std::string rules;
-    const json counts = p.value("rules", json::object());
-    for (const auto& [rule, n] : counts.items())
-      rules += fmt::format("{}{} {}", rules.empty() ? "" : ", ", rule, n.dump());
-    out += fmt::format("- {}: {} selected, {} kept, {} dropped{}\n", p.value("scene", ""), p.value("selected", 0),
-                       p.value("kept", 0), p.value("dropped", 0), rules.empty() ? "" : " (" + rules + ")");
-  }
+  for (const auto& p : t.meta.pruned.value_or(std::vector<PrunedByProfile>{})) out += "- " + p.selection.line() + "\n";
   if (out.empty()) return out;
   return "\nPruned before compiling by each scene's profile (every dropped variant with its reason: cost_table.json "
          "meta.pruned; `--no-prune` measures them):\n\n" + out;

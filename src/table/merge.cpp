@@ -21,17 +21,16 @@ CostTable merge_tables(std::vector<std::pair<std::string, CostTable>> tables, co
   CostTable out;
   nlohmann::json first_meta;
   std::map<std::string, std::pair<nlohmann::json, std::string>> seen;  // key -> row json, file
-  nlohmann::json from = nlohmann::json::array();
+  std::vector<std::string> from;
   for (std::size_t i = 0; i < tables.size(); ++i) {
     auto& [name, t] = tables[i];
-    nlohmann::json meta = t.meta;
-    if (meta.is_object()) meta.erase("shard");
-    if (meta.is_object()) meta.erase("reps_reached");  // what each shard's timing reached: its own
+    // Compared as written: the message names the first key that differs, whatever its type.
+    nlohmann::json meta = to_json(t.meta);
+    meta.erase("shard");
+    meta.erase("reps_reached");  // what each shard's timing reached: its own
     // The same calibration (by hash) read from each machine's own copy: `file` is where, not what.
-    if (meta.is_object() && meta.contains("calibration") && meta["calibration"].is_object())
-      meta["calibration"].erase("file");
-    for (const auto& k : per_shard)
-      if (meta.is_object()) meta.erase(k);
+    if (meta.contains("calibration") && meta["calibration"].is_object()) meta["calibration"].erase("file");
+    for (const auto& k : per_shard) meta.erase(k);
     if (i == 0) {
       first_meta = meta;
     } else if (meta != first_meta) {
@@ -58,8 +57,8 @@ CostTable merge_tables(std::vector<std::pair<std::string, CostTable>> tables, co
       out.rows.push_back(std::move(r));
     }
   }
-  out.meta = first_meta.is_object() ? first_meta : nlohmann::json::object();
-  out.meta["merged_from"] = from;
+  out.meta = sweep_meta_from_json(first_meta);
+  out.meta.merged_from = from;
   return out;
 }
 

@@ -122,7 +122,7 @@ json to_json(const CostRow& r) {
 json to_json(const CostTable& t) {
   json rows = json::array();
   for (const auto& r : t.rows) rows.push_back(to_json(r));
-  return {{"schema_version", util::kSchemaVersion}, {"meta", t.meta}, {"rows", rows}};
+  return {{"schema_version", util::kSchemaVersion}, {"meta", to_json(t.meta)}, {"rows", rows}};
 }
 
 void write_json(const CostTable& table, const std::filesystem::path& path) {

@@ -15,6 +15,7 @@
 #include "metrics/metrics.h"
 #include "table/gpu_cost.h"
 #include "table/static_cost.h"
+#include "table/sweep_meta.h"
 #include "util/stats.h"
 
 namespace aovar::table {
@@ -69,7 +70,7 @@ struct CostRow {
 
 struct CostTable {
   std::vector<CostRow> rows;
-  nlohmann::json meta = nlohmann::json::object();
+  SweepMeta meta;
 };
 
 // JSON (the §6 contract). Parsing throws std::runtime_error naming the field that is wrong.

@@ -280,11 +280,12 @@ TEST(Calibrate, RunsRecordTheCalibrationTheyApplied) {
   auto meta = nlohmann::json::parse(util::read_file(dir / "m" / "measure.json").value());
   const auto source = calibrate::calibration_source(dir / "cal.json");
   EXPECT_EQ(meta.at("calibration").at("hash"), source.hash);
-  EXPECT_EQ(calibrate::measured_with(meta, source, "m/measure.json"), "");
-  const std::string other = calibrate::measured_with(meta, calibrate::calibration_source(dir / "other.json"), "t.json");
+  const table::CalibrationRef recorded{meta.at("calibration").at("file"), meta.at("calibration").at("hash")};
+  EXPECT_EQ(calibrate::measured_with(recorded, source, "m/measure.json"), "");
+  const std::string other = calibrate::measured_with(recorded, calibrate::calibration_source(dir / "other.json"), "t.json");
   EXPECT_NE(other.find("t.json: error: measured with "), std::string::npos) << other;
   EXPECT_NE(other.find("measure again with --calibration"), std::string::npos) << other;
-  EXPECT_NE(calibrate::measured_with(nlohmann::json::object(), source, "t.json").find("no calibration file recorded"),
+  EXPECT_NE(calibrate::measured_with(std::nullopt, source, "t.json").find("no calibration file recorded"),
             std::string::npos);
 }
 

@@ -46,7 +46,7 @@ TEST(GenerateFromTable, ATableOfAnotherManifestIsRefusedByItsHash) {
   table::CostTable t;
   t.rows = {test::point_row("alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp", 1.0, 0.05)};
   auto generate = [&](const std::string& hash) {
-    t.meta = {{"manifest_hash", hash}};
+    t.meta.manifest_hash = hash;
     table::write_json(t, dir / "cost_table.json");
     return test::run_aovar(fmt::format("generate --manifest {} --from-table {} --targets vulkan --emit index --out {}",
                                        manifest, (dir / "cost_table.json").string(), (dir / "out").string()));

@@ -49,8 +49,8 @@ TEST(GpuRows, SweepCarriesEstimatesIntoTableReportAndSelect) {
     EXPECT_GT(ao.dram_bytes_per_pixel, 0);
     EXPECT_GE(ao.est_ms, ao.dram_ms);
   }
-  EXPECT_EQ(t.meta.at("gpu").at("families"), nlohmann::json::array({"navi21"}));
-  EXPECT_GT(t.meta.at("gpu").at("trace").at("traced_draws").get<int>(), 0);
+  EXPECT_EQ(t.meta.gpu.at("families"), nlohmann::json::array({"navi21"}));
+  EXPECT_GT(t.meta.gpu.at("trace").at("traced_draws").get<int>(), 0);
   auto md = util::read_file(dir / "out" / "report.md").value();
   EXPECT_NE(md.find("## GPU estimate: navi21"), std::string::npos) << md;
   EXPECT_NE(util::read_file(dir / "out" / "cost_table.csv").value().find("gpu.navi21.est_ms"), std::string::npos);
@@ -97,11 +97,11 @@ TEST(GpuRows, ASecondEstimateReadsTheTrafficBackAndADamagedEntryIsSimulatedAgain
     return out;
   };
   const auto first = sweep("first");
-  const auto& traced = first.meta.at("gpu").at("trace");
+  const auto& traced = first.meta.gpu.at("trace");
   ASSERT_GT(traced.at("simulations").get<int>(), 0);
   EXPECT_EQ(traced.at("cached_draws").get<int>(), 0);
   const auto second = sweep("second");
-  const auto& cached = second.meta.at("gpu").at("trace");
+  const auto& cached = second.meta.gpu.at("trace");
   EXPECT_EQ(cached.at("traced_draws").get<int>(), 0);
   EXPECT_EQ(cached.at("simulations").get<int>(), 0);
   EXPECT_EQ(cached.at("cached_draws").get<int>(), traced.at("simulations").get<int>());
@@ -113,7 +113,7 @@ TEST(GpuRows, ASecondEstimateReadsTheTrafficBackAndADamagedEntryIsSimulatedAgain
   ASSERT_FALSE(entries.empty());
   util::write_atomic(entries.front(), "{\"absent\": 7}");
   const auto third = sweep("third");
-  EXPECT_EQ(third.meta.at("gpu").at("trace").at("simulations").get<int>(), 1);
+  EXPECT_EQ(third.meta.gpu.at("trace").at("simulations").get<int>(), 1);
   EXPECT_EQ(estimates(third), estimates(first));
 }
 

@@ -176,9 +176,9 @@ TEST(Reuse, ARepeatedSweepMeasuresNothingNew) {
 void expect_nothing_pruned(const std::string& output, const table::CostTable& t, const std::set<std::string>& refused) {
   for (const auto& g : refused)
     EXPECT_NE(output.find("note: --prune-dominated: no predictive cost model for " + g + " ("), std::string::npos) << output;
-  const auto& scene = t.meta.at("prune").at("scenes").at(0);
+  const auto& scene = t.meta.prune.at("scenes").at(0);
   EXPECT_EQ(scene.at("predicted_dominated"), 0) << scene.dump(1);
-  EXPECT_EQ(t.meta.at("prune").at("skipped"), 0);
+  EXPECT_EQ(t.meta.prune.at("skipped"), 0);
   std::set<std::string> in_table;
   for (const auto& row : t.rows) in_table.insert(row.variant);
   EXPECT_EQ(in_table.size(), 26u) << "every candidate measured";
@@ -197,7 +197,7 @@ TEST(Reuse, PruneDominatedSkipsPredictedDominatedVariantsAndChecksASample) {
   ASSERT_EQ(pruned.status, 0) << pruned.output;
   EXPECT_NE(pruned.output.find("# prune: "), std::string::npos) << pruned.output;
   auto t = table::read_table(out / "cost_table.json");
-  const auto& prune = t.meta.at("prune");
+  const auto& prune = t.meta.prune;
   const auto& scene = prune.at("scenes").at(0);
   // The seed phase's models decide (8 rows of 128x72 timings may be noise): with none predictive, no pruning.
   if (const auto refused = unpredictable_groups(scene.at("cost_models")); !refused.empty())

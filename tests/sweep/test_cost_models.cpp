@@ -136,8 +136,9 @@ TEST(CostModels, TimeUnrelatedToTheFeaturesIsNotPredictiveAndRefusesToPredict) {
 
 TEST(CostModels, NotPredictiveModelsAreLabelledInTheJsonAndTheSweepText) {
   auto gm = sweep::fit_group_models(both(unrelated_rows("unrelated"), linear_rows("linear")));
-  auto j = sweep::to_json(gm.models);
+  auto j = table::to_json(gm.models);
   ASSERT_EQ(j.size(), gm.models.size());
+  EXPECT_EQ(table::model_fits_from_json(j), gm.models) << "cost_table.json gives back the fits it was written from";
   for (std::size_t i = 0; i < j.size(); ++i) {
     EXPECT_EQ(j[i].at("predictive").get<bool>(), gm.models[i].predictive);
     EXPECT_EQ(j[i].at("verdict").get<std::string>(), gm.models[i].verdict);

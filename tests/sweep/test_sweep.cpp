@@ -62,7 +62,7 @@ TEST(Sweep, KilledSweepResumesToTheUninterruptedTable) {
     EXPECT_EQ(row.static_cost->ao.fetches.depth, samples + 1) << row.variant;
     EXPECT_EQ(row.static_cost->ao.fetches.normal, 1) << row.variant;
   }
-  EXPECT_EQ(reference.meta.at("cost_models").size(), 4u)
+  EXPECT_EQ(reference.meta.cost_models.value_or(std::vector<table::ModelFit>{}).size(), 4u)
       << "compact and weighted-class models per view (9 rows each, too few for the full one)";
 
   // Start the same sweep elsewhere and kill it hard once its first batch is on disk.
@@ -101,7 +101,7 @@ TEST(Sweep, KilledSweepResumesToTheUninterruptedTable) {
   auto again = run_aovar(kArgs + " --predict 'alchemy-s*-p[01]-nrgb8-zdep-rst-d32-bsep-x1-hp' --out " + out.string());
   // The same rows refit to the same models: the resumed table's verdicts say whether --predict may use them
   // (9 rows of 96x54 timings are often noise: then it must refuse).
-  if (const auto refused = unpredictable_groups(table.meta.at("cost_models")); !refused.empty())
+  if (const auto refused = unpredictable_groups(table::to_json(table.meta.cost_models.value_or(std::vector<table::ModelFit>{}))); !refused.empty())
     return expect_predict_refused(again, refused, out / "cost_table.json", table.rows.size());
   ASSERT_EQ(again.status, 0) << again.output;
   EXPECT_NE(again.output.find("(0 measured"), std::string::npos) << again.output;

@@ -37,7 +37,10 @@ metrics::ErrorBreakdown sample_breakdown() {
 
 CostTable sample_table() {
   CostTable t;
-  t.meta = {{"tool", "test"}, {"size", "64x36"}};
+  t.meta.tool = "test";
+  t.meta.size = "64x36";
+  t.meta.calibration = CalibrationRef{"cal.json", "beef"};
+  t.meta.other = {{"from_a_newer_aovar", {1, 2}}};  // kept as read
   CostRow a = plain_row("alchemy-s08", 1.5, 0.05);
   a.axes = {{"algorithm", "alchemy"}, {"samples", "8"}};
   a.spirv_hash = "abc";
@@ -242,8 +245,9 @@ TEST(Table, MeasureAndCostTableRowsWriteTheSharedFieldsAlike) {
 TEST(Merge, DisjointShardsJoinAndConflictsAreRefused) {
   test::TempDir dir;
   CostTable s1, s2, s3, other;
-  s1.meta = {{"size", "64x36"}, {"shard", "1/2"}};
-  s2.meta = {{"size", "64x36"}, {"shard", "2/2"}};
+  s1.meta.size = s2.meta.size = "64x36";
+  s1.meta.shard = "1/2";
+  s2.meta.shard = "2/2";
   s1.rows = {plain_row("fast", 1, 0.2), plain_row("slow", 3, 0.3)};
   s2.rows = {plain_row("good", 2, 0.1), plain_row("fast", 1, 0.2)};  // identical duplicate: kept once
   write_json(s1, dir / "s1.json");
@@ -253,8 +257,11 @@ TEST(Merge, DisjointShardsJoinAndConflictsAreRefused) {
   ASSERT_EQ(r.status, 0) << r.output;
   CostTable m = read_table(dir / "out.json");
   ASSERT_EQ(m.rows.size(), 3u);
-  EXPECT_FALSE(m.meta.contains("shard"));
-  EXPECT_EQ(m.meta["size"], "64x36");
+  EXPECT_FALSE(m.meta.shard);
+  EXPECT_EQ(m.meta.size, "64x36");
+  ASSERT_TRUE(m.meta.merged_from);
+  ASSERT_EQ(m.meta.merged_from->size(), 2u);
+  EXPECT_TRUE(m.meta.merged_from->back().ends_with("s2.json")) << m.meta.merged_from->back();
   EXPECT_FALSE(on_front(m.rows, "slow"));
   EXPECT_TRUE(on_front(m.rows, "good"));
 
@@ -270,7 +277,7 @@ TEST(Merge, DisjointShardsJoinAndConflictsAreRefused) {
   EXPECT_EQ(std::count(c.output.begin(), c.output.end(), '\n'), 1) << c.output;
   EXPECT_FALSE(fs::exists(dir / "out2.json"));
 
-  other.meta = {{"size", "128x72"}};
+  other.meta.size = "128x72";
   write_json(other, dir / "other.json");
   EXPECT_THROW(merge_tables({dir / "s1.json", dir / "other.json"}), std::runtime_error);
 }

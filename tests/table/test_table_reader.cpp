@@ -118,8 +118,7 @@ TEST(TableReader, FieldsItDoesNotKnowAreSkipped) {
 TEST(TableReader, RowsAfterReleasedTextAreWholeAndLinesStayRight) {
   test::TempDir dir;
   CostTable t = two_rows();
-  t.meta = json::object();
-  for (int i = 0; i < 70000; ++i) t.meta["filler"]["k" + std::to_string(i)] = std::string(1000, 'x');
+  for (int i = 0; i < 70000; ++i) t.meta.other["filler"]["k" + std::to_string(i)] = std::string(1000, 'x');
   std::string text = to_json(t).dump(1);
   ASSERT_GT(text.size(), std::size_t{66} << 20);
   util::write_atomic(dir / "cost_table.json", text);
