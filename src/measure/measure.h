@@ -36,6 +36,9 @@ struct TimingPlan {
   int warmup = 2;
   int batch = 24;                     // pipelines prepared and interleaved at once (memory bound)
   bool camera_path = false;           // frames walk each view's camera path (progressive in motion)
+  // No timed rounds: each variant renders only the frames its still needs and its rows carry no time
+  // (time_ms.n = 0). aovar ship's screen with a GPU target, whose time is the estimate (render_stills).
+  bool still_only = false;
   // aovar ship's race: the still error each variant already showed on each view (its screen), by (key, view).
   // With auto_reps, a variant stops being timed on a view once a more accurate one of its batch is faster
   // beyond race_margin there (timing.h, Retire). Null: every row is timed to its target or cap.

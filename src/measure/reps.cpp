@@ -9,6 +9,7 @@
 namespace aovar::measure {
 
 std::string reps_text(const MeasureOptions& o) {
+  if (o.timing.still_only) return "still";  // a row without time is not a timed row to reuse
   if (!o.timing.auto_reps) return std::to_string(o.timing.reps);  // as before --reps auto: fixed-count rows stay reusable
   const AutoReps& a = *o.timing.auto_reps;
   // A raced row may stop before its target: not the row a plain --reps auto gives.
@@ -17,6 +18,7 @@ std::string reps_text(const MeasureOptions& o) {
 }
 
 std::string reps_words(const MeasureOptions& o) {
+  if (o.timing.still_only) return "no timing (the still only)";
   if (!o.timing.auto_reps) return fmt::format("{} reps", o.timing.reps);
   return fmt::format("--reps auto (95 % interval within {:g} %, at least {} rounds, cap {:g} s or {} rounds{})",
                      100 * o.timing.auto_reps->ci_target, o.timing.reps, o.timing.auto_reps->cap_s, o.timing.auto_reps->max_rounds,

@@ -65,6 +65,23 @@ RoundRobinResult time_round_robin(render::Backend& backend, const std::vector<re
   return r;
 }
 
+RoundRobinResult render_stills(render::Backend& backend, const std::vector<render::PreparedPipeline*>& pipelines,
+                               const std::vector<int>& frames, const scene::View& view, const TimingOptions& o) {
+  RoundRobinResult r;
+  r.pipelines.resize(pipelines.size());
+  const auto start = std::chrono::steady_clock::now();
+  for (std::size_t i = 0; i < pipelines.size(); ++i) {
+    PipelineTiming& t = r.pipelines[i];
+    for (int f = 0; f < frames.at(i); ++f) {
+      auto ms = backend.render(*pipelines[i], setup(view, t.frames++, o));
+      if (f == 0) t.first_frame_ms = std::accumulate(ms.begin(), ms.end(), 0.0);
+    }
+    t.stop = Stop::fixed;
+  }
+  r.wall_warmup_s = seconds_since(start);
+  return r;
+}
+
 std::vector<std::pair<std::string, util::TimeStats>> pass_stats(const render::PipelinePlan& plan, const PipelineTiming& t) {
   std::vector<std::pair<std::string, util::TimeStats>> out;
   for (const auto& pass : plan.passes()) {

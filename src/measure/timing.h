@@ -69,6 +69,12 @@ RoundRobinResult time_round_robin(render::Backend& backend, const std::vector<re
                                   const scene::View& view, const TimingOptions& options,
                                   const Progress& progress = {});
 
+// TimingPlan::still_only: every pipeline renders the frames its still needs, `frames[i]` (2 for a
+// progressive one, whose halves alternate; else 1), and nothing is timed: no rounds, Stop::fixed. The first
+// frame's time is kept (first_frame_ms) as time_round_robin keeps it.
+RoundRobinResult render_stills(render::Backend& backend, const std::vector<render::PreparedPipeline*>& pipelines,
+                               const std::vector<int>& frames, const scene::View& view, const TimingOptions& options);
+
 // Per timing group ("gbuffer", "ao", "blur", ...): stats of the summed draw times of that group per round.
 std::vector<std::pair<std::string, util::TimeStats>> pass_stats(const render::PipelinePlan& plan, const PipelineTiming& t);
 

@@ -109,7 +109,8 @@ Fitted fit_methods(const ShipOptions& o, const scene::Scene& sc, const calibrate
 
 // The rounds: a screen of every candidate (the still error only: no flicker along the camera path, no images),
 // then the survivors with every measure of a sweep. The measured backend times the screen with a few
-// repetitions and the survivors with --reps auto; with a GPU target both render once (the time is the estimate).
+// repetitions and the survivors with --reps auto; with a GPU target the time is the estimate: the screen renders
+// only the frames each still needs (no timed frame) and the front one timed frame, for its report.
 const char* round_name(bool target, bool final_round) { return !final_round ? "screen" : target ? "front" : "race"; }
 
 // One round: a sweep of `globs` (minus `skip`) on every view into OUT/<name>, resumable.
@@ -139,6 +140,7 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   if (!o.target.empty()) {  // the time is the estimate: one render for the error
     m.timing.reps = 1;
     m.timing.warmup = 0;
+    m.timing.still_only = !final_round;  // the front's rows keep one timed frame: its report draws time against error
     // The screen renders only: its candidates are estimated afterwards, in order of error (bounded_estimate.h).
     if (final_round) s.gpu.families = {o.target};
     s.gpu.frame = o.gpu_frame;

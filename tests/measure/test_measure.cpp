@@ -136,6 +136,40 @@ TEST(Measure, ReferenceGivesProgressiveVariantsOneFrameErrorAndFlicker) {
   EXPECT_LT(p.error_one_frame->rmse, 0.3);
 }
 
+// TimingPlan::still_only (ship's screen with a GPU target): no timed frame, the same still as a timed run
+// reads back, the progressive variant's both halves included (its one-half frame would score differently).
+TEST(Measure, StillOnlyRowsHaveTheTimedRowsErrorAndNoTime) {
+  TempDir dir;
+  measure::MeasureOptions mo;
+  mo.manifest = source_dir() / "shader_src" / "aovar.toml";
+  mo.scene = "builtin:stairs";
+  const std::string full = "alchemy-s16-p0-nrgb8-zdep-rst-d32-bsep-x1-hp";
+  const std::string half = "alchemy-s16-p1-nrgb8-zdep-rst-d32-bsep-x1-hp";
+  mo.globs = {full, half};
+  mo.baseline = full;
+  mo.size = {96, 54};
+  mo.timing.reps = 1;
+  mo.timing.warmup = 0;
+  mo.truth.enabled = true;
+  mo.truth.rays = 64;
+  mo.truth.temporal = false;
+  mo.truth.cache = dir / "cache";
+  mo.out = dir / "m";  // one folder: the second run could reuse the first's rows, and must not
+  const auto timed = measure::run_measure(mo);
+  mo.timing.still_only = true;
+  const auto still = measure::run_measure(mo);
+  ASSERT_EQ(timed.rows.size(), 2u);
+  ASSERT_EQ(still.rows.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    ASSERT_EQ(still.rows[i].variant, timed.rows[i].variant);
+    ASSERT_TRUE(still.rows[i].error && timed.rows[i].error);
+    EXPECT_EQ(still.rows[i].error->rmse, timed.rows[i].error->rmse) << still.rows[i].variant;
+    EXPECT_EQ(still.rows[i].time_ms.n, 0) << still.rows[i].variant;
+    EXPECT_EQ(timed.rows[i].time_ms.n, 1) << timed.rows[i].variant;
+  }
+  EXPECT_EQ(still.reused, 0) << "a row without time is not reused for a timed one, nor the other way";
+}
+
 // A real --reps auto measurement: every row went past the minimum and either reached the target or says
 // it stopped on the cap; measure.json holds each row's reach and the run's widest half-width.
 TEST(Measure, RepsAutoRowsReachTheTargetOrSayCap) {

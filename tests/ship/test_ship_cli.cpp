@@ -105,6 +105,9 @@ TEST(ShipCli, AResumedRunAndJoinedShardsReachTheSameFrontAndTheBuildLineGenerate
   EXPECT_GT(screen.size(), front.size());
   for (const auto& r : screen) EXPECT_FALSE(measured(r, "flicker") || measured(r, "images")) << r.dump();
   for (const auto& r : front) EXPECT_TRUE(measured(r, "flicker") && measured(r, "images")) << r.dump();
+  // With a GPU target the screen times nothing (its time is the estimate); the front keeps one timed frame.
+  for (const auto& r : screen) EXPECT_EQ(r.at("time_ms").at("n"), 0) << r.dump();
+  for (const auto& r : front) EXPECT_EQ(r.at("time_ms").at("n"), 1) << r.dump();
 
   // The build line, into a folder of the test's: exactly the chosen variant.
   std::string line = build_line(whole.output);
