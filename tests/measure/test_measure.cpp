@@ -107,20 +107,27 @@ TEST(MeasureCli, BadParamFailsBeforeTheProfile) {
 
 // --reference on a progressive variant: the converged error (halves averaged), the error of one frame
 // alone, and flicker along the camera path; a non-progressive variant gets flicker only.
-TEST(Measure, ReferenceGivesProgressiveVariantsOneFrameErrorAndFlicker) {
-  TempDir dir;
+// Alchemy at 16 samples on the stairs, full and progressive (`half`), against a 64-ray reference.
+constexpr const char* kFull = "alchemy-s16-p0-nrgb8-zdep-rst-d32-bsep-x1-hp";
+constexpr const char* kHalf = "alchemy-s16-p1-nrgb8-zdep-rst-d32-bsep-x1-hp";
+measure::MeasureOptions stairs_full_and_half(const TempDir& dir) {
   measure::MeasureOptions mo;
   mo.manifest = source_dir() / "shader_src" / "aovar.toml";
   mo.scene = "builtin:stairs";
-  const std::string full = "alchemy-s16-p0-nrgb8-zdep-rst-d32-bsep-x1-hp";
-  const std::string half = "alchemy-s16-p1-nrgb8-zdep-rst-d32-bsep-x1-hp";
-  mo.globs = {full, half};
-  mo.baseline = full;
+  mo.globs = {kFull, kHalf};
+  mo.baseline = kFull;
   mo.size = {96, 54};
-  mo.timing.reps = 2;
   mo.truth.enabled = true;
   mo.truth.rays = 64;
   mo.truth.cache = dir / "cache";
+  return mo;
+}
+
+TEST(Measure, ReferenceGivesProgressiveVariantsOneFrameErrorAndFlicker) {
+  TempDir dir;
+  measure::MeasureOptions mo = stairs_full_and_half(dir);
+  const std::string half = kHalf;
+  mo.timing.reps = 2;
   auto r = measure::run_measure(mo);
   ASSERT_EQ(r.rows.size(), 2u);
   for (const auto& row : r.rows) {
@@ -140,20 +147,10 @@ TEST(Measure, ReferenceGivesProgressiveVariantsOneFrameErrorAndFlicker) {
 // reads back, the progressive variant's both halves included (its one-half frame would score differently).
 TEST(Measure, StillOnlyRowsHaveTheTimedRowsErrorAndNoTime) {
   TempDir dir;
-  measure::MeasureOptions mo;
-  mo.manifest = source_dir() / "shader_src" / "aovar.toml";
-  mo.scene = "builtin:stairs";
-  const std::string full = "alchemy-s16-p0-nrgb8-zdep-rst-d32-bsep-x1-hp";
-  const std::string half = "alchemy-s16-p1-nrgb8-zdep-rst-d32-bsep-x1-hp";
-  mo.globs = {full, half};
-  mo.baseline = full;
-  mo.size = {96, 54};
+  measure::MeasureOptions mo = stairs_full_and_half(dir);
   mo.timing.reps = 1;
   mo.timing.warmup = 0;
-  mo.truth.enabled = true;
-  mo.truth.rays = 64;
   mo.truth.temporal = false;
-  mo.truth.cache = dir / "cache";
   mo.out = dir / "m";  // one folder: the second run could reuse the first's rows, and must not
   const auto timed = measure::run_measure(mo);
   mo.timing.still_only = true;
