@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <map>
 
+#include <fmt/format.h>
+
 #include "measure/measure.h"
 #include "render_support.h"
 #include "test_support.h"
@@ -217,7 +219,7 @@ TEST_P(Method, ScaledSceneRendersTheSameImage) {
     auto backend = render::make_backend(b, {});
     std::map<std::string, std::map<std::string, image::FloatImage>> images;  // scale -> key -> image
     for (const char* scale : {"1", "1.001", "0.01", "100", "0.0001"}) {
-      auto sc = scene::load_scene(std::string("builtin:atrium") + std::string(scene::kScaleSuffix) + scale);
+      auto sc = scene::load_scene(fmt::format("builtin:atrium{}{}", scene::kScaleSuffix, scale));
       backend->set_scene(sc);
       for (const auto& [kind, key] : mv.keys)
         images[scale][key] = render_plan(*backend, plan_for(mv, key, b), sc.view("closeup"), {160, 90}, sc.ao_radius, 3);

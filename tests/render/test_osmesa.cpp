@@ -151,7 +151,9 @@ TEST(Osmesa, FailedContextIsABackendError) {
   }
   // llvmpipe's thread count is fixed by the first context of the process; another one is refused.
   auto first = make_osmesa_backend({});
-  EXPECT_THROW(make_osmesa_backend({.threads = 3}), BackendError);
+  BackendOptions three;
+  three.threads = 3;
+  EXPECT_THROW(make_osmesa_backend(three), BackendError);
 }
 
 TEST(Osmesa, PipelinesDeleteTheirObjectsAndOutliveTheirBackend) {

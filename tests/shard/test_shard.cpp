@@ -140,8 +140,8 @@ TEST(ShardAssign, EveryMemberInExactlyOneShard) {
   EXPECT_EQ(all.size(), 60u);
   EXPECT_EQ(std::set<std::string>(all.begin(), all.end()).size(), 60u);
   EXPECT_LT(a.max_over_mean(), 1.1);
-  EXPECT_THROW(shard::assign({{"a", 1}, {"a", 2}}, 2), std::runtime_error);
-  EXPECT_THROW(shard::assign({{"a", 0}}, 2), std::runtime_error);
+  EXPECT_THROW(shard::assign({{"a", 1, {}}, {"a", 2, {}}}, 2), std::runtime_error);
+  EXPECT_THROW(shard::assign({{"a", 0, {}}}, 2), std::runtime_error);
 }
 
 shard::ShardManifest manifest(int index, int count, bool complete = true) {

@@ -49,7 +49,7 @@ TEST(ShardLimits, ACountNobodyCouldMeanIsRefusedAtOnce) {
 }
 
 TEST(ShardLimits, MoreShardsThanUnitsIsRefusedBeforeTheAssignment) {
-  std::vector<shard::Unit> units = {{"a", 1}, {"b", 2}, {"c", 3}};
+  std::vector<shard::Unit> units = {{"a", 1, {}}, {"b", 2, {}}, {"c", 3, {}}};
   EXPECT_NO_THROW(shard::assign(units, 3));
   EXPECT_NE(limit_error_of([&] { shard::assign(units, 4); }).find("4 shards for 3 units of work; use at most 3 shards"),
             std::string::npos);
