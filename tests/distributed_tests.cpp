@@ -286,7 +286,7 @@ std::set<std::string> aovar_flags(const fs::path& file, int& commands) {
     std::regex flag(R"((--[a-z][a-z-]*)(?:\s+(\S+))?)");
     for (auto f = std::sregex_iterator(line.begin(), line.end(), flag); f != std::sregex_iterator(); ++f) {
       flags.insert((*f)[1]);
-      if ((*f)[1] == "--shard") EXPECT_EQ((*f)[2], "auto") << file << ": the examples shard with --shard auto";
+      if ((*f)[1] == "--shard") { EXPECT_EQ((*f)[2], "auto") << file << ": the examples shard with --shard auto"; }
     }
   }
   return flags;

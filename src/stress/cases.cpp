@@ -45,7 +45,7 @@ std::vector<Case> default_cases() {
   auto add = [&](std::string name, std::string what, std::string spec, scene::View v, float radius = 0) {
     v.name = name;
     v.path_offset = glm::vec3(0.0f);
-    out.push_back({std::move(name), std::move(what), std::move(spec), std::move(v), radius});
+    out.push_back({std::move(name), std::move(what), std::move(spec), std::move(v), radius, {}});
   };
   add("baseline", "control: the atrium overview as the scene defines it", atrium_spec, ov);
   add("near-1e-4", "near plane 1e-4: depth precision near the camera", atrium_spec,

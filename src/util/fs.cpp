@@ -127,7 +127,9 @@ void write_atomic(const fs::path& path, std::string_view content, Durability dur
   if (fd < 0) throw write_error(path, "create a temporary file beside it");
   bool ok = write_all(fd, content);
   if (ok && durability == Durability::durable) ok = ::fsync(fd) == 0;
-  ok = (::fchmod(fd, 0644) == 0) & (::close(fd) == 0) & ok;  // mkstemp's 0600 would hide results from others
+  const bool readable = ::fchmod(fd, 0644) == 0;  // mkstemp's 0600 would hide results from others
+  const bool closed = ::close(fd) == 0;            // closed whatever the writes and the chmod did
+  ok = ok && readable && closed;
   if (!ok) {
     const auto error = write_error(path, "write");
     fs::remove(tmp, ec);

@@ -35,7 +35,7 @@ TEST(Report, SeedPairsMatchRowsDifferingInOneAxis) {
   EXPECT_NE(blur->seed.find("§5.7"), std::string::npos);
   // a-bsep/b-bsep and a-bbil/b-bbil differ in the sample count alone.
   for (const auto& p : pairs) {
-    if (p.axis != "blur") EXPECT_EQ(p.pairs, p.axis == "samples" ? 2 : 0) << p.title;
+    if (p.axis != "blur") { EXPECT_EQ(p.pairs, p.axis == "samples" ? 2 : 0) << p.title; }
   }
 
   auto md = report::markdown_report(t);

@@ -40,7 +40,7 @@ TEST(SeedPairs, VerdictsFollowTheIntervalsAndTheSeedsDirection) {
   // Estimates have no interval: the sign decides.
   auto est = report::seed_pairs(t, [](const table::CostRow& r) { return r.time_ms.decision(); });
   for (const auto& f : est)
-    if (f.axis == "depth_format") EXPECT_FALSE(f.ci.known());
+    if (f.axis == "depth_format") { EXPECT_FALSE(f.ci.known()); }
 }
 
 }  // namespace

@@ -192,8 +192,9 @@ TEST_P(Builtin, ViewsSeeWhatTheyClaim) {
   EXPECT_LT(to_closeup, to_overview);
   // builtin:far keeps every surface 200+ units away with an 8-unit radius on purpose (a stress scene: a
   // small kernel for its depth, where r16f bands).
-  if (GetParam() != "builtin:far")
+  if (GetParam() != "builtin:far") {
     EXPECT_LT(to_closeup, 20.0f * s.ao_radius) << "the AO kernel should cover many pixels in the closeup";
+  }
   float empty = miss_share(s, background, 32, 18);
   EXPECT_GE(empty, 0.2f);
   EXPECT_LE(empty, 0.6f);

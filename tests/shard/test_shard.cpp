@@ -113,8 +113,8 @@ TEST(ShardEnv, ShardOptionTakesKOfNOrAuto) {
 
 TEST(ShardAssign, BalancesByCostNotCountAndIsDeterministic) {
   // One expensive unit and many cheap ones: by count, the shard with the expensive one would carry 3x the mean.
-  std::vector<shard::Unit> units = {{"big", 12}};
-  for (int i = 0; i < 12; ++i) units.push_back({"small" + std::to_string(i), 1});
+  std::vector<shard::Unit> units = {{"big", 12, {}}};
+  for (int i = 0; i < 12; ++i) units.push_back({"small" + std::to_string(i), 1, {}});
   auto a = shard::assign(units, 2);
   EXPECT_DOUBLE_EQ(a.loads[0], 12);
   EXPECT_DOUBLE_EQ(a.loads[1], 12);

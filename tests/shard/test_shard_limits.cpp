@@ -85,7 +85,7 @@ TEST(ShardLimits, ManifestNumbersAreWholeNumbers) {
     const std::string e = limit_error_of([&] { shard::read_manifest(dir / "shard.json"); });
     EXPECT_NE(e.find("shard.json: "), std::string::npos) << pointer << " " << value << ": " << e;
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
-    if (value.is_number()) EXPECT_NE(e.find("not a whole number"), std::string::npos) << pointer << " " << value << ": " << e;
+    if (value.is_number()) { EXPECT_NE(e.find("not a whole number"), std::string::npos) << pointer << " " << value << ": " << e; }
   }
 }
 

@@ -84,13 +84,22 @@ TEST(ShipRace, AMarginKeepsSlowdownsWhoseIntervalReachesBelowIt) {
 // The screen's untraced elimination (bounded_estimate.h): a candidate is dropped only when a traced one with
 // strictly less error has an estimate below its bound; it is never traced; equal error, a bound below the
 // estimate, or the budget's variant keep it.
+// A candidate before the estimate: its key, still error and ALU bound.
+ship::BoundCandidate untraced(const char* key, double error, double bound) {
+  ship::BoundCandidate c;
+  c.key = key;
+  c.error = error;
+  c.bound = bound;
+  return c;
+}
+
 TEST(ShipBound, OnlyACandidateSurelyBeatenIsLeftUntraced) {
   std::vector<ship::BoundCandidate> c = {
-      {"costly-worse", 0.060, 0.30},   // bound above a's estimate: beaten
-      {"a", 0.050, 0.10},              // the most accurate: traced first
-      {"cheap-worse", 0.070, 0.15},    // bound below a's estimate: could still be faster, traced
-      {"tied-error", 0.050, 0.40},     // as accurate as a: never beaten by it
-      {"budget", 0.080, 0.50},         // the budget's variant: always traced
+      untraced("costly-worse", 0.060, 0.30),   // bound above a's estimate: beaten
+      untraced("a", 0.050, 0.10),              // the most accurate: traced first
+      untraced("cheap-worse", 0.070, 0.15),    // bound below a's estimate: could still be faster, traced
+      untraced("tied-error", 0.050, 0.40),     // as accurate as a: never beaten by it
+      untraced("budget", 0.080, 0.50),         // the budget's variant: always traced
   };
   const std::map<std::string, double> est = {{"a", 0.20}, {"cheap-worse", 0.18}, {"tied-error", 0.45},
                                              {"costly-worse", 0.35}, {"budget", 0.6}};
@@ -117,7 +126,7 @@ TEST(ShipBound, OnlyACandidateSurelyBeatenIsLeftUntraced) {
 // Two stages (two training views): a candidate whose first view's estimate already exceeds a more accurate
 // variant's worst-view estimate is eliminated without its second view; the others get both.
 TEST(ShipBound, ACandidateBeatenOnItsFirstViewIsNotTracedOnTheSecond) {
-  std::vector<ship::BoundCandidate> c = {{"a", 0.05, 0.1}, {"slow-first-view", 0.06, 0.1}, {"fast", 0.07, 0.1}};
+  std::vector<ship::BoundCandidate> c = {untraced("a", 0.05, 0.1), untraced("slow-first-view", 0.06, 0.1), untraced("fast", 0.07, 0.1)};
   const std::map<std::string, std::array<double, 2>> views = {
       {"a", {0.20, 0.25}}, {"slow-first-view", {0.30, 0.10}}, {"fast", {0.15, 0.18}}};
   std::vector<std::string> second;

@@ -123,7 +123,7 @@ TEST(Stress, RemovingAGuardFailsWithAReproducer) {
 // one process gives, and a renderer crash costs the variant it hit, not the run.
 TEST(Stress, ChildProcessesMatchOneProcessAndSurviveACrash) {
   TempDir dir;
-  const std::string variants = "--variants 'hbao-s04-p0-nrgb8-zdep-rst-d*-bbil-x1-??' --case baseline --case far-1e6 --no-reuse";
+  const std::string variants = "--variants 'hbao-s04-p0-nrgb8-zdep-rst-d*-bbil-x1-?\?' --case baseline --case far-1e6 --no-reuse";
   auto one = run_aovar("stress " + variants + " --renders-per-process 0 --out " + (dir / "one").string());
   ASSERT_EQ(one.status, 0) << one.output;
   auto sliced = run_aovar("stress " + variants + " --renders-per-process 2 --out " + (dir / "sliced").string());
@@ -164,7 +164,7 @@ TEST(Stress, ChildProcessesMatchOneProcessAndSurviveACrash) {
 // crashed slice: that variant fails with the line quoted, its group renders again without it, the run goes on.
 TEST(Stress, AGarbledChildLineCostsOnlyThatVariant) {
   TempDir dir;
-  const std::string variants = "--variants 'hbao-s04-p0-nrgb8-zdep-rst-d*-bbil-x1-??' --case baseline --no-reuse";
+  const std::string variants = "--variants 'hbao-s04-p0-nrgb8-zdep-rst-d*-bbil-x1-?\?' --case baseline --no-reuse";
   const std::string garbled = "hbao-s04-p0-nrgb8-zdep-rst-d16-bbil-x1-hp";
   test::CommandResult r;
   {
@@ -191,7 +191,7 @@ TEST(Stress, AGarbledChildLineCostsOnlyThatVariant) {
 // than naming a partner whose image never existed (pair_max 0 read as "identical").
 TEST(Stress, ACrashAnywhereInAGroupCostsOnlyThatVariant) {
   TempDir dir;
-  const std::string variants = "--variants 'hbao-s04-p0-nrgb8-zdep-rst-d*-bbil-x1-??' --case baseline --case far-1e6 "
+  const std::string variants = "--variants 'hbao-s04-p0-nrgb8-zdep-rst-d*-bbil-x1-?\?' --case baseline --case far-1e6 "
                                "--no-reuse --renders-per-process 2";
   const std::string d32 = "hbao-s04-p0-nrgb8-zdep-rst-d32-bbil-x1-hp", d16 = "hbao-s04-p0-nrgb8-zdep-rst-d16-bbil-x1-hp",
                     mp = "hbao-s04-p0-nrgb8-zdep-rst-d16-bbil-x1-mp";

@@ -255,7 +255,7 @@ TEST(StressScenes, FarSceneIsSeenFrom200To4000Units) {
     EXPECT_GE(lo, 200.0f);
     EXPECT_LE(hi, 4000.0f);
     EXPECT_LT(misses, rays);
-    if (v.name == "background") EXPECT_GE(misses, rays / 5);
+    if (v.name == "background") { EXPECT_GE(misses, rays / 5); }
   }
 }
 
@@ -356,7 +356,7 @@ TEST_P(StressMethod, InfiniteFarRendersLikeTheFittedFar) {
                   b.c_str(), key.c_str(), inf_diff.mean_abs, inf_diff.max_abs, ratio_diff.mean_abs, ratio_diff.max_abs);
       EXPECT_LE(inf_diff.mean_abs, 1e-3) << b << " " << key;
       EXPECT_LE(inf_diff.max_abs, 0.2) << b << " " << key;
-      if (key.find("-rip-") == std::string::npos) EXPECT_LE(ratio_diff.mean_abs, 0.02) << b << " " << key;
+      if (key.find("-rip-") == std::string::npos) { EXPECT_LE(ratio_diff.mean_abs, 0.02) << b << " " << key; }
     }
   }
 }

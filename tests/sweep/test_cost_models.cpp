@@ -105,9 +105,10 @@ TEST(CostModels, TimeUnrelatedToTheFeaturesIsNotPredictiveAndRefusesToPredict) {
     EXPECT_FALSE(m.predictive) << m.features << ": R² " << m.cv_r2 << ", Spearman " << m.cv_spearman;
     EXPECT_FALSE(m.predicts) << m.features;
     EXPECT_EQ(m.verdict, "not predictive: " + m.reason);
-    if (m.cv_spearman < sweep::kMinModelSpearman)
+    if (m.cv_spearman < sweep::kMinModelSpearman) {
       EXPECT_NE(m.reason.find(fmt::format("held-out Spearman {:.3f} < 0.70", m.cv_spearman)), std::string::npos) << m.reason;
-    if (m.cv_r2 < 0) EXPECT_NE(m.reason.find("cross-validated R² "), std::string::npos) << m.reason;
+    }
+    if (m.cv_r2 < 0) { EXPECT_NE(m.reason.find("cross-validated R² "), std::string::npos) << m.reason; }
     EXPECT_EQ(sweep::not_predictive_label(m), "not predictive (" + m.reason + ")");
     if (!best || m.cv_spearman > best->cv_spearman) best = &m;
   }

@@ -98,7 +98,7 @@ TEST_P(TraceAgainstAnalyser, ReadsPerPixelAreTheAnalysersAndNothingShippedChange
       silent += n == 0;
     }
   EXPECT_EQ(busiest, int(cost.total_fetches())) << key;
-  if (ao_draw.depth == render::DepthUse::skip_background) EXPECT_GT(silent, 0) << "the atrium's overview shows sky";
+  if (ao_draw.depth == render::DepthUse::skip_background) { EXPECT_GT(silent, 0) << "the atrium's overview shows sky"; }
 
   // The trace build computes the shipped image, bit for bit (one frame: a progressive variant's first half).
   if (!plan.progressive) {

@@ -155,7 +155,7 @@ TEST(Space, ProgramsAreSharedBetweenVariants) {
                                           [](const ProgramSpec& p) { return p.key.rfind("alchemy-", 0) == 0; });
   EXPECT_LT(ao_programs * 4, s.variants.size());
   for (const auto& p : s.programs) {
-    if (p.key == "fullscreen.vert") EXPECT_TRUE(p.defines.empty());
+    if (p.key == "fullscreen.vert") { EXPECT_TRUE(p.defines.empty()); }
     if (p.key.rfind("alchemy-s08-p1-", 0) == 0) {
       bool has_samples = false, has_progressive = false;
       for (const auto& [name, value] : p.defines) {
