@@ -9,9 +9,13 @@
 
 #include <fmt/format.h>
 
+// Debian's stb (libstb-dev) is C compiled as C++ here: its struct initialisers trip -Wextra, nothing of ours.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STBI_WRITE_NO_STDIO
 #include <stb_image_write.h>
+#pragma GCC diagnostic pop
 
 #include "util/fs.h"
 
