@@ -222,10 +222,13 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
 
     TimingOptions to{o_.timing.warmup, o_.timing.reps, res_.radius, o_.timing.camera_path, o_.timing.auto_reps, std::nullopt};
     if (o_.timing.auto_reps && o_.timing.race_errors) to.retire = retire_rule(ref, todo, lo, hi, view.name);
-    std::vector<int> still_frames{ref.plan.progressive ? 2 : 1};
-    for (std::size_t i = lo; i < hi; ++i) still_frames.push_back(todo[i].plan.progressive ? 2 : 1);
+    auto still_frames = [&] {  // per pipeline, the frames its still needs (both halves of a progressive one)
+      std::vector<int> frames{ref.plan.progressive ? 2 : 1};
+      for (std::size_t i = lo; i < hi; ++i) frames.push_back(todo[i].plan.progressive ? 2 : 1);
+      return frames;
+    };
     auto timed = o_.timing.still_only
-                     ? render_stills(runner.backend(), pointers, still_frames, view, to)
+                     ? render_stills(runner.backend(), pointers, still_frames(), view, to)
                      : time_round_robin(runner.backend(), pointers, view, to, [&](const std::string& s) {
                          status(fmt::format("{}: batch {}/{}: {} ({} pipelines)", where, b + 1, batches, s, pointers.size()));
                        });

@@ -41,8 +41,7 @@ table::PruningCounts ScenePruning::counts(const std::vector<std::string>& globs)
 
 std::string ScenePruning::summary(const std::vector<std::string>& globs) const {
   const table::PruningCounts c = counts(globs);
-  std::string rules;
-  for (const auto& [rule, n] : c.rules) rules += fmt::format("{}{} {}", rules.empty() ? "" : ", ", rule, n);
+  const std::string rules = c.rules_text();
   return fmt::format("{} keeps {} of {} selected variants; drops {}{}", scene, c.kept, c.selected, c.dropped,
                      rules.empty() ? std::string() : " (" + rules + ")");
 }

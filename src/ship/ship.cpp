@@ -260,6 +260,41 @@ void check_options(const ShipOptions& o) {
   }
 }
 
+// What the search leaves out: the profile's drops and, with a normals lean, the buffered-normal variants (the
+// budget's own excepted). The counts and the lean are recorded in `res`.
+struct ProfiledSpace {
+  profile::ScenePruning pruning;
+  std::set<std::string> skip;
+};
+
+ProfiledSpace profile_space(const ShipOptions& o, const scene::Scene& sc, const std::vector<std::string>& views,
+                            const variants::Manifest& manifest, ShipResult& res, const Progress& say) {
+  measure::MeasureOptions pm;
+  pm.manifest = o.manifest;
+  pm.scene = o.scene;
+  pm.size = o.size;
+  pm.threads = o.threads;
+  pm.cache_dir = o.cache_dir;
+  pm.out = o.out / "profile";
+  std::vector<const scene::View*> profiled;
+  for (const auto& v : views) profiled.push_back(&sc.view(v));
+  ProfiledSpace out{profile::prune_scene(measure::prune_options(pm), sc, profiled, o.globs, say), {}};
+  const profile::ScenePruning& pruning = out.pruning;
+  for (const auto& d : pruning.dropped) out.skip.insert(d.variant);
+  res.selected = int(pruning.kept.size() + pruning.dropped.size());
+  res.pruned = int(pruning.dropped.size());
+  res.lean = profile::buffered_normals_lean(pruning.profile);
+  res.lean_text = lean_text(pruning.profile);
+  res.fit_normals = res.lean ? "depth" : "buffer";
+  if (res.lean)
+    for (const auto& k : buffered_normal_variants(manifest, o.globs))
+      if (std::binary_search(pruning.kept.begin(), pruning.kept.end(), k) && k != o.query.budget_of && out.skip.insert(k).second)
+        ++res.lean_dropped;
+  if (res.selected - int(out.skip.size()) < 1)
+    throw std::runtime_error("ship: the profile of " + o.scene + " leaves no variant to search");
+  return out;
+}
+
 }  // namespace
 
 ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
@@ -281,28 +316,9 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
   // 1. The profile of every view: its pruning and the normals lean.
   say("profiling " + o.scene);
   const variants::Manifest manifest = variants::load_manifest(o.manifest);
-  measure::MeasureOptions pm;
-  pm.manifest = o.manifest;
-  pm.scene = o.scene;
-  pm.size = o.size;
-  pm.threads = o.threads;
-  pm.cache_dir = o.cache_dir;
-  pm.out = o.out / "profile";
-  std::vector<const scene::View*> profiled;
-  for (const auto& v : views) profiled.push_back(&sc.view(v));
-  const profile::ScenePruning pruning = profile::prune_scene(measure::prune_options(pm), sc, profiled, o.globs, say);
-  std::set<std::string> skip;
-  for (const auto& d : pruning.dropped) skip.insert(d.variant);
-  res.selected = int(pruning.kept.size() + pruning.dropped.size());
-  res.pruned = int(pruning.dropped.size());
-  res.lean = profile::buffered_normals_lean(pruning.profile);
-  res.lean_text = lean_text(pruning.profile);
-  res.fit_normals = res.lean ? "depth" : "buffer";
-  if (res.lean)
-    for (const auto& k : buffered_normal_variants(manifest, o.globs))
-      if (std::binary_search(pruning.kept.begin(), pruning.kept.end(), k) && k != o.query.budget_of && skip.insert(k).second)
-        ++res.lean_dropped;
-  if (res.selected - int(skip.size()) < 1) throw std::runtime_error("ship: the profile of " + o.scene + " leaves no variant to search");
+  const ProfiledSpace profiled = profile_space(o, sc, views, manifest, res, say);
+  const profile::ScenePruning& pruning = profiled.pruning;
+  const std::set<std::string>& skip = profiled.skip;
 
   // 2. The methods fitted on the training views.
   say(fmt::format("fitting the methods on {} (normals: {})", fmt::join(res.training, ", "), res.fit_normals));

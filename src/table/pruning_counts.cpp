@@ -7,9 +7,14 @@ namespace aovar::table {
 
 using json = nlohmann::json;
 
-std::string PruningCounts::line() const {
+std::string PruningCounts::rules_text() const {
   std::string text;
   for (const auto& [rule, n] : rules) text += fmt::format("{}{} {}", text.empty() ? "" : ", ", rule, n);
+  return text;
+}
+
+std::string PruningCounts::line() const {
+  const std::string text = rules_text();
   return fmt::format("{}: {} selected, {} kept, {} dropped{}", scene, selected, kept, dropped,
                      text.empty() ? "" : " (" + text + ")");
 }

@@ -26,6 +26,8 @@ struct PruningCounts {
 
   // "scene: N selected, K kept, D dropped (rule n, ...)": the report's and cost_table.md's line.
   std::string line() const;
+  // "rule n, rule n": dropped per rule (empty when nothing was dropped).
+  std::string rules_text() const;
 };
 
 nlohmann::json to_json(const PruningCounts& counts);
