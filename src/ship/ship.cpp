@@ -212,11 +212,59 @@ std::shared_ptr<const std::map<std::pair<std::string, std::string>, double>> sti
   return out;
 }
 
+// The survivors' still errors on the held-out views (a sweep with no timing into OUT/holdout, resumable like
+// every round) and which of them the held-out views time (holdout.h), recorded in `res`.
+HoldoutPlan plan_holdout(const ShipOptions& o, const Fitted& fit, const std::vector<std::string>& survivors,
+                         ShipResult& res, const Progress& say) {
+  sweep::SweepOptions s = round_options(o, fit, res.holdout, survivors, {}, false);
+  s.out = o.out / "holdout";
+  s.measure.timing.reps = 1;
+  s.measure.timing.warmup = 0;
+  s.measure.timing.still_only = true;
+  const table::CostTable stills =
+      sweep::run_sweep(s, [&](const std::string& line) { say("race: held-out stills: " + line); }).table;
+  HoldoutPlan plan = plan_holdout_timing(stills, survivors, o.query);
+  res.holdout_rule = plan.rule;
+  res.holdout_untimed = plan.untimed;
+  return plan;
+}
+
 std::vector<std::string> variants_of(const table::CostTable& t) {
   std::set<std::string> keys;
   for (const auto& r : t.rows)
     if (r.error && !r.predicted) keys.insert(r.variant);
   return {keys.begin(), keys.end()};
+}
+
+// The race's rule on the training views of `rows`: what it eliminates goes into `out` and res.eliminated
+// (the budget's variant stays: select resolves the budget by it).
+void eliminate_dominated(const table::CostTable& rows, const ShipOptions& o, const std::string& round,
+                         std::set<std::string>& out, ShipResult& res) {
+  for (const auto& e : dominated_beyond_noise(on_views(rows, res.training), o.target, o.race_margin))
+    if (e.variant != o.query.budget_of && out.insert(e.variant).second) res.eliminated.push_back({round, e});
+}
+
+// The measured backend's race with held-out views. The training views first: the rule looks at nothing else,
+// so what it eliminates is never rendered on the held-out views. Then the held-out views time only the
+// survivors the query could choose (holdout.h): that sweep of every view, into the same folder, reuses their
+// training rows. The others keep their training rows. `candidates`: the round's, `out`: its eliminated.
+table::CostTable race_then_holdout(const ShipOptions& o, const Fitted& fit, sweep::SweepOptions so, ShipResult& res,
+                                   Round& r, std::set<std::string>& out, std::vector<std::string>& candidates,
+                                   const Progress& say) {
+  sweep::SweepOptions training = so;
+  training.measure.views = res.training;
+  const table::CostTable first = round_rows(o, fit, training, true, res, r, say);
+  candidates = variants_of(first);
+  eliminate_dominated(first, o, r.name, out, res);
+  std::erase_if(so.measure.globs, [&](const std::string& k) { return out.count(k) > 0; });
+  const HoldoutPlan plan = plan_holdout(o, fit, so.measure.globs, res, say);
+  so.measure.globs = plan.timed;
+  table::CostTable last = round_rows(o, fit, so, true, res, r, say);
+  for (const auto& row : first.rows)
+    if (!std::binary_search(plan.timed.begin(), plan.timed.end(), row.variant) && !out.count(row.variant))
+      last.rows.push_back(row);
+  res.holdout_timed = int(plan.timed.size());
+  return last;
 }
 
 json ship_meta(const ShipOptions& o, const ShipResult& r, const profile::ScenePruning& pruning) {
@@ -226,6 +274,8 @@ json ship_meta(const ShipOptions& o, const ShipResult& r, const profile::ScenePr
                       {"seconds", x.seconds}});
   for (const auto& [round, e] : r.eliminated)
     eliminated.push_back({{"variant", e.variant}, {"round", round}, {"by", e.by}, {"reason", e.reason}});
+  json untimed = json::array();
+  for (const auto& u : r.holdout_untimed) untimed.push_back({{"variant", u.variant}, {"rmse", u.rmse}, {"reason", u.reason}});
   return {{"scene", o.scene},
           {"training_views", r.training},
           {"holdout_views", r.holdout},
@@ -239,7 +289,8 @@ json ship_meta(const ShipOptions& o, const ShipResult& r, const profile::ScenePr
           {"pruned", pruning.to_json(o.globs)},
           {"lean_dropped", r.lean_dropped},
           {"rounds", rounds},
-          {"eliminated", eliminated}};
+          {"eliminated", eliminated},
+          {"holdout_timing", {{"rule", r.holdout_rule}, {"timed", r.holdout_timed}, {"untimed", untimed}}}};
 }
 
 // Usage errors, before anything is profiled or fitted (an unknown family or a missing RADV too).
@@ -349,23 +400,11 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
                     r.timing));
     std::set<std::string> out;         // this round's eliminated
     std::vector<std::string> candidates;  // this round's candidates
-    const auto eliminate = [&](const table::CostTable& rows) {
-      for (const auto& e : dominated_beyond_noise(on_views(rows, res.training), o.target, o.race_margin))
-        if (e.variant != o.query.budget_of && out.insert(e.variant).second)  // the budget's variant stays: select
-          res.eliminated.push_back({r.name, e});                             // resolves the budget by it
-    };
-    if (final_round && o.target.empty() && !res.holdout.empty()) {
-      // The race on the training views first: its rule looks at nothing else, so the candidates it eliminates
-      // are never timed on the held-out views. The sweep of every view that follows, into the same folder,
-      // reuses the survivors' training rows and measures only their held-out ones.
-      sweep::SweepOptions training = so;
-      training.measure.views = res.training;
-      const table::CostTable first = round_rows(o, fit, training, final_round, res, r, say);
-      candidates = variants_of(first);
-      eliminate(first);
-      std::erase_if(so.measure.globs, [&](const std::string& k) { return out.count(k) > 0; });
-    }
-    last = round_rows(o, fit, so, final_round, res, r, say);
+    const auto eliminate = [&](const table::CostTable& rows) { eliminate_dominated(rows, o, r.name, out, res); };
+    if (final_round && o.target.empty() && !res.holdout.empty())
+      last = race_then_holdout(o, fit, so, res, r, out, candidates, say);
+    else
+      last = round_rows(o, fit, so, final_round, res, r, say);
     int untraced = 0;  // eliminated by their bound, before the race's rule
     if (!final_round && !o.target.empty() && res.shard.empty()) {
       const sweep::SweepOptions estimated = round_options(o, fit, views, globs, skip, true);
@@ -424,6 +463,10 @@ std::string to_text(const ShipResult& r, const ShipOptions& o) {
   for (const auto& x : r.rounds)
     s += fmt::format("round {}: {} candidates ({}), {} eliminated, {:.0f} s\n", x.name, x.candidates, x.timing, x.eliminated,
                      x.seconds);
+  if (!r.holdout_rule.empty())
+    s += fmt::format("held-out view{}: timed {} of {} survivors, {}; the rest cannot be chosen (meta.ship.holdout_timing)\n",
+                     r.holdout.size() > 1 ? "s" : "", r.holdout_timed, r.holdout_timed + int(r.holdout_untimed.size()),
+                     r.holdout_rule);
   if (!r.shard.empty())
     return s + fmt::format("shard {}: {}; {}/screen/shard.json written. When every shard is done, join them "
                            "(with the same options): aovar ship ... --join SHARD_FOLDER... --out DIR\n",

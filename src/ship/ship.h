@@ -8,7 +8,9 @@
 //      the traced estimate for the time), the dominated ones eliminated with their reason, then the survivors
 //      with every measure of a sweep, timed until their intervals are narrow (--reps auto), except that a
 //      candidate a more accurate one of its batch already beats beyond the margin stops being timed on that
-//      view (measure::Retire), eliminated again;
+//      view (measure::Retire), eliminated again.
+//      On a measured backend the held-out views then render the survivors' stills and time only those the
+//      query could choose (holdout.h);
 //   4. select among the survivors on the held-out views, write the cost table and the reports, and say what
 //      to ship with the line that generates exactly that variant.
 // Resumable: every round is a sweep into OUT/<round> (rows reused after a kill), the profile and the
@@ -21,6 +23,7 @@
 #include "decide/select.h"
 #include "measure/timing.h"
 #include "render/frame.h"
+#include "ship/holdout.h"
 #include "ship/race.h"
 #include "table/table.h"
 
@@ -69,6 +72,9 @@ struct ShipResult {
   std::vector<Round> rounds;
   std::vector<std::pair<std::string, Elimination>> eliminated;  // round name, what and why
   table::CostTable table;                      // the last round's rows, meta.ship: every choice made
+  std::string holdout_rule;                    // which survivors the held-out views timed (holdout.h)
+  std::vector<HoldoutSkip> holdout_untimed;    // the survivors they did not, each with its held-out rmse
+  int holdout_timed = 0;
   decide::Selection selection;                  // on the held-out views, among the survivors
   std::string build_line;                      // `aovar generate` of exactly the chosen variant
   std::string shard;                           // "2/4" when this run was one shard: its screen only, no selection

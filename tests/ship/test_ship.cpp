@@ -9,6 +9,7 @@
 #include <random>
 
 #include "ship/bounded_estimate.h"
+#include "ship/holdout.h"
 #include "ship/race.h"
 #include "ship/ship.h"
 #include "cost_rows.h"
@@ -142,6 +143,68 @@ TEST(ShipBound, ACandidateBeatenOnItsFirstViewIsNotTracedOnTheSecond) {
   EXPECT_TRUE(c[1].bound_traced);
   EXPECT_DOUBLE_EQ(c[0].est, 0.25) << "the worst view";
   EXPECT_TRUE(c[2].beaten_by.empty());
+}
+
+// Held-out still rows (no time): each variant on two held-out views, its worst is its rmse.
+table::CostTable stills(const std::map<std::string, std::array<double, 2>>& rmse) {
+  table::CostTable t;
+  for (const auto& [k, e] : rmse)
+    for (int v = 0; v < 2; ++v) {
+      table::CostRow r = test::point_row(k, 0, e[v]);
+      r.view = v ? "closeup" : "overview";
+      r.time_ms = {};
+      t.rows.push_back(r);
+    }
+  return t;
+}
+
+std::vector<std::string> untimed_keys(const ship::HoldoutPlan& p) {
+  std::vector<std::string> out;
+  for (const auto& u : p.untimed) out.push_back(u.variant);
+  return out;
+}
+
+// --budget-of: a survivor is timed on the held-out views only when its worst held-out rmse is within the
+// budget's own plus select's tolerance: the budget's variant always fits, so nothing less accurate is chosen.
+TEST(ShipHoldout, BudgetOfTimesOnlyWhatIsAtMostTheBudgetsErrorPlusTheTolerance) {
+  const auto t = stills({{"base", {0.050, 0.060}},       // worst 0.060: the bound is 0.0612
+                         {"better", {0.070, 0.040}},     // worst 0.070 on the overview: not timed
+                         {"within-tol", {0.061, 0.030}}, // 0.061 <= 0.0612: timed (select may name it)
+                         {"accurate", {0.030, 0.035}},
+                         {"no-still", {0.0, 0.0}}});
+  table::CostTable partial = t;
+  std::erase_if(partial.rows, [](const table::CostRow& r) { return r.variant == "no-still"; });
+  decide::SelectQuery q;
+  q.budget_of = "base";
+  const std::vector<std::string> survivors = {"accurate", "base", "better", "no-still", "within-tol"};
+  const ship::HoldoutPlan p = ship::plan_holdout_timing(partial, survivors, q);
+  EXPECT_EQ(p.timed, (std::vector<std::string>{"accurate", "base", "no-still", "within-tol"}));
+  EXPECT_EQ(untimed_keys(p), std::vector<std::string>{"better"});
+  EXPECT_DOUBLE_EQ(p.untimed[0].rmse, 0.070);
+  EXPECT_NE(p.rule.find("base"), std::string::npos) << p.rule;
+}
+
+TEST(ShipHoldout, MaxErrorTimesWhatFitsOrElseTheNearest) {
+  const auto t = stills({{"a", {0.02, 0.03}}, {"b", {0.05, 0.04}}, {"c", {0.09, 0.01}}});
+  decide::SelectQuery q;
+  q.max_error = 0.045;
+  EXPECT_EQ(ship::plan_holdout_timing(t, {"a", "b", "c"}, q).timed, std::vector<std::string>{"a"});
+  q.max_error = 0.01;  // nothing fits: the lowest error is timed, for select's nearest
+  const ship::HoldoutPlan none = ship::plan_holdout_timing(t, {"a", "b", "c"}, q);
+  EXPECT_EQ(none.timed, std::vector<std::string>{"a"});
+  EXPECT_EQ(untimed_keys(none), (std::vector<std::string>{"b", "c"}));
+}
+
+TEST(ShipHoldout, ABudgetInMillisecondsOrAMissingBudgetVariantTimesEverySurvivor) {
+  const auto t = stills({{"a", {0.02, 0.03}}, {"b", {0.05, 0.04}}});
+  decide::SelectQuery q;
+  q.budget_ms = 1.0;
+  EXPECT_EQ(ship::plan_holdout_timing(t, {"a", "b"}, q).timed, (std::vector<std::string>{"a", "b"}));
+  q = {};
+  q.budget_of = "not-rendered";
+  const ship::HoldoutPlan p = ship::plan_holdout_timing(t, {"a", "b"}, q);
+  EXPECT_EQ(p.timed, (std::vector<std::string>{"a", "b"}));
+  EXPECT_TRUE(p.untimed.empty());
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 
 #include <fmt/format.h>
@@ -162,6 +163,52 @@ TEST(ShipCli, ASceneWhoseNormalsLeanIsSearchedAndFittedWithDepthNormals) {
     const std::string variant = cal.at("algorithms").at(algorithm).at("variant");
     EXPECT_NE(variant.find("-ndep-"), std::string::npos) << algorithm << " fitted with " << variant;
   }
+}
+
+// On a measured backend the held-out view renders the race's survivors' stills first and times only those the
+// query could choose: with --budget-of, a held-out rmse within the budget's plus select's 2 %. The others keep
+// their training rows, and the meta says why each was not timed. The stills' errors are the timed rows' own.
+TEST(ShipCli, AMeasuredRaceTimesTheHeldOutViewOnlyForWhatTheQueryCouldChoose) {
+  TempDir dir;
+  const std::string budget = "hbao-s08-p0-ndep-zdep-rst-d16-bsep-x1-hp";  // the slice's most accurate but one
+  const CommandResult r = run_aovar(fmt::format(
+      "ship --scene builtin:atrium --variants 'alchemy-s08-p0-*-zdep-rst-d16-bsep-x1-hp' --variants 'sao-s0[48]-*-d16-bsep-x1-hp' "
+      "--variants 'hbao-s08-p0-*-d16-bsep-x1-hp' --budget-of {} --backend lavapipe --size 64x36 --fit-size 32x18 "
+      "--evaluations 2 --rays 16 --reps-cap-s 0.2 --cache-dir {} --out {}",
+      budget, (dir / "cache").string(), (dir / "out").string()));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const json t = table_of(dir / "out");
+  const std::string holdout = t.at("meta").at("ship").at("holdout_views").at(0);
+  std::map<std::string, double> still;  // the held-out stills, untimed
+  const json stills = table_of(dir / "out" / "holdout");
+  for (const auto& row : stills.at("rows")) {
+    EXPECT_EQ(row.at("time_ms").at("n"), 0) << row.dump();
+    still[row.at("variant")] = row.at("error").at("rmse");
+  }
+  ASSERT_TRUE(still.count(budget));
+  const double bound = still.at(budget) * 1.02;
+  std::set<std::string> timed, trained;
+  for (const auto& row : t.at("rows")) {
+    EXPECT_GT(row.at("time_ms").at("n").get<int>(), 0) << row.dump();
+    const std::string k = row.at("variant");
+    if (row.at("view") != holdout) {
+      trained.insert(k);
+      continue;
+    }
+    timed.insert(k);
+    EXPECT_LE(still.at(k), bound) << k;
+    EXPECT_EQ(row.at("error").at("rmse").get<double>(), still.at(k)) << k << ": the still is the timed row's render";
+  }
+  const json untimed = t.at("meta").at("ship").at("holdout_timing").at("untimed");
+  ASSERT_FALSE(untimed.empty()) << "the slice holds survivors less accurate than the budget: " << r.output;
+  for (const auto& u : untimed) {
+    const std::string k = u.at("variant");
+    EXPECT_GT(still.at(k), bound) << k;
+    EXPECT_FALSE(timed.count(k)) << k;
+    EXPECT_TRUE(trained.count(k)) << k << " keeps its training rows";
+  }
+  EXPECT_EQ(timed.size() + untimed.size(), still.size());
+  EXPECT_NE(r.output.find(fmt::format("held-out view: timed {} of {}", timed.size(), still.size())), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -1,0 +1,68 @@
+#include "ship/holdout.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <optional>
+
+#include <fmt/format.h>
+
+namespace aovar::ship {
+
+namespace {
+
+// Each variant's worst (max) still rmse over the held-out rows.
+std::map<std::string, double> worst_rmse(const table::CostTable& stills) {
+  std::map<std::string, double> out;
+  for (const auto& r : stills.rows) {
+    if (!r.error || std::isnan(r.error->rmse)) continue;
+    auto [it, fresh] = out.try_emplace(r.variant, r.error->rmse);
+    if (!fresh) it->second = std::max(it->second, r.error->rmse);
+  }
+  return out;
+}
+
+// The highest held-out rmse the query could still choose, with the rule in words; nullopt: no bound.
+std::optional<std::pair<double, std::string>> bound_of(const std::map<std::string, double>& rmse,
+                                                       const std::vector<std::string>& survivors,
+                                                       const decide::SelectQuery& q) {
+  if (!q.budget_of.empty()) {
+    auto it = rmse.find(q.budget_of);
+    if (it == rmse.end()) return std::nullopt;
+    const double bound = it->second * (1 + q.tolerance);
+    return std::pair{bound, fmt::format("rmse <= {:.5f} ({}'s {:.5f} + {:g} %, select's tolerance)", bound, q.budget_of,
+                                        it->second, 100 * q.tolerance)};
+  }
+  if (q.max_error) {
+    double lowest = INFINITY;
+    for (const auto& k : survivors)
+      if (auto it = rmse.find(k); it != rmse.end()) lowest = std::min(lowest, it->second);
+    if (lowest > *q.max_error)  // nothing fits: the nearest (lowest error) is what select reports
+      return std::pair{lowest, fmt::format("none within --max-error {:g}: the lowest rmse {:.5f} only, the nearest", *q.max_error, lowest)};
+    return std::pair{*q.max_error, fmt::format("rmse <= {:g} (--max-error)", *q.max_error)};
+  }
+  return std::nullopt;  // --budget-ms: a candidate's time decides, and it is not known yet
+}
+
+}  // namespace
+
+HoldoutPlan plan_holdout_timing(const table::CostTable& stills, const std::vector<std::string>& survivors,
+                                const decide::SelectQuery& q) {
+  const std::map<std::string, double> rmse = worst_rmse(stills);
+  const auto bound = bound_of(rmse, survivors, q);
+  HoldoutPlan plan;
+  plan.rule = bound ? bound->second : "every survivor (the query's bound needs times)";
+  for (const auto& k : survivors) {
+    auto it = rmse.find(k);
+    if (!bound || it == rmse.end() || it->second <= bound->first || k == q.budget_of) {
+      plan.timed.push_back(k);
+      continue;
+    }
+    plan.untimed.push_back({k, it->second,
+                            fmt::format("held-out rmse {:.5f} > {:.5f}: the query cannot choose it", it->second, bound->first)});
+  }
+  std::sort(plan.timed.begin(), plan.timed.end());
+  return plan;
+}
+
+}  // namespace aovar::ship

@@ -1,0 +1,39 @@
+#pragma once
+// Which of the race's survivors `aovar ship` times on the held-out views (issue 35). The held-out views
+// serve one purpose: the selection. Their still errors are rendered first (one render, no timing), and a
+// survivor is timed there only when the query could choose it whatever its time turns out to be:
+//   --budget-of K: its held-out rmse is at most K's times (1 + the query's tolerance). K always fits its
+//     own budget, so the choice has K's rmse or less; the tolerance keeps what `select` would still name as
+//     worth considering (a faster one with nearly the choice's rmse);
+//   --max-error E: its held-out rmse is at most E (nothing else fits). When none is, the lowest-error one
+//     is timed, for the nearest that `select` reports;
+//   --budget-ms X: every survivor (without its time, nothing rules a candidate out).
+// The rest keep their training-view rows (they stay on the training front); the reason each was not timed
+// is recorded in the table's meta.
+#include <string>
+#include <vector>
+
+#include "decide/select.h"
+#include "table/table.h"
+
+namespace aovar::ship {
+
+struct HoldoutSkip {
+  std::string variant;
+  double rmse = 0;     // its worst held-out still error
+  std::string reason;  // "held-out rmse 0.0712 > 0.0622, what the budget allows: cannot be chosen"
+};
+
+struct HoldoutPlan {
+  std::vector<std::string> timed;  // sorted
+  std::vector<HoldoutSkip> untimed;
+  std::string rule;                // the cut, in words ("rmse <= 0.0622 (alchemy-…'s 0.0610 + 2 %)")
+};
+
+// `stills`: the held-out still rows (error, no time) of the survivors; `survivors`: their keys. A survivor
+// without a still error is timed (nothing is known against it); so is every survivor when the budget's own
+// variant has no still error (the cut has no bound).
+HoldoutPlan plan_holdout_timing(const table::CostTable& stills, const std::vector<std::string>& survivors,
+                                const decide::SelectQuery& query);
+
+}  // namespace aovar::ship
