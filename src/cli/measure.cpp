@@ -82,7 +82,7 @@ ExitCode run_measure(const MeasureArgs& a) {
   o.truth.mode = reference::parse_mode(a.reference_mode);
   if (o.truth.rays < 1) throw std::runtime_error("--rays must be at least 1");
   o.truth.cache = a.common.cache();
-  const auto cal_file = a.calibration.load(a.common.manifest, o.calibration.values, o.calibration.file, o.calibration.hash);
+  const auto cal_file = a.calibration.load(a.common.manifest, o.calibration.values, o.calibration.source);
   o.globs = a.common.globs;
   o.jobs = a.common.jobs;
   o.size = parse_size(a.size);

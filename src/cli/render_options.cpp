@@ -17,13 +17,12 @@ std::filesystem::path CalibrationOption::resolve(const std::string& manifest) co
 }
 
 std::filesystem::path CalibrationOption::load(const std::string& manifest,
-                                              std::map<std::string, render::ParamOverrides>& values, std::string& file,
-                                              std::string& hash) const {
+                                              std::map<std::string, render::ParamOverrides>& values,
+                                              table::CalibrationRef& source) const {
   const auto path = resolve(manifest);
   if (path.empty()) return path;
   values = calibrate::load_calibration(path, variants::load_manifest(manifest));
-  const auto source = calibrate::calibration_source(path);
-  file = source.file, hash = source.hash;
+  source = calibrate::calibration_source(path);
   return path;
 }
 

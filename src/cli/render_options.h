@@ -27,9 +27,9 @@ struct CalibrationOption {
   // The file that applies: empty with --no-calibration or when there is none.
   std::filesystem::path resolve(const std::string& manifest) const;
   // The values of resolve()'s file, checked against the manifest (calibrate::load_calibration), into
-  // `values`, and what measure.json and the cost table record about it into file / hash. Returns the file.
+  // `values`, and what measure.json and the cost table record about it into `source`. Returns the file.
   std::filesystem::path load(const std::string& manifest, std::map<std::string, render::ParamOverrides>& values,
-                             std::string& file, std::string& hash) const;
+                             table::CalibrationRef& source) const;
 };
 void add_calibration(CLI::App* cmd, CalibrationOption& o, const std::string& help);
 inline constexpr const char* calibration_help = "calibration file (default: calibration.json next to the manifest)";

@@ -75,8 +75,8 @@ stress::Options stress_options(const StressArgs& a) {
   o.reuse = !a.no_reuse;
   o.mediump_fp16 = !a.mediump_fp32;
   if (!a.common.no_cache) o.cache_dir = o.reference_cache = a.common.cache();
-  std::string file, hash;  // stress records no calibration source
-  a.calibration.load(a.common.manifest, o.calibration, file, hash);
+  table::CalibrationRef unrecorded;  // stress records no calibration source
+  a.calibration.load(a.common.manifest, o.calibration, unrecorded);
   o.cases = selected_cases(a);
   const shard::ShardSpec spec = shard_option(a.shard);
   o.shard_index = spec.index;

@@ -46,7 +46,7 @@ ExitCode run_sweep(const SweepArgs& a) {
   if (m.truth.rays < 1) throw std::runtime_error("--rays must be at least 1");
   m.cache_dir = m.truth.cache = a.common.cache();
   o.gpu = a.gpu.options();
-  const auto cal_file = a.calibration.load(a.common.manifest, m.calibration.values, m.calibration.file, m.calibration.hash);
+  const auto cal_file = a.calibration.load(a.common.manifest, m.calibration.values, m.calibration.source);
   // Every view of each scene: 3 for the built-in scenes and the derived views of a mesh.
   const std::size_t views = (m.views.empty() ? 3 : m.views.size()) * std::max<std::size_t>(o.scenes.size(), 1);
   check_whole_space(a.common.manifest, a.common.globs, a.all,

@@ -61,7 +61,7 @@ struct GroundTruth {
 // Calibrated parameter values by algorithm (aovar calibrate) and where they came from; --param wins over them.
 struct CalibrationInUse {
   std::map<std::string, render::ParamOverrides> values;
-  std::string file, hash;  // recorded; empty: none
+  table::CalibrationRef source;  // what measure.json and the cost table record; empty: none
 };
 
 struct MeasureOptions {

@@ -132,8 +132,7 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   m.jobs = o.jobs;
   m.truth.rays = o.rays;
   m.calibration.values = fit.values;
-  m.calibration.file = fit.source.file;
-  m.calibration.hash = fit.source.hash;
+  m.calibration.source = fit.source;
   m.cache_dir = m.truth.cache = o.cache_dir;
   s.prune_by_profile = false;  // ship pruned already (the skip list), with the profile of all views
   m.images = m.truth.temporal = final_round;
@@ -158,7 +157,7 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
 // What a screen depends on beyond the fit: a join takes only shards whose screens had the same.
 std::string screen_inputs(const Fitted& fit, const sweep::SweepOptions& so) {
   const measure::MeasureOptions& m = so.measure;
-  const json inputs = {{"fit", fit.inputs},     {"calibration", m.calibration.hash},
+  const json inputs = {{"fit", fit.inputs},     {"calibration", m.calibration.source.hash},
                        {"globs", m.globs},      {"skip", m.skip},
                        {"views", m.views},      {"backends", m.backends},
                        {"size", fmt::format("{}x{}", m.size.width, m.size.height)},

@@ -151,9 +151,8 @@ table::SweepMeta table_meta(const SweepOptions& o, const SweepResult& res, std::
   m.reps_reached = res.reps.to_json();
   m.rays = o.measure.truth.rays;
   m.calibrated = !o.measure.calibration.values.empty();
-  m.calibration = o.measure.calibration.file.empty()
-                      ? std::optional<table::CalibrationRef>()
-                      : table::CalibrationRef{o.measure.calibration.file, o.measure.calibration.hash};
+  m.calibration = o.measure.calibration.source.file.empty() ? std::optional<table::CalibrationRef>()
+                                                             : o.measure.calibration.source;
   m.shard = fmt::format("{}/{}", o.shard_index + 1, o.shard_count);
   m.cost_models = std::move(models);
   m.profile_prune = o.prune_by_profile;
