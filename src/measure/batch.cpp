@@ -221,7 +221,8 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
     run.prepare_s = seconds_since(prep_start);
 
     TimingOptions to{o_.timing.warmup, o_.timing.reps, res_.radius, o_.timing.camera_path, o_.timing.auto_reps, std::nullopt};
-    if (o_.timing.auto_reps && o_.timing.race_errors) to.retire = retire_rule(ref, todo, lo, hi, view.name);
+    if (o_.timing.auto_reps && (o_.timing.race_errors || o_.timing.race_budget))
+      to.retire = retire_rule(ref, todo, lo, hi, view.name);
     auto still_frames = [&] {  // per pipeline, the frames its still needs (both halves of a progressive one)
       std::vector<int> frames{ref.plan.progressive ? 2 : 1};
       for (std::size_t i = lo; i < hi; ++i) frames.push_back(todo[i].plan.progressive ? 2 : 1);
@@ -281,10 +282,11 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
 Retire BatchMeasurer::retire_rule(const Candidate& reference, const std::vector<Candidate>& todo, std::size_t lo,
                                   std::size_t hi, const std::string& view) const {
   auto known = [&](const Candidate& c) {
+    if (!o_.timing.race_errors) return double(NAN);
     auto it = o_.timing.race_errors->find({c.plan.variant, view});
     return it == o_.timing.race_errors->end() ? NAN : it->second;
   };
-  Retire r{{known(reference)}, o_.timing.race_margin};
+  Retire r{{known(reference)}, o_.timing.race_margin, o_.timing.race_budget};
   for (std::size_t i = lo; i < hi; ++i) r.known_error.push_back(known(todo[i]));
   return r;
 }

@@ -44,6 +44,9 @@ struct TimingPlan {
   // beyond race_margin there (timing.h, Retire). Null: every row is timed to its target or cap.
   std::shared_ptr<const std::map<std::pair<std::string, std::string>, double>> race_errors;
   double race_margin = 1.0;
+  // The baseline is a selection's budget (ship's held-out views under --budget-of): with auto_reps, a variant
+  // slower than it beyond race_margin stops being timed, whatever its error: it cannot be chosen.
+  bool race_budget = false;
 };
 
 // Ground truth (--reference): every row gets `error` against a ray-traced reference of its view at the

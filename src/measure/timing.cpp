@@ -128,11 +128,16 @@ Stop stop_of(const PipelineTiming& t, const PipelineTiming& reference, int min_r
 }
 
 // Retire's rule for pipeline i: some j with a lower known error whose rounds, paired with i's (the rounds
-// both ran, from the first), give i / j an interval at or above the margin.
+// both ran, from the first), give i / j an interval at or above the margin; or, with reference_is_budget,
+// the reference (j = 0) whatever its error.
 bool dominated(const std::vector<PipelineTiming>& pipelines, std::size_t i, const Retire& retire) {
+  const PipelineTiming& t = pipelines[i];
+  if (retire.reference_is_budget) {  // over the budget beyond the margin: never chosen
+    const util::Interval ci = util::median_interval(round_ratios(t, pipelines[0]));
+    if (ci.known() && ci.lo >= retire.margin) return true;
+  }
   const double error = i < retire.known_error.size() ? retire.known_error[i] : NAN;
   if (!std::isfinite(error)) return false;
-  const PipelineTiming& t = pipelines[i];
   for (std::size_t j = 0; j < pipelines.size() && j < retire.known_error.size(); ++j) {
     if (j == i || !(retire.known_error[j] < error)) continue;  // NaN compares false: unknown never retires
     const util::Interval ci = util::median_interval(round_ratios(t, pipelines[j]));

@@ -27,9 +27,12 @@ struct AutoReps {
 // error is known stops being timed once another pipeline of its batch with a lower known error is faster
 // beyond `margin`: the 95 % sign-test interval of their per-round time ratio lies wholly at or above it.
 // More rounds would only narrow an interval the race no longer needs; the rounds it had stay in its row.
+// With `reference_is_budget` the reference is also the budget of a selection (ship's held-out views under
+// --budget-of): a pipeline slower than it beyond `margin` cannot be chosen, whatever its error, and retires.
 struct Retire {
   std::vector<double> known_error;  // per pipeline, as ordered for time_round_robin; NaN: unknown (never compared)
   double margin = 1.0;
+  bool reference_is_budget = false;
 };
 
 struct TimingOptions {

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
+#include <map>
+#include <memory>
 #include <set>
 #include <stdexcept>
 
@@ -128,12 +131,15 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   m.globs = globs;
   m.skip = skip;
   m.size = o.size;
+  m.timing.batch = o.batch;
   m.threads = o.threads;
   m.jobs = o.jobs;
   m.truth.rays = o.rays;
   m.calibration.values = fit.values;
   m.calibration.source = fit.source;
   m.cache_dir = m.truth.cache = o.cache_dir;
+  // The budget's variant is timed in every round: each candidate is compared with it in the same rounds.
+  if (!o.query.budget_of.empty()) m.baseline = o.query.budget_of;
   s.prune_by_profile = false;  // ship pruned already (the skip list), with the profile of all views
   m.images = m.truth.temporal = final_round;
   if (!o.target.empty()) {  // the time is the estimate: one render for the error
@@ -214,7 +220,7 @@ std::shared_ptr<const std::map<std::pair<std::string, std::string>, double>> sti
 // The survivors' still errors on the held-out views (a sweep with no timing into OUT/holdout, resumable like
 // every round) and which of them the held-out views time (holdout.h), recorded in `res`.
 HoldoutPlan plan_holdout(const ShipOptions& o, const Fitted& fit, const std::vector<std::string>& survivors,
-                         ShipResult& res, const Progress& say) {
+                         ShipResult& res, std::map<std::pair<std::string, std::string>, double>& errors, const Progress& say) {
   sweep::SweepOptions s = round_options(o, fit, res.holdout, survivors, {}, false);
   s.out = o.out / "holdout";
   s.measure.timing.reps = 1;
@@ -223,6 +229,8 @@ HoldoutPlan plan_holdout(const ShipOptions& o, const Fitted& fit, const std::vec
   const table::CostTable stills =
       sweep::run_sweep(s, [&](const std::string& line) { say("race: held-out stills: " + line); }).table;
   HoldoutPlan plan = plan_holdout_timing(stills, survivors, o.query);
+  for (const auto& r : stills.rows)
+    if (r.error) errors[{r.variant, r.view}] = r.error->rmse;
   res.holdout_rule = plan.rule;
   res.holdout_untimed = plan.untimed;
   return plan;
@@ -244,24 +252,29 @@ void eliminate_dominated(const table::CostTable& rows, const ShipOptions& o, con
 }
 
 // The measured backend's race with held-out views. The training views first: the rule looks at nothing else,
-// so what it eliminates is never rendered on the held-out views. Then the held-out views time only the
-// survivors the query could choose (holdout.h): that sweep of every view, into the same folder, reuses their
-// training rows. The others keep their training rows. `candidates`: the round's, `out`: its eliminated.
+// so what it eliminates is never rendered on the held-out views. Then the held-out views, into the same
+// folder, time only the survivors the query could choose (holdout.h), raced there by their held-out stills:
+// one stops once a more accurate one is faster beyond the margin, or, with --budget-of (the baseline of every
+// round), once the budget's variant is. The others keep their training rows. `candidates`: the round's,
+// `out`: its eliminated.
 table::CostTable race_then_holdout(const ShipOptions& o, const Fitted& fit, sweep::SweepOptions so, ShipResult& res,
                                    Round& r, std::set<std::string>& out, std::vector<std::string>& candidates,
                                    const Progress& say) {
   sweep::SweepOptions training = so;
   training.measure.views = res.training;
-  const table::CostTable first = round_rows(o, fit, training, true, res, r, say);
-  candidates = variants_of(first);
-  eliminate_dominated(first, o, r.name, out, res);
+  table::CostTable last = round_rows(o, fit, training, true, res, r, say);
+  candidates = variants_of(last);
+  eliminate_dominated(last, o, r.name, out, res);
+  std::erase_if(last.rows, [&](const table::CostRow& row) { return out.count(row.variant) > 0; });
   std::erase_if(so.measure.globs, [&](const std::string& k) { return out.count(k) > 0; });
-  const HoldoutPlan plan = plan_holdout(o, fit, so.measure.globs, res, say);
+  auto errors = std::make_shared<std::map<std::pair<std::string, std::string>, double>>(*so.measure.timing.race_errors);
+  const HoldoutPlan plan = plan_holdout(o, fit, so.measure.globs, res, *errors, say);
   so.measure.globs = plan.timed;
-  table::CostTable last = round_rows(o, fit, so, true, res, r, say);
-  for (const auto& row : first.rows)
-    if (!std::binary_search(plan.timed.begin(), plan.timed.end(), row.variant) && !out.count(row.variant))
-      last.rows.push_back(row);
+  so.measure.views = res.holdout;
+  so.measure.timing.race_errors = errors;
+  so.measure.timing.race_budget = !o.query.budget_of.empty();
+  table::CostTable holdout = round_rows(o, fit, so, true, res, r, say);
+  std::move(holdout.rows.begin(), holdout.rows.end(), std::back_inserter(last.rows));
   res.holdout_timed = int(plan.timed.size());
   return last;
 }
@@ -299,6 +312,7 @@ void check_options(const ShipOptions& o) {
   if (o.shard_count > 1 && !o.join.empty())
     throw std::runtime_error("ship: --shard and --join exclude each other (the shards screen, the join decides)");
   if (o.race_reps < 6) throw std::runtime_error("--race-reps must be at least 6 (fewer rounds give no 95 % interval)");
+  if (o.batch < 2) throw std::runtime_error("--batch must be at least 2 (the baseline and one candidate)");
   if (o.fit_evaluations < 1) throw std::runtime_error("--evaluations must be at least 1");
   if (o.target.find(',') != std::string::npos) throw std::runtime_error("--target takes one AMD family");
   if (!(o.race_margin >= 1.0 && o.race_margin < 10.0))

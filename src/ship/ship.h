@@ -41,6 +41,9 @@ struct ShipOptions {
   render::Extent size{640, 360};
   render::Extent fit_size{320, 180};       // calibration renders (calibrate's default)
   int fit_evaluations = 40;                // per method
+  // Pipelines prepared and timed together on a measured backend. Larger than a sweep's 24: the race retires a
+  // candidate only against a more accurate one of its own batch (measure::Retire).
+  int batch = 64;
   int race_reps = 6;                       // the first round: the fewest rounds whose sign-test interval is known
   double race_margin = 1.10;               // measured backends: eliminate on a slowdown whose interval is above it (race.h)
   measure::AutoReps final_reps;            // the second round: --reps auto with this target and cap

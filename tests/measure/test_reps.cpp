@@ -109,6 +109,22 @@ TEST(Reps, ARaceRetiresAPipelineAMoreAccurateOneBeatsBeyondTheMargin) {
   EXPECT_EQ(p[2].stop, Stop::running) << "below the minimum of rounds";
 }
 
+// The held-out views of ship under --budget-of: the reference is the budget, and a pipeline slower than it
+// beyond the margin cannot be chosen, however accurate; one within the margin, or faster, goes on.
+TEST(Reps, ABudgetReferenceRetiresWhatIsSlowerThanItBeyondTheMargin) {
+  std::vector<PipelineTiming> p{timed(steady(12, 10)), timed(noisy(12, 13, 0.3)), timed(noisy(12, 10.5, 0.3)),
+                                timed(noisy(12, 8, 0.3))};
+  const measure::Retire budget{{0.09, 0.01, 0.01, NAN}, 1.10, true};
+  measure::stop_after_round(p, 10, kRule, &budget);
+  EXPECT_EQ(p[1].stop, Stop::dominated) << "1.3x the budget's time, though the most accurate";
+  EXPECT_EQ(p[2].stop, Stop::running) << "1.05x: inside the margin";
+  EXPECT_EQ(p[3].stop, Stop::running) << "faster than the budget, its error unknown";
+  p = {timed(steady(12, 10)), timed(noisy(12, 13, 0.3))};
+  const measure::Retire no_budget{{0.09, 0.01}, 1.10};
+  measure::stop_after_round(p, 10, kRule, &no_budget);
+  EXPECT_EQ(p[1].stop, Stop::running) << "without the budget rule a more accurate one is never retired by time";
+}
+
 TEST(Reps, StopNamesRoundTrip) {
   for (Stop s : {Stop::running, Stop::fixed, Stop::target, Stop::cap, Stop::dominated})
     EXPECT_EQ(measure::stop_from_name(measure::stop_name(s)), s);
