@@ -1,6 +1,7 @@
 #include "ship/race.h"
 
 #include <algorithm>
+#include <map>
 
 #include <fmt/format.h>
 
@@ -47,6 +48,21 @@ std::vector<Elimination> dominated_beyond_noise(const table::CostTable& rows, co
     return std::tie(a.variant, a.backend) < std::tie(b.variant, b.backend);
   });
   return out;
+}
+
+std::vector<Elimination> same_code_eliminations(const table::CostTable& rows, const std::vector<Elimination>& eliminated) {
+  std::map<std::string, const Elimination*> by_variant;
+  for (const auto& e : eliminated) by_variant[e.variant] = &e;
+  std::map<std::string, Elimination> out;
+  for (const auto& r : rows.rows) {
+    auto it = by_variant.find(r.same_code_as);
+    if (it == by_variant.end() || by_variant.count(r.variant)) continue;
+    const Elimination& e = *it->second;
+    out.try_emplace(r.variant, Elimination{r.variant, r.backend, e.by, "runs the same code as " + e.variant + ", " + e.reason});
+  }
+  std::vector<Elimination> list;
+  for (auto& [k, e] : out) list.push_back(std::move(e));
+  return list;
 }
 
 }  // namespace aovar::ship

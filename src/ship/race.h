@@ -30,4 +30,9 @@ double margin_in_force(const std::string& target, double margin);
 std::vector<Elimination> dominated_beyond_noise(const table::CostTable& rows, const std::string& target = "",
                                                 double min_ratio = 1.0);
 
+// The variants whose rows in `rows` copy an eliminated one's (same_code_as: the same code on that backend, so no
+// candidacy of their own; measure/same_code.h), eliminated with it: the same dominating variant, the reason
+// prefixed with "runs the same code as KEY, ". Sorted by variant.
+std::vector<Elimination> same_code_eliminations(const table::CostTable& rows, const std::vector<Elimination>& eliminated);
+
 }  // namespace aovar::ship

@@ -244,11 +244,17 @@ std::vector<std::string> variants_of(const table::CostTable& t) {
 }
 
 // The race's rule on the training views of `rows`: what it eliminates goes into `out` and res.eliminated
-// (the budget's variant stays: select resolves the budget by it).
+// (the budget's variant stays: select resolves the budget by it). A variant that runs the same code as an
+// eliminated one (its rows are copies, same_code_as: no candidate of their own) goes with it; left in, it
+// would be measured on its own in the next round.
 void eliminate_dominated(const table::CostTable& rows, const ShipOptions& o, const std::string& round,
                          std::set<std::string>& out, ShipResult& res) {
-  for (const auto& e : dominated_beyond_noise(on_views(rows, res.training), o.target, o.race_margin))
-    if (e.variant != o.query.budget_of && out.insert(e.variant).second) res.eliminated.push_back({round, e});
+  std::vector<Elimination> now;
+  for (auto& e : dominated_beyond_noise(on_views(rows, res.training), o.target, o.race_margin))
+    if (e.variant != o.query.budget_of && out.insert(e.variant).second) now.push_back(std::move(e));
+  for (auto& e : same_code_eliminations(rows, now))
+    if (e.variant != o.query.budget_of && out.insert(e.variant).second) now.push_back(std::move(e));
+  for (auto& e : now) res.eliminated.push_back({round, std::move(e)});
 }
 
 // The measured backend's race with held-out views. The training views first: the rule looks at nothing else,

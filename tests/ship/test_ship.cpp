@@ -45,6 +45,27 @@ TEST(ShipRace, AClearlyDominatedCandidateIsDroppedAndATiedOneKept) {
   EXPECT_NE(es[0].reason.find("beyond the noise"), std::string::npos) << es[0].reason;
 }
 
+// A variant whose rows copy an eliminated one's (the same code: mediump where the driver ignores it) goes
+// with it; left in, the next round would measure it on its own.
+TEST(ShipRace, ACopyOfAnEliminatedVariantIsEliminatedWithIt) {
+  table::CostTable t;
+  t.rows.push_back(test::timed_row("fast-accurate", rounds(1.00, 1), 0.050));
+  t.rows.push_back(test::timed_row("slow-worse-hp", rounds(1.50, 2), 0.060));
+  auto copy = test::timed_row("slow-worse-mp", rounds(1.50, 2), 0.060);
+  copy.same_code_as = "slow-worse-hp";
+  t.rows.push_back(copy);
+  auto kept_copy = test::timed_row("fast-accurate-mp", rounds(1.00, 1), 0.050);
+  kept_copy.same_code_as = "fast-accurate";
+  t.rows.push_back(kept_copy);
+  const auto es = ship::dominated_beyond_noise(t);
+  ASSERT_EQ(es.size(), 1u) << "a copy is no candidate of its own";
+  const auto copies = ship::same_code_eliminations(t, es);
+  ASSERT_EQ(copies.size(), 1u);
+  EXPECT_EQ(copies[0].variant, "slow-worse-mp");
+  EXPECT_EQ(copies[0].by, "fast-accurate");
+  EXPECT_EQ(copies[0].reason.rfind("runs the same code as slow-worse-hp, slower", 0), 0u) << copies[0].reason;
+}
+
 TEST(ShipRace, EqualErrorIsNotDomination) {
   table::CostTable t;
   t.rows.push_back(test::timed_row("a", rounds(1.0, 5), 0.050));
