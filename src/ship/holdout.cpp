@@ -4,6 +4,8 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <stdexcept>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -62,7 +64,34 @@ HoldoutPlan plan_holdout_timing(const table::CostTable& stills, const std::vecto
                             fmt::format("held-out rmse {:.5f} > {:.5f}: the query cannot choose it", it->second, bound->first)});
   }
   std::sort(plan.timed.begin(), plan.timed.end());
+  plan.rmse = rmse;
+  plan.by_error = plan.timed;
+  const auto order = [&](const std::string& k) {  // the budget's variant first (every selection needs it), unrendered last
+    auto it = rmse.find(k);
+    return std::tuple(k != q.budget_of, it == rmse.end() ? INFINITY : it->second, k);
+  };
+  std::sort(plan.by_error.begin(), plan.by_error.end(),
+            [&](const std::string& a, const std::string& b) { return order(a) < order(b); });
   return plan;
+}
+
+std::optional<double> holdout_settled(const table::CostTable& rows, const HoldoutPlan& plan, std::size_t n,
+                                      const decide::SelectQuery& q) {
+  if (n >= plan.by_error.size()) return INFINITY;  // everything is timed
+  if (q.max_error) return std::nullopt;
+  decide::Selection s;
+  try {
+    s = decide::select(rows, q);
+  } catch (const std::runtime_error&) {  // the budget's row is missing: nothing to decide by yet
+    return std::nullopt;
+  }
+  if (!s.choice) return std::nullopt;
+  const double bound = s.choice->rmse * (1 + q.tolerance);
+  for (std::size_t i = n; i < plan.by_error.size(); ++i) {
+    auto it = plan.rmse.find(plan.by_error[i]);
+    if (it == plan.rmse.end() || it->second <= bound) return std::nullopt;
+  }
+  return bound;
 }
 
 }  // namespace aovar::ship

@@ -8,8 +8,14 @@
 //   --max-error E: its held-out rmse is at most E (nothing else fits). When none is, the lowest-error one
 //     is timed, for the nearest that `select` reports;
 //   --budget-ms X: every survivor (without its time, nothing rules a candidate out).
+// Under a budget the timing is then staged in order of held-out error (holdout_settled): the choice is the
+// most accurate survivor that fits, so once the most accurate ones timed hold a choice, every survivor less
+// accurate than it (beyond the tolerance) is left untimed too.
 // The rest keep their training-view rows (they stay on the training front); the reason each was not timed
 // is recorded in the table's meta.
+#include <cstddef>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,9 +31,11 @@ struct HoldoutSkip {
 };
 
 struct HoldoutPlan {
-  std::vector<std::string> timed;  // sorted
+  std::vector<std::string> timed;     // sorted
+  std::vector<std::string> by_error;  // `timed` in the order to time them: the budget's variant, then by rmse
+  std::map<std::string, double> rmse;  // each survivor's worst held-out still rmse (where rendered)
   std::vector<HoldoutSkip> untimed;
-  std::string rule;                // the cut, in words ("rmse <= 0.0622 (alchemy-…'s 0.0610 + 2 %)")
+  std::string rule;                   // the cut, in words ("rmse <= 0.0622 (alchemy-…'s 0.0610 + 2 %)")
 };
 
 // `stills`: the held-out still rows (error, no time) of the survivors; `survivors`: their keys. A survivor
@@ -35,5 +43,12 @@ struct HoldoutPlan {
 // variant has no still error (the cut has no bound).
 HoldoutPlan plan_holdout_timing(const table::CostTable& stills, const std::vector<std::string>& survivors,
                                 const decide::SelectQuery& query);
+
+// Staged timing under --budget-of or --budget-ms: `rows` holds the held-out rows of the first `n` of
+// plan.by_error. When `select` makes a choice among them and every survivor after them has a held-out rmse
+// above the choice's plus the query's tolerance, no later one can be chosen or named worth considering:
+// returns that bound. nullopt: time more (never settled before all under --max-error, whose plan is its cut).
+std::optional<double> holdout_settled(const table::CostTable& rows, const HoldoutPlan& plan, std::size_t n,
+                                      const decide::SelectQuery& query);
 
 }  // namespace aovar::ship

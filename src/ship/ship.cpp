@@ -116,6 +116,12 @@ Fitted fit_methods(const ShipOptions& o, const scene::Scene& sc, const calibrate
 // only the frames each still needs (no timed frame) and the front one timed frame, for its report.
 const char* round_name(bool target, bool final_round) { return !final_round ? "screen" : target ? "front" : "race"; }
 
+// The race stops timing a candidate once another of its batch is faster beyond the noise and more accurate
+// (measure::Retire): no margin, since that decides only how long it is timed, not whether it stays. Under
+// --budget-of (the held-out views) the same holds for the budget's variant: select's test of a fit is "not
+// slower beyond the noise".
+constexpr double kRetireMargin = 1.0;
+
 // One round: a sweep of `globs` (minus `skip`) on every view into OUT/<name>, resumable.
 sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const std::vector<std::string>& views,
                                   const std::vector<std::string>& globs, const std::set<std::string>& skip,
@@ -257,6 +263,33 @@ void eliminate_dominated(const table::CostTable& rows, const ShipOptions& o, con
   for (auto& e : now) res.eliminated.push_back({round, std::move(e)});
 }
 
+// The held-out timing of `plan` under a budget: kHoldoutChunk survivors at a time in order of held-out error,
+// each sweep reusing the rows before it, until holdout_settled; the survivors left are recorded as untimed.
+constexpr std::size_t kHoldoutChunk = 8;
+
+table::CostTable time_holdout_in_error_order(const ShipOptions& o, const Fitted& fit, sweep::SweepOptions so,
+                                             const HoldoutPlan& plan, ShipResult& res, Round& r, const Progress& say) {
+  decide::SelectQuery q = o.query;
+  q.backend = o.backend;
+  std::size_t n = 0;
+  table::CostTable rows;
+  std::optional<double> settled;
+  while (!settled) {
+    n = o.query.max_error ? plan.by_error.size() : std::min(plan.by_error.size(), n + kHoldoutChunk);
+    so.measure.globs.assign(plan.by_error.begin(), plan.by_error.begin() + std::ptrdiff_t(n));
+    rows = round_rows(o, fit, so, true, res, r, say);
+    settled = holdout_settled(rows, plan, n, q);
+  }
+  for (std::size_t i = n; i < plan.by_error.size(); ++i) {
+    const std::string& k = plan.by_error[i];
+    res.holdout_untimed.push_back(
+        {k, plan.rmse.at(k), fmt::format("held-out rmse {:.5f} > {:.5f}, the choice's among the more accurate ones timed + {:g} %: "
+                                         "not chosen, whatever its time", plan.rmse.at(k), *settled / (1 + q.tolerance), 100 * q.tolerance)});
+  }
+  res.holdout_timed = int(n);
+  return rows;
+}
+
 // The measured backend's race with held-out views. The training views first: the rule looks at nothing else,
 // so what it eliminates is never rendered on the held-out views. Then the held-out views, into the same
 // folder, time only the survivors the query could choose (holdout.h), raced there by their held-out stills:
@@ -275,13 +308,11 @@ table::CostTable race_then_holdout(const ShipOptions& o, const Fitted& fit, swee
   std::erase_if(so.measure.globs, [&](const std::string& k) { return out.count(k) > 0; });
   auto errors = std::make_shared<std::map<std::pair<std::string, std::string>, double>>(*so.measure.timing.race_errors);
   const HoldoutPlan plan = plan_holdout(o, fit, so.measure.globs, res, *errors, say);
-  so.measure.globs = plan.timed;
   so.measure.views = res.holdout;
   so.measure.timing.race_errors = errors;
   so.measure.timing.race_budget = !o.query.budget_of.empty();
-  table::CostTable holdout = round_rows(o, fit, so, true, res, r, say);
+  table::CostTable holdout = time_holdout_in_error_order(o, fit, so, plan, res, r, say);
   std::move(holdout.rows.begin(), holdout.rows.end(), std::back_inserter(last.rows));
-  res.holdout_timed = int(plan.timed.size());
   return last;
 }
 
@@ -404,9 +435,12 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
     // The screen decides on the training views only (its eliminations look at nothing else), so it renders
     // nothing else; the survivors are measured on every view, the held-out one for the choice.
     sweep::SweepOptions so = round_options(o, fit, final_round ? views : res.training, globs, skip, final_round);
-    if (final_round && o.target.empty()) {  // the race times a view's beaten candidates no longer than it must
+    // The race times a view's beaten candidates no longer than it must: one stops once a more accurate one of
+    // its batch is faster beyond the noise in the same rounds. It is off the front then, whatever more rounds
+    // would show; whether it leaves the table is the elimination's call, with --race-margin, after the round.
+    if (final_round && o.target.empty()) {
       so.measure.timing.race_errors = still_errors(last);
-      so.measure.timing.race_margin = o.race_margin;
+      so.measure.timing.race_margin = kRetireMargin;
     }
     r.timing = !o.target.empty() ? "one render, estimate on " + o.target
                : final_round     ? measure::reps_words(so.measure)

@@ -200,6 +200,8 @@ TEST(ShipHoldout, BudgetOfTimesOnlyWhatIsAtMostTheBudgetsErrorPlusTheTolerance) 
   const std::vector<std::string> survivors = {"accurate", "base", "better", "no-still", "within-tol"};
   const ship::HoldoutPlan p = ship::plan_holdout_timing(partial, survivors, q);
   EXPECT_EQ(p.timed, (std::vector<std::string>{"accurate", "base", "no-still", "within-tol"}));
+  EXPECT_EQ(p.by_error, (std::vector<std::string>{"base", "accurate", "within-tol", "no-still"}))
+      << "the budget first, then by error, the unrendered last";
   EXPECT_EQ(untimed_keys(p), std::vector<std::string>{"better"});
   EXPECT_DOUBLE_EQ(p.untimed[0].rmse, 0.070);
   EXPECT_NE(p.rule.find("base"), std::string::npos) << p.rule;
@@ -214,6 +216,29 @@ TEST(ShipHoldout, MaxErrorTimesWhatFitsOrElseTheNearest) {
   const ship::HoldoutPlan none = ship::plan_holdout_timing(t, {"a", "b", "c"}, q);
   EXPECT_EQ(none.timed, std::vector<std::string>{"a"});
   EXPECT_EQ(untimed_keys(none), (std::vector<std::string>{"b", "c"}));
+}
+
+// Staged in order of error: the choice among the most accurate ones timed is the choice among all once every
+// survivor after them is less accurate than it beyond the tolerance.
+TEST(ShipHoldout, TheTimingStopsOnceNoSurvivorLeftCouldBeChosenOrConsidered) {
+  ship::HoldoutPlan plan;
+  plan.by_error = {"base", "a", "b", "c", "d"};
+  plan.rmse = {{"base", 0.06}, {"a", 0.03}, {"b", 0.04}, {"c", 0.0405}, {"d", 0.05}};
+  table::CostTable rows;
+  rows.rows.push_back(test::timed_row("base", std::vector<double>(8, 1.0), 0.06));
+  rows.rows.push_back(test::timed_row("a", rounds(1.5, 11), 0.03));  // the most accurate, over the budget
+  rows.rows.push_back(test::timed_row("b", rounds(0.8, 12), 0.04));  // fits: the choice so far
+  decide::SelectQuery q;
+  q.budget_of = "base";
+  EXPECT_FALSE(ship::holdout_settled(rows, plan, 3, q)) << "c (0.0405) is within 2 % of b's 0.04: select may name it";
+  rows.rows.push_back(test::timed_row("c", rounds(0.9, 13), 0.0405));
+  const auto bound = ship::holdout_settled(rows, plan, 4, q);
+  ASSERT_TRUE(bound);
+  EXPECT_DOUBLE_EQ(*bound, 0.04 * 1.02) << "d (0.05) cannot be chosen";
+  q = {};
+  q.max_error = 0.045;
+  EXPECT_FALSE(ship::holdout_settled(rows, plan, 4, q)) << "--max-error's plan is its cut: all of it is timed";
+  EXPECT_TRUE(ship::holdout_settled(rows, plan, 5, q));
 }
 
 TEST(ShipHoldout, ABudgetInMillisecondsOrAMissingBudgetVariantTimesEverySurvivor) {
