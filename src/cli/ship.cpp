@@ -69,8 +69,9 @@ Command add_ship(CLI::App& app) {
   cmd->add_option("--fit-size", a->fit_size, "calibration render size WxH")->capture_default_str();
   cmd->add_option("--evaluations", so.fit_evaluations, "objective evaluations per method fit")->capture_default_str();
   cmd->add_option("--race-reps", so.race_reps, "timed rounds of the first round of the race")->capture_default_str();
-  cmd->add_option("--batch", so.batch, "measured backends: pipelines prepared and timed together (the race retires within one)")
-      ->capture_default_str();
+  cmd->add_option("--batch", so.batch,
+                  "measured backends: pipelines prepared and timed together (the race retires within one; default 128 "
+                  "at 640x360 or less, fewer for larger frames, at least 24)");
   cmd->add_option("--race-margin", so.race_margin,
                   "measured backends: eliminate only when the slowdown's 95 % interval lies above this ratio")
       ->capture_default_str();

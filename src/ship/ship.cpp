@@ -116,6 +116,8 @@ Fitted fit_methods(const ShipOptions& o, const scene::Scene& sc, const calibrate
 // only the frames each still needs (no timed frame) and the front one timed frame, for its report.
 const char* round_name(bool target, bool final_round) { return !final_round ? "screen" : target ? "front" : "race"; }
 
+int batch_of(const ShipOptions& o) { return o.batch > 0 ? o.batch : batch_for(o.size); }
+
 // The race stops timing a candidate once another of its batch is faster beyond the noise and more accurate
 // (measure::Retire): no margin, since that decides only how long it is timed, not whether it stays. Under
 // --budget-of (the held-out views) the same holds for the budget's variant: select's test of a fit is "not
@@ -123,9 +125,10 @@ const char* round_name(bool target, bool final_round) { return !final_round ? "s
 constexpr double kRetireMargin = 1.0;
 
 // One round: a sweep of `globs` (minus `skip`) on every view into OUT/<name>, resumable.
+// With `still_screen` a measured backend's screen renders stills only, as with a target (see run_ship).
 sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const std::vector<std::string>& views,
                                   const std::vector<std::string>& globs, const std::set<std::string>& skip,
-                                  bool final_round) {
+                                  bool final_round, bool still_screen = false) {
   sweep::SweepOptions s;
   s.scenes = {o.scene};
   s.out = o.out / round_name(!o.target.empty(), final_round);
@@ -137,7 +140,7 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   m.globs = globs;
   m.skip = skip;
   m.size = o.size;
-  m.timing.batch = o.batch;
+  m.timing.batch = batch_of(o);
   m.threads = o.threads;
   m.jobs = o.jobs;
   m.truth.rays = o.rays;
@@ -148,12 +151,12 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   if (!o.query.budget_of.empty()) m.baseline = o.query.budget_of;
   s.prune_by_profile = false;  // ship pruned already (the skip list), with the profile of all views
   m.images = m.truth.temporal = final_round;
-  if (!o.target.empty()) {  // the time is the estimate: one render for the error
+  if (!o.target.empty() || (still_screen && !final_round)) {  // one render for the error
     m.timing.reps = 1;
     m.timing.warmup = 0;
     m.timing.still_only = !final_round;  // the front's rows keep one timed frame: its report draws time against error
     // The screen renders only: its candidates are estimated afterwards, in order of error (bounded_estimate.h).
-    if (final_round) s.gpu.families = {o.target};
+    if (final_round && !o.target.empty()) s.gpu.families = {o.target};
     s.gpu.frame = o.gpu_frame;
     s.gpu.window = o.gpu_window;
   } else if (final_round) {
@@ -349,7 +352,7 @@ void check_options(const ShipOptions& o) {
   if (o.shard_count > 1 && !o.join.empty())
     throw std::runtime_error("ship: --shard and --join exclude each other (the shards screen, the join decides)");
   if (o.race_reps < 6) throw std::runtime_error("--race-reps must be at least 6 (fewer rounds give no 95 % interval)");
-  if (o.batch < 2) throw std::runtime_error("--batch must be at least 2 (the baseline and one candidate)");
+  if (o.batch != 0 && o.batch < 2) throw std::runtime_error("--batch must be at least 2 (the baseline and one candidate)");
   if (o.fit_evaluations < 1) throw std::runtime_error("--evaluations must be at least 1");
   if (o.target.find(',') != std::string::npos) throw std::runtime_error("--target takes one AMD family");
   if (!(o.race_margin >= 1.0 && o.race_margin < 10.0))
@@ -398,6 +401,11 @@ ProfiledSpace profile_space(const ShipOptions& o, const scene::Scene& sc, const 
 
 }  // namespace
 
+int batch_for(render::Extent size) {
+  const double pixels = double(size.width) * size.height, reference = 640.0 * 360.0;
+  return std::clamp(int(128 * reference / std::max(pixels, reference)), 24, 128);
+}
+
 ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
   const auto start = std::chrono::steady_clock::now();
   check_options(o);
@@ -427,6 +435,11 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
 
   // 3. The race: a first round over the pruned space, the dominated eliminated, the survivors again.
   std::vector<std::string> globs = o.globs.empty() ? std::vector<std::string>{"*"} : o.globs;
+  // A measured backend's screen times its candidates a few rounds to cut the space down to what the race can
+  // time. When every candidate fits one batch of the race, the race itself does that cut in the same rounds
+  // (a candidate a more accurate one beats stops after them, measure::Retire) and the survivors go on without
+  // starting again: the screen then renders the stills the race needs, and times nothing.
+  const bool still_screen = o.target.empty() && res.selected - int(skip.size()) <= batch_of(o) - 1;
   table::CostTable last;
   for (const bool final_round : {false, true}) {
     Round r;
@@ -434,7 +447,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
     const auto t0 = std::chrono::steady_clock::now();
     // The screen decides on the training views only (its eliminations look at nothing else), so it renders
     // nothing else; the survivors are measured on every view, the held-out one for the choice.
-    sweep::SweepOptions so = round_options(o, fit, final_round ? views : res.training, globs, skip, final_round);
+    sweep::SweepOptions so = round_options(o, fit, final_round ? views : res.training, globs, skip, final_round, still_screen);
     // The race times a view's beaten candidates no longer than it must: one stops once a more accurate one of
     // its batch is faster beyond the noise in the same rounds. It is off the front then, whatever more rounds
     // would show; whether it leaves the table is the elimination's call, with --race-margin, after the round.
@@ -444,6 +457,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
     }
     r.timing = !o.target.empty() ? "one render, estimate on " + o.target
                : final_round     ? measure::reps_words(so.measure)
+               : still_screen    ? "no timing: the race's batch holds every candidate"
                                  : fmt::format("{} reps", so.measure.timing.reps);
     if (!final_round) r.timing += ", still error only";
     say(fmt::format("round {}: {} ({})", r.name,
@@ -476,7 +490,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
       return res;
     }
     if (candidates.empty()) candidates = variants_of(last);
-    eliminate(last);
+    if (final_round || !still_screen) eliminate(last);  // stills have no time to eliminate by
     r.candidates = int(candidates.size()) + untraced;
     r.eliminated = int(out.size()) + untraced;
     r.seconds = util::seconds_since(t0);

@@ -41,9 +41,9 @@ struct ShipOptions {
   render::Extent size{640, 360};
   render::Extent fit_size{320, 180};       // calibration renders (calibrate's default)
   int fit_evaluations = 40;                // per method
-  // Pipelines prepared and timed together on a measured backend. Larger than a sweep's 24: the race retires a
-  // candidate only against a more accurate one of its own batch (measure::Retire).
-  int batch = 64;
+  // Pipelines prepared and timed together on a measured backend; 0: batch_for(size). Larger than a sweep's 24
+  // where the frame allows: the race retires a candidate only against a more accurate one of its own batch.
+  int batch = 0;
   int race_reps = 6;                       // the first round: the fewest rounds whose sign-test interval is known
   double race_margin = 1.10;               // measured backends: eliminate on a slowdown whose interval is above it (race.h)
   measure::AutoReps final_reps;            // the second round: --reps auto with this target and cap
@@ -86,6 +86,10 @@ struct ShipResult {
 };
 
 using Progress = std::function<void(const std::string&)>;
+
+// The default --batch: 128 pipelines at 640x360 or less, fewer for larger frames (each prepared pipeline holds
+// its frame's render targets), never under a sweep's 24.
+int batch_for(render::Extent size);
 
 // Throws std::runtime_error with one line (scene, view, manifest, query and backend errors; an empty search).
 ShipResult run_ship(const ShipOptions& options, const Progress& progress = {});

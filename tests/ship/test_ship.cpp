@@ -66,6 +66,13 @@ TEST(ShipRace, ACopyOfAnEliminatedVariantIsEliminatedWithIt) {
   EXPECT_EQ(copies[0].reason.rfind("runs the same code as slow-worse-hp, slower", 0), 0u) << copies[0].reason;
 }
 
+TEST(ShipBatch, TheDefaultBatchShrinksWithTheFrameButNotBelowASweeps) {
+  EXPECT_EQ(ship::batch_for({320, 180}), 128);
+  EXPECT_EQ(ship::batch_for({640, 360}), 128);
+  EXPECT_EQ(ship::batch_for({1280, 720}), 32);
+  EXPECT_EQ(ship::batch_for({1920, 1080}), 24);
+}
+
 TEST(ShipRace, EqualErrorIsNotDomination) {
   table::CostTable t;
   t.rows.push_back(test::timed_row("a", rounds(1.0, 5), 0.050));
