@@ -393,7 +393,9 @@ void BatchMeasurer::finish_row(MeasureRow& row, runner::VariantRunner& runner, c
   if (o_.truth.enabled) {
     const auto& truth = ground_truth(view);
     row.error = runner::score(row.result, truth, view, res_.radius);  // with where the error comes from
-    if (o_.truth.temporal) temporal_errors(row, runner, cand.plan, p, view, truth);
+    // A row the race retired is off the front (Retire): its flicker, a view's path_frames more renders (and a
+    // pipeline more for a progressive one), would decide nothing.
+    if (o_.truth.temporal && timing.stop != Stop::dominated) temporal_errors(row, runner, cand.plan, p, view, truth);
     if (!o_.out.empty() && o_.images) {
       metrics::write_error_heatmap(o_.out / (rel + ".error.png"), row.result, truth.visibility, truth.background);
       row.error_map = rel + ".error.png";

@@ -57,7 +57,8 @@ struct GroundTruth {
   reference::Mode mode = reference::Mode::occlusion;
   std::filesystem::path cache;
   // Each row's flicker along its view's camera path, and a progressive variant's error from one frame
-  // (view.path_frames more renders a row). false: the still error only (ship's screening).
+  // (view.path_frames more renders a row), but for a row the race retired (Stop::dominated: off the front).
+  // false: the still error only (ship's screening).
   bool temporal = true;
 };
 

@@ -125,10 +125,9 @@ int batch_of(const ShipOptions& o) { return o.batch > 0 ? o.batch : batch_for(o.
 constexpr double kRetireMargin = 1.0;
 
 // One round: a sweep of `globs` (minus `skip`) on every view into OUT/<name>, resumable.
-// With `still_screen` a measured backend's screen renders stills only, as with a target (see run_ship).
 sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const std::vector<std::string>& views,
                                   const std::vector<std::string>& globs, const std::set<std::string>& skip,
-                                  bool final_round, bool still_screen = false) {
+                                  bool final_round) {
   sweep::SweepOptions s;
   s.scenes = {o.scene};
   s.out = o.out / round_name(!o.target.empty(), final_round);
@@ -151,12 +150,12 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   if (!o.query.budget_of.empty()) m.baseline = o.query.budget_of;
   s.prune_by_profile = false;  // ship pruned already (the skip list), with the profile of all views
   m.images = m.truth.temporal = final_round;
-  if (!o.target.empty() || (still_screen && !final_round)) {  // one render for the error
+  if (!o.target.empty()) {  // the time is the estimate: one render for the error
     m.timing.reps = 1;
     m.timing.warmup = 0;
     m.timing.still_only = !final_round;  // the front's rows keep one timed frame: its report draws time against error
     // The screen renders only: its candidates are estimated afterwards, in order of error (bounded_estimate.h).
-    if (final_round && !o.target.empty()) s.gpu.families = {o.target};
+    if (final_round) s.gpu.families = {o.target};
     s.gpu.frame = o.gpu_frame;
     s.gpu.window = o.gpu_window;
   } else if (final_round) {
@@ -435,11 +434,6 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
 
   // 3. The race: a first round over the pruned space, the dominated eliminated, the survivors again.
   std::vector<std::string> globs = o.globs.empty() ? std::vector<std::string>{"*"} : o.globs;
-  // A measured backend's screen times its candidates a few rounds to cut the space down to what the race can
-  // time. When every candidate fits one batch of the race, the race itself does that cut in the same rounds
-  // (a candidate a more accurate one beats stops after them, measure::Retire) and the survivors go on without
-  // starting again: the screen then renders the stills the race needs, and times nothing.
-  const bool still_screen = o.target.empty() && res.selected - int(skip.size()) <= batch_of(o) - 1;
   table::CostTable last;
   for (const bool final_round : {false, true}) {
     Round r;
@@ -447,7 +441,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
     const auto t0 = std::chrono::steady_clock::now();
     // The screen decides on the training views only (its eliminations look at nothing else), so it renders
     // nothing else; the survivors are measured on every view, the held-out one for the choice.
-    sweep::SweepOptions so = round_options(o, fit, final_round ? views : res.training, globs, skip, final_round, still_screen);
+    sweep::SweepOptions so = round_options(o, fit, final_round ? views : res.training, globs, skip, final_round);
     // The race times a view's beaten candidates no longer than it must: one stops once a more accurate one of
     // its batch is faster beyond the noise in the same rounds. It is off the front then, whatever more rounds
     // would show; whether it leaves the table is the elimination's call, with --race-margin, after the round.
@@ -457,7 +451,6 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
     }
     r.timing = !o.target.empty() ? "one render, estimate on " + o.target
                : final_round     ? measure::reps_words(so.measure)
-               : still_screen    ? "no timing: the race's batch holds every candidate"
                                  : fmt::format("{} reps", so.measure.timing.reps);
     if (!final_round) r.timing += ", still error only";
     say(fmt::format("round {}: {} ({})", r.name,
@@ -490,7 +483,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
       return res;
     }
     if (candidates.empty()) candidates = variants_of(last);
-    if (final_round || !still_screen) eliminate(last);  // stills have no time to eliminate by
+    eliminate(last);
     r.candidates = int(candidates.size()) + untraced;
     r.eliminated = int(out.size()) + untraced;
     r.seconds = util::seconds_since(t0);
