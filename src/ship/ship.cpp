@@ -271,6 +271,7 @@ constexpr std::size_t kHoldoutChunk = 8;
 
 table::CostTable time_holdout_in_error_order(const ShipOptions& o, const Fitted& fit, sweep::SweepOptions so,
                                              const HoldoutPlan& plan, ShipResult& res, Round& r, const Progress& say) {
+  if (plan.by_error.empty()) return {};  // no survivor to time (an empty glob list would select the whole space)
   decide::SelectQuery q = o.query;
   q.backend = o.backend;
   std::size_t n = 0;
