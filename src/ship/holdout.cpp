@@ -4,7 +4,6 @@
 #include <cmath>
 #include <map>
 #include <optional>
-#include <stdexcept>
 #include <tuple>
 
 #include <fmt/format.h>
@@ -78,13 +77,13 @@ HoldoutPlan plan_holdout_timing(const table::CostTable& stills, const std::vecto
 std::optional<double> holdout_settled(const table::CostTable& rows, const HoldoutPlan& plan, std::size_t n,
                                       const decide::SelectQuery& q) {
   if (n >= plan.by_error.size()) return INFINITY;  // everything is timed
-  if (q.max_error) return std::nullopt;
-  decide::Selection s;
-  try {
-    s = decide::select(rows, q);
-  } catch (const std::runtime_error&) {  // the budget's row is missing: nothing to decide by yet
-    return std::nullopt;
+  if (q.max_error || rows.rows.empty()) return std::nullopt;
+  if (!q.budget_of.empty()) {  // the budget's row resolves the budget: until it is timed there is nothing to decide by
+    const auto timed = decide::candidates(rows, q);
+    if (std::none_of(timed.begin(), timed.end(), [&](const decide::Candidate& c) { return c.variant == q.budget_of; }))
+      return std::nullopt;
   }
+  const decide::Selection s = decide::select(rows, q);
   if (!s.choice) return std::nullopt;
   const double bound = s.choice->rmse * (1 + q.tolerance);
   for (std::size_t i = n; i < plan.by_error.size(); ++i) {
@@ -92,6 +91,25 @@ std::optional<double> holdout_settled(const table::CostTable& rows, const Holdou
     if (it == plan.rmse.end() || it->second <= bound) return std::nullopt;
   }
   return bound;
+}
+
+HoldoutTiming time_in_error_order(const HoldoutPlan& plan, const decide::SelectQuery& q, const TimeSurvivors& time_first) {
+  HoldoutTiming out;
+  if (plan.by_error.empty()) return out;  // nothing to time (and no keys must never reach a sweep: none selects all)
+  std::optional<double> settled;
+  while (!settled) {
+    out.timed = q.max_error ? plan.by_error.size() : std::min(plan.by_error.size(), out.timed + kHoldoutChunk);
+    out.rows = time_first({plan.by_error.begin(), plan.by_error.begin() + std::ptrdiff_t(out.timed)});
+    settled = holdout_settled(out.rows, plan, out.timed, q);
+  }
+  for (std::size_t i = out.timed; i < plan.by_error.size(); ++i) {
+    const std::string& k = plan.by_error[i];
+    const double rmse = plan.rmse.at(k);
+    out.untimed.push_back({k, rmse, fmt::format("held-out rmse {:.5f} > {:.5f}, the choice's among the more accurate ones "
+                                                "timed + {:g} %: not chosen, whatever its time",
+                                                rmse, *settled / (1 + q.tolerance), 100 * q.tolerance)});
+  }
+  return out;
 }
 
 }  // namespace aovar::ship

@@ -14,6 +14,7 @@
 // The rest keep their training-view rows (they stay on the training front); the reason each was not timed
 // is recorded in the table's meta.
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -50,5 +51,20 @@ HoldoutPlan plan_holdout_timing(const table::CostTable& stills, const std::vecto
 // returns that bound. nullopt: time more (never settled before all under --max-error, whose plan is its cut).
 std::optional<double> holdout_settled(const table::CostTable& rows, const HoldoutPlan& plan, std::size_t n,
                                       const decide::SelectQuery& query);
+
+// The held-out timing of `plan`: kHoldoutChunk more of plan.by_error at a time until holdout_settled (all at
+// once under --max-error, whose plan is its cut). `time_first(keys)` times `keys` on the held-out views and
+// returns their rows; each call's keys extend the last's (a resumable sweep reuses what it timed).
+inline constexpr std::size_t kHoldoutChunk = 8;
+
+struct HoldoutTiming {
+  table::CostTable rows;            // the last call's: every timed survivor's held-out rows
+  std::size_t timed = 0;            // the first `timed` of plan.by_error
+  std::vector<HoldoutSkip> untimed;  // the rest, with why they could not be chosen
+};
+
+using TimeSurvivors = std::function<table::CostTable(const std::vector<std::string>& keys)>;
+HoldoutTiming time_in_error_order(const HoldoutPlan& plan, const decide::SelectQuery& query,
+                                  const TimeSurvivors& time_first);
 
 }  // namespace aovar::ship

@@ -13,23 +13,22 @@
 #include <nlohmann/json.hpp>
 
 #include "calibrate/calibrate.h"
-#include "calibrate/file.h"
 #include "decide/pareto.h"
 #include "gpu/by_key.h"
 #include "profile/scene_prune.h"
 #include "report/report.h"
 #include "scene/scene.h"
 #include "ship/bounded_estimate.h"
+#include "ship/fit.h"
+#include "ship/profiled_space.h"
 #include "ship/shards.h"
 #include "sweep/sweep.h"
 #include "util/clock.h"
 #include "util/fs.h"
 #include "util/hash.h"
 #include "variants/manifest.h"
-#include "variants/space.h"
 
 namespace aovar::ship {
-namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 namespace {
@@ -37,77 +36,6 @@ namespace {
 void check_query(const decide::SelectQuery& q) {
   const int criteria = int(q.budget_ms.has_value()) + int(!q.budget_of.empty()) + int(q.max_error.has_value());
   if (criteria != 1) throw std::runtime_error("ship: give exactly one of --budget-of KEY, --budget-ms X, --max-error E");
-}
-
-// The variants the globs select whose normals come from a buffer (rgb8, rg8, oct16): with a lean, normals
-// derived from depth match the reference better (docs/calibration.md), so the search leaves these out.
-std::set<std::string> buffered_normal_variants(const variants::Manifest& manifest, const std::vector<std::string>& globs) {
-  const int axis = variants::index(variants::Axis::normals);
-  std::set<std::string> keys;
-  for (const auto& e : variants::build_space(manifest, globs).variants)
-    if (e.point[axis] >= 0 && manifest.values[axis][e.point[axis]].text != "depth") keys.insert(e.key);
-  return keys;
-}
-
-std::string lean_text(const profile::Profile& p) {
-  std::string s;
-  for (const auto& v : p.views)
-    if (v.shading_normal_share_over_10deg >= 0)
-      s += fmt::format("{}{} {:.0f}%", s.empty() ? "" : ", ", v.view, 100 * v.shading_normal_share_over_10deg);
-  return s.empty() ? "not measured" : "buffered normals over 10 deg from their faces on " + s + " of the geometry";
-}
-
-// What the calibration depends on: when OUT/ship.json recorded the same, OUT/calibration.json is reused.
-std::string fit_inputs(const ShipOptions& o, const scene::Scene& sc, const calibrate::ViewSplit& split,
-                       const std::string& normals) {
-  util::Hasher h;
-  h.add(util::read_file(o.manifest).value_or("")).add(sc.content_hash).add(normals).add(o.backend);
-  for (const auto* group : {&split.training, &split.holdout})
-    for (const auto& v : *group) h.add(v.view).add(uint64_t(group == &split.training));
-  for (const auto& v : sc.views)
-    h.add(fmt::format("{} {} {} {} {} {} {} {}", v.name, v.eye.x, v.eye.y, v.eye.z, v.target.x, v.target.y, v.target.z, v.fov_y_deg));
-  h.add(uint64_t(o.fit_size.width)).add(uint64_t(o.fit_size.height)).add(uint64_t(o.fit_evaluations)).add(uint64_t(o.rays));
-  return h.hex();
-}
-
-struct Fitted {
-  std::map<std::string, render::ParamOverrides> values;
-  table::CalibrationRef source;
-  std::string inputs;  // fit_inputs
-  bool reused = false;
-};
-
-Fitted fit_methods(const ShipOptions& o, const scene::Scene& sc, const calibrate::ViewSplit& split,
-                   const std::string& normals, const variants::Manifest& manifest, const Progress& progress) {
-  const fs::path file = o.out / "calibration.json";
-  const std::string inputs = fit_inputs(o, sc, split, normals);
-  Fitted f;
-  f.inputs = inputs;
-  f.reused = fs::exists(file) && recorded_input(o.out, "fit_inputs") == inputs;
-  if (!f.reused && !o.join.empty()) {  // the shards fitted the same inputs: take theirs
-    adopt_shard_fit(o.join, inputs, o.out);
-    f.reused = true;
-  }
-  if (!f.reused) {
-    calibrate::CalibrateOptions co;
-    co.manifest = o.manifest;
-    co.fit_normals = normals;
-    co.backend = o.backend;
-    co.size = o.fit_size;
-    co.rays = o.rays;
-    co.views = split;
-    co.views_file = o.views_file;
-    co.budget.max_evaluations = o.fit_evaluations;
-    co.threads = o.threads;
-    co.compile_cache = co.reference_cache = o.cache_dir;
-    calibrate::write_calibration(file, calibrate::calibrate(co, [&](const std::string& line) {
-                                   if (progress) progress("fit: " + line);
-                                 }));
-    record_input(o.out, "fit_inputs", inputs);
-  }
-  f.values = calibrate::load_calibration(file, manifest);
-  f.source = calibrate::calibration_source(file);
-  return f;
 }
 
 // The rounds: a screen of every candidate (the still error only: no flicker along the camera path, no images),
@@ -237,8 +165,8 @@ HoldoutPlan plan_holdout(const ShipOptions& o, const Fitted& fit, const std::vec
   const table::CostTable stills =
       sweep::run_sweep(s, [&](const std::string& line) { say("race: held-out stills: " + line); }).table;
   HoldoutPlan plan = plan_holdout_timing(stills, survivors, o.query);
-  for (const auto& r : stills.rows)
-    if (r.error) errors[{r.variant, r.view}] = r.error->rmse;
+  const auto held_out = still_errors(stills);  // named: a range-for over *temporary would read a freed map (C++20)
+  for (const auto& [at, rmse] : *held_out) errors[at] = rmse;
   res.holdout_rule = plan.rule;
   res.holdout_untimed = plan.untimed;
   return plan;
@@ -265,34 +193,6 @@ void eliminate_dominated(const table::CostTable& rows, const ShipOptions& o, con
   for (auto& e : now) res.eliminated.push_back({round, std::move(e)});
 }
 
-// The held-out timing of `plan` under a budget: kHoldoutChunk survivors at a time in order of held-out error,
-// each sweep reusing the rows before it, until holdout_settled; the survivors left are recorded as untimed.
-constexpr std::size_t kHoldoutChunk = 8;
-
-table::CostTable time_holdout_in_error_order(const ShipOptions& o, const Fitted& fit, sweep::SweepOptions so,
-                                             const HoldoutPlan& plan, ShipResult& res, Round& r, const Progress& say) {
-  if (plan.by_error.empty()) return {};  // no survivor to time (an empty glob list would select the whole space)
-  decide::SelectQuery q = o.query;
-  q.backend = o.backend;
-  std::size_t n = 0;
-  table::CostTable rows;
-  std::optional<double> settled;
-  while (!settled) {
-    n = o.query.max_error ? plan.by_error.size() : std::min(plan.by_error.size(), n + kHoldoutChunk);
-    so.measure.globs.assign(plan.by_error.begin(), plan.by_error.begin() + std::ptrdiff_t(n));
-    rows = round_rows(o, fit, so, true, res, r, say);
-    settled = holdout_settled(rows, plan, n, q);
-  }
-  for (std::size_t i = n; i < plan.by_error.size(); ++i) {
-    const std::string& k = plan.by_error[i];
-    res.holdout_untimed.push_back(
-        {k, plan.rmse.at(k), fmt::format("held-out rmse {:.5f} > {:.5f}, the choice's among the more accurate ones timed + {:g} %: "
-                                         "not chosen, whatever its time", plan.rmse.at(k), *settled / (1 + q.tolerance), 100 * q.tolerance)});
-  }
-  res.holdout_timed = int(n);
-  return rows;
-}
-
 // The measured backend's race with held-out views. The training views first: the rule looks at nothing else,
 // so what it eliminates is never rendered on the held-out views. Then the held-out views, into the same
 // folder, time only the survivors the query could choose (holdout.h), raced there by their held-out stills:
@@ -314,8 +214,15 @@ table::CostTable race_then_holdout(const ShipOptions& o, const Fitted& fit, swee
   so.measure.views = res.holdout;
   so.measure.timing.race_errors = errors;
   so.measure.timing.race_budget = !o.query.budget_of.empty();
-  table::CostTable holdout = time_holdout_in_error_order(o, fit, so, plan, res, r, say);
-  std::move(holdout.rows.begin(), holdout.rows.end(), std::back_inserter(last.rows));
+  decide::SelectQuery q = o.query;
+  q.backend = o.backend;
+  HoldoutTiming holdout = time_in_error_order(plan, q, [&](const std::vector<std::string>& keys) {
+    so.measure.globs = keys;
+    return round_rows(o, fit, so, true, res, r, say);
+  });
+  res.holdout_timed = int(holdout.timed);
+  std::move(holdout.untimed.begin(), holdout.untimed.end(), std::back_inserter(res.holdout_untimed));
+  std::move(holdout.rows.rows.begin(), holdout.rows.rows.end(), std::back_inserter(last.rows));
   return last;
 }
 
@@ -362,41 +269,6 @@ void check_options(const ShipOptions& o) {
     request.families = {o.target};
     gpu::check_request(request);
   }
-}
-
-// What the search leaves out: the profile's drops and, with a normals lean, the buffered-normal variants (the
-// budget's own excepted). The counts and the lean are recorded in `res`.
-struct ProfiledSpace {
-  profile::ScenePruning pruning;
-  std::set<std::string> skip;
-};
-
-ProfiledSpace profile_space(const ShipOptions& o, const scene::Scene& sc, const std::vector<std::string>& views,
-                            const variants::Manifest& manifest, ShipResult& res, const Progress& say) {
-  measure::MeasureOptions pm;
-  pm.manifest = o.manifest;
-  pm.scene = o.scene;
-  pm.size = o.size;
-  pm.threads = o.threads;
-  pm.cache_dir = o.cache_dir;
-  pm.out = o.out / "profile";
-  std::vector<const scene::View*> profiled;
-  for (const auto& v : views) profiled.push_back(&sc.view(v));
-  ProfiledSpace out{profile::prune_scene(measure::prune_options(pm), sc, profiled, o.globs, say), {}};
-  const profile::ScenePruning& pruning = out.pruning;
-  for (const auto& d : pruning.dropped) out.skip.insert(d.variant);
-  res.selected = int(pruning.kept.size() + pruning.dropped.size());
-  res.pruned = int(pruning.dropped.size());
-  res.lean = profile::buffered_normals_lean(pruning.profile);
-  res.lean_text = lean_text(pruning.profile);
-  res.fit_normals = res.lean ? "depth" : "buffer";
-  if (res.lean)
-    for (const auto& k : buffered_normal_variants(manifest, o.globs))
-      if (std::binary_search(pruning.kept.begin(), pruning.kept.end(), k) && k != o.query.budget_of && out.skip.insert(k).second)
-        ++res.lean_dropped;
-  if (res.selected - int(out.skip.size()) < 1)
-    throw std::runtime_error("ship: the profile of " + o.scene + " leaves no variant to search");
-  return out;
 }
 
 }  // namespace

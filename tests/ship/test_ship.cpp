@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <random>
 
+#include <fmt/format.h>
+
 #include "ship/bounded_estimate.h"
 #include "ship/holdout.h"
 #include "ship/race.h"
@@ -246,6 +248,59 @@ TEST(ShipHoldout, TheTimingStopsOnceNoSurvivorLeftCouldBeChosenOrConsidered) {
   q.max_error = 0.045;
   EXPECT_FALSE(ship::holdout_settled(rows, plan, 4, q)) << "--max-error's plan is its cut: all of it is timed";
   EXPECT_TRUE(ship::holdout_settled(rows, plan, 5, q));
+}
+
+// The staging itself, without a sweep: each call times the first 8 more of the plan; it stops at the first
+// call after which no survivor left could be chosen, and records each left with why.
+TEST(ShipHoldout, TheStagedTimingExtendsByChunksUntilSettledAndRecordsTheRest) {
+  ship::HoldoutPlan plan;
+  plan.by_error = {"base"};
+  plan.rmse = {{"base", 0.06}};
+  for (int i = 0; i < 20; ++i) {  // v00..v19, rmse 0.030 + i/1000: the first ten over the budget, the rest fit
+    const std::string k = fmt::format("v{:02}", i);
+    plan.by_error.push_back(k);
+    plan.rmse[k] = 0.030 + 0.001 * i;
+  }
+  std::vector<std::size_t> calls;
+  const auto time_first = [&](const std::vector<std::string>& keys) {
+    calls.push_back(keys.size());
+    EXPECT_TRUE(std::equal(keys.begin(), keys.end(), plan.by_error.begin())) << "a prefix of the plan, in its order";
+    table::CostTable rows;
+    for (const auto& k : keys) {
+      const int i = k == "base" ? -1 : std::stoi(k.substr(1));
+      rows.rows.push_back(test::timed_row(k, i < 0 ? std::vector<double>(8, 1.0) : rounds(i < 10 ? 1.5 : 0.8, unsigned(i + 1)),
+                                          plan.rmse.at(k)));
+    }
+    return rows;
+  };
+  decide::SelectQuery q;
+  q.budget_of = "base";
+  const ship::HoldoutTiming t = ship::time_in_error_order(plan, q, time_first);
+  // 8 timed (base, v00..v06): only base fits, and v07..v19 are within its 0.06: not settled. 16 (up to v14):
+  // v10 (0.040) fits and v15.. (0.045 and up) are beyond its 2 %.
+  EXPECT_EQ(calls, (std::vector<std::size_t>{8, 16}));
+  EXPECT_EQ(t.timed, 16u);
+  EXPECT_EQ(t.rows.rows.size(), 16u);
+  ASSERT_EQ(t.untimed.size(), 5u);
+  EXPECT_EQ(t.untimed.front().variant, "v15");
+  EXPECT_DOUBLE_EQ(t.untimed.front().rmse, 0.045);
+  EXPECT_NE(t.untimed.front().reason.find("0.04000"), std::string::npos) << t.untimed.front().reason;
+
+  // A first call that returns no row of the budget's variant decides nothing yet: the next chunk is timed.
+  calls.clear();
+  int call = 0;
+  const auto without_budget_first = [&](const std::vector<std::string>& keys) {
+    table::CostTable rows = time_first(keys);
+    if (call++ == 0) std::erase_if(rows.rows, [](const table::CostRow& r) { return r.variant == "base"; });
+    return rows;
+  };
+  EXPECT_EQ(ship::time_in_error_order(plan, q, without_budget_first).timed, 16u);
+  EXPECT_EQ(calls, (std::vector<std::size_t>{8, 16}));
+
+  // Nothing to time: no call (no keys would select the whole space).
+  calls.clear();
+  EXPECT_EQ(ship::time_in_error_order({}, q, time_first).timed, 0u);
+  EXPECT_TRUE(calls.empty());
 }
 
 TEST(ShipHoldout, ABudgetInMillisecondsOrAMissingBudgetVariantTimesEverySurvivor) {

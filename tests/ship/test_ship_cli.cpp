@@ -24,11 +24,20 @@ using json = nlohmann::json;
 
 const char* kBaseline = "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
 
-std::string ship_args(const std::string& scene, const fs::path& out, const fs::path& cache, const std::string& size = "64x36") {
-  return fmt::format("ship --scene {} --variants 'alchemy-s08-p0-*-zdep-rst-d16-bsep-x1-hp' --variants 'sao-s0[48]-*-d16-bsep-x1-hp' "
-                     "--variants 'hbao-s08-p0-*-d16-bsep-x1-hp' --budget-of {} --target navi21 --gpu-size 160x90 "
-                     "--size {} --fit-size 32x18 --evaluations 2 --rays 16 --cache-dir {} --out {}",
-                     scene, kBaseline, size, cache.string(), out.string());
+const char* kSlice = "--variants 'alchemy-s08-p0-*-zdep-rst-d16-bsep-x1-hp' --variants 'sao-s0[48]-*-d16-bsep-x1-hp' "
+                     "--variants 'hbao-s08-p0-*-d16-bsep-x1-hp'";
+
+// ship on the slice, the time from navi21's estimate (or `timing`: "--backend lavapipe ..." for a measured race).
+std::string ship_args(const std::string& scene, const fs::path& out, const fs::path& cache, const std::string& size = "64x36",
+                      const std::string& budget = kBaseline, const std::string& timing = "--target navi21 --gpu-size 160x90") {
+  return fmt::format("ship --scene {} {} --budget-of {} {} --size {} --fit-size 32x18 --evaluations 2 --rays 16 "
+                     "--cache-dir {} --out {}",
+                     scene, kSlice, budget, timing, size, cache.string(), out.string());
+}
+
+// The measured race on lavapipe, each candidate's timing capped at 0.2 s.
+std::string measured_ship_args(const fs::path& out, const fs::path& cache, const std::string& budget) {
+  return ship_args("builtin:atrium", out, cache, "64x36", budget, "--backend lavapipe --reps-cap-s 0.2");
 }
 
 json table_of(const fs::path& out) { return json::parse(util::read_file(out / "cost_table.json").value_or("{}")); }
@@ -172,11 +181,7 @@ TEST(ShipCli, ASceneWhoseNormalsLeanIsSearchedAndFittedWithDepthNormals) {
 TEST(ShipCli, AMeasuredRaceTimesTheHeldOutViewOnlyForWhatTheQueryCouldChoose) {
   TempDir dir;
   const std::string budget = "hbao-s08-p0-ndep-zdep-rst-d16-bsep-x1-hp";  // the slice's most accurate but one
-  const CommandResult r = run_aovar(fmt::format(
-      "ship --scene builtin:atrium --variants 'alchemy-s08-p0-*-zdep-rst-d16-bsep-x1-hp' --variants 'sao-s0[48]-*-d16-bsep-x1-hp' "
-      "--variants 'hbao-s08-p0-*-d16-bsep-x1-hp' --budget-of {} --backend lavapipe --size 64x36 --fit-size 32x18 "
-      "--evaluations 2 --rays 16 --reps-cap-s 0.2 --cache-dir {} --out {}",
-      budget, (dir / "cache").string(), (dir / "out").string()));
+  const CommandResult r = run_aovar(measured_ship_args(dir / "out", dir / "cache", budget));
   ASSERT_EQ(r.status, 0) << r.output;
   const json t = table_of(dir / "out");
   const std::string holdout = t.at("meta").at("ship").at("holdout_views").at(0);
@@ -230,11 +235,7 @@ TEST(ShipCli, AMeasuredRaceTimesTheHeldOutViewOnlyForWhatTheQueryCouldChoose) {
   // only within each, and reaches a choice too.
   const json screen = table_of(dir / "out" / "screen");
   for (const auto& row : screen.at("rows")) EXPECT_GE(row.at("time_ms").at("n").get<int>(), 6) << row.dump();
-  const CommandResult small = run_aovar(fmt::format(
-      "ship --scene builtin:atrium --variants 'alchemy-s08-p0-*-zdep-rst-d16-bsep-x1-hp' --variants 'sao-s0[48]-*-d16-bsep-x1-hp' "
-      "--variants 'hbao-s08-p0-*-d16-bsep-x1-hp' --budget-of {} --backend lavapipe --size 64x36 --fit-size 32x18 "
-      "--evaluations 2 --rays 16 --reps-cap-s 0.2 --batch 4 --cache-dir {} --out {}",
-      budget, (dir / "cache").string(), (dir / "batched").string()));
+  const CommandResult small = run_aovar(measured_ship_args(dir / "batched", dir / "cache", budget) + " --batch 4");
   ASSERT_EQ(small.status, 0) << small.output;
 }
 

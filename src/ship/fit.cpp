@@ -1,0 +1,65 @@
+#include "ship/fit.h"
+
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "calibrate/file.h"
+#include "ship/shards.h"
+#include "util/fs.h"
+#include "util/hash.h"
+
+namespace aovar::ship {
+namespace fs = std::filesystem;
+
+namespace {
+
+// What the calibration depends on: when OUT/ship.json recorded the same, OUT/calibration.json is reused.
+std::string fit_inputs(const ShipOptions& o, const scene::Scene& sc, const calibrate::ViewSplit& split,
+                       const std::string& normals) {
+  util::Hasher h;
+  h.add(util::read_file(o.manifest).value_or("")).add(sc.content_hash).add(normals).add(o.backend);
+  for (const auto* group : {&split.training, &split.holdout})
+    for (const auto& v : *group) h.add(v.view).add(uint64_t(group == &split.training));
+  for (const auto& v : sc.views)
+    h.add(fmt::format("{} {} {} {} {} {} {} {}", v.name, v.eye.x, v.eye.y, v.eye.z, v.target.x, v.target.y, v.target.z, v.fov_y_deg));
+  h.add(uint64_t(o.fit_size.width)).add(uint64_t(o.fit_size.height)).add(uint64_t(o.fit_evaluations)).add(uint64_t(o.rays));
+  return h.hex();
+}
+
+}  // namespace
+
+Fitted fit_methods(const ShipOptions& o, const scene::Scene& sc, const calibrate::ViewSplit& split,
+                   const std::string& normals, const variants::Manifest& manifest, const Progress& progress) {
+  const fs::path file = o.out / "calibration.json";
+  const std::string inputs = fit_inputs(o, sc, split, normals);
+  Fitted f;
+  f.inputs = inputs;
+  f.reused = fs::exists(file) && recorded_input(o.out, "fit_inputs") == inputs;
+  if (!f.reused && !o.join.empty()) {  // the shards fitted the same inputs: take theirs
+    adopt_shard_fit(o.join, inputs, o.out);
+    f.reused = true;
+  }
+  if (!f.reused) {
+    calibrate::CalibrateOptions co;
+    co.manifest = o.manifest;
+    co.fit_normals = normals;
+    co.backend = o.backend;
+    co.size = o.fit_size;
+    co.rays = o.rays;
+    co.views = split;
+    co.views_file = o.views_file;
+    co.budget.max_evaluations = o.fit_evaluations;
+    co.threads = o.threads;
+    co.compile_cache = co.reference_cache = o.cache_dir;
+    calibrate::write_calibration(file, calibrate::calibrate(co, [&](const std::string& line) {
+                                   if (progress) progress("fit: " + line);
+                                 }));
+    record_input(o.out, "fit_inputs", inputs);
+  }
+  f.values = calibrate::load_calibration(file, manifest);
+  f.source = calibrate::calibration_source(file);
+  return f;
+}
+
+}  // namespace aovar::ship
