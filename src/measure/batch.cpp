@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 
 #include <fmt/format.h>
@@ -11,6 +12,7 @@
 #include "shadergen/expand.h"
 #include "util/clock.h"
 #include "util/hash.h"
+#include "util/intervals.h"
 #include "util/path_names.h"
 
 namespace aovar::measure {
@@ -29,6 +31,26 @@ std::string batch_id(const std::string& where, int batch) {
   h.add(where).add(std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()))
       .add(std::to_string(std::chrono::system_clock::now().time_since_epoch().count()));
   return fmt::format("{}/{}", h.hex().substr(0, 12), batch);
+}
+
+// The view's candidates in the race's order (TimingPlan::race_order): lower rank first, unranked last.
+template <typename Candidate>
+void order_for_race(std::vector<Candidate>& todo, const TimingPlan& timing, const std::string& view) {
+  if (!timing.race_order) return;
+  const auto rank = [&](const Candidate& c) {
+    auto it = timing.race_order->find({c.plan.variant, view});
+    return it == timing.race_order->end() ? std::numeric_limits<int>::max() : it->second;
+  };
+  std::stable_sort(todo.begin(), todo.end(), [&](const Candidate& a, const Candidate& b) { return rank(a) < rank(b); });
+}
+
+// What a timed batch leaves for the later ones to retire against (Retire::earlier): each pipeline but the
+// reference with a known error and a known interval against it.
+void add_earlier_rows(std::vector<EarlierRow>& earlier, const Retire& rule, const RoundRobinResult& timed) {
+  for (std::size_t i = 1; i < timed.pipelines.size() && i < rule.known_error.size(); ++i) {
+    const util::Interval ci = util::median_interval(round_ratios(timed.pipelines[i], timed.pipelines[0]));
+    if (std::isfinite(rule.known_error[i]) && ci.known()) earlier.push_back({rule.known_error[i], ci.hi});
+  }
 }
 }  // namespace
 
@@ -194,6 +216,7 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
     Candidate cand = candidate(runner, v, ctx);
     if (!reuse(cand, device, view.name)) todo.push_back(std::move(cand));
   }
+  order_for_race(todo, o_.timing, view.name);
   Candidate ref = candidate(runner, sel_.baseline, ctx);
   if (todo.empty() && reuse(ref, device, view.name)) {
     add_twin_rows(twin, device, view.name);
@@ -205,6 +228,7 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
   auto prep_start = Clock::now();
   auto ref_pipeline = runner.prepare(ref.plan);
   PipelineTiming ref_timing;  // accumulates over batches
+  std::vector<EarlierRow> earlier;  // the race: this view's rows of the batches before (Retire::earlier)
   double ref_first_ms = 0;
   const int batch_size = std::max(1, o_.timing.batch - 1);
   const int batches = std::max<int>(1, static_cast<int>((todo.size() + batch_size - 1) / batch_size));
@@ -222,7 +246,7 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
 
     TimingOptions to{o_.timing.warmup, o_.timing.reps, res_.radius, o_.timing.camera_path, o_.timing.auto_reps, std::nullopt};
     if (o_.timing.auto_reps && (o_.timing.race_errors || o_.timing.race_budget))
-      to.retire = retire_rule(ref, todo, lo, hi, view.name);
+      to.retire = retire_rule(ref, todo, lo, hi, view.name, earlier);
     auto still_frames = [&] {  // per pipeline, the frames its still needs (both halves of a progressive one)
       std::vector<int> frames{ref.plan.progressive ? 2 : 1};
       for (std::size_t i = lo; i < hi; ++i) frames.push_back(todo[i].plan.progressive ? 2 : 1);
@@ -233,6 +257,7 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
                      : time_round_robin(runner.backend(), pointers, view, to, [&](const std::string& s) {
                          status(fmt::format("{}: batch {}/{}: {} ({} pipelines)", where, b + 1, batches, s, pointers.size()));
                        });
+    if (to.retire) add_earlier_rows(earlier, *to.retire, timed);
     run.warmup_s = timed.wall_warmup_s;
     run.timed_wall_s = timed.wall_timed_s;
     run.timed_sum_s = timed.sum_timed_s;
@@ -280,13 +305,13 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
 }
 
 Retire BatchMeasurer::retire_rule(const Candidate& reference, const std::vector<Candidate>& todo, std::size_t lo,
-                                  std::size_t hi, const std::string& view) const {
+                                  std::size_t hi, const std::string& view, const std::vector<EarlierRow>& earlier) const {
   auto known = [&](const Candidate& c) {
     if (!o_.timing.race_errors) return double(NAN);
     auto it = o_.timing.race_errors->find({c.plan.variant, view});
     return it == o_.timing.race_errors->end() ? NAN : it->second;
   };
-  Retire r{{known(reference)}, o_.timing.race_margin, o_.timing.race_budget};
+  Retire r{{known(reference)}, o_.timing.race_margin, o_.timing.race_budget, earlier};
   for (std::size_t i = lo; i < hi; ++i) r.known_error.push_back(known(todo[i]));
   return r;
 }

@@ -65,10 +65,11 @@ class BatchMeasurer {
   void temporal_errors(MeasureRow& row, runner::VariantRunner& runner, const render::PipelinePlan& plan,
                        render::PreparedPipeline& p, const scene::View& view, const reference::ReferenceImage& truth);
   std::string context(const runner::VariantRunner& runner, const scene::View& view) const;
-  // The race's rule for one batch (timing.h, Retire): the reference, then todo[lo, hi), by known error on `view`;
-  // with TimingPlan::race_budget the reference is the budget, and what is slower than it beyond the margin retires.
+  // The race's rule for one batch (timing.h, Retire): the reference, then todo[lo, hi), by known error on `view`,
+  // and the view's rows of the batches before (`earlier`); with TimingPlan::race_budget the reference is the
+  // budget, and what is slower than it beyond the margin retires.
   Retire retire_rule(const Candidate& reference, const std::vector<Candidate>& todo, std::size_t lo, std::size_t hi,
-                     const std::string& view) const;
+                     const std::string& view, const std::vector<EarlierRow>& earlier) const;
   reference::ReferenceOptions reference_options() const;
   const reference::ReferenceImage& ground_truth(const scene::View& view);
   void status(const std::string& what) const;

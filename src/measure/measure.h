@@ -43,6 +43,10 @@ struct TimingPlan {
   // With auto_reps, a variant stops being timed on a view once a more accurate one of its batch is faster
   // beyond race_margin there (timing.h, Retire). Null: every row is timed to its target or cap.
   std::shared_ptr<const std::map<std::pair<std::string, std::string>, double>> race_errors;
+  // The order the race times a view's variants in, by (key, view): lower first, absent last (then key order).
+  // A row retires only against a more accurate one timed in its batch or before it (Retire::earlier), so
+  // what is likely on the front goes first: ship ranks by the screen's timed rows (race.h, screen_ranks).
+  std::shared_ptr<const std::map<std::pair<std::string, std::string>, int>> race_order;
   double race_margin = 1.0;
   // The baseline is a selection's budget (ship's held-out views under --budget-of): with auto_reps, a variant
   // slower than it beyond race_margin stops being timed, whatever its error: it cannot be chosen.

@@ -138,6 +138,12 @@ bool dominated(const std::vector<PipelineTiming>& pipelines, std::size_t i, cons
   }
   const double error = i < retire.known_error.size() ? retire.known_error[i] : NAN;
   if (!std::isfinite(error)) return false;
+  if (!retire.earlier.empty()) {
+    const util::Interval ci = util::median_interval(round_ratios(t, pipelines[0]));
+    if (ci.known())
+      for (const EarlierRow& e : retire.earlier)
+        if (e.known_error < error && ci.lo >= retire.margin * e.ratio_hi) return true;
+  }
   for (std::size_t j = 0; j < pipelines.size() && j < retire.known_error.size(); ++j) {
     if (j == i || !(retire.known_error[j] < error)) continue;  // NaN compares false: unknown never retires
     const util::Interval ci = util::median_interval(round_ratios(t, pipelines[j]));

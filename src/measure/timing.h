@@ -3,6 +3,7 @@
 // frame (JIT) is timed on its own, warm-up frames are discarded, then every round renders each pipeline
 // once, in an order rotated per round, so drift on a noisy machine spreads over all of them. The
 // reference pipeline is part of every round, so each result can be given relative to it.
+#include <cmath>
 #include <functional>
 #include <optional>
 #include <string>
@@ -29,10 +30,19 @@ struct AutoReps {
 // More rounds would only narrow an interval the race no longer needs; the rounds it had stay in its row.
 // With `reference_is_budget` the reference is also the budget of a selection (ship's held-out views under
 // --budget-of): a pipeline slower than it beyond `margin` cannot be chosen, whatever its error, and retires.
+// Rows timed in earlier batches of the same view count too (`earlier`): they share no rounds with this batch,
+// but every batch times the reference, so a pipeline retires once the low end of its interval against the
+// reference is at or above `margin` times the high end of a more accurate earlier row's (disjoint intervals).
+struct EarlierRow {
+  double known_error = NAN;
+  double ratio_hi = NAN;  // high end of its 95 % interval of the per-round ratio to the reference
+};
+
 struct Retire {
   std::vector<double> known_error;  // per pipeline, as ordered for time_round_robin; NaN: unknown (never compared)
   double margin = 1.0;
   bool reference_is_budget = false;
+  std::vector<EarlierRow> earlier{};  // the view's rows timed in earlier batches (against the same reference)
 };
 
 struct TimingOptions {

@@ -1,6 +1,7 @@
 #include "ship/race.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include <fmt/format.h>
@@ -63,6 +64,19 @@ std::vector<Elimination> same_code_eliminations(const table::CostTable& rows, co
   std::vector<Elimination> list;
   for (auto& [k, e] : out) list.push_back(std::move(e));
   return list;
+}
+
+std::shared_ptr<const std::map<std::pair<std::string, std::string>, int>> screen_ranks(const table::CostTable& screen) {
+  std::map<std::string, std::vector<const table::CostRow*>> by_view;
+  for (const auto& r : screen.rows)
+    if (r.error && std::isfinite(r.error->rmse) && r.rel_time_median > 0) by_view[r.view].push_back(&r);
+  auto out = std::make_shared<std::map<std::pair<std::string, std::string>, int>>();
+  for (const auto& [view, rows] : by_view)
+    for (const table::CostRow* r : rows)
+      (*out)[{r->variant, view}] = int(std::count_if(rows.begin(), rows.end(), [&](const table::CostRow* o) {
+        return o->error->rmse < r->error->rmse && o->rel_time_median < r->rel_time_median;
+      }));
+  return out;
 }
 
 }  // namespace aovar::ship

@@ -8,7 +8,10 @@
 // On a measured backend "beyond the noise" also needs a margin: the whole 95 % interval of the slowdown above
 // `min_ratio`. A run's interval describes its own rounds, not the drift between runs on a loaded host, which
 // ranked three eliminations of 1.02x-1.17x the other way in an exhaustive sweep (bench/README.md, bench/search).
+#include <map>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "table/table.h"
@@ -34,5 +37,13 @@ std::vector<Elimination> dominated_beyond_noise(const table::CostTable& rows, co
 // candidacy of their own; measure/same_code.h), eliminated with it: the same dominating variant, the reason
 // prefixed with "runs the same code as KEY, ". Sorted by variant.
 std::vector<Elimination> same_code_eliminations(const table::CostTable& rows, const std::vector<Elimination>& eliminated);
+
+// The race's order (measure::TimingPlan::race_order): on each view, a candidate's rank is how many of the
+// screen's candidates were both more accurate and faster there (rel_time_median, the screen's few rounds); the
+// screen's front (rank 0) is timed first. The race retires a row only against a more accurate one timed in
+// its batch or before it, so the likely front goes first. The order decides only when a row is timed, never
+// whether it is: a wrong guess costs rounds, not a candidate. (The static estimate ranks lavapipe's times at
+// rho 0.44, bench/gpu; the screen has timed every candidate by then.)
+std::shared_ptr<const std::map<std::pair<std::string, std::string>, int>> screen_ranks(const table::CostTable& screen);
 
 }  // namespace aovar::ship

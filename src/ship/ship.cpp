@@ -316,10 +316,12 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
     // nothing else; the survivors are measured on every view, the held-out one for the choice.
     sweep::SweepOptions so = round_options(o, fit, final_round ? views : res.training, globs, skip, final_round);
     // The race times a view's beaten candidates no longer than it must: one stops once a more accurate one of
-    // its batch is faster beyond the noise in the same rounds. It is off the front then, whatever more rounds
-    // would show; whether it leaves the table is the elimination's call, with --race-margin, after the round.
+    // its batch (in the same rounds) or of an earlier batch (against the same reference) is faster beyond the
+    // noise. It is off the front then, whatever more rounds would show; whether it leaves the table is the
+    // elimination's call, with --race-margin, after the round. The screen's front is timed first (screen_ranks).
     if (final_round && o.target.empty()) {
       so.measure.timing.race_errors = still_errors(last);
+      so.measure.timing.race_order = screen_ranks(last);
       so.measure.timing.race_margin = kRetireMargin;
     }
     r.timing = !o.target.empty() ? "one render, estimate on " + o.target

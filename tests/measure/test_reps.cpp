@@ -125,6 +125,23 @@ TEST(Reps, ABudgetReferenceRetiresWhatIsSlowerThanItBeyondTheMargin) {
   EXPECT_EQ(p[1].stop, Stop::running) << "without the budget rule a more accurate one is never retired by time";
 }
 
+// The race across batches: a row timed in an earlier batch of the view counts through its interval against
+// the reference (every batch times it). A pipeline retires once its own interval's low end is at or above
+// that row's high end and that row is more accurate; an overlap, or a less accurate earlier row, keeps it.
+TEST(Reps, AMoreAccurateRowOfAnEarlierBatchRetiresWhatItBeatsBeyondTheNoise) {
+  const auto run = [](std::vector<measure::EarlierRow> earlier) {
+    std::vector<PipelineTiming> p{timed(steady(12, 10)), timed(noisy(12, 20, 0.1))};  // ratio 2.0-2.2
+    const measure::Retire race{{0.09, 0.05}, 1.0, false, std::move(earlier)};
+    measure::stop_after_round(p, 10, kRule, &race);
+    return p[1].stop;
+  };
+  EXPECT_EQ(run({{0.04, 1.5}}), Stop::dominated) << "[2.0, 2.2] lies above 1.5, and 0.04 < 0.05";
+  EXPECT_EQ(run({{0.06, 1.5}}), Stop::running) << "the earlier row is less accurate";
+  EXPECT_EQ(run({{0.04, 2.1}}), Stop::running) << "the intervals overlap: not beyond the noise";
+  EXPECT_EQ(run({{0.06, 1.5}, {0.04, 1.9}}), Stop::dominated) << "any earlier row that beats it";
+  EXPECT_EQ(run({}), Stop::running);
+}
+
 TEST(Reps, StopNamesRoundTrip) {
   for (Stop s : {Stop::running, Stop::fixed, Stop::target, Stop::cap, Stop::dominated})
     EXPECT_EQ(measure::stop_from_name(measure::stop_name(s)), s);

@@ -194,6 +194,32 @@ std::vector<std::string> untimed_keys(const ship::HoldoutPlan& p) {
   return out;
 }
 
+// The race's order: per view, how many screen rows are both more accurate and faster (rel_time_median);
+// the front first. A row without an error or a time is not ranked.
+TEST(ShipRace, TheScreensFrontIsRankedFirstOnEachView) {
+  table::CostTable screen;
+  const auto add = [&](const std::string& k, const std::string& view, double rel, double rmse) {
+    table::CostRow r = test::point_row(k, 10 * rel, rmse);
+    r.view = view;
+    r.rel_time_median = rel;
+    screen.rows.push_back(r);
+  };
+  add("fast-rough", "overview", 0.5, 0.09);  // front
+  add("slow-fine", "overview", 2.0, 0.03);   // front
+  add("mid", "overview", 1.0, 0.05);         // front
+  add("beaten", "overview", 1.2, 0.06);      // mid is faster and more accurate
+  add("worst", "overview", 2.5, 0.10);       // all four beat it
+  add("mid", "closeup", 1.0, 0.05);
+  add("beaten", "closeup", 0.9, 0.06);       // faster here: front on this view
+  add("untimed", "closeup", 0.0, 0.01);      // no time: not ranked
+  const auto ranks = ship::screen_ranks(screen);
+  const std::map<std::pair<std::string, std::string>, int> expected{
+      {{"fast-rough", "overview"}, 0}, {{"slow-fine", "overview"}, 0}, {{"mid", "overview"}, 0},
+      {{"beaten", "overview"}, 1},     {{"worst", "overview"}, 4},     {{"mid", "closeup"}, 0},
+      {{"beaten", "closeup"}, 0}};
+  EXPECT_EQ(*ranks, expected);
+}
+
 // --budget-of: a survivor is timed on the held-out views only when its worst held-out rmse is within the
 // budget's own plus select's tolerance: the budget's variant always fits, so nothing less accurate is chosen.
 TEST(ShipHoldout, BudgetOfTimesOnlyWhatIsAtMostTheBudgetsErrorPlusTheTolerance) {

@@ -237,6 +237,42 @@ TEST(ShipCli, AMeasuredRaceTimesTheHeldOutViewOnlyForWhatTheQueryCouldChoose) {
   for (const auto& row : screen.at("rows")) EXPECT_GE(row.at("time_ms").at("n").get<int>(), 6) << row.dump();
   const CommandResult small = run_aovar(measured_ship_args(dir / "batched", dir / "cache", budget) + " --batch 4");
   ASSERT_EQ(small.status, 0) << small.output;
+
+  // In batches the race times the screen's front first (ship::screen_ranks): on a training view, no row of a
+  // batch ranks later than a row of the next one. A row's rank: how many of the race's candidates the screen
+  // showed both more accurate and faster on that view.
+  const json batched = table_of(dir / "batched");
+  const json screened = table_of(dir / "batched" / "screen");
+  const json race = json::parse(
+      util::read_file(dir / "batched" / "race" / "measure" / "builtin_atrium" / "measure.json").value_or("{}"));
+  for (const auto& view : batched.at("meta").at("ship").at("training_views")) {
+    std::map<int, std::pair<int, int>> batch_ranks;  // batch -> (lowest, highest) rank
+    std::set<std::string> raced;
+    for (const char* part : {"rows", "kept_rows"})
+      for (const auto& row : race.at(part))
+        if (row.at("view") == view) raced.insert(row.at("variant"));
+    const auto rank = [&](const std::string& k) {
+      double rmse = 0, rel = 0;
+      for (const auto& r : screened.at("rows"))
+        if (r.at("view") == view && r.at("variant") == k) rmse = r.at("error").at("rmse"), rel = r.at("rel_time_median");
+      int n = 0;
+      for (const auto& r : screened.at("rows"))
+        n += r.at("view") == view && raced.count(r.at("variant")) && r.at("error").at("rmse").get<double>() < rmse &&
+             r.at("rel_time_median").get<double>() < rel;
+      return n;
+    };
+    for (const char* part : {"rows", "kept_rows"})
+      for (const auto& row : race.at(part)) {
+        const std::string id = row.at("rounds").at("id");
+        if (row.at("view") != view || id == "all" || !row.at("same_code_as").get<std::string>().empty()) continue;
+        const int b = std::stoi(id.substr(id.find('/') + 1)), k = rank(row.at("variant"));
+        auto [it, fresh] = batch_ranks.try_emplace(b, k, k);
+        it->second = {std::min(it->second.first, k), std::max(it->second.second, k)};
+      }
+    ASSERT_GE(batch_ranks.size(), 2u) << "batches of 4 split the slice";
+    for (auto it = batch_ranks.begin(); std::next(it) != batch_ranks.end(); ++it)
+      EXPECT_LE(it->second.second, std::next(it)->second.first) << view << ": batch " << it->first;
+  }
 }
 
 }  // namespace
