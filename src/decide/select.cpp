@@ -311,6 +311,27 @@ SelectQuery with_budget_of(const table::CostTable& table, SelectQuery q) {
                                        q.budget_of));
 }
 
+// --budget-of: a candidate that fits only through a tie with the budget (its interval holds 1: often a row of
+// few rounds, such as one the race retired early), yet is slower beyond the noise than a candidate that is
+// slower than the budget beyond the noise, is slower than the budget as well: it does not fit. Checked against
+// the kOverChecked fastest over-budget candidates, to bound the work on tables of 100,000 candidates.
+constexpr std::size_t kOverChecked = 32;
+
+void drop_slower_than_over_budget(std::vector<Candidate>& ok, std::vector<Candidate> over, const Candidate& ref,
+                                  const SelectQuery& q) {
+  if (over.empty()) return;
+  std::sort(over.begin(), over.end(), by_time);
+  if (over.size() > kOverChecked) over.resize(kOverChecked);
+  std::erase_if(ok, [&](const Candidate& c) {
+    if (c.variant == ref.variant && c.backend == ref.backend) return false;  // the budget always fits itself
+    if (!compare_candidates(c, ref, q).tied()) return false;                // faster beyond the noise: it fits
+    return std::any_of(over.begin(), over.end(), [&](const Candidate& o) {
+      const TimeComparison t = compare_candidates(c, o, q);
+      return t.ci.known() && t.verdict == TimeVerdict::slower;
+    });
+  });
+}
+
 Selection select_within(const table::CostTable& table, const SelectQuery& q) {
   const std::vector<Candidate> all = checked_candidates(table, q);
   const bool budget = q.budget_ms.has_value();
@@ -320,9 +341,9 @@ Selection select_within(const table::CostTable& table, const SelectQuery& q) {
     if (ref != all.end()) return compare_candidates(c, *ref, q).verdict != TimeVerdict::slower;
     return budget ? c.time_ms <= *q.budget_ms : c.rmse <= *q.max_error;
   };
-  std::vector<Candidate> ok;
-  for (const auto& c : all)
-    if (fits(c)) ok.push_back(c);
+  std::vector<Candidate> ok, over;
+  for (const auto& c : all) (fits(c) ? ok : over).push_back(c);
+  if (ref != all.end()) drop_slower_than_over_budget(ok, std::move(over), *ref, q);
   if (ok.empty()) return nothing_fits(all, q, budget);
   std::size_t n_tied = 1;
   const std::vector<Candidate> ordered = budget ? order_budget(ok, q) : order_max_error(ok, q, n_tied);

@@ -40,8 +40,9 @@ struct TimingPlan {
   // (time_ms.n = 0). aovar ship's screen with a GPU target, whose time is the estimate (render_stills).
   bool still_only = false;
   // aovar ship's race: the still error each variant already showed on each view (its screen), by (key, view).
-  // With auto_reps, a variant stops being timed on a view once a more accurate one of its batch is faster
-  // beyond race_margin there (timing.h, Retire). Null: every row is timed to its target or cap.
+  // With auto_reps, a variant stops being timed on a view once a more accurate one of its batch, or of an
+  // earlier batch, is faster beyond race_margin there (timing.h, Retire). Null: every row is timed to its
+  // target or cap.
   std::shared_ptr<const std::map<std::pair<std::string, std::string>, double>> race_errors;
   // The order the race times a view's variants in, by (key, view): lower first, absent last (then key order).
   // A row retires only against a more accurate one timed in its batch or before it (Retire::earlier), so

@@ -26,7 +26,8 @@ struct AutoReps {
 
 // Racing (aovar ship's race; the idea of F-race, Birattari et al. 2002): with --reps auto, a pipeline whose
 // error is known stops being timed once another pipeline of its batch with a lower known error is faster
-// beyond `margin`: the 95 % sign-test interval of their per-round time ratio lies wholly at or above it.
+// beyond `margin`: the 95 % sign-test interval of their per-round time ratio lies wholly at or above it
+// (or a row of an earlier batch is, against the reference: EarlierRow below).
 // More rounds would only narrow an interval the race no longer needs; the rounds it had stay in its row.
 // With `reference_is_budget` the reference is also the budget of a selection (ship's held-out views under
 // --budget-of): a pipeline slower than it beyond `margin` cannot be chosen, whatever its error, and retires.

@@ -46,8 +46,8 @@ const char* round_name(bool target, bool final_round) { return !final_round ? "s
 
 int batch_of(const ShipOptions& o) { return o.batch > 0 ? o.batch : batch_for(o.size); }
 
-// The race stops timing a candidate once another of its batch is faster beyond the noise and more accurate
-// (measure::Retire): no margin, since that decides only how long it is timed, not whether it stays. Under
+// The race stops timing a candidate once another (of its batch, or of an earlier one) is faster beyond the
+// noise and more accurate (measure::Retire): no margin, since that decides only how long it is timed, not whether it stays. Under
 // --budget-of (the held-out views) the same holds for the budget's variant: select's test of a fit is "not
 // slower beyond the noise".
 constexpr double kRetireMargin = 1.0;

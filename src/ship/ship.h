@@ -7,8 +7,8 @@
 //      flicker along the camera path, no images) and a few timed repetitions (with a GPU target: one render,
 //      the traced estimate for the time), the dominated ones eliminated with their reason, then the survivors
 //      with every measure of a sweep, timed until their intervals are narrow (--reps auto), except that a
-//      candidate a more accurate one of its batch already beats beyond the margin stops being timed on that
-//      view (measure::Retire), eliminated again.
+//      candidate a more accurate one of its batch or an earlier batch already beats beyond the margin stops
+//      being timed on that view (measure::Retire; the screen's front is timed first), eliminated again.
 //      On a measured backend the held-out views then render the survivors' stills and time only those the
 //      query could choose (holdout.h);
 //   4. select among the survivors on the held-out views, write the cost table and the reports, and say what
@@ -42,7 +42,7 @@ struct ShipOptions {
   render::Extent fit_size{320, 180};       // calibration renders (calibrate's default)
   int fit_evaluations = 40;                // per method
   // Pipelines prepared and timed together on a measured backend; 0: batch_for(size). Larger than a sweep's 24
-  // where the frame allows: the race retires a candidate only against a more accurate one of its own batch.
+  // where the frame allows: a candidate retires against its batch in shared rounds, the sharpest comparison.
   int batch = 0;
   int race_reps = 6;                       // the first round: the fewest rounds whose sign-test interval is known
   double race_margin = 1.10;               // measured backends: eliminate on a slowdown whose interval is above it (race.h)
