@@ -96,6 +96,21 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   return s;
 }
 
+// A round that renders each candidate's still (its error) and times nothing.
+void render_stills_only(sweep::SweepOptions& so) {
+  so.measure.timing.reps = 1;
+  so.measure.timing.warmup = 0;
+  so.measure.timing.still_only = true;
+}
+
+// A measured backend's screen times its candidates a few rounds to cut the space down to what the race can
+// time. When every candidate fits one batch of the race, the race makes that cut itself in its first rounds
+// (a candidate a more accurate one beats stops after them, measure::Retire, with no flicker rendered): the
+// screen then renders only the stills the race retires by. Not for shards, whose screens a join merges.
+bool stills_screen(const ShipOptions& o, int candidates) {
+  return o.target.empty() && o.shard_count <= 1 && o.join.empty() && candidates <= batch_of(o) - 1;
+}
+
 // What a screen depends on beyond the fit: a join takes only shards whose screens had the same.
 std::string screen_inputs(const Fitted& fit, const sweep::SweepOptions& so) {
   const measure::MeasureOptions& m = so.measure;
@@ -159,9 +174,7 @@ HoldoutPlan plan_holdout(const ShipOptions& o, const Fitted& fit, const std::vec
                          ShipResult& res, std::map<std::pair<std::string, std::string>, double>& errors, const Progress& say) {
   sweep::SweepOptions s = round_options(o, fit, res.holdout, survivors, {}, false);
   s.out = o.out / "holdout";
-  s.measure.timing.reps = 1;
-  s.measure.timing.warmup = 0;
-  s.measure.timing.still_only = true;
+  render_stills_only(s);
   const table::CostTable stills =
       sweep::run_sweep(s, [&](const std::string& line) { say("race: held-out stills: " + line); }).table;
   HoldoutPlan plan = plan_holdout_timing(stills, survivors, o.query);
@@ -307,6 +320,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
 
   // 3. The race: a first round over the pruned space, the dominated eliminated, the survivors again.
   std::vector<std::string> globs = o.globs.empty() ? std::vector<std::string>{"*"} : o.globs;
+  const bool still_screen = stills_screen(o, res.selected - int(skip.size()));
   table::CostTable last;
   for (const bool final_round : {false, true}) {
     Round r;
@@ -315,6 +329,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
     // The screen decides on the training views only (its eliminations look at nothing else), so it renders
     // nothing else; the survivors are measured on every view, the held-out one for the choice.
     sweep::SweepOptions so = round_options(o, fit, final_round ? views : res.training, globs, skip, final_round);
+    if (still_screen && !final_round) render_stills_only(so);
     // The race times a view's beaten candidates no longer than it must: one stops once a more accurate one of
     // its batch (in the same rounds) or of an earlier batch (against the same reference) is faster beyond the
     // noise. It is off the front then, whatever more rounds would show; whether it leaves the table is the
@@ -326,6 +341,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
     }
     r.timing = !o.target.empty() ? "one render, estimate on " + o.target
                : final_round     ? measure::reps_words(so.measure)
+               : still_screen    ? std::string("no timing: one batch of the race holds every candidate")
                                  : fmt::format("{} reps", so.measure.timing.reps);
     if (!final_round) r.timing += ", still error only";
     say(fmt::format("round {}: {} ({})", r.name,
@@ -358,7 +374,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
       return res;
     }
     if (candidates.empty()) candidates = variants_of(last);
-    eliminate(last);
+    if (final_round || !still_screen) eliminate(last);  // stills have no time to eliminate by
     r.candidates = int(candidates.size()) + untraced;
     r.eliminated = int(out.size()) + untraced;
     r.seconds = util::seconds_since(t0);
