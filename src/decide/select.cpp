@@ -317,19 +317,20 @@ SelectQuery with_budget_of(const table::CostTable& table, SelectQuery q) {
 // the kOverChecked fastest over-budget candidates, to bound the work on tables of 100,000 candidates.
 constexpr std::size_t kOverChecked = 32;
 
-void drop_slower_than_over_budget(std::vector<Candidate>& ok, std::vector<Candidate> over, const Candidate& ref,
-                                  const SelectQuery& q) {
+void drop_slower_than_over_budget(std::vector<Candidate>& ok, const std::vector<bool>& tie_only,
+                                  std::vector<Candidate> over, const SelectQuery& q) {
   if (over.empty()) return;
   std::sort(over.begin(), over.end(), by_time);
   if (over.size() > kOverChecked) over.resize(kOverChecked);
-  std::erase_if(ok, [&](const Candidate& c) {
-    if (c.variant == ref.variant && c.backend == ref.backend) return false;  // the budget always fits itself
-    if (!compare_candidates(c, ref, q).tied()) return false;                // faster beyond the noise: it fits
-    return std::any_of(over.begin(), over.end(), [&](const Candidate& o) {
-      const TimeComparison t = compare_candidates(c, o, q);
+  std::vector<Candidate> kept;
+  for (std::size_t i = 0; i < ok.size(); ++i) {
+    const bool over_too = tie_only[i] && std::any_of(over.begin(), over.end(), [&](const Candidate& o) {
+      const TimeComparison t = compare_candidates(ok[i], o, q);
       return t.ci.known() && t.verdict == TimeVerdict::slower;
     });
-  });
+    if (!over_too) kept.push_back(std::move(ok[i]));
+  }
+  ok = std::move(kept);
 }
 
 Selection select_within(const table::CostTable& table, const SelectQuery& q) {
@@ -337,13 +338,22 @@ Selection select_within(const table::CostTable& table, const SelectQuery& q) {
   const bool budget = q.budget_ms.has_value();
   // --budget-of: within the budget means not slower than that variant beyond the noise (its ties fit too).
   auto ref = std::find_if(all.begin(), all.end(), [&](const Candidate& c) { return c.variant == q.budget_of; });
-  auto fits = [&](const Candidate& c) {
-    if (ref != all.end()) return compare_candidates(c, *ref, q).verdict != TimeVerdict::slower;
-    return budget ? c.time_ms <= *q.budget_ms : c.rmse <= *q.max_error;
-  };
   std::vector<Candidate> ok, over;
-  for (const auto& c : all) (fits(c) ? ok : over).push_back(c);
-  if (ref != all.end()) drop_slower_than_over_budget(ok, std::move(over), *ref, q);
+  std::vector<bool> tie_only;  // --budget-of, per `ok`: fits only through a tie with the budget (the budget never)
+  for (const auto& c : all) {
+    if (ref == all.end()) {
+      if (budget ? c.time_ms <= *q.budget_ms : c.rmse <= *q.max_error) ok.push_back(c);
+      continue;
+    }
+    const TimeVerdict v = compare_candidates(c, *ref, q).verdict;
+    if (v == TimeVerdict::slower) {
+      over.push_back(c);
+      continue;
+    }
+    ok.push_back(c);
+    tie_only.push_back(v == TimeVerdict::tied && &c != &*ref);
+  }
+  if (ref != all.end()) drop_slower_than_over_budget(ok, tie_only, std::move(over), q);
   if (ok.empty()) return nothing_fits(all, q, budget);
   std::size_t n_tied = 1;
   const std::vector<Candidate> ordered = budget ? order_budget(ok, q) : order_max_error(ok, q, n_tied);

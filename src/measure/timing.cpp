@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -132,21 +133,28 @@ Stop stop_of(const PipelineTiming& t, const PipelineTiming& reference, int min_r
 // the reference (j = 0) whatever its error.
 bool dominated(const std::vector<PipelineTiming>& pipelines, std::size_t i, const Retire& retire) {
   const PipelineTiming& t = pipelines[i];
+  // i against the reference: the budget's test, the earlier rows' and j = 0 all read it; computed once, if at all.
+  std::optional<util::Interval> vs_reference;
+  const auto against = [&](std::size_t j) {
+    if (j != 0) return util::median_interval(round_ratios(t, pipelines[j]));
+    if (!vs_reference) vs_reference = util::median_interval(round_ratios(t, pipelines[0]));
+    return *vs_reference;
+  };
   if (retire.reference_is_budget) {  // over the budget beyond the margin: never chosen
-    const util::Interval ci = util::median_interval(round_ratios(t, pipelines[0]));
+    const util::Interval ci = against(0);
     if (ci.known() && ci.lo >= retire.margin) return true;
   }
   const double error = i < retire.known_error.size() ? retire.known_error[i] : NAN;
   if (!std::isfinite(error)) return false;
   if (!retire.earlier.empty()) {
-    const util::Interval ci = util::median_interval(round_ratios(t, pipelines[0]));
+    const util::Interval ci = against(0);
     if (ci.known())
       for (const EarlierRow& e : retire.earlier)
         if (e.known_error < error && ci.lo >= retire.margin * e.ratio_hi) return true;
   }
   for (std::size_t j = 0; j < pipelines.size() && j < retire.known_error.size(); ++j) {
     if (j == i || !(retire.known_error[j] < error)) continue;  // NaN compares false: unknown never retires
-    const util::Interval ci = util::median_interval(round_ratios(t, pipelines[j]));
+    const util::Interval ci = against(j);
     if (ci.known() && ci.lo >= retire.margin) return true;
   }
   return false;
