@@ -1,12 +1,17 @@
 #include "calibrate/calibrate.h"
 
 #include <algorithm>
+#include <atomic>
+#include <exception>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
+#include <thread>
 
 #include <fmt/format.h>
 
@@ -251,6 +256,50 @@ Fit fit_target(runner::VariantRunner& runner, const variants::Manifest& manifest
   return fit;
 }
 
+// The targets fitted `fits_at_once` at a time (0: one per core), each worker with its own runner: the fit renders
+// small images one after another, which leaves cores idle (ship's fit used 1.3 of 2 cores one at a time). A
+// runner (its device or GL context) is created on the thread that renders with it, since a GL context is current
+// on one thread. The fits are independent and deterministic (BOBYQA/COBYLA), so the result does not depend on
+// how many run at once; it is returned in target order, and the first failure in that order is rethrown.
+std::vector<Fit> fit_targets_at_once(const compile::CompiledSpace& c, const runner::RunnerOptions& ro,
+                                     const variants::Manifest& manifest, const std::vector<Target>& targets,
+                                     const std::vector<Case>& cases, const CalibrateOptions& o, const Progress& say) {
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t workers = std::min<std::size_t>(targets.size(), o.fits_at_once > 0 ? unsigned(o.fits_at_once) : cores);
+  std::vector<std::optional<Fit>> fits(targets.size());
+  std::vector<std::exception_ptr> errors(targets.size());
+  std::atomic<std::size_t> next{0};
+  std::mutex say_mutex;
+  const Progress say_locked = [&](const std::string& s) {
+    std::lock_guard lock(say_mutex);
+    say(s);
+  };
+  auto work = [&] {
+    std::optional<runner::VariantRunner> runner;
+    for (std::size_t i; (i = next++) < targets.size();) {
+      try {
+        if (!runner) runner.emplace(c, ro);
+        fits[i] = fit_target(*runner, manifest, targets[i], cases, o, say_locked);
+      } catch (...) {
+        errors[i] = std::current_exception();
+        next = targets.size();  // start no other fit
+      }
+    }
+  };
+  if (workers <= 1) {
+    work();
+  } else {
+    std::vector<std::jthread> pool;
+    for (std::size_t w = 0; w < workers; ++w) pool.emplace_back(work);
+  }
+  std::vector<Fit> out;
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    if (errors[i]) std::rethrow_exception(errors[i]);
+    if (fits[i]) out.push_back(std::move(*fits[i]));
+  }
+  return out;
+}
+
 }  // namespace
 
 Calibration calibrate(const CalibrateOptions& o, const Progress& progress) {
@@ -271,14 +320,13 @@ Calibration calibrate(const CalibrateOptions& o, const Progress& progress) {
   ro.backend = o.backend;
   ro.device.threads = o.threads;
   ro.size = o.size;
-  runner::VariantRunner runner(c, ro);
   Calibration out;
   out.backend = o.backend;
   out.size = o.size;
   out.rays = o.rays;
   out.mode = o.mode;
   out.views = split;
-  for (const auto& t : targets) out.fits.push_back(fit_target(runner, manifest, t, cases, o, say));
+  out.fits = fit_targets_at_once(c, ro, manifest, targets, cases, o, say);
   return out;
 }
 

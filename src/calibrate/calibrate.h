@@ -59,6 +59,7 @@ struct CalibrateOptions {
   std::filesystem::path views_file;     // for loading the scenes of `views` (see split_views)
   Budget budget{100};                   // per fit; each evaluation renders every training view
   int threads = 2;                      // LP_NUM_THREADS
+  int fits_at_once = 0;                 // methods (or variants) fitted at once, each with its own runner; 0: cores
   std::filesystem::path compile_cache, reference_cache;  // empty: none
 };
 

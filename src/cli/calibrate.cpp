@@ -73,6 +73,10 @@ Command add_calibrate(CLI::App& app) {
   cmd->add_option("--evaluations", cal.budget.max_evaluations, "objective evaluations per fit (NLopt BOBYQA; COBYLA for one parameter)")
       ->capture_default_str();
   cmd->add_option("--threads", cal.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
+  cmd->add_option("--fits-at-once", cal.fits_at_once,
+                  "methods (or variants) fitted at once, each on its own device (default 0: one per core; the "
+                  "result does not depend on it)")
+      ->capture_default_str();
   cmd->add_option("--out,-o", a->out, "calibration file to write (e.g. shader_src/calibration.json)")->required();
   add_cache_dir(cmd, a->cache_dir, "compile and reference cache");
   return {cmd, [a] { return run_calibrate(*a); }};

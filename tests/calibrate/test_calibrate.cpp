@@ -135,6 +135,28 @@ TEST(Calibrate, FittingLowersTrainingErrorWithinTheManifestsRanges) {
   EXPECT_FALSE(without.rows[0].error);
 }
 
+// Fits run several at once, each on its own device (CalibrateOptions::fits_at_once): the result is the one a
+// fit at a time gives, in the same order, whatever finishes first.
+TEST(Calibrate, FitsAtOnceGiveTheFitsOfOneAtATimeInTheSameOrder) {
+  TempDir dir;
+  auto o = small_options(dir);
+  o.algorithms = {"sao", "alchemy", "hbao"};
+  o.budget.max_evaluations = 6;
+  o.fits_at_once = 1;
+  const auto one = calibrate::calibrate(o);
+  o.fits_at_once = 3;
+  const auto three = calibrate::calibrate(o);
+  ASSERT_EQ(one.fits.size(), 3u);
+  ASSERT_EQ(three.fits.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(three.fits[i].algorithm, o.algorithms[i]);
+    EXPECT_EQ(three.fits[i].algorithm, one.fits[i].algorithm);
+    EXPECT_EQ(three.fits[i].fitted, one.fits[i].fitted) << one.fits[i].algorithm;
+    EXPECT_EQ(three.fits[i].train_rmse_after, one.fits[i].train_rmse_after) << one.fits[i].algorithm;
+    EXPECT_EQ(three.fits[i].search.evaluations, one.fits[i].search.evaluations) << one.fits[i].algorithm;
+  }
+}
+
 // The split for a user's scene: every third view held out by default, the rest of --view held out when
 // only training views are named, and one-line errors for what cannot be a split.
 // --normals depth fits each method with its depth-normal variant (for scenes whose vertex normals lean from
