@@ -17,6 +17,7 @@ Prints one line per figure; exit 0.
 """
 import itertools
 import json
+import os
 import re
 import statistics
 import sys
@@ -112,7 +113,9 @@ def main():
     print(f"recall: {len(covered)}/{len(f)} = {100.0 * len(covered) / max(1, len(f)):.1f} % of the exhaustive front kept or covered")
     for e in lost:
         print(f"  lost from the front: {e['variant']} ({e['round']}: {e['reason']})")
-    print_drift(json.load(open(f"{ship_dir}/screen/cost_table.json"))["rows"], rows)
+    screen = f"{ship_dir}/screen/cost_table.json"  # none when one race batch held every candidate
+    if os.path.exists(screen):
+        print_drift(json.load(open(screen))["rows"], rows)
     print_margins(meta, set(f))
 
 

@@ -245,18 +245,26 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
     run.prepare_s = seconds_since(prep_start);
 
     TimingOptions to{o_.timing.warmup, o_.timing.reps, res_.radius, o_.timing.camera_path, o_.timing.auto_reps, std::nullopt};
-    if (o_.timing.auto_reps && (o_.timing.race_errors || o_.timing.race_budget))
-      to.retire = retire_rule(ref, todo, lo, hi, view.name, earlier);
+    if (o_.timing.auto_reps && o_.timing.races()) to.retire = retire_rule(ref, todo, lo, hi, view.name, earlier);
     auto still_frames = [&] {  // per pipeline, the frames its still needs (both halves of a progressive one)
       std::vector<int> frames{ref.plan.progressive ? 2 : 1};
       for (std::size_t i = lo; i < hi; ++i) frames.push_back(todo[i].plan.progressive ? 2 : 1);
       return frames;
     };
-    auto timed = o_.timing.still_only
-                     ? render_stills(runner.backend(), pointers, still_frames(), view, to)
-                     : time_round_robin(runner.backend(), pointers, view, to, [&](const std::string& s) {
-                         status(fmt::format("{}: batch {}/{}: {} ({} pipelines)", where, b + 1, batches, s, pointers.size()));
-                       });
+    const bool score_stills = to.retire && o_.timing.race_scores_stills;
+    RoundRobinResult timed;
+    if (o_.timing.still_only) {
+      timed = render_stills(runner.backend(), pointers, still_frames(), view, to);
+    } else {
+      StillsBeforeWarmUp stills{still_frames(), [&] {
+        status(fmt::format("{}: batch {}/{}: scoring {} stills", where, b + 1, batches, pointers.size()));
+        score_unknown_errors(runner, pointers, view, *to.retire);
+      }};
+      timed = warm_up(runner.backend(), pointers, view, to, score_stills ? &stills : nullptr);
+      time_rounds(runner.backend(), pointers, view, to, timed, [&](const std::string& s) {
+        status(fmt::format("{}: batch {}/{}: {} ({} pipelines)", where, b + 1, batches, s, pointers.size()));
+      });
+    }
     if (to.retire) add_earlier_rows(earlier, *to.retire, timed);
     run.warmup_s = timed.wall_warmup_s;
     run.timed_wall_s = timed.wall_timed_s;
@@ -314,6 +322,17 @@ Retire BatchMeasurer::retire_rule(const Candidate& reference, const std::vector<
   Retire r{{known(reference)}, o_.timing.race_margin, o_.timing.race_budget, earlier};
   for (std::size_t i = lo; i < hi; ++i) r.known_error.push_back(known(todo[i]));
   return r;
+}
+
+// TimingPlan::race_scores_stills: each warmed-up pipeline whose error the race does not know yet, read back and
+// scored against the view's reference as finish_row scores its row. The reference (pipeline 0) only when it is a
+// selected variant: a timing-only baseline is no row of the table, and retires nothing by its error.
+void BatchMeasurer::score_unknown_errors(runner::VariantRunner& runner, const std::vector<render::PreparedPipeline*>& pipelines,
+                                         const scene::View& view, Retire& rule) {
+  const auto& truth = ground_truth(view);
+  for (std::size_t i = sel_.baseline_selected ? 0 : 1; i < pipelines.size() && i < rule.known_error.size(); ++i)
+    if (std::isnan(rule.known_error[i]))
+      rule.known_error[i] = runner::score(runner.read(*pipelines[i]).image, truth, view, res_.radius).rmse;
 }
 
 // Variants that run the same code as an earlier one in key order on this device (same_code.h), once this

@@ -70,6 +70,8 @@ class BatchMeasurer {
   // budget, and what is slower than it beyond the margin retires.
   Retire retire_rule(const Candidate& reference, const std::vector<Candidate>& todo, std::size_t lo, std::size_t hi,
                      const std::string& view, const std::vector<EarlierRow>& earlier) const;
+  void score_unknown_errors(runner::VariantRunner& runner, const std::vector<render::PreparedPipeline*>& pipelines,
+                            const scene::View& view, Retire& rule);
   reference::ReferenceOptions reference_options() const;
   const reference::ReferenceImage& ground_truth(const scene::View& view);
   void status(const std::string& what) const;

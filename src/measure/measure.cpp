@@ -42,7 +42,9 @@ void check_options(const MeasureOptions& o) {
   // traced for a path frame would match none of them.
   if (o.timing.auto_reps && o.timing.camera_path) throw std::runtime_error("--camera-path needs a fixed --reps N, not auto");
   if (o.size.width < 1 || o.size.height < 1) throw std::runtime_error("--size must be WxH with W, H >= 1");
-  if (o.timing.race_errors && !(o.timing.race_margin >= 1.0)) throw std::runtime_error("the race's margin must be a time ratio >= 1");
+  if (o.timing.races() && !(o.timing.race_margin >= 1.0)) throw std::runtime_error("the race's margin must be a time ratio >= 1");
+  if (o.timing.race_scores_stills && !o.truth.enabled)
+    throw std::runtime_error("the race scores its stills against the reference: it needs --reference");
 }
 
 Selection select_variants(const compile::CompiledSpace& c, const MeasureOptions& o, const ScenePruning* pruning,

@@ -13,7 +13,7 @@ std::string reps_text(const MeasureOptions& o) {
   if (!o.timing.auto_reps) return std::to_string(o.timing.reps);  // as before --reps auto: fixed-count rows stay reusable
   const AutoReps& a = *o.timing.auto_reps;
   // A raced row may stop before its target: not the row a plain --reps auto gives.
-  std::string race = o.timing.race_errors || o.timing.race_budget ? fmt::format(":race{}", o.timing.race_margin) : std::string();
+  std::string race = o.timing.races() ? fmt::format(":race{}", o.timing.race_margin) : std::string();
   if (o.timing.race_budget) race += ":budget";
   return fmt::format("auto:min{}:ci{}:cap{}s:max{}{}", o.timing.reps, a.ci_target, a.cap_s, a.max_rounds, race);
 }
@@ -23,7 +23,7 @@ std::string reps_words(const MeasureOptions& o) {
   if (!o.timing.auto_reps) return fmt::format("{} reps", o.timing.reps);
   return fmt::format("--reps auto (95 % interval within {:g} %, at least {} rounds, cap {:g} s or {} rounds{})",
                      100 * o.timing.auto_reps->ci_target, o.timing.reps, o.timing.auto_reps->cap_s, o.timing.auto_reps->max_rounds,
-                     o.timing.race_errors || o.timing.race_budget
+                     o.timing.races()
                          ? fmt::format("; raced: stopped once slower beyond {:.2f}x than a more accurate one{}", o.timing.race_margin,
                                        o.timing.race_budget ? " or than the budget's variant" : "")
                          : std::string());

@@ -1,5 +1,6 @@
 #include "measure/timing.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numeric>
@@ -26,20 +27,31 @@ render::FrameSetup setup(const scene::View& view, int frame, const TimingOptions
 
 }  // namespace
 
-RoundRobinResult time_round_robin(render::Backend& backend, const std::vector<render::PreparedPipeline*>& pipelines,
-                                  const scene::View& view, const TimingOptions& o, const Progress& progress) {
+RoundRobinResult warm_up(render::Backend& backend, const std::vector<render::PreparedPipeline*>& pipelines,
+                         const scene::View& view, const TimingOptions& o, const StillsBeforeWarmUp* stills) {
   RoundRobinResult r;
   r.pipelines.resize(pipelines.size());
   auto start = std::chrono::steady_clock::now();
-  for (std::size_t i = 0; i < pipelines.size(); ++i) {
+  auto render_until = [&](std::size_t i, int frames) {
     PipelineTiming& t = r.pipelines[i];
-    auto ms = backend.render(*pipelines[i], setup(view, t.frames++, o));
-    t.first_frame_ms = std::accumulate(ms.begin(), ms.end(), 0.0);
-    for (int w = 0; w < o.warmup; ++w) backend.render(*pipelines[i], setup(view, t.frames++, o));
+    while (t.frames < frames) {
+      auto ms = backend.render(*pipelines[i], setup(view, t.frames++, o));
+      if (t.frames == 1) t.first_frame_ms = std::accumulate(ms.begin(), ms.end(), 0.0);
+    }
+  };
+  if (stills) {  // every still first, read; then the warm-up, so no timed frame is the first after a read-back
+    for (std::size_t i = 0; i < pipelines.size(); ++i) render_until(i, std::max(1, stills->frames.at(i)));
+    stills->read();
   }
+  for (std::size_t i = 0; i < pipelines.size(); ++i)  // after the still's frames, or the first frame
+    render_until(i, std::max(1, r.pipelines[i].frames) + o.warmup);
   r.wall_warmup_s = seconds_since(start);
+  return r;
+}
 
-  start = std::chrono::steady_clock::now();
+void time_rounds(render::Backend& backend, const std::vector<render::PreparedPipeline*>& pipelines,
+                 const scene::View& view, const TimingOptions& o, RoundRobinResult& r, const Progress& progress) {
+  auto start = std::chrono::steady_clock::now();
   std::vector<std::size_t> active(pipelines.size());
   std::iota(active.begin(), active.end(), std::size_t{0});
   for (int round = 0; !active.empty() && (o.adaptive || round < o.reps); ++round) {
@@ -63,6 +75,12 @@ RoundRobinResult time_round_robin(render::Backend& backend, const std::vector<re
   for (auto& t : r.pipelines)
     if (t.stop == Stop::running) t.stop = Stop::fixed;
   r.wall_timed_s = seconds_since(start);
+}
+
+RoundRobinResult time_round_robin(render::Backend& backend, const std::vector<render::PreparedPipeline*>& pipelines,
+                                  const scene::View& view, const TimingOptions& o, const Progress& progress) {
+  RoundRobinResult r = warm_up(backend, pipelines, view, o, nullptr);
+  time_rounds(backend, pipelines, view, o, r, progress);
   return r;
 }
 

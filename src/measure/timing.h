@@ -78,10 +78,27 @@ struct RoundRobinResult {
 
 using Progress = std::function<void(const std::string&)>;
 
-// Times every pipeline in `pipelines` (all prepared on `backend` for `view`) round-robin.
+// Times every pipeline in `pipelines` (all prepared on `backend` for `view`) round-robin: warm_up, then
+// time_rounds.
 RoundRobinResult time_round_robin(render::Backend& backend, const std::vector<render::PreparedPipeline*>& pipelines,
                                   const scene::View& view, const TimingOptions& options,
                                   const Progress& progress = {});
+
+// Its two halves, for a caller that reads the pipelines between the warm-up and the rounds.
+// With `stills` (the race scores each still, TimingPlan::race_scores_stills): every pipeline first renders its
+// still, `frames[i]` frames (2 for a progressive one, whose halves alternate; its first timed on its own), then
+// `read` runs, then every pipeline renders its `warmup` frames. The warm-up comes after the read-back, so that no
+// timed frame is a pipeline's first after it (the reference's, first in round 1, was a third slower on lavapipe).
+// Without, each pipeline's first frame and warm-up frames, one pipeline after the other.
+struct StillsBeforeWarmUp {
+  std::vector<int> frames;
+  std::function<void()> read;
+};
+RoundRobinResult warm_up(render::Backend& backend, const std::vector<render::PreparedPipeline*>& pipelines,
+                         const scene::View& view, const TimingOptions& options, const StillsBeforeWarmUp* stills);
+void time_rounds(render::Backend& backend, const std::vector<render::PreparedPipeline*>& pipelines,
+                 const scene::View& view, const TimingOptions& options, RoundRobinResult& warmed,
+                 const Progress& progress = {});
 
 // TimingPlan::still_only: every pipeline renders the frames its still needs, `frames[i]` (2 for a
 // progressive one, whose halves alternate; else 1), and nothing is timed: no rounds, Stop::fixed. The first

@@ -105,9 +105,10 @@ void render_stills_only(sweep::SweepOptions& so) {
 
 // A measured backend's screen times its candidates a few rounds to cut the space down to what the race can
 // time. When every candidate fits one batch of the race, the race makes that cut itself in its first rounds
-// (a candidate a more accurate one beats stops after them, measure::Retire, with no flicker rendered): the
-// screen then renders only the stills the race retires by. Not for shards, whose screens a join merges.
-bool stills_screen(const ShipOptions& o, int candidates) {
+// (a candidate a more accurate one beats stops after them, measure::Retire, with no flicker rendered), and
+// scores the stills it retires by itself, between its warm-up and its rounds (TimingPlan::race_scores_stills):
+// no screen runs. Not for shards, whose screens a join merges.
+bool race_without_screen(const ShipOptions& o, int candidates) {
   return o.target.empty() && o.shard_count <= 1 && o.join.empty() && candidates <= batch_of(o) - 1;
 }
 
@@ -221,11 +222,15 @@ table::CostTable race_then_holdout(const ShipOptions& o, const Fitted& fit, swee
   candidates = variants_of(last);
   eliminate_dominated(last, o, r.name, out, res);
   std::erase_if(last.rows, [&](const table::CostRow& row) { return out.count(row.variant) > 0; });
-  std::erase_if(so.measure.globs, [&](const std::string& k) { return out.count(k) > 0; });
-  auto errors = std::make_shared<std::map<std::pair<std::string, std::string>, double>>(*so.measure.timing.race_errors);
+  so.measure.globs.clear();  // the survivors by key (the race's globs may be patterns: no screen named them)
+  for (const auto& k : candidates)
+    if (!out.count(k)) so.measure.globs.push_back(k);
+  auto errors = std::make_shared<std::map<std::pair<std::string, std::string>, double>>();
+  if (so.measure.timing.race_errors) *errors = *so.measure.timing.race_errors;
   const HoldoutPlan plan = plan_holdout(o, fit, so.measure.globs, res, *errors, say);
   so.measure.views = res.holdout;
   so.measure.timing.race_errors = errors;
+  so.measure.timing.race_scores_stills = false;  // the held-out stills are scored: plan_holdout
   so.measure.timing.race_budget = !o.query.budget_of.empty();
   decide::SelectQuery q = o.query;
   q.backend = o.backend;
@@ -320,35 +325,38 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
 
   // 3. The race: a first round over the pruned space, the dominated eliminated, the survivors again.
   std::vector<std::string> globs = o.globs.empty() ? std::vector<std::string>{"*"} : o.globs;
-  const bool still_screen = stills_screen(o, res.selected - int(skip.size()));
+  const bool no_screen = race_without_screen(o, res.selected - int(skip.size()));
   table::CostTable last;
   for (const bool final_round : {false, true}) {
+    if (!final_round && no_screen) continue;
     Round r;
     r.name = round_name(!o.target.empty(), final_round);
     const auto t0 = std::chrono::steady_clock::now();
     // The screen decides on the training views only (its eliminations look at nothing else), so it renders
     // nothing else; the survivors are measured on every view, the held-out one for the choice.
     sweep::SweepOptions so = round_options(o, fit, final_round ? views : res.training, globs, skip, final_round);
-    if (still_screen && !final_round) render_stills_only(so);
     // The race times a view's beaten candidates no longer than it must: one stops once a more accurate one of
     // its batch (in the same rounds) or of an earlier batch (against the same reference) is faster beyond the
     // noise. It is off the front then, whatever more rounds would show; whether it leaves the table is the
     // elimination's call, with --race-margin, after the round. The screen's front is timed first (screen_ranks).
     if (final_round && o.target.empty()) {
-      so.measure.timing.race_errors = still_errors(last);
-      so.measure.timing.race_order = screen_ranks(last);
+      if (no_screen) {
+        so.measure.timing.race_scores_stills = true;
+      } else {
+        so.measure.timing.race_errors = still_errors(last);
+        so.measure.timing.race_order = screen_ranks(last);
+      }
       so.measure.timing.race_margin = kRetireMargin;
     }
     r.timing = !o.target.empty() ? "one render, estimate on " + o.target
                : final_round     ? measure::reps_words(so.measure)
-               : still_screen    ? std::string("no timing: one batch of the race holds every candidate")
                                  : fmt::format("{} reps", so.measure.timing.reps);
     if (!final_round) r.timing += ", still error only";
-    say(fmt::format("round {}: {} ({})", r.name,
-                    final_round        ? fmt::format("{} survivors", globs.size())
-                    : o.globs.empty() ? std::string("the whole pruned space")
-                                      : std::string("the selection"),
-                    r.timing));
+    if (no_screen) r.timing += "; no screen: one batch holds every candidate, the race scores their stills";
+    const std::string what = final_round && !no_screen ? fmt::format("{} survivors", globs.size())
+                             : o.globs.empty()         ? std::string("the whole pruned space")
+                                                       : std::string("the selection");
+    say(fmt::format("round {}: {} ({})", r.name, what, r.timing));
     std::set<std::string> out;         // this round's eliminated
     std::vector<std::string> candidates;  // this round's candidates
     const auto eliminate = [&](const table::CostTable& rows) { eliminate_dominated(rows, o, r.name, out, res); };
@@ -374,7 +382,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
       return res;
     }
     if (candidates.empty()) candidates = variants_of(last);
-    if (final_round || !still_screen) eliminate(last);  // stills have no time to eliminate by
+    eliminate(last);
     r.candidates = int(candidates.size()) + untraced;
     r.eliminated = int(out.size()) + untraced;
     r.seconds = util::seconds_since(t0);

@@ -208,5 +208,21 @@ TEST(Measure, RepsOptionRefusesWhatIsNotACountOrAuto) {
   EXPECT_NE(r.output.find("--camera-path needs a fixed --reps N"), std::string::npos) << r.output;
 }
 
+// A race that scores its own stills (TimingPlan::race_scores_stills, ship's race without a screen) scores them
+// against the reference: without one it is refused before anything renders.
+TEST(Measure, ARaceThatScoresItsStillsNeedsTheReference) {
+  TempDir dir;
+  auto o = tiny_measure(dir.path(), {"alchemy-s08-p0-nrgb8-zdep-rst-d32-bsep-x1-hp"}, "alchemy-s04-p0-nrgb8-zdep-rst-d32-bsep-x1-hp");
+  o.timing.auto_reps = AutoReps{};
+  o.timing.race_scores_stills = true;
+  o.truth.enabled = false;
+  try {
+    measure::run_measure(o);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("needs --reference"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace aovar::test
