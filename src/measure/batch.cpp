@@ -251,20 +251,8 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
       for (std::size_t i = lo; i < hi; ++i) frames.push_back(todo[i].plan.progressive ? 2 : 1);
       return frames;
     };
-    const bool score_stills = to.retire && o_.timing.race_scores_stills;
-    RoundRobinResult timed;
-    if (o_.timing.still_only) {
-      timed = render_stills(runner.backend(), pointers, still_frames(), view, to);
-    } else {
-      StillsBeforeWarmUp stills{still_frames(), [&] {
-        status(fmt::format("{}: batch {}/{}: scoring {} stills", where, b + 1, batches, pointers.size()));
-        score_unknown_errors(runner, pointers, view, *to.retire);
-      }};
-      timed = warm_up(runner.backend(), pointers, view, to, score_stills ? &stills : nullptr);
-      time_rounds(runner.backend(), pointers, view, to, timed, [&](const std::string& s) {
-        status(fmt::format("{}: batch {}/{}: {} ({} pipelines)", where, b + 1, batches, s, pointers.size()));
-      });
-    }
+    const RoundRobinResult timed =
+        render_batch(runner, pointers, still_frames(), view, to, fmt::format("{}: batch {}/{}", where, b + 1, batches));
     if (to.retire) add_earlier_rows(earlier, *to.retire, timed);
     run.warmup_s = timed.wall_warmup_s;
     run.timed_wall_s = timed.wall_timed_s;
@@ -324,7 +312,25 @@ Retire BatchMeasurer::retire_rule(const Candidate& reference, const std::vector<
   return r;
 }
 
-// TimingPlan::race_scores_stills: each warmed-up pipeline whose error the race does not know yet, read back and
+// One batch's frames: the stills only (TimingPlan::still_only), else the warm-up and the timed rounds, with the
+// stills the race retires by scored between them when it must (race_scores_stills).
+RoundRobinResult BatchMeasurer::render_batch(runner::VariantRunner& runner, const std::vector<render::PreparedPipeline*>& pipelines,
+                                             const std::vector<int>& still_frames, const scene::View& view, TimingOptions& to,
+                                             const std::string& where) {
+  if (o_.timing.still_only) return render_stills(runner.backend(), pipelines, still_frames, view, to);
+  const StillsBeforeWarmUp stills{still_frames, [&] {
+                                    status(fmt::format("{}: scoring {} stills", where, pipelines.size()));
+                                    score_unknown_errors(runner, pipelines, view, *to.retire);
+                                  }};
+  RoundRobinResult timed =
+      warm_up(runner.backend(), pipelines, view, to, to.retire && o_.timing.race_scores_stills ? &stills : nullptr);
+  time_rounds(runner.backend(), pipelines, view, to, timed, [&](const std::string& s) {
+    status(fmt::format("{}: {} ({} pipelines)", where, s, pipelines.size()));
+  });
+  return timed;
+}
+
+// TimingPlan::race_scores_stills: each pipeline whose still the race does not know the error of yet, read back and
 // scored against the view's reference as finish_row scores its row. The reference (pipeline 0) only when it is a
 // selected variant: a timing-only baseline is no row of the table, and retires nothing by its error.
 void BatchMeasurer::score_unknown_errors(runner::VariantRunner& runner, const std::vector<render::PreparedPipeline*>& pipelines,

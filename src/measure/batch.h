@@ -70,6 +70,9 @@ class BatchMeasurer {
   // budget, and what is slower than it beyond the margin retires.
   Retire retire_rule(const Candidate& reference, const std::vector<Candidate>& todo, std::size_t lo, std::size_t hi,
                      const std::string& view, const std::vector<EarlierRow>& earlier) const;
+  RoundRobinResult render_batch(runner::VariantRunner& runner, const std::vector<render::PreparedPipeline*>& pipelines,
+                                const std::vector<int>& still_frames, const scene::View& view, TimingOptions& to,
+                                const std::string& where);
   void score_unknown_errors(runner::VariantRunner& runner, const std::vector<render::PreparedPipeline*>& pipelines,
                             const scene::View& view, Retire& rule);
   reference::ReferenceOptions reference_options() const;
