@@ -22,14 +22,17 @@ std::string ResourceRef::label() const {
 namespace {
 
 // Collects buffers[i].uri / byteLength and images[i].uri without building a document (a .gltf may hold
-// hundreds of MiB of base64 data URIs). Depth 1 is the root object, 2 the arrays, 3 their elements.
+// hundreds of MiB of base64 data URIs). Depth 1 is the root object, 2 the arrays, 3 their elements. Only an
+// element that is an object has a ref: an array there (`"images": [["uri", ...]]`, malformed) holds values
+// at depth 3 too, which must not reach refs.back() (a fuzz finding: back() of an empty vector).
 struct RefCollector : nlohmann::json_sax<nlohmann::json> {
   std::vector<ResourceRef> refs;
   int depth = 0;
   std::string top, field;  // the root's current key; the element's current key
   std::size_t count[2] = {0, 0};
+  bool element_open = false;  // depth 3 is an object element of buffers or images, refs.back() its ref
 
-  bool in_element() const { return depth == 3 && (top == "buffers" || top == "images"); }
+  bool in_element() const { return depth == 3 && element_open; }
   bool null() override { return true; }
   bool boolean(bool) override { return true; }
   bool number_integer(number_integer_t v) override {
@@ -51,6 +54,7 @@ struct RefCollector : nlohmann::json_sax<nlohmann::json> {
       const bool image = top == "images";
       refs.push_back({image, count[image]++, {}, {}});
       field.clear();
+      element_open = true;
     }
     return true;
   }
@@ -59,7 +63,10 @@ struct RefCollector : nlohmann::json_sax<nlohmann::json> {
     if (depth == 3) field = k;
     return true;
   }
-  bool end_object() override { return --depth, true; }
+  bool end_object() override {
+    if (depth-- == 3) element_open = false;
+    return true;
+  }
   bool start_array(std::size_t) override { return ++depth, true; }
   bool end_array() override { return --depth, true; }
   bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }

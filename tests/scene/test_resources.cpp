@@ -6,6 +6,7 @@
 
 #include <fstream>
 
+#include "scene/gltf_resources.h"
 #include "scene/resource_path.h"
 #include "scene/scene.h"
 #include "test_support.h"
@@ -118,6 +119,24 @@ TEST(ScenePaths, ResolverKeepsEveryAcceptedPathInsideTheFolder) {
   EXPECT_EQ(scene::resolve_resource(scene, "s.gltf", "buffer 0", "a%20b+c.bin"), dir / "a b c.bin");
   EXPECT_TRUE(scene::is_data_uri("DATA:application/octet-stream;base64,AA=="));
   EXPECT_FALSE(scene::is_data_uri("data.bin"));
+}
+
+// The refs a .gltf names, read without a document: an element of buffers or images that is no object (the
+// malformed `"images": [["uri", ...]]`, a fuzz finding that read refs.back() of an empty list) names none,
+// and the object elements around it keep their indices.
+TEST(SceneBuffers, OnlyObjectElementsOfBuffersAndImagesNameResources) {
+  const auto refs = scene::detail::resource_refs(
+      R"({"buffeRs": [{"uri": "4,AAAA"}], "images": [["uri", 3, "b.png"], {"uri": "a.png"}],)"
+      R"( "buffers": [{"byteLength": 6, "uri": "a.bin"}, [{"uri": "deep.bin"}]]})");
+  ASSERT_EQ(refs.size(), 2u);
+  EXPECT_TRUE(refs[0].image);
+  EXPECT_EQ(refs[0].uri, "a.png");
+  EXPECT_EQ(refs[0].index, 0u) << "the array element is not counted: tinygltf has no image there either";
+  EXPECT_FALSE(refs[1].image);
+  EXPECT_EQ(refs[1].uri, "a.bin");
+  EXPECT_EQ(refs[1].byte_length, 6u);
+  // Cut off inside such an element, as the finding was: no ref, no crash.
+  EXPECT_TRUE(scene::detail::resource_refs(R"({"buffeRs": [{"uri": "4,AAAA"}], "images": [["uri":})").empty());
 }
 
 TEST(SceneBuffers, DeclaredAndRealSizesAreCheckedBeforeReading) {
