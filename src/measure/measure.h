@@ -53,9 +53,9 @@ struct TimingPlan {
   // slower than it beyond race_margin stops being timed, whatever its error: it cannot be chosen.
   bool race_budget = false;
   // The race scores the stills itself (ship's race when no screen ran before it, every candidate fitting one
-  // batch): each pipeline whose error race_errors does not hold is read back after its warm-up and scored against
-  // the reference before the timed rounds, and raced by that error (the baseline too, when selected). Needs
-  // GroundTruth::enabled.
+  // batch): each pipeline whose error race_errors does not hold renders its still, is read back and scored
+  // against the reference before its warm-up and the timed rounds (timing.h, warm_up), and is raced by that error
+  // (the baseline too, when selected). Needs GroundTruth::enabled.
   bool race_scores_stills = false;
   bool races() const { return race_errors || race_budget || race_scores_stills; }
 };

@@ -106,7 +106,7 @@ void render_stills_only(sweep::SweepOptions& so) {
 // A measured backend's screen times its candidates a few rounds to cut the space down to what the race can
 // time. When every candidate fits one batch of the race, the race makes that cut itself in its first rounds
 // (a candidate a more accurate one beats stops after them, measure::Retire, with no flicker rendered), and
-// scores the stills it retires by itself, between its warm-up and its rounds (TimingPlan::race_scores_stills):
+// scores the stills it retires by itself, before its warm-up and its rounds (TimingPlan::race_scores_stills):
 // no screen runs. Not for shards, whose screens a join merges.
 bool race_without_screen(const ShipOptions& o, int candidates) {
   return o.target.empty() && o.shard_count <= 1 && o.join.empty() && candidates <= batch_of(o) - 1;
@@ -359,7 +359,6 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
     say(fmt::format("round {}: {} ({})", r.name, what, r.timing));
     std::set<std::string> out;         // this round's eliminated
     std::vector<std::string> candidates;  // this round's candidates
-    const auto eliminate = [&](const table::CostTable& rows) { eliminate_dominated(rows, o, r.name, out, res); };
     if (final_round && o.target.empty() && !res.holdout.empty())
       last = race_then_holdout(o, fit, so, res, r, out, candidates, say);
     else
@@ -382,7 +381,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
       return res;
     }
     if (candidates.empty()) candidates = variants_of(last);
-    eliminate(last);
+    eliminate_dominated(last, o, r.name, out, res);
     r.candidates = int(candidates.size()) + untraced;
     r.eliminated = int(out.size()) + untraced;
     r.seconds = util::seconds_since(t0);

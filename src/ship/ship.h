@@ -4,9 +4,9 @@
 //      lean from their faces (then the search keeps normals derived from depth and fits with them);
 //   2. fit every method's parameters on the scene's training views (calibrate), held-out views apart;
 //   3. search the pruned space by racing (race.h): a screen of every candidate, its still error only (no
-//      flicker along the camera path, no images) and a few timed repetitions (with a GPU target, or when every
-//      candidate fits one batch of the race: one render, no timing), the dominated ones eliminated with their
-//      reason, then the survivors
+//      flicker along the camera path, no images) and a few timed repetitions (with a GPU target: one render, no
+//      timing; when every candidate fits one batch of the race: no screen, the race scores the stills itself),
+//      the dominated ones eliminated with their reason, then the survivors
 //      with every measure of a sweep, timed until their intervals are narrow (--reps auto), except that a
 //      candidate a more accurate one of its batch or an earlier batch already beats beyond the margin stops
 //      being timed on that view (measure::Retire; the screen's front is timed first), eliminated again.
