@@ -1,5 +1,6 @@
-// aovar analyze --gpu: every pass of the selected variants compiled on RADV's null device per AMD family,
-// ACO's statistics and the roofline estimate -> text and gpu.json (docs/gpu-cost.md).
+// aovar analyze --gpu: every pass of the selected variants compiled per chip (RADV's null device for AMD
+// families, Mesa's GL drivers through drm-shim for NVIDIA, Adreno, Mali and Intel chips), the compilers'
+// statistics and, where a product has one, the roofline estimate -> text and gpu.json (docs/gpu-cost.md).
 #include <fmt/format.h>
 
 #include <iostream>
@@ -8,6 +9,7 @@
 #include "cli/render_parts.h"
 #include "gpu/costs.h"
 #include "gpu/families.h"
+#include "gpu/family_specs.h"
 #include "gpu/gpu.h"
 #include "gpu/text.h"
 #include "util/fs.h"
@@ -19,9 +21,13 @@ ExitCode run_analyze_gpu(const GpuAnalyzeArgs& a) {
   const auto lock = lock_output(a.out);
   gpu::GpuOptions options;
   options.families = gpu::parse_families(a.families);
-  options.icd = gpu::find_radeon_icd();  // before compiling: a missing driver is the first thing to say
+  options.cache_dir = a.common.cache();
+  bool amd = false, gl = false;
+  for (const std::string& name : options.families) (gpu::gl_chip(name) ? gl : amd) = true;
+  if (amd) options.icd = gpu::find_radeon_icd();  // before compiling: a missing driver is the first thing to say
   compile::CompileOptions co = compile_options(a.common);
-  co.targets = {variants::Target::vulkan};
+  co.targets = {variants::Target::vulkan};  // the plans (and the AMD pipelines) read the Vulkan builds
+  if (gl) co.targets.push_back(variants::Target::gles30);
   const auto compiled = compile::compile_space(a.common.manifest, co);
   if (!report_diagnostics(compiled)) return ExitCode::error;  // the diagnostics are printed
   std::vector<int> variants(compiled.space.variants.size());

@@ -8,6 +8,7 @@
 #include <spirv-tools/libspirv.hpp>
 
 #include <mutex>
+#include <stdexcept>
 #include <sstream>
 
 #include "util/hash.h"
@@ -214,6 +215,20 @@ CompileOutput compile_program(const std::string& source, StageKind stage, Target
     out.identity = util::hash_hex(std::string_view(reinterpret_cast<const char*>(out.spirv.data()),
                                                    out.spirv.size() * sizeof(std::uint32_t)));
   if (!out.ok) out.spirv.clear();
+  return out;
+}
+
+std::string preprocess_es(const std::string& source, StageKind stage) {
+  initialise_compiler();
+  glslang::TShader shader(language(stage));
+  const char* text = source.c_str();
+  const int length = static_cast<int>(source.size());
+  shader.setStringsWithLengths(&text, &length, 1);
+  shader.setEnvInput(glslang::EShSourceGlsl, language(stage), glslang::EShClientNone, 0);
+  glslang::TShader::ForbidIncluder no_includes;
+  std::string out;
+  if (!shader.preprocess(GetDefaultResources(), 300, EEsProfile, false, false, EShMsgDefault, &out, no_includes))
+    throw std::runtime_error("glslang preprocessor: " + std::string(shader.getInfoLog()));
   return out;
 }
 

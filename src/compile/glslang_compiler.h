@@ -55,6 +55,10 @@ class ValidationMemo {
 CompileOutput compile_program(const std::string& source, variants::StageKind stage, variants::Target target,
                               ValidationMemo* memo = nullptr);
 
+// The GLSL ES source after glslang's preprocessor: macros expanded, #if resolved, comments gone, #line kept.
+// What the GL compilers' loop unroller reads (gpu/glsl_unroll.h). Throws std::runtime_error with glslang's log.
+std::string preprocess_es(const std::string& source, variants::StageKind stage);
+
 // "glslang 12.0.0 / SPIRV-Tools ..." — part of every program's content hash.
 std::string compiler_version();
 

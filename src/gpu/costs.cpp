@@ -27,7 +27,8 @@ std::map<std::string, table::GpuCosts> costs_of(const GpuAnalysis& analysis,
     for (const VariantStats& v : f.variants) {
       auto it = loads.find(v.key);
       if (it == loads.end()) continue;
-      out[v.key][f.family] = estimate(v, it->second, spec, frame, f.driver);
+      table::GpuCost& cost = out[v.key][f.family] = estimate(v, it->second, spec, frame, f.driver);
+      cost.compiler = f.compiler;
     }
   }
   return out;

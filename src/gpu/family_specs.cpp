@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gpu/gl_vendor.h"
+
 namespace aovar::gpu {
 extern const char* const kFamiliesJson;  // families_embedded.cpp, generated from src/gpu/families.json
 
@@ -71,6 +73,11 @@ FamilySpec spec_from(const nlohmann::json& e, const std::map<std::string, std::s
   if (s.cus < s.shader_arrays()) bad(s.family + " has fewer CUs than shader arrays");
   for (const auto& c : e.at("caches")) s.caches.push_back(level_from(c, s.family, sources));
   if (s.caches.empty()) bad(s.family + ".caches is empty");
+  if (e.contains("compiler")) {
+    s.compiler = CompilerRef{e.at("compiler").at("driver").get<std::string>(), e.at("compiler").at("chip").get<std::string>()};
+    if (!gl_vendor(s.compiler->driver)) bad(s.family + ".compiler.driver '" + s.compiler->driver + "' is no registered GL vendor");
+    if (s.compiler->chip.empty()) bad(s.family + ".compiler.chip is empty");
+  }
   return s;
 }
 
@@ -105,6 +112,18 @@ const std::vector<FamilySpec>& reference_products() { return data().reference; }
 const std::map<std::string, std::string>& cache_sources() { return data().sources; }
 
 const FamilySpec* family_spec(const std::string& family) { return find_in(family_specs(), family); }
+
+std::vector<const FamilySpec*> gl_chips() {
+  std::vector<const FamilySpec*> chips;
+  for (const FamilySpec& s : reference_products())
+    if (s.compiler) chips.push_back(&s);
+  return chips;
+}
+
+const FamilySpec* gl_chip(const std::string& name) {
+  const FamilySpec* s = find_in(reference_products(), name);
+  return s && s->compiler ? s : nullptr;
+}
 
 const FamilySpec* product_spec(const std::string& name) {
   const FamilySpec* s = family_spec(name);

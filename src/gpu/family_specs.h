@@ -4,6 +4,7 @@
 // family without an entry gets statistics but no estimate.
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,13 @@ struct CacheLevelSpec {
   std::map<std::string, std::string> sources;  // figure ("size_kb", "ways", ...) -> key of cache_sources()
 };
 
+// The Mesa GL driver that compiles for a non-AMD product through its drm-shim (gpu/gl_vendor.h): a registered
+// vendor's name and the value of its chip variable ("nouveau", "c8"). families.json's "compiler".
+struct CompilerRef {
+  std::string driver;
+  std::string chip;
+};
+
 struct FamilySpec {
   std::string family;                // RADV's name ("navi21")
   std::vector<std::string> aliases;  // other RADV names for the same chip ("gfx1100" for navi31)
@@ -37,6 +45,7 @@ struct FamilySpec {
   double shader_clock_mhz = 0;       // the ALUs' clock where it differs from clock_mhz (Fermi), else 0
   int shader_engines = 1, shader_arrays_per_engine = 1;  // rasteriser groups: screen tiles go to arrays
   std::vector<CacheLevelSpec> caches;  // texture path, nearest the shader first; DRAM after the last
+  std::optional<CompilerRef> compiler; // reference products a Mesa GL driver compiles for; none on AMD families
   int shader_arrays() const { return shader_engines * shader_arrays_per_engine; }
 };
 
@@ -50,6 +59,12 @@ const FamilySpec* family_spec(const std::string& family);
 // Products that are no RADV family (the GeForce GTX 580 of the SAO paper): the cache simulator can load them
 // by name, ISA statistics never see them (family_specs() does not list them).
 const std::vector<FamilySpec>& reference_products();
+
+// The chips a Mesa GL driver compiles for: the reference products with a "compiler", in file order.
+std::vector<const FamilySpec*> gl_chips();
+
+// That chip by name or alias; nullptr when it is no GL chip.
+const FamilySpec* gl_chip(const std::string& name);
 
 // A family (family_spec) or else a reference product, by name or alias; nullptr when neither has it.
 const FamilySpec* product_spec(const std::string& name);

@@ -11,6 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "gpu/families.h"
+#include "gpu/family_specs.h"
+#include "gpu/gl_analysis.h"
 #include "gpu/null_device.h"
 #include "gpu/spirv_unroll.h"
 #include "render/plan.h"
@@ -30,10 +32,11 @@ struct Program {
 struct UniquePipeline {
   PipelineShape shipped, unrolled;
   int loops_unrolled = 0;
+  std::string vertex_key, fragment_key;
 };
 
 struct PassRef {
-  std::string pass, vertex, fragment;
+  std::string pass;
   int pipeline = -1;
 };
 
@@ -71,6 +74,8 @@ int pipeline_of(Work& w, const render::PipelinePlan& plan, const render::Draw& d
     p.shipped = {&vs.shipped, &fs.shipped, formats, draw.depth, draw.geometry};
     p.unrolled = {&vs.unrolled, &fs.unrolled, formats, draw.depth, draw.geometry};
     p.loops_unrolled = fs.loops_unrolled;
+    p.vertex_key = plan.shaders[draw.vertex].program_key;
+    p.fragment_key = plan.shaders[draw.fragment].program_key;
     w.pipelines.push_back(std::move(p));
   }
   return it->second;
@@ -85,8 +90,7 @@ Work plan_work(const compile::CompiledSpace& compiled, const std::vector<int>& v
       bool seen = false;
       for (const PassRef& p : passes) seen = seen || p.pass == draw.pass;
       if (seen) continue;  // the separable blur's second draw, SAO's pyramid levels: the same pipeline
-      passes.push_back({draw.pass, plan.shaders[draw.vertex].program_key, plan.shaders[draw.fragment].program_key,
-                        pipeline_of(w, plan, draw)});
+      passes.push_back({draw.pass, pipeline_of(w, plan, draw)});
     }
     w.variants.emplace_back(plan.variant, std::move(passes));
   }
@@ -128,6 +132,7 @@ std::string ending(const util::ChildOutcome& how, const std::string& error, std:
 FamilyStats run_family(const Work& w, const std::string& family, const std::filesystem::path& icd) {
   FamilyStats f;
   f.family = family;
+  f.compiler = "radv";
   std::vector<std::optional<std::pair<ShaderStats, ShaderStats>>> results(w.pipelines.size());
   std::size_t done = 0;
   std::string error;
@@ -150,13 +155,20 @@ FamilyStats run_family(const Work& w, const std::string& family, const std::file
         }
       });
   f.error = ending(how, error, done, w.pipelines.size());
+  std::vector<int> index(w.pipelines.size(), -1);  // pipeline -> its place in f.pipelines (done ones only)
+  for (std::size_t i = 0; i < w.pipelines.size(); ++i) {
+    if (!results[i]) continue;
+    const UniquePipeline& p = w.pipelines[i];
+    index[i] = static_cast<int>(f.pipelines.size());
+    f.pipelines.push_back(std::make_shared<const PipelineStats>(PipelineStats{
+        p.vertex_key, p.fragment_key, p.loops_unrolled, 0, results[i]->first, results[i]->second}));
+  }
   for (const auto& [key, refs] : w.variants) {
     VariantStats v{key, {}};
     bool complete = true;
     for (const PassRef& r : refs) {
-      if (!results[r.pipeline]) complete = false;
-      else v.passes.push_back({r.pass, r.vertex, r.fragment, w.pipelines[r.pipeline].loops_unrolled,
-                               results[r.pipeline]->first, results[r.pipeline]->second});
+      if (index[r.pipeline] < 0) complete = false;
+      else v.passes.push_back({r.pass, index[r.pipeline], f.pipelines[index[r.pipeline]]});
     }
     if (complete) f.variants.push_back(std::move(v));
   }
@@ -173,20 +185,44 @@ const PassStats* VariantStats::pass(const std::string& name) const {
 
 ShaderStats VariantStats::total(bool unrolled) const {
   std::vector<const ShaderStats*> all;
-  for (const PassStats& p : passes) all.push_back(unrolled ? &p.unrolled : &p.shipped);
+  for (const PassStats& p : passes) all.push_back(unrolled ? &p.unrolled() : &p.shipped());
   return combine(all);
 }
 
 GpuAnalysis analyze_gpu(const compile::CompiledSpace& compiled, const std::vector<int>& variants,
                         const GpuOptions& options) {
   const auto start = util::Clock::now();
-  const std::filesystem::path icd = options.icd.empty() ? find_radeon_icd() : options.icd;
   if (options.families.empty()) throw std::runtime_error("gpu: no family given (write e.g. --gpu navi21)");
-  check_families(icd, options.families);
-  const Work work = plan_work(compiled, variants);
+  std::vector<std::string> amd, gl;
+  for (const std::string& name : options.families) (gl_chip(name) ? gl : amd).push_back(name);
+  std::filesystem::path icd = options.icd;
+  if (!amd.empty()) {
+    if (icd.empty()) icd = find_radeon_icd();
+    try {
+      check_families(icd, amd);
+    } catch (const std::runtime_error& e) {  // the name may have meant a GL chip
+      std::string chips;
+      for (const FamilySpec* c : gl_chips()) chips += (chips.empty() ? "" : ", ") + c->family;
+      throw std::runtime_error(fmt::format("{}; GL chips: {}", e.what(), chips));
+    }
+  }
+  GlChipsAnalysis gl_stats;
+  if (!gl.empty()) gl_stats = analyze_gl_chips(compiled, variants, gl, options.cache_dir);  // checks first
   GpuAnalysis a;
-  a.pipelines = static_cast<int>(work.pipelines.size());
-  for (const std::string& family : options.families) a.families.push_back(run_family(work, family, icd));
+  if (!amd.empty()) {
+    const Work work = plan_work(compiled, variants);
+    a.pipelines = static_cast<int>(work.pipelines.size());
+    for (const std::string& family : amd) a.families.push_back(run_family(work, family, icd));
+  }
+  // In the order asked.
+  std::vector<FamilyStats> ordered;
+  for (const std::string& name : options.families) {
+    std::vector<FamilyStats>& from = gl_chip(name) ? gl_stats.chips : a.families;
+    for (FamilyStats& f : from)
+      if (f.family == name && !f.family.empty()) ordered.push_back(std::move(f)), f.family.clear();
+  }
+  a.families = std::move(ordered);
+  a.gl_programs = gl_stats.programs;
   a.seconds = util::seconds_since(start);
   return a;
 }

@@ -19,7 +19,7 @@ double stat(const ShaderStats& s, const char* name) {  // Mesa 25's unweighted c
 
 
 table::GpuPassCost pass_statistics(const PassStats& p) {
-  const ShaderStats& s = p.unrolled;
+  const ShaderStats& s = p.unrolled();
   table::GpuPassCost c;
   c.pass = p.pass;
   c.vgprs = s.vgprs;
@@ -28,7 +28,7 @@ table::GpuPassCost pass_statistics(const PassStats& p) {
   c.spill_sgprs = s.spill_sgprs;
   c.waves_per_simd = s.subgroups_per_simd;
   c.instructions = s.instructions;
-  c.shipped_instructions = p.shipped.instructions;
+  c.shipped_instructions = p.shipped().instructions;
   c.valu = stat(s, "VALU");
   c.salu = stat(s, "SALU");
   c.vmem = stat(s, "VMEM");
@@ -36,6 +36,15 @@ table::GpuPassCost pass_statistics(const PassStats& p) {
   c.latency = s.latency;
   c.inverse_throughput = s.inverse_throughput;
   c.code_size = s.code_size;
+  c.alu = s.alu;
+  c.texture = s.texture;
+  c.memory = s.memory;
+  c.registers = s.registers;
+  c.occupancy = s.occupancy;
+  c.spills = s.spills;
+  c.cycles = s.cycles;
+  c.loops = s.loops;
+  c.raw = s.raw;
   return c;
 }
 

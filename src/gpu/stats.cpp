@@ -16,25 +16,45 @@ std::string lower(std::string s) {
 struct Field {
   const char* name;
   double ShaderStats::*field;
-  enum { sum, max, min } how;
+  Combine how;
 };
 constexpr Field kFields[] = {
-    {"sgprs", &ShaderStats::sgprs, Field::max},
-    {"vgprs", &ShaderStats::vgprs, Field::max},
-    {"spilled sgprs", &ShaderStats::spill_sgprs, Field::sum},
-    {"spilled vgprs", &ShaderStats::spill_vgprs, Field::sum},
-    {"subgroups per simd", &ShaderStats::subgroups_per_simd, Field::min},
-    {"instructions", &ShaderStats::instructions, Field::sum},
-    {"copies", &ShaderStats::copies, Field::sum},
-    {"branches", &ShaderStats::branches, Field::sum},
-    {"vmem clause", &ShaderStats::vmem_clauses, Field::sum},
-    {"smem clause", &ShaderStats::smem_clauses, Field::sum},
-    {"latency", &ShaderStats::latency, Field::sum},
-    {"inverse throughput", &ShaderStats::inverse_throughput, Field::sum},
-    {"code size", &ShaderStats::code_size, Field::sum},
-    {"lds size", &ShaderStats::lds, Field::max},
-    {"scratch size", &ShaderStats::scratch, Field::max},
+    {"sgprs", &ShaderStats::sgprs, Combine::max},
+    {"vgprs", &ShaderStats::vgprs, Combine::max},
+    {"spilled sgprs", &ShaderStats::spill_sgprs, Combine::sum},
+    {"spilled vgprs", &ShaderStats::spill_vgprs, Combine::sum},
+    {"subgroups per simd", &ShaderStats::subgroups_per_simd, Combine::min},
+    {"instructions", &ShaderStats::instructions, Combine::sum},
+    {"copies", &ShaderStats::copies, Combine::sum},
+    {"branches", &ShaderStats::branches, Combine::sum},
+    {"vmem clause", &ShaderStats::vmem_clauses, Combine::sum},
+    {"smem clause", &ShaderStats::smem_clauses, Combine::sum},
+    {"latency", &ShaderStats::latency, Combine::sum},
+    {"inverse throughput", &ShaderStats::inverse_throughput, Combine::sum},
+    {"code size", &ShaderStats::code_size, Combine::sum},
+    {"lds size", &ShaderStats::lds, Combine::max},
+    {"scratch size", &ShaderStats::scratch, Combine::max},
 };
+
+double value_of(const std::map<std::string, double>& values, const char* name) {
+  for (const auto& [key, value] : values)
+    if (lower(key) == name) return value;
+  return NAN;
+}
+
+double sum_of(double a, double b) { return std::isnan(a) ? b : std::isnan(b) ? a : a + b; }
+
+// ACO's counts in the neutral terms: VALU + SALU is the arithmetic, VMEM the texture path (image samples
+// and loads both), SMEM the scalar memory; occupancy is waves per SIMD, the cycle estimate ACO's latency.
+void fill_neutral_from_aco(ShaderStats& s) {
+  s.alu = sum_of(value_of(s.values, "valu"), value_of(s.values, "salu"));
+  s.texture = value_of(s.values, "vmem");
+  s.memory = value_of(s.values, "smem");
+  s.registers = s.vgprs;
+  s.occupancy = s.subgroups_per_simd;
+  s.spills = sum_of(s.spill_vgprs, s.spill_sgprs);
+  s.cycles = s.latency;
+}
 
 bool matches(const std::string& name, const Field& f) {
   const std::string key = lower(name);
@@ -49,7 +69,19 @@ ShaderStats ShaderStats::from_values(std::map<std::string, double> values) {
     for (const Field& f : kFields)
       if (matches(name, f)) s.*(f.field) = value;
   s.values = std::move(values);
+  fill_neutral_from_aco(s);
   return s;
+}
+
+const std::vector<NeutralField>& neutral_fields() {
+  static const std::vector<NeutralField> fields = {
+      {"instructions", &ShaderStats::instructions, Combine::sum}, {"alu", &ShaderStats::alu, Combine::sum},
+      {"texture", &ShaderStats::texture, Combine::sum},           {"memory", &ShaderStats::memory, Combine::sum},
+      {"registers", &ShaderStats::registers, Combine::max},       {"occupancy", &ShaderStats::occupancy, Combine::min},
+      {"spills", &ShaderStats::spills, Combine::sum},             {"cycles", &ShaderStats::cycles, Combine::sum},
+      {"loops", &ShaderStats::loops, Combine::sum},
+  };
+  return fields;
 }
 
 // How a statistic of several passes adds up: counts and cycles sum (what a frame issues), registers and
@@ -59,15 +91,33 @@ ShaderStats combine(const std::vector<const ShaderStats*>& passes) {
   for (const ShaderStats* p : passes)
     for (const auto& [name, value] : p->values) {
       if (lower(name).find("hash") != std::string::npos) continue;  // "Hash", "Driver pipeline hash": per pass only
-      auto how = Field::sum;
+      auto how = Combine::sum;
       for (const Field& f : kFields)
         if (matches(name, f)) how = f.how;
       auto [it, fresh] = values.emplace(name, value);
       if (fresh) continue;
-      it->second = how == Field::sum ? it->second + value
-                   : how == Field::max ? std::max(it->second, value) : std::min(it->second, value);
+      it->second = how == Combine::sum ? it->second + value
+                   : how == Combine::max ? std::max(it->second, value) : std::min(it->second, value);
     }
-  return ShaderStats::from_values(std::move(values));
+  ShaderStats total = ShaderStats::from_values(std::move(values));
+  // The neutral fields by their own rule: for a GL compiler's statistics they do not come from ACO's names.
+  for (const NeutralField& f : neutral_fields()) {
+    double v = NAN;
+    for (const ShaderStats* p : passes) {
+      const double x = p->*(f.field);
+      if (std::isnan(x)) continue;
+      v = std::isnan(v) ? x : f.how == Combine::sum ? v + x : f.how == Combine::max ? std::max(v, x) : std::min(v, x);
+    }
+    total.*(f.field) = v;
+  }
+  return total;
+}
+
+nlohmann::json neutral_json(const ShaderStats& s) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const NeutralField& f : neutral_fields())
+    if (!std::isnan(s.*(f.field))) j[f.name] = s.*(f.field);
+  return j;
 }
 
 nlohmann::json to_json(const ShaderStats& s) {

@@ -24,13 +24,15 @@ auto stats_of(Pass& p) {
   return std::tie(p.draws, p.pixel_share, p.vgprs, p.sgprs, p.spill_vgprs, p.spill_sgprs, p.waves_per_simd,
                   p.instructions, p.shipped_instructions, p.valu, p.salu, p.vmem, p.smem, p.latency,
                   p.inverse_throughput, p.code_size, p.fetches, p.bytes_per_pixel, p.alu_ms, p.texture_ms,
-                  p.bandwidth_ms, p.est_ms, p.dram_bytes_per_pixel, p.dram_ms, p.latency_ms, p.exposed_alu_ms);
+                  p.bandwidth_ms, p.est_ms, p.dram_bytes_per_pixel, p.dram_ms, p.latency_ms, p.exposed_alu_ms, p.alu,
+                  p.texture, p.memory, p.registers, p.occupancy, p.spills, p.cycles, p.loops);
 }
 constexpr const char* kStatNames[] = {"draws", "pixel_share", "vgprs", "sgprs", "spill_vgprs", "spill_sgprs",
                                       "waves_per_simd", "instructions", "shipped_instructions", "valu", "salu",
                                       "vmem", "smem", "latency", "inverse_throughput", "code_size", "fetches",
                                       "bytes_per_pixel", "alu_ms", "texture_ms", "bandwidth_ms", "est_ms",
-                                      "dram_bytes_per_pixel", "dram_ms", "latency_ms", "exposed_alu_ms"};
+                                      "dram_bytes_per_pixel", "dram_ms", "latency_ms", "exposed_alu_ms", "alu",
+                                      "texture", "memory", "registers", "occupancy", "spills", "cycles", "loops"};
 
 template <typename Tuple, typename F>
 void each_stat(Tuple&& t, F&& f) {
@@ -43,6 +45,7 @@ void each_stat(Tuple&& t, F&& f) {
 json pass_json(const GpuPassCost& p) {
   json j = {{"pass", p.pass}, {"bound", p.bound}};
   each_stat(stats_of(p), [&](const char* name, const double& v) { j[name] = number(v); });
+  if (!p.raw.empty()) j["raw"] = p.raw;
   if (!p.levels.empty()) {
     json levels = json::array();
     for (const auto& l : p.levels)
@@ -57,6 +60,7 @@ GpuPassCost pass_from(const json& j) {
   GpuPassCost p;
   p.pass = j.at("pass").get<std::string>();
   p.bound = j.value("bound", "");
+  p.raw = j.value("raw", "");
   each_stat(stats_of(p), [&](const char* name, double& v) { v = number_from(j, name); });
   if (j.contains("levels")) {
     if (!j.at("levels").is_array()) throw std::runtime_error("gpu cost: 'levels' is not an array");
@@ -76,7 +80,7 @@ bool GpuPassCost::Level::operator==(const Level& o) const {
 }
 
 bool GpuPassCost::operator==(const GpuPassCost& o) const {
-  if (pass != o.pass || bound != o.bound || levels != o.levels) return false;
+  if (pass != o.pass || bound != o.bound || raw != o.raw || levels != o.levels) return false;
   bool equal = true;
   auto a = stats_of(*this);
   auto b = stats_of(o);
@@ -87,7 +91,7 @@ bool GpuPassCost::operator==(const GpuPassCost& o) const {
 }
 
 bool GpuCost::operator==(const GpuCost& o) const {
-  return product == o.product && mesa == o.mesa && frame == o.frame && view == o.view && same(est_ms, o.est_ms) &&
+  return compiler == o.compiler && product == o.product && mesa == o.mesa && frame == o.frame && view == o.view && same(est_ms, o.est_ms) &&
          passes == o.passes;
 }
 
@@ -124,12 +128,14 @@ json to_json(const GpuCost& c) {
   json j = {{"product", c.product}, {"mesa", c.mesa}, {"frame", c.frame}, {"est_ms", number(c.est_ms)},
             {"passes", passes}};
   if (!c.view.empty()) j["view"] = c.view;
+  if (!c.compiler.empty()) j["compiler"] = c.compiler;
   return j;
 }
 
 GpuCost gpu_cost_from_json(const json& j) {
   if (!j.is_object()) throw std::runtime_error("gpu cost: not an object");
   GpuCost c;
+  c.compiler = j.value("compiler", "");
   c.product = j.value("product", "");
   c.mesa = j.value("mesa", "");
   c.frame = j.value("frame", "");

@@ -1,7 +1,8 @@
 #pragma once
-// A variant's cost on one AMD GPU family (a cost-table row's "gpu.<family>" object, issue 17): the ISA
-// statistics RADV's compiler reports for each pass (gpu/null_device.h, the unrolled analysis copy) and a
-// roofline frame estimate for one named product at a stated frame size (gpu/roofline.h). An estimate, not a
+// A variant's cost on one GPU (a cost-table row's "gpu.<chip>" object): the statistics the chip's compiler
+// reports for each pass (RADV's null device for AMD families, Mesa's GL drivers through drm-shim for NVIDIA,
+// Adreno, Mali and Intel chips; the unrolled analysis copy) and, where the product has one, a roofline frame
+// estimate for one named product at a stated frame size (gpu/roofline.h). An estimate, not a
 // measurement: docs/gpu-cost.md says what it models and what it does not.
 #include <cmath>
 #include <map>
@@ -21,6 +22,12 @@ struct GpuPassCost {
   double instructions = NAN, shipped_instructions = NAN;  // unrolled / as shipped
   double valu = NAN, salu = NAN, vmem = NAN, smem = NAN;  // unweighted counts (Mesa 25 and later)
   double latency = NAN, inverse_throughput = NAN, code_size = NAN;
+  // Vendor-neutral, for every chip (gpu/stats.h ShaderStats; NaN where the compiler does not report it;
+  // schema_version 2: a table of version 1 has none and reads NaN):
+  double alu = NAN, texture = NAN, memory = NAN;  // arithmetic, texture and other memory instructions
+  double registers = NAN, occupancy = NAN;        // per thread; waves / threads in flight
+  double spills = NAN, cycles = NAN, loops = NAN; // spilled registers; the compiler's cycle estimate; loops left
+  std::string raw;                              // the compiler's statistics line, verbatim ("" for RADV)
   double fetches = 0, bytes_per_pixel = 0;     // texture reads and bytes per pixel per draw (SPIR-V analyser)
   // The roofline: each bound's time for all of this pass's draws, the largest of them, and which it is.
   double alu_ms = NAN, texture_ms = NAN, bandwidth_ms = NAN, est_ms = NAN;
@@ -49,6 +56,7 @@ struct GpuCost {
   std::string view;     // the scene view the traffic was traced on ("" for the view-free roofline)
   double est_ms = NAN;  // sum of the passes' est_ms
   std::vector<GpuPassCost> passes;  // draw order
+  std::string compiler;  // "radv", or the GL vendor ("nouveau", "freedreno", "panfrost", "intel"); "" in old tables
   const GpuPassCost* pass(const std::string& name) const;
   const GpuPassCost* slowest() const;  // the pass with the largest est_ms (nullptr when none)
   double max_vgprs() const;            // over the passes

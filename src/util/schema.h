@@ -10,7 +10,9 @@
 namespace aovar::util {
 
 // Raise when a JSON output changes incompatibly (a field renamed, removed or with a new meaning).
-inline constexpr int kSchemaVersion = 1;
+// 2: a cost-table row's "gpu" object holds non-AMD chips and the vendor-neutral statistics (table/gpu_cost.h);
+// analyze's gpu.json lists each distinct pipeline once. Version 1 files are read as before.
+inline constexpr int kSchemaVersion = 2;
 
 // A file this aovar must not read (nor overwrite): readers that treat a damaged file as absent (the reuse
 // caches) let this one through.

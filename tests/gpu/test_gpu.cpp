@@ -38,7 +38,7 @@ gpu::GpuAnalysis analyze(const std::vector<std::string>& families) {
 
 double ao_instructions(const gpu::FamilyStats& f, const std::string& key) {
   for (const auto& v : f.variants)
-    if (v.key == key) return v.pass("ao")->unrolled.instructions;
+    if (v.key == key) return v.pass("ao")->unrolled().instructions;
   ADD_FAILURE() << "no statistics for " << key << " on " << f.family;
   return 0;
 }
@@ -81,9 +81,9 @@ TEST(Gpu, UnrolledInstructionsGrowWithSampleCount) {
     EXPECT_GT(s16, s08) << f.family;
     EXPECT_GT(s32, s16) << f.family;
     const auto* ao = f.variants[0].pass("ao");
-    EXPECT_GT(ao->unrolled.vgprs, 0) << f.family;
-    EXPECT_GT(ao->loops_unrolled, 0) << f.family;
-    EXPECT_GE(f.variants[0].total(true).instructions, ao->unrolled.instructions);
+    EXPECT_GT(ao->unrolled().vgprs, 0) << f.family;
+    EXPECT_GT(ao->stats->loops_unrolled, 0) << f.family;
+    EXPECT_GE(f.variants[0].total(true).instructions, ao->unrolled().instructions);
   }
 }
 

@@ -77,11 +77,10 @@ TEST(Roofline, UnreportedThroughputGivesNoEstimate) {
 TEST(Roofline, VariantSumsItsPassesWithoutTheGBuffer) {
   gpu::VariantStats v{"k", {}};
   for (const char* pass : {"gbuffer", "ao", "blur"}) {
-    gpu::PassStats p;
-    p.pass = pass;
-    p.unrolled = gpu::ShaderStats::from_values({{"Inverse Throughput", 64}, {"Instructions", 10}});
-    p.shipped = p.unrolled;
-    v.passes.push_back(p);
+    gpu::PipelineStats stats;
+    stats.unrolled = gpu::ShaderStats::from_values({{"Inverse Throughput", 64}, {"Instructions", 10}});
+    stats.shipped = stats.unrolled;
+    v.passes.push_back({pass, 0, std::make_shared<const gpu::PipelineStats>(stats)});
   }
   const std::vector<gpu::PassLoad> loads = {{"gbuffer", 1, 1, 0, 0}, {"ao", 1, 1, 0, 0}, {"blur", 2, 1, 0, 0}};
   const gpu::FamilySpec spec = test_spec();

@@ -1,0 +1,188 @@
+#include "gpu/gl_analysis.h"
+
+#include <map>
+#include <optional>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "compile/glslang_compiler.h"
+#include "gpu/family_specs.h"
+#include "gpu/gl_compiler.h"
+#include "gpu/glsl_unroll.h"
+#include "render/plan.h"
+#include "util/fs.h"
+#include "util/hash.h"
+
+namespace aovar::gpu {
+namespace fs = std::filesystem;
+namespace {
+
+// Bumped when the runner's protocol or what the sources are made from changes: old entries stop matching.
+constexpr const char* kGlStatsVersion = "gl-stats 1";
+
+struct Pair {
+  std::string vertex_key, fragment_key;
+  GlProgram program;  // unrolled sources
+  int loops_unrolled = 0, loops_kept = 0;
+};
+
+struct Plan {
+  std::vector<Pair> pairs;
+  std::vector<std::pair<std::string, std::vector<std::pair<std::string, int>>>> variants;  // key, (pass, pair)
+};
+
+GlslUnroll unrolled(const render::Shader& shader) {
+  if (shader.glsl.empty()) throw std::runtime_error("gl chips: " + shader.program_key + " has no gles30 source");
+  return unroll_loops(compile::preprocess_es(shader.glsl, shader.stage));
+}
+
+// Each variant's passes (each pass once: the separable blur's second draw is the same program) and the
+// distinct program pairs they draw, unrolled once for every chip.
+Plan plan_pairs(const compile::CompiledSpace& compiled, const std::vector<int>& variants) {
+  Plan plan;
+  std::map<std::string, int> by_keys;
+  std::map<std::string, GlslUnroll> sources;  // program key -> unrolled source
+  auto source = [&](const render::Shader& s) -> const GlslUnroll& {
+    auto it = sources.find(s.program_key);
+    return it != sources.end() ? it->second : sources.emplace(s.program_key, unrolled(s)).first->second;
+  };
+  for (int v : variants) {
+    const render::PipelinePlan p = render::plan_pipeline(compiled, v, variants::Target::gles30);
+    std::vector<std::pair<std::string, int>> passes;
+    for (const render::Draw& draw : p.draws) {
+      bool seen = false;
+      for (const auto& [pass, pair] : passes) seen = seen || pass == draw.pass;
+      if (seen) continue;
+      const render::Shader &vs = p.shaders[draw.vertex], &fs = p.shaders[draw.fragment];
+      auto [it, fresh] = by_keys.try_emplace(vs.program_key + "|" + fs.program_key, static_cast<int>(plan.pairs.size()));
+      if (fresh) {
+        const GlslUnroll &vu = source(vs), &fu = source(fs);
+        plan.pairs.push_back({vs.program_key, fs.program_key, {fs.program_key, vu.source, fu.source}, fu.unrolled, fu.kept});
+      }
+      passes.emplace_back(draw.pass, it->second);
+    }
+    plan.variants.emplace_back(p.variant, std::move(passes));
+  }
+  return plan;
+}
+
+struct Cached {
+  std::string renderer, version;
+  ShaderStats stats;
+};
+
+fs::path entry_path(const fs::path& dir, const std::string& key) { return dir / key.substr(0, 2) / (key + ".json"); }
+
+// An entry is used only when it is whole, names this key and the vendor's parser reads a fragment line in it.
+std::optional<Cached> read_entry(const fs::path& dir, const std::string& key, const GlVendor& vendor) {
+  if (dir.empty()) return std::nullopt;
+  const auto text = util::read_file(entry_path(dir, key), 1 << 20);
+  if (!text) return std::nullopt;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(*text);
+    if (j.at("key").get<std::string>() != key) return std::nullopt;
+    auto stats = vendor.fragment_stats(j.at("messages").get<std::vector<std::string>>());
+    if (!stats) return std::nullopt;
+    return Cached{j.at("renderer").get<std::string>(), j.at("version").get<std::string>(), std::move(*stats)};
+  } catch (const std::exception&) {
+    return std::nullopt;  // damaged: compiled again, and the entry rewritten
+  }
+}
+
+void write_entry(const fs::path& dir, const std::string& key, const GlBatch& batch, const ShaderStats& stats) {
+  if (dir.empty()) return;
+  const nlohmann::json j = {{"key", key}, {"renderer", batch.renderer}, {"version", batch.version},
+                            {"messages", std::vector<std::string>{stats.raw}}};
+  fs::create_directories(entry_path(dir, key).parent_path());
+  util::write_atomic(entry_path(dir, key), j.dump());
+}
+
+std::string driver_of(const std::string& gl_version) {  // "OpenGL ES 3.1 Mesa 25.0.7-2~bpo12+1" -> "Mesa 25.0.7-..."
+  const std::size_t at = gl_version.find("Mesa");
+  return at == std::string::npos ? gl_version : gl_version.substr(at);
+}
+
+FamilyStats analyze_chip(const Plan& plan, const FamilySpec& chip, const GlInstall& install, const fs::path& cache) {
+  const GlVendor& vendor = *gl_vendor(chip.compiler->driver);
+  FamilyStats f;
+  f.family = chip.family;
+  f.compiler = vendor.name;
+  std::vector<std::optional<ShaderStats>> stats(plan.pairs.size());
+  std::vector<std::string> keys;
+  std::vector<GlProgram> todo;
+  std::vector<std::size_t> todo_index;
+  for (std::size_t i = 0; i < plan.pairs.size(); ++i) {
+    const Pair& p = plan.pairs[i];
+    keys.push_back(gl_cache_key(chip.family, chip.compiler->chip, install.mesa, p.program.vertex, p.program.fragment));
+    if (auto hit = read_entry(cache, keys.back(), vendor)) {
+      f.device = hit->renderer;
+      f.driver = driver_of(hit->version);
+      stats[i] = std::move(hit->stats);
+      ++f.cached;
+    } else {
+      todo.push_back(p.program);
+      todo_index.push_back(i);
+    }
+  }
+  try {
+    const GlBatch batch = compile_on_chip(install, vendor, chip.compiler->chip, todo);
+    if (!todo.empty()) f.device = batch.renderer, f.driver = driver_of(batch.version);
+    for (std::size_t k = 0; k < todo.size(); ++k) {
+      const GlResult& r = batch.results[k];
+      if (!r.error.empty()) f.program_errors.push_back(r.error);
+      if (!r.stats) continue;
+      write_entry(cache, keys[todo_index[k]], batch, *r.stats);
+      stats[todo_index[k]] = *r.stats;
+    }
+  } catch (const std::exception& e) {
+    f.error = e.what();
+  }
+  std::vector<int> index(plan.pairs.size(), -1);
+  for (std::size_t i = 0; i < plan.pairs.size(); ++i) {
+    if (!stats[i]) continue;
+    const Pair& p = plan.pairs[i];
+    index[i] = static_cast<int>(f.pipelines.size());
+    f.pipelines.push_back(std::make_shared<const PipelineStats>(
+        PipelineStats{p.vertex_key, p.fragment_key, p.loops_unrolled, p.loops_kept, std::move(*stats[i]), {}}));
+  }
+  for (const auto& [key, passes] : plan.variants) {
+    VariantStats v{key, {}};
+    bool complete = true;
+    for (const auto& [pass, pair] : passes) {
+      if (index[pair] < 0) complete = false;
+      else v.passes.push_back({pass, index[pair], f.pipelines[index[pair]]});
+    }
+    if (complete) f.variants.push_back(std::move(v));
+  }
+  return f;
+}
+
+}  // namespace
+
+std::string gl_cache_key(const std::string& chip, const std::string& driver_chip, const std::string& mesa,
+                         const std::string& vertex, const std::string& fragment) {
+  return util::hash_hex(fmt::format("{}\n{}\n{}\n{}\n{}\n{}\n{}", kGlStatsVersion, chip, driver_chip, mesa,
+                                    vertex.size(), vertex, fragment));
+}
+
+GlChipsAnalysis analyze_gl_chips(const compile::CompiledSpace& compiled, const std::vector<int>& variants,
+                                 const std::vector<std::string>& chips, const fs::path& cache_dir) {
+  const GlInstall install = find_gl_install();
+  std::vector<const FamilySpec*> specs;
+  for (const std::string& name : chips) {
+    const FamilySpec* spec = gl_chip(name);
+    if (!spec) throw std::runtime_error(fmt::format("unknown GL chip '{}'", name));
+    check_installed(install, *gl_vendor(spec->compiler->driver));
+    specs.push_back(spec);
+  }
+  const Plan plan = plan_pairs(compiled, variants);
+  GlChipsAnalysis a;
+  a.programs = static_cast<int>(plan.pairs.size());
+  const fs::path cache = cache_dir.empty() ? fs::path() : cache_dir / "gl-stats";
+  for (const FamilySpec* spec : specs) a.chips.push_back(analyze_chip(plan, *spec, install, cache));
+  return a;
+}
+
+}  // namespace aovar::gpu

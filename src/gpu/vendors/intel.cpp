@@ -1,0 +1,43 @@
+// Intel through Mesa's brw compiler (crocus for Gen4-7 such as Bay Trail, iris for Gen8 and later): "FS SIMD8
+// shader: 465 inst, 0 loops, 11046 cycles, 0:0 spills:fills, 11 sends, ...", one line per SIMD width compiled.
+// Natively on amd64; the noop shim is not packaged by Debian and is built from Mesa's source (scripts/intel-shim).
+// The widest width compiled is the one read: the hardware dispatches it whenever it was compiled (a width that
+// would spill is not compiled at all).
+#include <regex>
+
+#include "gpu/gl_vendor.h"
+
+namespace aovar::gpu {
+namespace {
+
+std::optional<ShaderStats> intel_fragment_stats(const std::vector<std::string>& messages) {
+  static const std::regex head(R"(FS SIMD([0-9]+) shader:(.*))");
+  std::optional<ShaderStats> widest;
+  for (const std::string& line : messages) {
+    std::smatch m;
+    if (!std::regex_search(line, m, head)) continue;
+    const double width = std::stod(m[1]);
+    if (widest && widest->values["simd"] >= width) continue;
+    ShaderStats s;
+    s.values = counted_fields(m[2]);
+    s.values["simd"] = width;
+    s.raw = line;
+    s.instructions = field(s.values, "inst");
+    s.memory = field(s.values, "sends");  // every message: sampler, data port and render-target writes
+    s.spills = field(s.values, "spills");
+    s.loops = field(s.values, "loops");
+    s.cycles = field(s.values, "cycles");  // brw's static estimate for one SIMD-width thread
+    widest = std::move(s);
+  }
+  return widest;
+}
+
+}  // namespace
+
+const GlVendor& intel_vendor() {
+  static const GlVendor v{"intel", "Intel (crocus, iris)", "amd64", "libintel_noop_drm_shim.so",
+                          "INTEL_STUB_GPU_PLATFORM", {{"INTEL_DEBUG", "fs"}}, {0x8086}, intel_fragment_stats};
+  return v;
+}
+
+}  // namespace aovar::gpu

@@ -1,0 +1,38 @@
+// NVIDIA through nouveau's codegen (Tesla GT200 to Ada): "type: 4, local: 0, shared: 0, gpr: 29, inst: 451,
+// bytes: 3608" (+ "loops: 1" on Tesla), one line per shader; type 4 is the fragment program
+// (nv50_ir::Program::TYPE_FRAGMENT). Natively on amd64 from Debian's mesa-libgallium and mesa-drm-shim.
+// nouveau reports no texture or ALU split and no cycles: those stay NaN.
+#include <regex>
+
+#include "gpu/gl_vendor.h"
+
+namespace aovar::gpu {
+namespace {
+
+std::optional<ShaderStats> nouveau_fragment_stats(const std::vector<std::string>& messages) {
+  static const std::regex pair(R"(([a-z_]+):\s*(-?[0-9]+))");
+  for (auto line = messages.rbegin(); line != messages.rend(); ++line) {
+    if (line->rfind("type: 4,", 0) != 0) continue;
+    ShaderStats s;
+    for (auto it = std::sregex_iterator(line->begin(), line->end(), pair); it != std::sregex_iterator(); ++it)
+      s.values[(*it)[1]] = std::stod((*it)[2]);
+    s.values.erase("type");
+    s.values.erase("cached");  // a pointer-ish cache key, not a statistic
+    s.raw = *line;
+    s.instructions = field(s.values, "inst");
+    s.registers = field(s.values, "gpr");
+    s.loops = field(s.values, "loops");
+    return s;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+const GlVendor& nouveau_vendor() {
+  static const GlVendor v{"nouveau", "NVIDIA (nouveau)", "amd64", "libnouveau_noop_drm_shim.so", "NOUVEAU_CHIPSET",
+                          {}, {0x10DE}, nouveau_fragment_stats};
+  return v;
+}
+
+}  // namespace aovar::gpu

@@ -1,0 +1,38 @@
+// Arm Mali through panfrost: Midgard (T6xx-T8xx), "MESA_SHADER_FRAGMENT shader: 349 inst, 176 bundles, 301
+// quadwords, 8 registers, 2 threads, 0 loops, 0:0 spills:fills"; Bifrost and Valhall (G31 and later) add
+// malioc-like cycle estimates ("15.83 cycles, 15.83 arith, 4.5 texture, ..."). Debian builds panfrost only for
+// arm: its arm64 packages run under qemu-user. Both compilers print with their *_MESA_DEBUG=shaderdb.
+#include "gpu/gl_vendor.h"
+
+namespace aovar::gpu {
+namespace {
+
+std::optional<ShaderStats> panfrost_fragment_stats(const std::vector<std::string>& messages) {
+  const std::string tag = "MESA_SHADER_FRAGMENT shader:";
+  for (auto line = messages.rbegin(); line != messages.rend(); ++line) {
+    const std::size_t at = line->find(tag);
+    if (at == std::string::npos) continue;
+    ShaderStats s;
+    s.values = counted_fields(line->substr(at + tag.size()));
+    s.raw = *line;
+    s.instructions = field(s.values, "inst");
+    s.registers = field(s.values, "registers");
+    s.occupancy = field(s.values, "threads");
+    s.spills = field(s.values, "spills");
+    s.loops = field(s.values, "loops");
+    s.cycles = field(s.values, "cycles");  // Bifrost and Valhall only: the bound of arith, texture, ldst, varying
+    return s;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+const GlVendor& panfrost_vendor() {
+  static const GlVendor v{"panfrost", "Arm Mali (panfrost)", "arm64", "libpanfrost_noop_drm_shim.so", "PAN_GPU_ID",
+                          {{"MIDGARD_MESA_DEBUG", "shaderdb"}, {"BIFROST_MESA_DEBUG", "shaderdb"}}, {0x13B5},
+                          panfrost_fragment_stats};
+  return v;
+}
+
+}  // namespace aovar::gpu
