@@ -77,6 +77,7 @@ std::vector<std::string> driver_env(const GlInstall& in, const GlVendor& v, cons
                                   "shader_precompile=true", "GALLIUM_THREAD=0", "ST_DEBUG=precompile",
                                   "LD_PRELOAD=" + shim_path(in, v).string(), v.chip_variable + "=" + chip};
   for (const auto& [name, value] : v.env) env.push_back(name + "=" + value);
+  if (const char* crash = std::getenv("AOVAR_GL_STATS_TEST_CRASH")) env.push_back(std::string("AOVAR_GL_STATS_TEST_CRASH=") + crash);
   if (v.arch == "amd64") {
     env.insert(env.end(), {"LD_LIBRARY_PATH=" + lib, "LIBGL_DRIVERS_PATH=" + lib + "/dri", "GBM_BACKENDS_PATH=" + lib + "/gbm",
                            "__EGL_VENDOR_LIBRARY_FILENAMES=" + (in.prefix / "amd64/egl_vendor.json").string(),

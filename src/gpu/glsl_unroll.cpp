@@ -1,6 +1,7 @@
 #include "gpu/glsl_unroll.h"
 
 #include <cctype>
+#include <cstring>
 #include <map>
 #include <regex>
 #include <stdexcept>
@@ -118,7 +119,7 @@ struct ExprParser {
     space();
     if (i < s.size() && s[i] == '(') {
       ++i;
-      const long v = sum();
+      const long v = ternary();
       space();
       if (i < s.size() && s[i] == ')') ++i; else ok = false;
       return v;
@@ -160,13 +161,56 @@ struct ExprParser {
     }
     return v;
   }
+  bool take(const char* op) {  // the operator at i (and not the start of a longer one), consumed
+    space();
+    const std::size_t n = std::strlen(op);
+    if (s.compare(i, n, op) != 0) return false;
+    if (n == 1 && i + 1 < s.size() && (s[i + 1] == '=' || (op[0] != '<' && op[0] != '>' && s[i + 1] == op[0])))
+      return false;
+    i += n;
+    return true;
+  }
+  long relational() {
+    long v = sum();
+    for (;;) {
+      if (take("<=")) v = v <= sum();
+      else if (take(">=")) v = v >= sum();
+      else if (take("<")) v = v < sum();
+      else if (take(">")) v = v > sum();
+      else return v;
+    }
+  }
+  long equality() {
+    long v = relational();
+    for (;;) {
+      if (take("==")) v = v == relational();
+      else if (take("!=")) v = v != relational();
+      else return v;
+    }
+  }
+  long logic() {  // && binds tighter than ||; both evaluate every operand (no side effects here)
+    long v = equality();
+    for (;;) {
+      if (take("&&")) { const long r = equality(); v = v && r; }
+      else if (take("||")) { const long r = equality(); v = v || r; }
+      else return v;
+    }
+  }
+  long ternary() {
+    const long c = logic();
+    if (!take("?")) return c;
+    const long a = ternary();
+    if (!take(":")) { ok = false; return 0; }
+    const long b = ternary();
+    return c ? a : b;
+  }
 };
 
 }  // namespace
 
 bool eval_int(const std::string& expr, long& value, const std::map<std::string, long>& names) {
   ExprParser p{expr, &names};
-  const long v = p.sum();
+  const long v = p.ternary();
   p.space();
   if (!p.ok || p.i != expr.size()) return false;
   value = v;

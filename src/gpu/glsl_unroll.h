@@ -27,7 +27,7 @@ constexpr int kMaxCopies = 256;  // iterations one loop may expand into
 GlslUnroll unroll_loops(const std::string& preprocessed);
 
 // An integer constant expression of literals, `names` (the source's `const int` constants), + - * / %, unary
-// minus and parentheses ("AO_SAMPLES / 2 - 1"): true and its value, or false when it holds anything else (an
+// minus, parentheses, comparisons, && || and ?: ("AO_SAMPLES < 4 ? 1 : AO_SAMPLES / 4"): true and its value, or false when it holds anything else (an
 // unknown name, a call).
 bool eval_int(const std::string& expr, long& value, const std::map<std::string, long>& names = {});
 

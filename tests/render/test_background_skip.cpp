@@ -15,7 +15,7 @@
 namespace aovar::test {
 namespace {
 
-const std::vector<std::string> kBackends = {"lavapipe", "osmesa"};
+const std::vector<std::string> kSkipBackends = {"lavapipe", "osmesa"};
 const std::vector<std::string> kAlgorithms = {"alchemy", "unsharp", "sao",      "hbao", "gtao",
                                               "crytek",  "sc2",     "homebrew", "vo",   "vbao"};
 const render::Extent kSize{160, 90};
@@ -67,7 +67,7 @@ TEST(BackgroundSkip, ImagesMatchTheFullyShadedPlanOnBothBackends) {
   ASSERT_GT(s.sky_share, 0.2);
   ASSERT_LT(s.sky_share, 0.6);
   ASSERT_GE(p.keys.size(), 3 * kAlgorithms.size());
-  for (const auto& backend_name : kBackends) {
+  for (const auto& backend_name : kSkipBackends) {
     auto backend = render::make_backend(backend_name, {});
     backend->set_scene(s.scene);
     int masked = 0;
@@ -98,7 +98,7 @@ TEST(BackgroundSkip, TheRasteriserRejectsExactlyTheBackground) {
   auto c = compile_variants({"alchemy-s08-p0-nrgb8-zdep-rst-d32-bno-x1-hp", "alchemy-s08-p0-nrgb8-zdep-rst-d32-bbil-x4-hp"});
   ASSERT_EQ(c.space.variants.size(), 2u);
   const float sentinel = -1.0f;
-  for (const auto& backend_name : kBackends) {
+  for (const auto& backend_name : kSkipBackends) {
     auto backend = render::make_backend(backend_name, {});
     backend->set_scene(s.scene);
     for (int v = 0; v < 2; ++v) {

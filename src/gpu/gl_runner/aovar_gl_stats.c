@@ -15,6 +15,7 @@
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -184,6 +185,9 @@ static GLuint compile(const char *id, GLenum stage, const char *path) {
 static void run_program(const char *id, const char *vertex, const char *fragment) {
   printf("begin\t%s\n", id);
   fflush(stdout);
+  /* Test hook: a driver crash on this program (tests/gpu/test_gl_chips.cpp). */
+  const char *crash = getenv("AOVAR_GL_STATS_TEST_CRASH");
+  if (crash && !strcmp(crash, id)) raise(SIGSEGV);
   GLuint vs = compile(id, GL_VERTEX_SHADER, vertex), fs = vs ? compile(id, GL_FRAGMENT_SHADER, fragment) : 0;
   if (vs && fs) {
     GLuint program = gl.CreateProgram();
