@@ -1,5 +1,5 @@
 // aovar analyze: static cost per program and variant of a generated folder (SPIR-V) -> analysis.json;
-// with --gpu, AMD ISA statistics per GPU family from RADV's null device -> gpu.json.
+// with --gpu, compiler statistics per GPU (RADV's null device for AMD, Mesa's GL drivers for the rest) -> gpu.json.
 #include <iostream>
 #include <memory>
 
@@ -31,11 +31,13 @@ Command add_analyze(CLI::App& app) {
   auto a = std::make_shared<GpuAnalyzeArgs>();
   auto in_dir = std::make_shared<std::string>();
   auto* cmd = app.add_subcommand(
-      "analyze", "static cost per program and variant: of a generated folder (SPIR-V), or on AMD GPUs (--gpu)");
+      "analyze", "static cost per program and variant: of a generated folder (SPIR-V), or on GPUs (--gpu)");
   auto* in = cmd->add_option("--in", *in_dir, "folder written by `aovar generate --emit index,spirv`");
   auto* gpu = cmd->add_option("--gpu", a->families,
-                              "AMD GPU families (e.g. navi21,vangogh,polaris10): compile every pass on RADV's null "
-                              "device and print ACO's statistics; variants from the manifest");
+                              "GPUs: AMD families (e.g. navi21,vangogh,polaris10; RADV's null device) and GL chips "
+                              "(e.g. gt200,gf110,a320,a530,t760,byt; all in docs/gpu-cost.md; Mesa's GL drivers "
+                              "through drm-shim): compile every pass and print the compilers' statistics; "
+                              "variants from the manifest");
   cmd->add_option("--out", a->out, "with --gpu: write gpu.json to this folder")->needs(gpu);
   cmd->add_option("--size", a->size,
                   "with --gpu: frame WIDTHxHEIGHT of the roofline estimate on each family's product "

@@ -54,8 +54,9 @@ render::Extent GpuOption::frame_size() const {
 
 void add_gpu(CLI::App* cmd, GpuOption& o) {
   auto* families = cmd->add_option("--gpu", o.families,
-                                   "AMD GPU families (e.g. navi21,vangogh,polaris10): every row's variant compiled on "
-                                   "RADV's null device and estimated (gpu.<family> columns; docs/gpu-cost.md)");
+                                   "GPUs (AMD families such as navi21,vangogh; GL chips such as gf110,a320,t760,byt): "
+                                   "every row's variant compiled for each and, for AMD families, estimated "
+                                   "(gpu.<family> columns; docs/gpu-cost.md)");
   cmd->add_option("--gpu-size", o.frame, "frame size the --gpu estimate is for")->capture_default_str()->needs(families);
   cmd->add_option("--gpu-trace", o.trace,
                   "on: trace every row's texel fetches on its view (lavapipe) and estimate on each family's simulated "

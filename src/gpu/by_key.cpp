@@ -5,19 +5,41 @@
 #include "compile/generate.h"
 #include "gpu/costs.h"
 #include "gpu/families.h"
+#include "gpu/family_specs.h"
+#include "gpu/gl_compiler.h"
 
 namespace aovar::gpu {
 
+namespace {
+
+bool any_amd(const std::vector<std::string>& names) {
+  for (const std::string& n : names)
+    if (!gl_chip(n)) return true;
+  return false;
+}
+
+}  // namespace
+
 void check_request(const CostRequest& request) {
-  if (request.families.empty()) return;
-  check_families(find_radeon_icd(), request.families);
+  std::vector<std::string> amd;
+  const GlInstall install = find_gl_install();
+  for (const std::string& name : request.families) {
+    if (const FamilySpec* chip = gl_chip(name)) check_installed(install, *gl_vendor(chip->compiler->driver));
+    else amd.push_back(name);
+  }
+  if (!amd.empty()) check_families(find_radeon_icd(), amd);
 }
 
 KeyedCosts costs_by_key(const CostRequest& request, const std::set<std::string>& keys) {
   KeyedCosts out;
   if (request.families.empty() || keys.empty()) return out;
   compile::CompileOptions co;
-  co.targets = {variants::Target::vulkan};
+  co.targets = {variants::Target::vulkan};  // the plans and loads read the Vulkan builds
+  for (const std::string& name : request.families)
+    if (gl_chip(name)) {
+      co.targets.push_back(variants::Target::gles30);  // a GL chip compiles the gles30 programs
+      break;
+    }
   co.globs.assign(keys.begin(), keys.end());  // an exact key is a glob matching itself
   co.cache_dir = request.cache_dir;
   co.jobs = request.jobs;
@@ -31,7 +53,8 @@ KeyedCosts costs_by_key(const CostRequest& request, const std::set<std::string>&
     if (keys.count(compiled.space.variants[v].key)) selected.push_back(static_cast<int>(v));
   GpuOptions options;
   options.families = request.families;
-  options.icd = find_radeon_icd();
+  options.cache_dir = request.cache_dir;
+  if (any_amd(request.families)) options.icd = find_radeon_icd();
   const GpuAnalysis analysis = analyze_gpu(compiled, selected, options);
   out.by_variant = costs_of(analysis, variant_loads(compiled, selected), request.frame,
                             &out.errors);

@@ -14,6 +14,7 @@
 #include "render/plan.h"
 #include "util/fs.h"
 #include "util/hash.h"
+#include "util/parallel.h"
 
 namespace aovar::gpu {
 namespace fs = std::filesystem;
@@ -39,15 +40,12 @@ GlslUnroll unrolled(const render::Shader& shader) {
 }
 
 // Each variant's passes (each pass once: the separable blur's second draw is the same program) and the
-// distinct program pairs they draw, unrolled once for every chip.
+// distinct program pairs they draw; each program is unrolled once for every chip, on every core.
 Plan plan_pairs(const compile::CompiledSpace& compiled, const std::vector<int>& variants) {
   Plan plan;
   std::map<std::string, int> by_keys;
-  std::map<std::string, GlslUnroll> sources;  // program key -> unrolled source
-  auto source = [&](const render::Shader& s) -> const GlslUnroll& {
-    auto it = sources.find(s.program_key);
-    return it != sources.end() ? it->second : sources.emplace(s.program_key, unrolled(s)).first->second;
-  };
+  std::map<std::string, render::Shader> shaders;  // program key -> the program (first seen)
+  std::vector<std::pair<const render::Shader*, const render::Shader*>> pair_shaders;
   for (int v : variants) {
     const render::PipelinePlan p = render::plan_pipeline(compiled, v, variants::Target::gles30);
     std::vector<std::pair<std::string, int>> passes;
@@ -58,12 +56,27 @@ Plan plan_pairs(const compile::CompiledSpace& compiled, const std::vector<int>& 
       const render::Shader &vs = p.shaders[draw.vertex], &fs = p.shaders[draw.fragment];
       auto [it, fresh] = by_keys.try_emplace(vs.program_key + "|" + fs.program_key, static_cast<int>(plan.pairs.size()));
       if (fresh) {
-        const GlslUnroll &vu = source(vs), &fu = source(fs);
-        plan.pairs.push_back({vs.program_key, fs.program_key, {fs.program_key, vu.source, fu.source}, fu.unrolled, fu.kept});
+        plan.pairs.push_back({vs.program_key, fs.program_key, {fs.program_key, "", ""}, 0, 0});
+        pair_shaders.emplace_back(&shaders.try_emplace(vs.program_key, vs).first->second,
+                                  &shaders.try_emplace(fs.program_key, fs).first->second);
       }
       passes.emplace_back(draw.pass, it->second);
     }
     plan.variants.emplace_back(p.variant, std::move(passes));
+  }
+  std::vector<const render::Shader*> todo;
+  for (const auto& [key, shader] : shaders) todo.push_back(&shader);
+  std::vector<GlslUnroll> done(todo.size());
+  util::run_parallel(todo.size(), 0, [&](std::size_t i) { done[i] = unrolled(*todo[i]); });
+  std::map<const render::Shader*, const GlslUnroll*> by_shader;
+  for (std::size_t i = 0; i < todo.size(); ++i) by_shader[todo[i]] = &done[i];
+  for (std::size_t i = 0; i < plan.pairs.size(); ++i) {
+    const GlslUnroll &vu = *by_shader.at(pair_shaders[i].first), &fu = *by_shader.at(pair_shaders[i].second);
+    Pair& p = plan.pairs[i];
+    p.program.vertex = vu.source;
+    p.program.fragment = fu.source;
+    p.loops_unrolled = fu.unrolled;
+    p.loops_kept = fu.kept;
   }
   return plan;
 }
@@ -181,7 +194,9 @@ GlChipsAnalysis analyze_gl_chips(const compile::CompiledSpace& compiled, const s
   GlChipsAnalysis a;
   a.programs = static_cast<int>(plan.pairs.size());
   const fs::path cache = cache_dir.empty() ? fs::path() : cache_dir / "gl-stats";
-  for (const FamilySpec* spec : specs) a.chips.push_back(analyze_chip(plan, *spec, install, cache));
+  // One runner process per chip, as many at once as there are cores (each is single-threaded).
+  a.chips.resize(specs.size());
+  util::run_parallel(specs.size(), 0, [&](std::size_t i) { a.chips[i] = analyze_chip(plan, *specs[i], install, cache); });
   return a;
 }
 

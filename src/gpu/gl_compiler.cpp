@@ -93,8 +93,8 @@ struct Exit {
 // Runs argv with exactly `env`, stdout line by line to `on_line`, stderr into `err_file`.
 Exit spawn_lines(const std::vector<std::string>& argv, const std::vector<std::string>& env, const fs::path& err_file,
                  const std::function<void(const std::string&)>& on_line) {
-  int out[2];
-  if (pipe(out) != 0) throw std::runtime_error("gl compiler: pipe() failed");
+  int out[2];  // close-on-exec: another thread's runner must not inherit this pipe (its reader would never see EOF)
+  if (pipe2(out, O_CLOEXEC) != 0) throw std::runtime_error("gl compiler: pipe() failed");
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);

@@ -1,5 +1,7 @@
 #include "report/gpu_section.h"
 
+#include <optional>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -208,11 +210,44 @@ std::string pyramid_text(const CostTable& t, const std::string& family) {
                      "(median over {} variants).", 100 * share[share.size() / 2], share.size());
 }
 
+// A chip with compiler statistics and no estimate yet (the GL chips: NVIDIA, Adreno, Mali, Intel): each
+// variant's passes in the vendor-neutral counts, fewest AO-pass instructions first, at most kStatisticsRows.
+constexpr std::size_t kStatisticsRows = 40;
+std::optional<Block> statistics_block(const CostTable& t, const std::string& family) {
+  std::map<std::string, const GpuCost*> costs;  // variant -> cost (the statistics do not depend on the view)
+  for (const auto& r : t.rows)
+    if (auto it = r.gpu.find(family); it != r.gpu.end() && !std::isfinite(it->second.est_ms)) costs.emplace(r.variant, &it->second);
+  if (costs.empty()) return std::nullopt;
+  std::vector<std::pair<double, std::string>> order;
+  for (const auto& [key, c] : costs) {
+    const auto* ao = c->pass("ao");
+    order.emplace_back(ao && std::isfinite(ao->instructions) ? ao->instructions : INFINITY, key);
+  }
+  std::sort(order.begin(), order.end());
+  Grid g{{"variant", "pass", "instr.", "ALU", "texture", "memory", "registers", "occupancy", "spills", "cycles", "loops"},
+         {false, false, true, true, true, true, true, true, true, true, true}, {}};
+  for (std::size_t i = 0; i < order.size() && i < kStatisticsRows; ++i)
+    for (const auto& p : costs.at(order[i].second)->passes)
+      g.rows.push_back({order[i].second, p.pass, count(p.instructions), count(p.alu), count(p.texture), count(p.memory),
+                        count(p.registers), count(p.occupancy), count(p.spills), count(p.cycles), count(p.loops)});
+  const GpuCost& any = *costs.begin()->second;
+  return Block{fmt::format("GPU compiler statistics: {} ({})", family, any.compiler.empty() ? "GL driver" : any.compiler),
+               fmt::format("What {}'s compiler reports for each pass, loops unrolled for analysis ({}; docs/gpu-cost.md "
+                           "says what each vendor's counts are). No time estimate for this chip yet. {} of {} variants, "
+                           "fewest AO-pass instructions first.",
+                           any.compiler.empty() ? "the chip" : any.compiler, any.mesa,
+                           std::min(order.size(), kStatisticsRows), order.size()),
+               g};
+}
+
 std::vector<Block> gpu_blocks(const CostTable& t) {
   std::vector<Block> blocks;
   for (const auto& family : gpu_families(t)) {
     auto variants = variants_on(t, family);
-    if (variants.empty()) continue;
+    if (variants.empty()) {
+      if (auto b = statistics_block(t, family)) blocks.push_back(std::move(*b));
+      continue;
+    }
     const GpuCost& any = *variants.begin()->second.cost;
     blocks.push_back({fmt::format("GPU estimate: {} ({})", family, any.product),
                       fmt::format("Roofline estimate at {} from RADV's ISA statistics ({}): per pass the largest of the "

@@ -143,3 +143,30 @@ TEST(GpuReport, SeedPairsUseTheEstimate) {
 }
 
 }  // namespace
+
+namespace {
+
+// A GL chip (statistics from its compiler, no estimate yet) gets a statistics block: its passes in the
+// vendor-neutral counts, fewest AO-pass instructions first, and no ranking by a time it does not have.
+TEST(GpuReport, AChipWithStatisticsOnlyShowsThemFewestInstructionsFirst) {
+  CostTable t;
+  for (const auto& [variant, instructions] : {std::pair{"many", 900.0}, {"few", 300.0}}) {
+    CostRow r = test::axes_row(variant, {{"algorithm", "alchemy"}, {"samples", "8"}}, 1.0, 0.05);
+    GpuPassCost ao;
+    ao.pass = "ao";
+    ao.instructions = instructions;
+    ao.texture = 8;
+    ao.occupancy = 12;
+    r.gpu["a320"] = {"", "Mesa 25.0.7", "1920x1080", "", NAN, {ao}, "freedreno"};
+    t.rows.push_back(r);
+  }
+  const std::string md = report::gpu_markdown(t);
+  EXPECT_NE(md.find("GPU compiler statistics: a320 (freedreno)"), std::string::npos) << md;
+  EXPECT_NE(md.find("No time estimate for this chip yet"), std::string::npos) << md;
+  ASSERT_NE(md.find("| few"), std::string::npos) << md;
+  EXPECT_LT(md.find("| few"), md.find("| many")) << md;
+  EXPECT_NE(md.find("| 300"), std::string::npos) << md;
+  EXPECT_EQ(md.find("GPU estimate:"), std::string::npos) << md;
+}
+
+}  // namespace

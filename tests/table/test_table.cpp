@@ -68,7 +68,17 @@ CostTable sample_table() {
   ao.bound = "alu";
   ao.dram_bytes_per_pixel = 8;  // the traced cache model's columns (issue 33), a NaN hit rate among them
   ao.levels = {{"L0", 0.5, 40, 0.01}, {"L2", NAN, 12, 0.02}};
-  a.gpu["navi21"] = {"Radeon RX 6800 XT", "Mesa 25.0.7", "1920x1080", "overview", 0.25, {ao}};
+  a.gpu["navi21"] = {"Radeon RX 6800 XT", "Mesa 25.0.7", "1920x1080", "overview", 0.25, {ao}, "radv"};
+  GpuPassCost fd;  // a GL chip's pass: the neutral statistics and the compiler's own line, no estimate
+  fd.pass = "ao";
+  fd.instructions = 589;
+  fd.alu = 340;
+  fd.texture = 8;
+  fd.registers = 8.5;
+  fd.occupancy = 12;
+  fd.loops = 0;
+  fd.raw = "FRAG shader: 589 inst, 233 nops, ... 8 cat5, ... 12 waves, 0 loops";
+  a.gpu["a320"] = {"", "Mesa 25.0.7", "1920x1080", "", NAN, {fd}, "freedreno"};
   CostRow b = plain_row("hbao-s16", 0.1 + 0.2, std::nullopt, "view, \"two\"\nnext");
   b.predicted = true;
   b.pareto = true;
@@ -95,6 +105,23 @@ TEST(Table, JsonRoundTrip) {
 
 // The breakdown in both files: cost_table.json and measure.json hold it under error.breakdown, a NaN as null
 // (read back as NaN); rows written before it load without one; the CSV's readable share columns.
+// schema_version 2 added the neutral statistics, the compiler line and the compiler's name to "gpu"; a
+// version 1 row (an AMD family's, without them) still reads, the new fields NaN or empty.
+TEST(Table, GpuCostsOfVersionOneTablesReadWithoutTheNeutralFields) {
+  const auto j = to_json(sample_table());
+  EXPECT_EQ(j["rows"][0]["gpu"]["a320"]["compiler"], "freedreno");
+  EXPECT_EQ(j["rows"][0]["gpu"]["a320"]["passes"][0]["raw"], "FRAG shader: 589 inst, 233 nops, ... 8 cat5, ... 12 waves, 0 loops");
+  nlohmann::json v1 = j["rows"][0]["gpu"]["navi21"];
+  v1.erase("compiler");
+  for (const char* f : {"alu", "texture", "memory", "registers", "occupancy", "spills", "cycles", "loops"})
+    v1["passes"][0].erase(f);
+  const GpuCost old = gpu_cost_from_json(v1);
+  EXPECT_EQ(old.compiler, "");
+  EXPECT_EQ(old.passes[0].vgprs, 24);
+  EXPECT_TRUE(std::isnan(old.passes[0].alu));
+  EXPECT_TRUE(old.passes[0].raw.empty());
+}
+
 TEST(Table, ErrorBreakdownInTheFiles) {
   CostTable t = sample_table();
   const nlohmann::json j = to_json(t);
