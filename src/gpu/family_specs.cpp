@@ -73,6 +73,9 @@ FamilySpec spec_from(const nlohmann::json& e, const std::map<std::string, std::s
   if (s.cus < s.shader_arrays()) bad(s.family + " has fewer CUs than shader arrays");
   for (const auto& c : e.at("caches")) s.caches.push_back(level_from(c, s.family, sources));
   if (s.caches.empty()) bad(s.family + ".caches is empty");
+  // The headline figures' citations (optional; "source-page" is the entry's own `source`).
+  for (const auto& [figure, key] : e.value("sources", std::map<std::string, std::string>{}))
+    if (key != "source-page" && !sources.count(key)) bad(s.family + ".sources." + figure + " cites '" + key + "', not in 'sources'");
   if (e.contains("compiler")) {
     s.compiler = CompilerRef{e.at("compiler").at("driver").get<std::string>(), e.at("compiler").at("chip").get<std::string>()};
     if (!gl_vendor(s.compiler->driver)) bad(s.family + ".compiler.driver '" + s.compiler->driver + "' is no registered GL vendor");
