@@ -36,6 +36,10 @@ const GlVendor* gl_vendor(const std::string& name);
 // shader-db line lists as "<number> <name>" (or "a:b x:y") between commas; other fields are skipped.
 std::map<std::string, double> counted_fields(const std::string& list);
 
+// The last message that holds `tag` (a shader's statistics line: the driver may report a program more than
+// once, the last is what was kept), or nothing.
+const std::string* last_line_with(const std::vector<std::string>& messages, const std::string& tag);
+
 // The value of `name` in `values`, NaN when it is missing; the sum of several, NaN when all are missing.
 double field(const std::map<std::string, double>& values, const std::string& name);
 double field_sum(const std::map<std::string, double>& values, const std::vector<std::string>& names);

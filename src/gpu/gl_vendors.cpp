@@ -43,6 +43,12 @@ std::map<std::string, double> counted_fields(const std::string& list) {
   return values;
 }
 
+const std::string* last_line_with(const std::vector<std::string>& messages, const std::string& tag) {
+  for (auto line = messages.rbegin(); line != messages.rend(); ++line)
+    if (line->find(tag) != std::string::npos) return &*line;
+  return nullptr;
+}
+
 double field(const std::map<std::string, double>& values, const std::string& name) {
   const auto it = values.find(name);
   return it == values.end() ? NAN : it->second;

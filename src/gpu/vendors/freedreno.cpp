@@ -9,23 +9,20 @@ namespace {
 
 std::optional<ShaderStats> freedreno_fragment_stats(const std::vector<std::string>& messages) {
   const std::string tag = "FRAG shader:";
-  for (auto line = messages.rbegin(); line != messages.rend(); ++line) {
-    const std::size_t at = line->find(tag);
-    if (at == std::string::npos) continue;
-    ShaderStats s;
-    s.values = counted_fields(line->substr(at + tag.size()));
-    s.raw = *line;
-    s.instructions = field(s.values, "inst");  // nops included: ir3 issues them as delay slots
-    s.alu = field_sum(s.values, {"cat1", "cat2", "cat3", "cat4"});
-    s.texture = field(s.values, "cat5");
-    s.memory = field(s.values, "cat6");
-    // A half register is half a full one in the register file (ir3: two halves share a full register).
-    s.registers = field(s.values, "full") + 0.5 * field(s.values, "half");
-    s.occupancy = field(s.values, "waves");
-    s.loops = field(s.values, "loops");
-    return s;
-  }
-  return std::nullopt;
+  const std::string* line = last_line_with(messages, tag);
+  if (!line) return std::nullopt;
+  ShaderStats s;
+  s.values = counted_fields(line->substr(line->find(tag) + tag.size()));
+  s.raw = *line;
+  s.instructions = field(s.values, "inst");  // nops included: ir3 issues them as delay slots
+  s.alu = field_sum(s.values, {"cat1", "cat2", "cat3", "cat4"});
+  s.texture = field(s.values, "cat5");
+  s.memory = field(s.values, "cat6");
+  // A half register is half a full one in the register file (ir3: two halves share a full register).
+  s.registers = field(s.values, "full") + 0.5 * field(s.values, "half");
+  s.occupancy = field(s.values, "waves");
+  s.loops = field(s.values, "loops");
+  return s;
 }
 
 }  // namespace

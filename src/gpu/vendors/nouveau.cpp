@@ -11,20 +11,18 @@ namespace {
 
 std::optional<ShaderStats> nouveau_fragment_stats(const std::vector<std::string>& messages) {
   static const std::regex pair(R"(([a-z_]+):\s*(-?[0-9]+))");
-  for (auto line = messages.rbegin(); line != messages.rend(); ++line) {
-    if (line->rfind("type: 4,", 0) != 0) continue;
-    ShaderStats s;
-    for (auto it = std::sregex_iterator(line->begin(), line->end(), pair); it != std::sregex_iterator(); ++it)
-      s.values[(*it)[1]] = std::stod((*it)[2]);
-    s.values.erase("type");
-    s.values.erase("cached");  // a pointer-ish cache key, not a statistic
-    s.raw = *line;
-    s.instructions = field(s.values, "inst");
-    s.registers = field(s.values, "gpr");
-    s.loops = field(s.values, "loops");
-    return s;
-  }
-  return std::nullopt;
+  const std::string* line = last_line_with(messages, "type: 4,");
+  if (!line) return std::nullopt;
+  ShaderStats s;
+  for (auto it = std::sregex_iterator(line->begin(), line->end(), pair); it != std::sregex_iterator(); ++it)
+    s.values[(*it)[1]] = std::stod((*it)[2]);
+  s.values.erase("type");
+  s.values.erase("cached");  // a pointer-ish cache key, not a statistic
+  s.raw = *line;
+  s.instructions = field(s.values, "inst");
+  s.registers = field(s.values, "gpr");
+  s.loops = field(s.values, "loops");
+  return s;
 }
 
 }  // namespace

@@ -9,21 +9,18 @@ namespace {
 
 std::optional<ShaderStats> panfrost_fragment_stats(const std::vector<std::string>& messages) {
   const std::string tag = "MESA_SHADER_FRAGMENT shader:";
-  for (auto line = messages.rbegin(); line != messages.rend(); ++line) {
-    const std::size_t at = line->find(tag);
-    if (at == std::string::npos) continue;
-    ShaderStats s;
-    s.values = counted_fields(line->substr(at + tag.size()));
-    s.raw = *line;
-    s.instructions = field(s.values, "inst");
-    s.registers = field(s.values, "registers");
-    s.occupancy = field(s.values, "threads");
-    s.spills = field(s.values, "spills");
-    s.loops = field(s.values, "loops");
-    s.cycles = field(s.values, "cycles");  // Bifrost and Valhall only: the bound of arith, texture, ldst, varying
-    return s;
-  }
-  return std::nullopt;
+  const std::string* line = last_line_with(messages, tag);
+  if (!line) return std::nullopt;
+  ShaderStats s;
+  s.values = counted_fields(line->substr(line->find(tag) + tag.size()));
+  s.raw = *line;
+  s.instructions = field(s.values, "inst");
+  s.registers = field(s.values, "registers");
+  s.occupancy = field(s.values, "threads");
+  s.spills = field(s.values, "spills");
+  s.loops = field(s.values, "loops");
+  s.cycles = field(s.values, "cycles");  // Bifrost and Valhall only: the bound of arith, texture, ldst, varying
+  return s;
 }
 
 }  // namespace
