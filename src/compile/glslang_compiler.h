@@ -56,7 +56,7 @@ CompileOutput compile_program(const std::string& source, variants::StageKind sta
                               ValidationMemo* memo = nullptr);
 
 // The GLSL ES source after glslang's preprocessor: macros expanded, #if resolved, comments gone, #line kept.
-// What the GL compilers' loop unroller reads (gpu/glsl_unroll.h). Throws std::runtime_error with glslang's log.
+// What the GL compilers' loop unroller reads (gpu/gl/unroll.h). Throws std::runtime_error with glslang's log.
 std::string preprocess_es(const std::string& source, variants::StageKind stage);
 
 // "glslang 12.0.0 / SPIRV-Tools ..." — part of every program's content hash.

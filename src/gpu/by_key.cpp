@@ -6,7 +6,7 @@
 #include "gpu/costs.h"
 #include "gpu/families.h"
 #include "gpu/family_specs.h"
-#include "gpu/gl_compiler.h"
+#include "gpu/gl/compiler.h"
 
 namespace aovar::gpu {
 

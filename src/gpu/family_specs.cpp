@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "gpu/gl_vendor.h"
+#include "gpu/gl/vendor.h"
 
 namespace aovar::gpu {
 extern const char* const kFamiliesJson;  // families_embedded.cpp, generated from src/gpu/families.json

@@ -24,7 +24,7 @@ struct CacheLevelSpec {
   std::map<std::string, std::string> sources;  // figure ("size_kb", "ways", ...) -> key of cache_sources()
 };
 
-// The Mesa GL driver that compiles for a non-AMD product through its drm-shim (gpu/gl_vendor.h): a registered
+// The Mesa GL driver that compiles for a non-AMD product through its drm-shim (gpu/gl/vendor.h): a registered
 // vendor's name and the value of its chip variable ("nouveau", "c8"). families.json's "compiler".
 struct CompilerRef {
   std::string driver;

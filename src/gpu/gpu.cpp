@@ -12,7 +12,7 @@
 
 #include "gpu/families.h"
 #include "gpu/family_specs.h"
-#include "gpu/gl_analysis.h"
+#include "gpu/gl/analysis.h"
 #include "gpu/null_device.h"
 #include "gpu/spirv_unroll.h"
 #include "render/plan.h"

@@ -3,8 +3,8 @@
 // RADV's null device of each family (gpu/null_device.h), once with every loop marked Unroll
 // (gpu/spirv_unroll.h: what the taps cost) and once as shipped, each family in a child process
 // (util::run_isolated), so a compiler crash costs that family, not the run. NVIDIA, Adreno, Mali and Intel
-// chips: the gles30 programs, loops unrolled in source (gpu/glsl_unroll.h), compiled by Mesa's GL driver for
-// the chip through its drm-shim (gpu/gl_analysis.h).
+// chips: the gles30 programs, loops unrolled in source (gpu/gl/unroll.h), compiled by Mesa's GL driver for
+// the chip through its drm-shim (gpu/gl/analysis.h).
 #include <filesystem>
 #include <memory>
 #include <string>

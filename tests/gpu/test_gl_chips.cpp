@@ -10,9 +10,9 @@
 #include <fstream>
 
 #include "gpu/family_specs.h"
-#include "gpu/gl_analysis.h"
-#include "gpu/gl_compiler.h"
-#include "gpu/gl_vendor.h"
+#include "gpu/gl/analysis.h"
+#include "gpu/gl/compiler.h"
+#include "gpu/gl/vendor.h"
 #include "render_support.h"
 #include "test_support.h"
 

@@ -1,4 +1,4 @@
-// Loops unrolled in GLSL source for the GL compilers' statistics (src/gpu/glsl_unroll.h): constant bounds
+// Loops unrolled in GLSL source for the GL compilers' statistics (src/gpu/gl/unroll.h): constant bounds
 // (literals and `const int`s) unroll into copies that glslang still accepts, `continue` and a loop's own
 // `break` keep their meaning, run-time bounds stay loops, and the templates' real programs lose every loop
 // whose trip count is known.
@@ -7,7 +7,7 @@
 #include <regex>
 
 #include "compile/glslang_compiler.h"
-#include "gpu/glsl_unroll.h"
+#include "gpu/gl/unroll.h"
 #include "render_support.h"
 
 namespace aovar {

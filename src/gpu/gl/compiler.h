@@ -1,6 +1,6 @@
 #pragma once
-// Runs a Mesa GL driver's compiler for one chip over many programs (gpu/gl_vendor.h): aovar execs its runner
-// (src/gpu/gl_runner, `aovar-gl-stats`) with the vendor's drm-shim preloaded, since LD_PRELOAD cannot reach
+// Runs a Mesa GL driver's compiler for one chip over many programs (gpu/gl/vendor.h): aovar execs its runner
+// (src/gpu/gl/runner, `aovar-gl-stats`) with the vendor's drm-shim preloaded, since LD_PRELOAD cannot reach
 // a forked child; one process compiles a whole batch, because start-up (the driver, and under qemu-user the
 // emulator) is most of what one compile costs. A driver that crashes costs the program it crashed on: the
 // runner is started again after it.
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "gpu/gl_vendor.h"
+#include "gpu/gl/vendor.h"
 #include "gpu/stats.h"
 
 namespace aovar::gpu {

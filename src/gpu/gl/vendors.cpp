@@ -4,11 +4,11 @@
 #include <regex>
 #include <sstream>
 
-#include "gpu/gl_vendor.h"
+#include "gpu/gl/vendor.h"
 
 namespace aovar::gpu {
 
-// One line per vendor: gpu/vendors/<name>.cpp.
+// One line per vendor: gpu/gl/vendors/<name>.cpp.
 const GlVendor& nouveau_vendor();
 const GlVendor& freedreno_vendor();
 const GlVendor& panfrost_vendor();

@@ -1,4 +1,4 @@
-#include "gpu/gl_compiler.h"
+#include "gpu/gl/compiler.h"
 
 #include <fcntl.h>
 #include <spawn.h>

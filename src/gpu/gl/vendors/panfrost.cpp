@@ -2,7 +2,7 @@
 // quadwords, 8 registers, 2 threads, 0 loops, 0:0 spills:fills"; Bifrost and Valhall (G31 and later) add
 // malioc-like cycle estimates ("15.83 cycles, 15.83 arith, 4.5 texture, ..."). Debian builds panfrost only for
 // arm: its arm64 packages run under qemu-user. Both compilers print with their *_MESA_DEBUG=shaderdb.
-#include "gpu/gl_vendor.h"
+#include "gpu/gl/vendor.h"
 
 namespace aovar::gpu {
 namespace {

@@ -1,6 +1,6 @@
 /* aovar-gl-stats: compiles many vertex + fragment programs in one OpenGL ES 3 context on a drm-shim render
  * node and prints what the driver's compiler reports through KHR_debug, as Mesa's shader-db runner does.
- * aovar execs it (gpu/gl_compiler.h): LD_PRELOAD of the noop shim cannot reach a forked child, and batching
+ * aovar execs it (gpu/gl/compiler.h): LD_PRELOAD of the noop shim cannot reach a forked child, and batching
  * pays the driver's (and under qemu-user the emulator's) start-up once for many programs.
  *
  * Usage: aovar-gl-stats LIST, where LIST has one program a line: "<id>\t<vertex file>\t<fragment file>".

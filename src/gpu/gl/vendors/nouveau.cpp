@@ -4,7 +4,7 @@
 // nouveau reports no texture or ALU split and no cycles: those stay NaN.
 #include <regex>
 
-#include "gpu/gl_vendor.h"
+#include "gpu/gl/vendor.h"
 
 namespace aovar::gpu {
 namespace {

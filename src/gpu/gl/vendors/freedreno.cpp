@@ -2,7 +2,7 @@
 // 340 nops, 486 non-nops, ... 0 half, 8 full, 39 constlen, ... 16 cat5, ... 12 waves, 0 loops". Debian builds
 // freedreno only for arm: its arm64 packages run under qemu-user. ir3's instruction categories: cat0 flow and
 // nops, cat1 moves, cat2-cat4 arithmetic (cat4 the transcendental unit), cat5 texture, cat6 memory.
-#include "gpu/gl_vendor.h"
+#include "gpu/gl/vendor.h"
 
 namespace aovar::gpu {
 namespace {

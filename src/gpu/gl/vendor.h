@@ -2,8 +2,8 @@
 // A GPU vendor whose Mesa GL driver compiles without the hardware: Mesa's drm-shim (a preload library that
 // fakes the render node, as Mesa's shader-db uses it) makes the driver believe the chip an environment
 // variable names is present, and the driver reports each compiled shader's statistics through KHR_debug.
-// One file per vendor (gpu/vendors/<name>.cpp) says how to start its driver and how to read its line; the list
-// in gpu/gl_vendors.cpp registers them. A chip of a known vendor is a data entry (families.json's "compiler").
+// One file per vendor (gpu/gl/vendors/<name>.cpp) says how to start its driver and how to read its line; the list
+// in gpu/gl/vendors.cpp registers them. A chip of a known vendor is a data entry (families.json's "compiler").
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -26,7 +26,7 @@ struct GlVendor {
   std::optional<ShaderStats> (*fragment_stats)(const std::vector<std::string>& messages) = nullptr;
 };
 
-// Every registered vendor (gpu/gl_vendors.cpp), in a fixed order.
+// Every registered vendor (gpu/gl/vendors.cpp), in a fixed order.
 const std::vector<const GlVendor*>& gl_vendors();
 
 // The vendor of that name; nullptr when none is registered.

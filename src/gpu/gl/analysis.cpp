@@ -1,4 +1,4 @@
-#include "gpu/gl_analysis.h"
+#include "gpu/gl/analysis.h"
 
 #include <map>
 #include <optional>
@@ -9,8 +9,8 @@
 
 #include "compile/glslang_compiler.h"
 #include "gpu/family_specs.h"
-#include "gpu/gl_compiler.h"
-#include "gpu/glsl_unroll.h"
+#include "gpu/gl/compiler.h"
+#include "gpu/gl/unroll.h"
 #include "render/plan.h"
 #include "util/fs.h"
 #include "util/hash.h"

@@ -5,7 +5,7 @@
 // would spill is not compiled at all).
 #include <regex>
 
-#include "gpu/gl_vendor.h"
+#include "gpu/gl/vendor.h"
 
 namespace aovar::gpu {
 namespace {

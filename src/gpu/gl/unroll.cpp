@@ -1,4 +1,4 @@
-#include "gpu/glsl_unroll.h"
+#include "gpu/gl/unroll.h"
 
 #include <cctype>
 #include <cstring>

@@ -1,8 +1,8 @@
 #pragma once
 // Compiler statistics of variants on the chips Mesa's GL drivers compile for (NVIDIA, Adreno, Mali, Intel:
 // families.json's products with a "compiler"). Per variant, each pass's gles30 vertex + fragment program is
-// preprocessed and its loops unrolled (gpu/glsl_unroll.h) once, then compiled per chip in one batch
-// (gpu/gl_compiler.h). Results are cached per program pair, chip and Mesa version, and every cache entry is
+// preprocessed and its loops unrolled (gpu/gl/unroll.h) once, then compiled per chip in one batch
+// (gpu/gl/compiler.h). Results are cached per program pair, chip and Mesa version, and every cache entry is
 // checked (its key, its shape, and that the vendor's parser reads it) before it is used.
 #include <filesystem>
 #include <string>
