@@ -102,7 +102,9 @@ const std::vector<std::string> kFixedTail = {
     "health.nan", "health.inf", "health.out_of_range", "pareto", "predicted", "flicker", "images", "static", "gpu",
     "rounds", "error.breakdown", "err_edge_share", "err_far_share", "err_light_share"};
 // Readable per-family columns after the fixed ones (the "gpu" column's JSON is what from_csv reads back).
-const std::vector<std::string> kGpuColumns = {"est_ms", "bound", "vgprs", "waves"};
+// vgprs and waves are RADV's; instructions (every pass's, summed), registers (the most) and occupancy (the
+// least) are the vendor-neutral ones every chip's compiler fills (schema_version 2).
+const std::vector<std::string> kGpuColumns = {"est_ms", "bound", "vgprs", "waves", "instructions", "registers", "occupancy"};
 }  // namespace
 
 std::string to_csv(const CostTable& t) {
@@ -166,7 +168,9 @@ std::string to_csv(const CostTable& t) {
       const GpuPassCost* slowest = g.slowest();
       auto number = [](double v) { return std::isnan(v) ? std::string() : text(v); };
       f.insert(f.end(), {number(g.est_ms), slowest ? slowest->pass + ":" + slowest->bound : "", number(g.max_vgprs()),
-                         number(g.min_waves())});
+                         number(g.min_waves()), number(g.over_passes(&GpuPassCost::instructions, GpuCost::Combine::sum)),
+                         number(g.over_passes(&GpuPassCost::registers, GpuCost::Combine::max)),
+                         number(g.over_passes(&GpuPassCost::occupancy, GpuCost::Combine::min))});
     }
     line(f);
   }

@@ -108,19 +108,19 @@ const GpuPassCost* GpuCost::slowest() const {
   return s;
 }
 
-double GpuCost::max_vgprs() const {
-  double m = NAN;
-  for (const auto& p : passes)
-    if (!std::isnan(p.vgprs)) m = std::isnan(m) ? p.vgprs : std::max(m, p.vgprs);
-  return m;
+double GpuCost::max_vgprs() const { return over_passes(&GpuPassCost::vgprs, Combine::max); }
+
+double GpuCost::over_passes(double GpuPassCost::*statistic, Combine how) const {
+  double v = NAN;
+  for (const auto& p : passes) {
+    const double x = p.*statistic;
+    if (std::isnan(x)) continue;
+    v = std::isnan(v) ? x : how == Combine::sum ? v + x : how == Combine::max ? std::max(v, x) : std::min(v, x);
+  }
+  return v;
 }
 
-double GpuCost::min_waves() const {
-  double m = NAN;
-  for (const auto& p : passes)
-    if (!std::isnan(p.waves_per_simd)) m = std::isnan(m) ? p.waves_per_simd : std::min(m, p.waves_per_simd);
-  return m;
-}
+double GpuCost::min_waves() const { return over_passes(&GpuPassCost::waves_per_simd, Combine::min); }
 
 json to_json(const GpuCost& c) {
   json passes = json::array();

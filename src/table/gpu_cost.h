@@ -60,6 +60,9 @@ struct GpuCost {
   const GpuPassCost* pass(const std::string& name) const;
   const GpuPassCost* slowest() const;  // the pass with the largest est_ms (nullptr when none)
   double max_vgprs() const;            // over the passes
+  // A statistic over the passes: summed, the largest or the smallest; NaN when no pass reports it.
+  enum class Combine { sum, max, min };
+  double over_passes(double GpuPassCost::*statistic, Combine how) const;
   double min_waves() const;            // over the passes
   bool operator==(const GpuCost&) const;
 };
