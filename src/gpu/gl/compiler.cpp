@@ -65,9 +65,7 @@ std::string lib_dir(const GlInstall& in, const std::string& arch) {
 fs::path shim_path(const GlInstall& in, const GlVendor& v) {
   const fs::path own = in.prefix / v.name / v.shim;
   std::error_code ec;
-  if (fs::is_regular_file(own, ec)) return own;
-  if (v.arch == "arm64") return fs::path(lib_dir(in, v.arch)) / v.shim;
-  return fs::path(lib_dir(in, v.arch)) / v.shim;
+  return fs::is_regular_file(own, ec) ? own : fs::path(lib_dir(in, v.arch)) / v.shim;
 }
 
 // The variables that make the driver load from the private tree and report statistics.
