@@ -2,7 +2,9 @@
 // shader: 465 inst, 0 loops, 11046 cycles, 0:0 spills:fills, 11 sends, ...", one line per SIMD width compiled.
 // Natively on amd64; the noop shim is not packaged by Debian and is built from Mesa's source (scripts/intel-shim).
 // The widest width compiled is the one read: the hardware dispatches it whenever it was compiled (a width that
-// would spill is not compiled at all).
+// would spill is not compiled at all). brw reports these lines through KHR_debug whatever INTEL_DEBUG says;
+// INTEL_DEBUG=fs would add the whole disassembly on stderr (hundreds of MB over the default space), so it is
+// left unset.
 #include <regex>
 
 #include "gpu/gl/vendor.h"
@@ -36,7 +38,7 @@ std::optional<ShaderStats> intel_fragment_stats(const std::vector<std::string>& 
 
 const GlVendor& intel_vendor() {
   static const GlVendor v{"intel", "Intel (crocus, iris)", "amd64", "libintel_noop_drm_shim.so",
-                          "INTEL_STUB_GPU_PLATFORM", {{"INTEL_DEBUG", "fs"}}, {0x8086}, intel_fragment_stats};
+                          "INTEL_STUB_GPU_PLATFORM", {}, {0x8086}, intel_fragment_stats};
   return v;
 }
 
