@@ -187,7 +187,11 @@ GlChipsAnalysis analyze_gl_chips(const compile::CompiledSpace& compiled, const s
   for (const std::string& name : chips) {
     const FamilySpec* spec = gl_chip(name);
     if (!spec) throw std::runtime_error(fmt::format("unknown GL chip '{}'", name));
-    check_installed(install, *gl_vendor(spec->compiler->driver));
+    try {
+      check_installed(install, *gl_vendor(spec->compiler->driver));
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(fmt::format("--gpu {}: {}", name, e.what()));
+    }
     specs.push_back(spec);
   }
   const Plan plan = plan_pairs(compiled, variants);
