@@ -28,7 +28,7 @@ install(TARGETS aovar EXPORT aovarTargets RUNTIME DESTINATION ${CMAKE_INSTALL_BI
 # (gpu/gl/compiler.cpp). The arm64 runner (Adreno, Mali) is not packaged: dpkg-shlibdeps cannot read a foreign
 # binary; an installed aovar finds it through $AOVAR_GL_RUNNER_DIR (docs/gpu-cost.md).
 if(TARGET aovar-gl-stats)
-  install(TARGETS aovar-gl-stats RUNTIME DESTINATION ${CMAKE_INSTALL_LIBEXECDIR}/aovar)
+  install(PROGRAMS ${PROJECT_BINARY_DIR}/aovar-gl-stats DESTINATION ${CMAKE_INSTALL_LIBEXECDIR}/aovar)
 endif()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/shader_src DESTINATION ${AOVAR_INSTALL_DATADIR})
 install(EXPORT aovarTargets NAMESPACE aovar:: DESTINATION ${AOVAR_INSTALL_CMAKEDIR})
