@@ -168,6 +168,16 @@ TEST(GlChips, TheCacheIsUsedWhenWholeAndRecomputedWhenDamaged) {
   EXPECT_EQ(again.chips[0].variants[0].total(true).instructions, cold.chips[0].variants[0].total(true).instructions);
 }
 
+TEST(GlChips, ACacheThatCannotBeWrittenDoesNotFailTheRun) {
+  REQUIRE_GL_VENDOR("nouveau");
+  const test::TempDir tmp;
+  test::write_text(tmp / "a-file", "not a folder");  // the cache "folder" is a file: nothing can be written
+  const auto a = gpu::analyze_gl_chips(gl_alchemy_space(), {0}, {"gf110"}, tmp / "a-file");
+  ASSERT_EQ(a.chips.size(), 1u);
+  EXPECT_TRUE(a.chips[0].ok()) << a.chips[0].error;
+  EXPECT_EQ(a.chips[0].variants.size(), 1u);
+}
+
 TEST(GlChips, UnknownChipsAndMissingVendorsAreOneLineBeforeAnyWork) {
   const auto& c = gl_alchemy_space();
   try {

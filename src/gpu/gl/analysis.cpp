@@ -104,12 +104,17 @@ std::optional<Cached> read_entry(const fs::path& dir, const std::string& key, co
   }
 }
 
+// A cache that cannot be written never fails the run: the statistics are right without it, the next run
+// compiles again.
 void write_entry(const fs::path& dir, const std::string& key, const GlBatch& batch, const ShaderStats& stats) {
   if (dir.empty()) return;
   const nlohmann::json j = {{"key", key}, {"renderer", batch.renderer}, {"version", batch.version},
                             {"messages", std::vector<std::string>{stats.raw}}};
-  fs::create_directories(entry_path(dir, key).parent_path());
-  util::write_atomic(entry_path(dir, key), j.dump());
+  try {
+    fs::create_directories(entry_path(dir, key).parent_path());
+    util::write_atomic(entry_path(dir, key), j.dump());
+  } catch (const std::exception&) {
+  }
 }
 
 std::string driver_of(const std::string& gl_version) {  // "OpenGL ES 3.1 Mesa 25.0.7-2~bpo12+1" -> "Mesa 25.0.7-..."
