@@ -12,6 +12,7 @@
 #include "shard/assign.h"
 #include "shard/env.h"
 #include "shard/manifest.h"
+#include "util/schema.h"
 #include "test_support.h"
 
 namespace aovar::test {
@@ -172,7 +173,7 @@ TEST(ShardManifest, RoundTripsThroughItsFile) {
   shard::write_manifest(dir.path(), m);
   auto back = shard::read_manifest(dir / "shard.json");
   EXPECT_EQ(back.to_json(), m.to_json());
-  EXPECT_EQ(back.to_json().at("schema_version"), 1);
+  EXPECT_EQ(back.to_json().at("schema_version"), util::kSchemaVersion);
   EXPECT_EQ(back.label(), "2/3");
 }
 
