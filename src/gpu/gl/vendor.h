@@ -4,7 +4,6 @@
 // variable names is present, and the driver reports each compiled shader's statistics through KHR_debug.
 // One file per vendor (gpu/gl/vendors/<name>.cpp) says how to start its driver and how to read its line; the list
 // in gpu/gl/vendors.cpp registers them. A chip of a known vendor is a data entry (families.json's "compiler").
-#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
@@ -21,7 +20,6 @@ struct GlVendor {
   std::string shim;           // the noop drm-shim library's file name
   std::string chip_variable;  // the variable that names the chip: "NOUVEAU_CHIPSET"
   std::vector<std::pair<std::string, std::string>> env;  // what else makes the driver print its statistics
-  std::vector<std::uint32_t> pci_vendor_ids;             // the Vulkan / PCI vendor IDs of its chips
   // The fragment program's statistics among one program's compiler messages (one line each), or nothing.
   std::optional<ShaderStats> (*fragment_stats)(const std::vector<std::string>& messages) = nullptr;
 };

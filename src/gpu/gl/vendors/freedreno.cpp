@@ -29,7 +29,7 @@ std::optional<ShaderStats> freedreno_fragment_stats(const std::vector<std::strin
 
 const GlVendor& freedreno_vendor() {
   static const GlVendor v{"freedreno", "Qualcomm Adreno (freedreno)", "arm64", "libfreedreno_noop_drm_shim.so",
-                          "FD_GPU_ID", {{"FD_MESA_DEBUG", "shaderdb"}}, {0x5143}, freedreno_fragment_stats};
+                          "FD_GPU_ID", {{"FD_MESA_DEBUG", "shaderdb"}}, freedreno_fragment_stats};
   return v;
 }
 

@@ -38,7 +38,7 @@ std::optional<ShaderStats> intel_fragment_stats(const std::vector<std::string>& 
 
 const GlVendor& intel_vendor() {
   static const GlVendor v{"intel", "Intel (crocus, iris)", "amd64", "libintel_noop_drm_shim.so",
-                          "INTEL_STUB_GPU_PLATFORM", {}, {0x8086}, intel_fragment_stats};
+                          "INTEL_STUB_GPU_PLATFORM", {}, intel_fragment_stats};
   return v;
 }
 

@@ -29,7 +29,7 @@ std::optional<ShaderStats> nouveau_fragment_stats(const std::vector<std::string>
 
 const GlVendor& nouveau_vendor() {
   static const GlVendor v{"nouveau", "NVIDIA (nouveau)", "amd64", "libnouveau_noop_drm_shim.so", "NOUVEAU_CHIPSET",
-                          {}, {0x10DE}, nouveau_fragment_stats};
+                          {}, nouveau_fragment_stats};
   return v;
 }
 

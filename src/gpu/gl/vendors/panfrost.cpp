@@ -27,7 +27,7 @@ std::optional<ShaderStats> panfrost_fragment_stats(const std::vector<std::string
 
 const GlVendor& panfrost_vendor() {
   static const GlVendor v{"panfrost", "Arm Mali (panfrost)", "arm64", "libpanfrost_noop_drm_shim.so", "PAN_GPU_ID",
-                          {{"MIDGARD_MESA_DEBUG", "shaderdb"}, {"BIFROST_MESA_DEBUG", "shaderdb"}}, {0x13B5},
+                          {{"MIDGARD_MESA_DEBUG", "shaderdb"}, {"BIFROST_MESA_DEBUG", "shaderdb"}},
                           panfrost_fragment_stats};
   return v;
 }
