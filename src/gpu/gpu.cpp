@@ -16,7 +16,7 @@
 #include "gpu/null_device.h"
 #include "gpu/spirv_unroll.h"
 #include "render/plan.h"
-#include "render/vk_pipeline.h"
+#include "render/vulkan/vk_pipeline.h"
 #include "util/clock.h"
 #include "util/isolated.h"
 

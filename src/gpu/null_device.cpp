@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "render/vk_pipeline.h"
+#include "render/vulkan/vk_pipeline.h"
 #include "shadergen/bindings.h"
 
 // Vulkan structs are written `VkFoo foo{VK_STRUCTURE_TYPE_FOO};`: the rest zero-initialised on purpose.
@@ -192,7 +192,7 @@ ShaderStats NullDevice::fragment_stats(const PipelineShape& shape) {
   }
 }
 
-// The renderer's pipeline for the draw (render/vk_pipeline.h), with statistics captured; the frame size
+// The renderer's pipeline for the draw (render/vulkan/vk_pipeline.h), with statistics captured; the frame size
 // does not change the code.
 VkPipeline NullDevice::create_pipeline(const PipelineShape& shape, VkShaderModule vs, VkShaderModule fs) {
   render::vk::PipelineDesc desc;

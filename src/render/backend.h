@@ -105,7 +105,7 @@ variants::Target target_of(std::string_view backend);
 // Throws BackendError (unknown name, missing driver, failed context) with what to do.
 std::unique_ptr<Backend> make_backend(std::string_view name, const BackendOptions& options);
 
-// Implementations (render/lavapipe.cpp, render/osmesa.cpp, render/gles.cpp).
+// Implementations (render/vulkan/lavapipe.cpp, render/gl/osmesa.cpp, render/gl/gles.cpp).
 std::unique_ptr<Backend> make_lavapipe_backend(const BackendOptions& options);
 std::unique_ptr<Backend> make_osmesa_backend(const BackendOptions& options);
 std::unique_ptr<Backend> make_gles_backend(const BackendOptions& options);

@@ -8,7 +8,7 @@
 
 #include "measure/measure.h"
 #include "render/backend.h"
-#include "render/device_select.h"
+#include "render/vulkan/device_select.h"
 #include "render_support.h"
 #include "test_support.h"
 

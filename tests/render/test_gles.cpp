@@ -1,5 +1,5 @@
 // The gles backend (OpenGL ES 3.0 through EGL surfaceless on llvmpipe): what only it does. The rendering
-// itself is shared with osmesa (render/gl_plan.cpp); the contract every backend keeps is in
+// itself is shared with osmesa (render/gl/gl_plan.cpp); the contract every backend keeps is in
 // test_backend_contract.cpp, every method through all backends in test_methods.cpp. Here: mediump measured,
 // the ES-only errors, and GL contexts of both GL backends alive in one process.
 #include <gtest/gtest.h>
@@ -12,8 +12,8 @@
 
 #include "image/health.h"
 #include "render/backend.h"
-#include "render/gl_plan.h"
-#include "render/gles_internal.h"
+#include "render/gl/gl_plan.h"
+#include "render/gl/gles_internal.h"
 #include "render/plan.h"
 #include "render_support.h"
 

@@ -11,7 +11,7 @@
 
 #include "compile/generate.h"
 #include "render/backend.h"
-#include "render/lavapipe.h"
+#include "render/vulkan/lavapipe.h"
 #include "render_support.h"
 #include "test_support.h"
 

@@ -1,4 +1,4 @@
-#include "render/lavapipe_device.h"
+#include "render/vulkan/lavapipe_device.h"
 
 #include <atomic>
 #include <cstdio>
@@ -8,8 +8,8 @@
 
 #include <fmt/format.h>
 
-#include "render/device_select.h"
-#include "render/lavapipe.h"
+#include "render/vulkan/device_select.h"
+#include "render/vulkan/lavapipe.h"
 
 // Vulkan structs are written `VkFoo foo{VK_STRUCTURE_TYPE_FOO};`: the rest zero-initialised on purpose.
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"

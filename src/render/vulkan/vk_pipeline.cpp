@@ -1,4 +1,4 @@
-#include "render/vk_pipeline.h"
+#include "render/vulkan/vk_pipeline.h"
 
 #include <glm/vec3.hpp>
 

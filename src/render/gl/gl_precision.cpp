@@ -2,7 +2,7 @@
 // allows mediump to run in anything from fp16 up (GLSL ES 3.00 section 4.5.2), so it is measured, not assumed.
 #include <array>
 
-#include "render/gl_context.h"
+#include "render/gl/gl_context.h"
 
 namespace aovar::render::gl {
 namespace {

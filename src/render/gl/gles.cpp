@@ -13,8 +13,8 @@
 #include <fmt/format.h>
 
 #include "render/backend.h"
-#include "render/gl_plan.h"
-#include "render/gles_internal.h"
+#include "render/gl/gl_plan.h"
+#include "render/gl/gles_internal.h"
 
 namespace aovar::render {
 namespace gles {

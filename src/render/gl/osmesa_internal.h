@@ -3,7 +3,7 @@
 #include <memory>
 
 #include "render/backend.h"
-#include "render/gl_plan.h"
+#include "render/gl/gl_plan.h"
 
 namespace aovar::render::osmesa {
 

@@ -8,8 +8,8 @@
 #include <fmt/format.h>
 
 #include "render/backend.h"
-#include "render/gl_functions.h"
-#include "render/gl_plan.h"
+#include "render/gl/gl_functions.h"
+#include "render/gl/gl_plan.h"
 
 namespace aovar::render::gl {
 

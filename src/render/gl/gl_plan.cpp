@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "render/gl_context.h"
+#include "render/gl/gl_context.h"
 #include "shadergen/bindings.h"
 
 namespace aovar::render::gl {

@@ -17,8 +17,8 @@
 
 #include "compile/relaxed_fp16.h"
 #include "render/backend.h"
-#include "render/lavapipe_device.h"
-#include "render/vk_pipeline.h"
+#include "render/vulkan/lavapipe_device.h"
+#include "render/vulkan/vk_pipeline.h"
 
 // Vulkan structs are written `VkFoo foo{VK_STRUCTURE_TYPE_FOO};`: the rest zero-initialised on purpose.
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"

@@ -7,8 +7,8 @@
 #include <GL/osmesa.h>
 
 #include "render/backend.h"
-#include "render/gl_plan.h"
-#include "render/osmesa_internal.h"
+#include "render/gl/gl_plan.h"
+#include "render/gl/osmesa_internal.h"
 
 namespace aovar::render {
 namespace osmesa {

@@ -1,4 +1,4 @@
-#include "render/device_select.h"
+#include "render/vulkan/device_select.h"
 
 #include <algorithm>
 #include <cctype>
