@@ -1,11 +1,15 @@
 #pragma once
-// One interface over Mesa's CPU drivers: "lavapipe" (Vulkan 1.3 through the loader), "osmesa" (OpenGL 4.5
-// core through OSMesa) and "gles" (OpenGL ES 3.0 through EGL surfaceless; shares osmesa's GL code, gl_plan.h). A backend uploads a scene, prepares a variant's PipelinePlan, renders
-// frames with a time per draw, and reads the result back as floats.
+// One interface over Mesa's CPU drivers, one folder per API: render/vulkan (Vulkan 1.3 through the loader) and
+// render/gl (OpenGL 4.5 core and OpenGL ES 3.0 over one GL executor, gl/gl_plan.h). A backend uploads a scene,
+// prepares a variant's PipelinePlan, renders frames with a time per draw, and reads the result back as floats.
+// Which backends exist is the registry's (render/registry.cpp): names, targets, factories and availability
+// checks are read from it by help text, errors, --backend checks and stress.
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "image/image.h"
@@ -15,8 +19,8 @@
 
 namespace aovar::render {
 
-// One line for stderr: what failed and what to do ("no Vulkan CPU device (lavapipe) found: install
-// mesa-vulkan-drivers (scripts/deps)").
+// One line for stderr: what failed and what to do ("no Vulkan CPU device found: install mesa-vulkan-drivers
+// (scripts/deps)").
 class BackendError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
@@ -24,19 +28,20 @@ class BackendError : public std::runtime_error {
 
 struct BackendOptions {
   int threads = 2;          // LP_NUM_THREADS, set before the driver loads
-  bool validation = false;  // lavapipe: enable VK_LAYER_KHRONOS_validation; errors throw BackendError
-  // lavapipe: run mediump (RelaxedPrecision) arithmetic in real fp16, as mobile GPUs do, instead of llvmpipe's
-  // fp32 (compile/relaxed_fp16.h); needs shaderFloat16. osmesa and gles reject it (their GLSL has no such rewrite).
+  bool validation = false;  // Vulkan: enable VK_LAYER_KHRONOS_validation; errors throw BackendError
+  // Vulkan: run mediump (RelaxedPrecision) arithmetic in real fp16, as mobile GPUs do, instead of llvmpipe's
+  // fp32 (compile/relaxed_fp16.h rewrites the SPIR-V); needs shaderFloat16. The GL backends reject it (their
+  // GLSL has no such rewrite).
   // For images only: llvmpipe converts around every fp16 op, so mediump draws get 2-7x slower, not faster.
   bool mediump_as_fp16 = false;
-  // lavapipe (the Vulkan backend): which physical device to render on, "--device NAME|INDEX" (device_select.h):
-  // empty = the CPU device lavapipe; a number = its index in vkEnumeratePhysicalDevices order; otherwise a
-  // case-insensitive substring of its name ("llvmpipe", "radeon"). osmesa and gles ignore it.
+  // The Vulkan backend: which physical device to render on, "--device NAME|INDEX" (vulkan/device_select.h):
+  // empty = the CPU device; a number = its index in vkEnumeratePhysicalDevices order; otherwise a
+  // case-insensitive substring of its name ("llvmpipe", "radeon"). The GL backends ignore it.
   std::string device;
 };
 
 struct DeviceInfo {
-  std::string backend;      // "lavapipe" / "osmesa" / "gles"
+  std::string backend;      // its name in the registry (BackendInfo::name)
   std::string device;       // "llvmpipe (LLVM 15.0.6, 256 bits)"
   std::string api_version;  // "Vulkan 1.3.230" / "OpenGL 4.5 (Core Profile) Mesa 22.3.6" / "OpenGL ES 3.2 Mesa 22.3.6"
   std::string driver;       // "Mesa 22.3.6"
@@ -74,8 +79,8 @@ class Backend {
   virtual std::unique_ptr<PreparedPipeline> prepare(const PipelinePlan& plan, Extent size) = 0;
 
   // Renders one frame and waits for it. Returns the time of each draw in ms, in plan.draws order:
-  // lavapipe from timestamp queries (a wall clock per frame where the device has none: DeviceInfo::timing),
-  // osmesa and gles from a wall clock around each draw plus glFinish.
+  // Vulkan from timestamp queries (a wall clock per frame where the device has none: DeviceInfo::timing),
+  // GL from a wall clock around each draw plus glFinish.
   virtual std::vector<double> render(PreparedPipeline& pipeline, const FrameSetup& frame) = 0;
 
   // The result texture of the last rendered frame, as floats, row 0 = bottom of the view.
@@ -87,7 +92,8 @@ class Backend {
   virtual void set_params(PreparedPipeline& pipeline, std::size_t draw, const std::vector<float>& params) = 0;
 
   // Trace builds (trace/trace.h): the storage-buffer words of every draw with trace_words > 0, in draw
-  // order, as the last render() left them. Only lavapipe runs trace builds; the others throw BackendError.
+  // order, as the last render() left them. Only the Vulkan backend runs trace builds; the others throw
+  // BackendError.
   struct TracedDraw {
     std::string name, pass;
     int level = 0;                     // MIP level the draw writes
@@ -96,18 +102,50 @@ class Backend {
   virtual std::vector<TracedDraw> read_traces(PreparedPipeline& pipeline);
 };
 
-std::vector<std::string> backend_names();  // {"lavapipe", "osmesa", "gles"}
+// One backend of the registry.
+struct BackendInfo {
+  std::string name;         // --backend NAME, DeviceInfo::backend
+  variants::Target target;  // the shader target it runs (SPIR-V, GL 4.5 GLSL, GLSL ES 3.00)
+  std::function<std::unique_ptr<Backend>(const BackendOptions&)> make;  // throws BackendError
+  // Why it cannot start on this machine, with what to install (one line); empty when it can. Cheap: it does
+  // not create the backend (which would fix LP_NUM_THREADS for the process).
+  std::function<std::string()> unavailable;
+};
 
-// The shader target a backend runs: lavapipe the Vulkan SPIR-V, osmesa the GL 4.5 GLSL, gles the GLSL ES 3.00. Throws BackendError
-// naming the backends for an unknown name.
+// The backends aovar ships with, the default first (defined in render/registry.cpp, the one list of them).
+std::vector<BackendInfo> builtin_backends();
+
+// Unregisters its backend when it goes (tests: a fake backend that no later test sees). Move-only.
+class BackendRegistration {
+ public:
+  explicit BackendRegistration(std::string name) : name_(std::move(name)) {}
+  BackendRegistration(BackendRegistration&& other) noexcept : name_(std::exchange(other.name_, {})) {}
+  BackendRegistration& operator=(BackendRegistration&&) = delete;
+  ~BackendRegistration();
+
+ private:
+  std::string name_;  // empty once moved from
+};
+
+// Adds a backend after the built-in ones until the handle goes. Throws BackendError for a name already
+// registered.
+[[nodiscard]] BackendRegistration register_backend(BackendInfo info);
+
+std::vector<BackendInfo> registered_backends();  // built-in ones first, in registration order
+std::vector<std::string> backend_names();        // their names, in that order
+// The names for help text and errors, "a, b, c" (or "a / b / c"); `last`, when given, joins the last two
+// ("a, b or c").
+std::string backend_list(std::string_view separator = ", ", std::string_view last = {});
+// The first backend that runs `target` ("the Vulkan backend"): error text names it. Throws BackendError when none does.
+std::string backend_for(variants::Target target);
+
+// The backend's entry; throws BackendError "unknown backend 'NAME' (use A, B or C)" for an unknown name.
+BackendInfo backend_info(std::string_view name);
+
+// The shader target a backend runs. Throws BackendError naming the backends for an unknown name.
 variants::Target target_of(std::string_view backend);
 
 // Throws BackendError (unknown name, missing driver, failed context) with what to do.
 std::unique_ptr<Backend> make_backend(std::string_view name, const BackendOptions& options);
-
-// Implementations (render/vulkan/lavapipe.cpp, render/gl/osmesa.cpp, render/gl/gles.cpp).
-std::unique_ptr<Backend> make_lavapipe_backend(const BackendOptions& options);
-std::unique_ptr<Backend> make_osmesa_backend(const BackendOptions& options);
-std::unique_ptr<Backend> make_gles_backend(const BackendOptions& options);
 
 }  // namespace aovar::render

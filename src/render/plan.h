@@ -54,6 +54,10 @@ struct Texture {
 inline constexpr float kClearFar = -12345.0f;   // placeholder: +background_depth(far), finite for far = inf
 inline constexpr float kClearNegFar = -54321.0f;  // placeholder: -background_depth(far)
 
+// The backend a run uses unless told: the registry's first (render/registry.cpp). Declared with the plan, not
+// with the registry (render/backend.h), so that options structs which include only the plan can default to it.
+std::string default_backend();
+
 struct TextureRef {
   int texture = -1;
   bool previous = false;  // double-buffered texture: the copy written in the previous frame
@@ -63,8 +67,8 @@ struct TextureRef {
 struct Shader {
   std::string program_key;          // e.g. "alchemy-s08-p0-nrg8-zdep-rst-hp.frag"
   variants::StageKind stage = variants::StageKind::fragment;
-  std::vector<std::uint32_t> spirv;  // Vulkan SPIR-V (backend "lavapipe")
-  std::string glsl;                  // GLSL 450 core source (backend "osmesa")
+  std::vector<std::uint32_t> spirv;  // Vulkan SPIR-V (the vulkan target's backend)
+  std::string glsl;                  // GLSL source (the GL targets' backends)
 };
 
 // Depth buffers (D32F) draws test against; never sampled.
@@ -94,7 +98,7 @@ struct Draw {
   DepthUse depth = DepthUse::none;
   int depth_buffer = -1;            // index into PipelinePlan::depth_buffers (with depth != none)
   // Trace builds only (trace/trace.h): 32-bit words of the storage buffer bound at binding::kTrace for this
-  // draw, 0 = not traced. Word 0 counts pixels whose reads overflowed; the reads follow. lavapipe only.
+  // draw, 0 = not traced. Word 0 counts pixels whose reads overflowed; the reads follow. Vulkan only.
   std::int64_t trace_words = 0;
 };
 

@@ -12,6 +12,8 @@
 #include "compile/glslang_compiler.h"
 #include "compile/relaxed_fp16.h"
 #include "measure/measure.h"
+#include "render/gl/gl_backends.h"
+#include "render/vulkan/lavapipe.h"
 #include "render_support.h"
 
 namespace aovar::test {

@@ -9,6 +9,7 @@
 #include "measure/measure.h"
 #include "render/backend.h"
 #include "render/vulkan/device_select.h"
+#include "render/vulkan/lavapipe.h"
 #include "render_support.h"
 #include "test_support.h"
 

@@ -9,6 +9,7 @@
 
 #include "compile/generate.h"
 #include "render/backend.h"
+#include "render/gl/gl_backends.h"
 #include "render/gl/osmesa_internal.h"
 #include "render/plan.h"
 #include "render_support.h"

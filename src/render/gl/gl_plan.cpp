@@ -280,8 +280,8 @@ std::unique_ptr<PreparedPipeline> GlBackend::prepare(const PipelinePlan& full_pl
   validate_plan(plan, name());
   for (const Draw& d : plan.draws)
     if (d.trace_words > 0)
-      throw BackendError(fmt::format("{}: draw {} of {} is a trace build, which runs on lavapipe only", name(),
-                                     d.name, plan.variant));
+      throw BackendError(fmt::format("{}: draw {} of {} is a trace build, which runs on {} only", name(),
+                                     d.name, plan.variant, backend_for(variants::Target::vulkan)));
   check_formats(plan);
   // Built inside the pipeline object so that a throw part-way deletes what was already created.
   auto p = std::make_unique<GlPipeline>(c_, plan.variant);

@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "render/backend.h"
+#include "render/gl/gl_backends.h"
 #include "render/gl/gl_plan.h"
 #include "render/gl/gles_internal.h"
 
@@ -127,8 +128,9 @@ class EglPlatform final : public gl::Platform {
 
 std::unique_ptr<Backend> make_backend_with(const BackendOptions& options, const Request& request) {
   if (options.mediump_as_fp16)
-    throw BackendError("gles: mediump as fp16 is lavapipe only (it rewrites Vulkan SPIR-V; the ES driver decides "
-                       "what mediump runs in): use the lavapipe backend");
+    throw BackendError(fmt::format("gles: mediump as fp16 is {0} only (it rewrites Vulkan SPIR-V; the ES driver "
+                                   "decides what mediump runs in): use the {0} backend",
+                                   backend_for(variants::Target::vulkan)));
   gl::claim_llvmpipe_threads("gles", options.threads);
   const Egl& e = egl(request.egl_library);
   gl::Setup setup;
@@ -146,6 +148,15 @@ std::unique_ptr<Backend> make_backend_with(const BackendOptions& options, const 
 
 std::unique_ptr<Backend> make_gles_backend(const BackendOptions& options) {
   return gles::make_backend_with(options, {});
+}
+
+// Opening libEGL does not initialise a display, so LP_NUM_THREADS stays unread.
+std::string gles_unavailable() {
+  const std::string library = gles::Request{}.egl_library;
+  void* lib = dlopen(library.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!lib) return fmt::format("gles: cannot load {}: {}", library, gles::kInstall);
+  dlclose(lib);
+  return {};
 }
 
 }  // namespace aovar::render

@@ -7,6 +7,7 @@
 #include <GL/osmesa.h>
 
 #include "render/backend.h"
+#include "render/gl/gl_backends.h"
 #include "render/gl/gl_plan.h"
 #include "render/gl/osmesa_internal.h"
 
@@ -48,8 +49,9 @@ class OsmesaPlatform final : public gl::Platform {
 
 std::unique_ptr<Backend> make_backend_with_version(const BackendOptions& options, int major, int minor) {
   if (options.mediump_as_fp16)
-    throw BackendError("osmesa: mediump as fp16 is lavapipe only (it rewrites Vulkan SPIR-V; OpenGL GLSL "
-                       "mediump stays fp32 on llvmpipe): use the lavapipe backend");
+    throw BackendError(fmt::format("osmesa: mediump as fp16 is {0} only (it rewrites Vulkan SPIR-V; OpenGL GLSL "
+                                   "mediump stays fp32 on llvmpipe): use the {0} backend",
+                                   backend_for(variants::Target::vulkan)));
   gl::claim_llvmpipe_threads("osmesa", options.threads);
   gl::Setup setup;
   setup.name = "osmesa";
@@ -65,5 +67,9 @@ std::unique_ptr<Backend> make_backend_with_version(const BackendOptions& options
 std::unique_ptr<Backend> make_osmesa_backend(const BackendOptions& options) {
   return osmesa::make_backend_with_version(options, 4, 5);
 }
+
+// OSMesa is linked into aovar (the loader refused to start it otherwise); whether it offers GL 4.5 core shows
+// only when a context is made, which would fix LP_NUM_THREADS for the process.
+std::string osmesa_unavailable() { return {}; }
 
 }  // namespace aovar::render

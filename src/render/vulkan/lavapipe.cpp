@@ -17,6 +17,7 @@
 
 #include "compile/relaxed_fp16.h"
 #include "render/backend.h"
+#include "render/vulkan/lavapipe.h"
 #include "render/vulkan/lavapipe_device.h"
 #include "render/vulkan/vk_pipeline.h"
 

@@ -587,4 +587,13 @@ std::vector<DeviceCandidate> vulkan_devices() {
   return list;
 }
 
+std::string lavapipe_unavailable() {
+  try {
+    select_device(vulkan_devices(), "");  // throws naming the devices and the package
+    return {};
+  } catch (const BackendError& e) {
+    return e.what();
+  }
+}
+
 }  // namespace aovar::render
