@@ -51,7 +51,7 @@ struct CalibrateOptions {
   // normal where the method reads one; "depth", normals derived from depth (the faces), for scenes whose
   // vertex normals lean from their faces (aovar profile measures it; docs/calibration.md).
   std::string fit_normals = "buffer";
-  std::string backend = "lavapipe";
+  std::string backend = render::default_backend();
   render::Extent size{320, 180};
   int rays = 256;
   reference::Mode mode = reference::Mode::occlusion;

@@ -66,7 +66,7 @@ Command add_calibrate(CLI::App& app) {
                   "normals of the variant each method is fitted with: buffer (RGB8 where read) or depth")
       ->check(CLI::IsMember({"buffer", "depth"}))
       ->capture_default_str();
-  cmd->add_option("--backend,-b", cal.backend, "lavapipe, osmesa or gles")->capture_default_str();
+  cmd->add_option("--backend,-b", cal.backend, render::backend_list(", ", " or "))->capture_default_str();
   cmd->add_option("--size", a->size, "render and reference size WxH")->capture_default_str();
   cmd->add_option("--rays", cal.rays, "reference rays per pixel")->capture_default_str();
   cmd->add_option("--mode", a->mode, "reference mode: occlusion or obscurance")->capture_default_str();

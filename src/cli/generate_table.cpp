@@ -24,9 +24,9 @@ void check_target_names(const std::string& table, const std::vector<std::string>
   for (const auto& name : targets)
     if (!is_backend(name) && !compile::is_amd_family(name))
       throw std::runtime_error(fmt::format(
-          "{}: --for '{}': not an AMD GPU family or a backend (backends: lavapipe, osmesa, gles; families, Mesa's "
+          "{}: --for '{}': not an AMD GPU family or a backend (backends: {}; families, Mesa's "
           "names: {})",
-          table, name, compile::amd_family_names()));
+          table, name, render::backend_list(), compile::amd_family_names()));
 }
 
 compile::PickFront pick_front(const decide::TargetFront& f) {

@@ -1,4 +1,4 @@
-// aovar measure: render and time variants on a scene through lavapipe / OSMesa / GLES (measure.json with --out).
+// aovar measure: render and time variants on a scene through the registered backends (measure.json with --out).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -115,19 +115,19 @@ ExitCode run_measure(const MeasureArgs& a) {
 Command add_measure(CLI::App& app) {
   auto a = std::make_shared<MeasureArgs>();
   auto& mo = a->options;
-  auto* cmd = app.add_subcommand("measure", "render and time variants on a scene through lavapipe / OSMesa / GLES");
+  auto* cmd = app.add_subcommand("measure", "render and time variants on a scene through " + render::backend_list(" / "));
   add_common(cmd, a->common);
   cmd->add_option("--scene,-s", a->scene, "builtin:atrium|spheres|stairs|cornell or an .obj/.gltf/.glb file")
       ->capture_default_str();
   cmd->add_option("--views-file", a->views_file, "views side file (TOML or JSON) for the scene");
   cmd->add_option("--view", mo.views, "view name (repeatable; default: the scene's first view)");
-  cmd->add_option("--backend,-b", mo.backends, "lavapipe, osmesa, gles (repeatable or comma-separated)")
+  cmd->add_option("--backend,-b", mo.backends, render::backend_list() + " (repeatable or comma-separated)")
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
   add_reps(cmd, a->reps);
   cmd->add_option("--warmup", mo.timing.warmup, "discarded frames after the first (JIT) frame")->capture_default_str();
   cmd->add_option("--threads", mo.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
-  cmd->add_option("--device", mo.device, "lavapipe backend: Vulkan device by name substring or index (default: lavapipe)");
+  cmd->add_option("--device", mo.device, "the Vulkan backend: device by name substring or index (default: the CPU device)");
   cmd->add_option("--batch", mo.timing.batch, "pipelines prepared and interleaved at once")->capture_default_str();
   add_gpu(cmd, a->gpu);
   cmd->add_option("--baseline", mo.baseline, "variant timed in every round (rel_time = 1)")->capture_default_str();

@@ -59,7 +59,7 @@ void add_gpu(CLI::App* cmd, GpuOption& o) {
                                    "(gpu.<family> columns; docs/gpu-cost.md)");
   cmd->add_option("--gpu-size", o.frame, "frame size the --gpu estimate is for")->capture_default_str()->needs(families);
   cmd->add_option("--gpu-trace", o.trace,
-                  "on: trace every row's texel fetches on its view (lavapipe) and estimate on each family's simulated "
+                  "on: trace every row's texel fetches on its view through the Vulkan backend and estimate on each family's simulated "
                   "caches; off: the view-free roofline")
       ->transform(CLI::CheckedTransformer(std::map<std::string, bool>{{"on", true}, {"off", false}}))
       ->capture_default_str()->needs(families);

@@ -120,7 +120,7 @@ Command add_stress(CLI::App& app) {
   auto* cmd = app.add_subcommand("stress", "numerical stability: every variant under extreme cameras, radii, geometry "
                                            "and formats; exit 1 when a shipped variant has NaN, Inf or out-of-range AO");
   add_common(cmd, a->common);
-  cmd->add_option("--backend,-b", so.backends, "lavapipe, osmesa, gles (repeatable or comma-separated)")
+  cmd->add_option("--backend,-b", so.backends, render::backend_list() + " (repeatable or comma-separated)")
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
   cmd->add_option("--threads", so.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
@@ -136,9 +136,9 @@ Command add_stress(CLI::App& app) {
   cmd->add_flag("--no-reuse", a->no_reuse, "check everything again (default: reuse checks whose inputs match OUT/stress.json)");
   cmd->add_option("--out,-o", a->out, "output folder: stress.json, stress.md");
   cmd->add_option("--shard", a->shard, shard_help);
-  cmd->add_flag("--mediump-fp32", a->mediump_fp32, "run mediump in fp32 on lavapipe (default: real fp16, as mobile GPUs)");
+  cmd->add_flag("--mediump-fp32", a->mediump_fp32, "run mediump in fp32 on the Vulkan backend (default: real fp16, as mobile GPUs)");
   cmd->add_option("--renders-per-process", so.renders_per_process,
-                  "variant x case renders per child process (lavapipe keeps memory per render; 0: render in this process)")
+                  "variant x case renders per child process (the Vulkan driver keeps memory per render; 0: render in this process)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   return {cmd, [a] { return run_stress(*a); }};

@@ -70,12 +70,12 @@ Command add_sweep(CLI::App& app) {
   cmd->add_option("--scene,-s", so.scenes, "scenes (repeatable): builtin:atrium|spheres|stairs|cornell or a mesh file")
       ->capture_default_str();
   cmd->add_option("--view", so.measure.views, "view name (repeatable; default: every view of each scene)");
-  cmd->add_option("--backend,-b", so.measure.backends, "lavapipe, osmesa, gles (repeatable or comma-separated)")
+  cmd->add_option("--backend,-b", so.measure.backends, render::backend_list() + " (repeatable or comma-separated)")
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
   add_reps(cmd, a->reps);
   cmd->add_option("--threads", so.measure.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
-  cmd->add_option("--device", so.measure.device, "lavapipe backend: Vulkan device by name substring or index (default: lavapipe)");
+  cmd->add_option("--device", so.measure.device, "the Vulkan backend: device by name substring or index (default: the CPU device)");
   cmd->add_option("--rays", so.measure.truth.rays, "reference rays per pixel")->capture_default_str();
   cmd->add_option("--batch", so.measure.timing.batch, "pipelines prepared and interleaved at once (rows are saved per batch)")
       ->capture_default_str();

@@ -13,6 +13,9 @@
 namespace aovar::compile {
 namespace {
 
+// The emitted lookup names "lavapipe" because it runs in the engine, outside aovar: at run time it matches
+// the device's Vulkan driver name and reaches the cost table's front measured on lavapipe (a backend name the
+// table stores), with no registry to ask. Byte-identical output depends on these strings staying as they are.
 constexpr const char* kPickTypes = R"(
 // The cost table's choice (aovar generate --from-table): per AMD GPU family (time: aovar's roofline estimate)
 // or measured backend (time: measured), the variants `aovar select` answers for some budget, fastest first.

@@ -14,7 +14,7 @@ struct PickPoint {
 };
 
 struct PickFront {
-  std::string target;   // "navi21", "lavapipe"
+  std::string target;   // a GPU family ("navi21") or a measured backend
   bool family = false;  // an AMD GPU family (estimated time), else a measured backend
   std::vector<PickPoint> points;  // fastest first
 };

@@ -15,7 +15,7 @@ FeatureSpec compact_features();
 
 // Instruction classes weighted by the pixels each pass covers: AO pass and the other passes apart, and the
 // AO pass's reads of the G-buffer apart from its reads of the prefiltered depth (SAO's z pyramid, unsharp's
-// blurred depth), which stay in small, cache-resident levels. On lavapipe every class has its own price (a
+// blurred depth), which stay in small, cache-resident levels. On the Vulkan CPU backend every class has its own price (a
 // texture read is a JIT-compiled sampler, a transcendental a polynomial, a branch masks SIMD lanes), which
 // one sum of counts cannot capture. 13 features.
 FeatureSpec weighted_class_features();

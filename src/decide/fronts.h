@@ -19,7 +19,7 @@ struct FrontPoint {
 };
 
 struct TargetFront {
-  std::string target;   // "navi21" or "lavapipe"
+  std::string target;   // a GPU family ("navi21") or a measured backend
   bool family = false;  // a GPU family (time: its roofline estimate), else a measured backend
   std::vector<FrontPoint> points;  // by time, fastest first; error falls along it
 };

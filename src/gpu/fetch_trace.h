@@ -1,6 +1,6 @@
 #pragma once
 // The texel fetches of one draw of a pass, per output pixel and per tap in issue order (issue 33): what a
-// trace build of the real shaders records on lavapipe, and what the cache simulator (gpu/cache_sim.h)
+// trace build of the real shaders records on the Vulkan backend, and what the cache simulator (gpu/cache_sim.h)
 // replays in a GPU's order. Pure data: no rendering here.
 #include <cstdint>
 #include <string>

@@ -85,7 +85,7 @@ struct MeasureOptions {
   std::string scene = "builtin:atrium";
   std::filesystem::path views_file;        // side file for the scene's views (optional)
   std::vector<std::string> views;          // empty: the scene's first view (overview)
-  std::vector<std::string> backends = {"lavapipe"};
+  std::vector<std::string> backends = {render::default_backend()};
   std::vector<std::string> globs;          // --variants
   std::string baseline = kDefaultBaseline;  // timed in every round (rel_time = 1); falls back to the first selected variant when absent
   // Variant keys the globs select but not to measure (sweep --prune-dominated); the baseline is still timed.
@@ -103,7 +103,7 @@ struct MeasureOptions {
   // How it is rendered.
   render::Extent size{640, 360};
   int threads = 2;
-  std::string device;                      // lavapipe backend: --device NAME|INDEX (render::BackendOptions::device)
+  std::string device;                      // the Vulkan backend: --device NAME|INDEX (render::BackendOptions::device)
   float radius = 0;                        // world units; 0 = the scene's default
   render::ParamOverrides params;           // "<pass>.<name>" -> value
   CalibrationInUse calibration;

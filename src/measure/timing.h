@@ -88,7 +88,7 @@ RoundRobinResult time_round_robin(render::Backend& backend, const std::vector<re
 // With `stills` (the race scores each still, TimingPlan::race_scores_stills): every pipeline first renders its
 // still, `frames[i]` frames (2 for a progressive one, whose halves alternate; its first timed on its own), then
 // `read` runs, then every pipeline renders its `warmup` frames. The warm-up comes after the read-back, so that no
-// timed frame is a pipeline's first after it (the reference's, first in round 1, took about 1.5x as long on lavapipe).
+// timed frame is a pipeline's first after it (the reference's, first in round 1, took about 1.5x as long on the Vulkan CPU backend).
 // Without, each pipeline's first frame and warm-up frames, one pipeline after the other.
 struct StillsBeforeWarmUp {
   std::vector<int> frames;

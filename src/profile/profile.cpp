@@ -155,7 +155,7 @@ ViewProfile profile_view(const scene::Scene& sc, const scene::View& view, const 
 }
 
 // Flicker of progressive halves along the moving paths (the static ones average their halves exactly),
-// rendered on lavapipe: the flicker pair of `space`, compiled for it alone.
+// rendered on the default backend: the flicker pair of `space`, compiled for it alone.
 void measure_flicker(Profile& p, const std::vector<const scene::View*>& views, const scene::Scene& sc,
                      const variants::Manifest& manifest, const variants::VariantSpace& space, const Options& o,
                      const Progress& say) {
@@ -170,7 +170,7 @@ void measure_flicker(Profile& p, const std::vector<const scene::View*>& views, c
   auto c = compile::compile_space(o.manifest, co);
   if (!c.ok()) throw std::runtime_error(c.diagnostics.empty() ? "profile: compile failed" : c.diagnostics.front());
   runner::RunnerOptions ro;
-  ro.backend = "lavapipe";
+  ro.backend = render::default_backend();
   ro.device.threads = o.threads;
   ro.size = o.size;
   runner::VariantRunner runner(c, ro);

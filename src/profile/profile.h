@@ -8,7 +8,7 @@
 //  - the AO radius in pixels per pixel (the templates' ao_radius_px), so at which AO resolutions the pass
 //    early-outs on most of the geometry (radius under one AO pixel), at which sample counts taps re-read
 //    pixels, and which of SAO's MIP levels the taps reach;
-//  - the camera paths: progressive halves against their full-sample form, flicker measured on lavapipe;
+//  - the camera paths: progressive halves against their full-sample form, flicker measured on the default backend;
 //  - the renderer's declared G-buffer ([renderer] in the manifest): normal encodings, position buffer.
 // Every dropped variant carries its reason with the evidence (numbers, views, manifest lines).
 #include <filesystem>
@@ -43,7 +43,7 @@ struct Options {
   double normal_tolerance_deg = 5;   // r16f + depth-derived normals kept while their p95 angle error is under this
   double early_out_share = 0.5;      // a resolution is dropped when more geometry pixels than this early-out
   double flicker_tolerance = 0.005;  // progressive is kept while its flicker exceeds the full form's by less
-  bool measure_flicker = true;       // render the progressive pair along moving camera paths (lavapipe)
+  bool measure_flicker = true;       // render the progressive pair along moving camera paths (default backend)
   int threads = 2;
   std::filesystem::path cache_dir;   // compile cache for the flicker pair (empty = none)
 };

@@ -1,6 +1,6 @@
 #pragma once
 // The one variant runner: what measure, stress, calibrate and profile share between a compiled selection
-// and an image. It owns a backend (lavapipe, osmesa or gles, with the programs of that backend's target), keeps
+// and an image. It owns a backend (any in render/registry.cpp, with the programs of that backend's target), keeps
 // the scene uploaded, plans variants with their algorithm's calibrated parameters and the caller's
 // overrides, prepares them, renders a still frame or a camera path, reads the result back with its health,
 // and scores it against a ray-traced reference. Timing stays with its caller (measure/timing.h interleaves
@@ -20,7 +20,7 @@
 namespace aovar::runner {
 
 struct RunnerOptions {
-  std::string backend = "lavapipe";  // render::backend_names()
+  std::string backend = render::default_backend();  // render::backend_names()
   render::BackendOptions device;     // threads, validation, mediump as fp16
   render::Extent size{640, 360};     // output size every prepared pipeline renders at
   // Calibrated parameter values by variant key or algorithm name (aovar calibrate; a variant's entry wins

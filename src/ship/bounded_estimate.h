@@ -1,6 +1,6 @@
 #pragma once
 // With a GPU target, ship's screen needs every candidate's traced estimate (trace/row_traffic.h), and tracing
-// is its costliest step (about 0.3 s a draw at 1080p on lavapipe). Most candidates do not need it: a candidate
+// is its costliest step (about 0.3 s a draw at 1080p on the Vulkan CPU backend). Most candidates do not need it: a candidate
 // that a more accurate one beats on the estimate whatever its trace would show is dominated already. The
 // estimate of every pass is at least its ALU time (gpu/cache_estimate.h takes the largest of the ALU,
 // texture, latency and bandwidth times, then adds the exposed ALU), and the ALU time needs only RADV's

@@ -42,7 +42,7 @@ std::vector<Elimination> same_code_eliminations(const table::CostTable& rows, co
 // screen's candidates were both more accurate and faster there (rel_time_median, the screen's few rounds); the
 // screen's front (rank 0) is timed first. The race retires a row only against a more accurate one timed in
 // its batch or before it, so the likely front goes first. The order decides only when a row is timed, never
-// whether it is: a wrong guess costs rounds, not a candidate. (The static estimate ranks lavapipe's times at
+// whether it is: a wrong guess costs rounds, not a candidate. (The static estimate ranks the Vulkan CPU backend's times at
 // rho 0.44, bench/gpu; the screen has timed every candidate by then.)
 std::shared_ptr<const std::map<std::pair<std::string, std::string>, int>> screen_ranks(const table::CostTable& screen);
 

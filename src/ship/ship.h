@@ -37,7 +37,7 @@ struct ShipOptions {
   std::vector<std::string> holdout_views;  // empty: calibrate::split_views' default (every third view)
   std::vector<std::string> globs;          // the space searched (empty: every variant of the manifest)
   std::string target;                      // AMD family: time is its traced estimate (no timing rounds)
-  std::string backend = "lavapipe";        // the measured backend (and, with a target, the one tracing)
+  std::string backend = render::default_backend();        // the measured backend (and, with a target, the one tracing)
   decide::SelectQuery query;                // budget_of, budget_ms or max_error; ship sets the filters
   render::Extent size{640, 360};
   render::Extent fit_size{320, 180};       // calibration renders (calibrate's default)

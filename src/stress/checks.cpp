@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "render/backend.h"
 #include "render/frame.h"
 #include "runner/variant_runner.h"
 
@@ -171,7 +172,10 @@ void compare_scaled(std::vector<Check>& checks, const std::vector<Case>& cases, 
   }
 }
 
-bool fp16_on(const Options& o, const std::string& backend) { return o.mediump_fp16 && backend == "lavapipe"; }
+// The rewrite is of SPIR-V (compile/relaxed_fp16.h), so it runs wherever the Vulkan target does.
+bool fp16_on(const Options& o, const std::string& backend) {
+  return o.mediump_fp16 && render::target_of(backend) == variants::Target::vulkan;
+}
 
 void render_groups(const Run& run, const std::string& backend_name, const std::vector<Group>& groups,
                    const Starting& starting, const Emit& emit, bool in_child) {

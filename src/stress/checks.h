@@ -41,7 +41,7 @@ using Emit = std::function<void(const Check&)>;
 // checks reused from an earlier run already carry the comparison.
 void compare_scaled(std::vector<Check>& checks, const std::vector<Case>& cases, const Options& o);
 
-// Whether mediump runs in fp16 on this backend (lavapipe only: llvmpipe's GL runs it in fp32).
+// Whether mediump runs in fp16 on this backend (the Vulkan one only: llvmpipe's GL runs it in fp32).
 bool fp16_on(const Options& o, const std::string& backend);
 
 // Renders `groups` on a fresh backend: `starting(key)` before each variant, `emit` for each check (in

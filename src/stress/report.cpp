@@ -74,6 +74,7 @@ nlohmann::json to_json(const Result& r, const Options& o) {
   }
   return {{"schema_version", util::kSchemaVersion}, {"tool", "aovar stress"}, {"manifest", util::display_path(o.manifest)},
           {"size", fmt::format("{}x{}", o.size.width, o.size.height)}, {"backends", o.backends},
+          // Names the backends because real fp16 is lavapipe's own (the SPIR-V rewrite); the GL ones keep theirs.
           {"mediump", o.mediump_fp16 ? "fp16 on lavapipe (convert-relaxed-to-half), fp32 on osmesa, the driver's on gles" : "fp32"},
           {"pair_tolerance", o.pair_tolerance}, {"pair_share", o.pair_share}, {"failed", r.failed},
           {"shipped_failed", r.shipped_failed}, {"variants", variants}, {"checks", checks}};

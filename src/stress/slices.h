@@ -13,7 +13,7 @@
 
 namespace aovar::stress::detail {
 
-// The "[3/40 variants, ETA 12 s] lavapipe: key" line said before each variant, and the counts behind it.
+// The "[3/40 variants, ETA 12 s] BACKEND: key" line said before each variant, and the counts behind it.
 class Tally {
  public:
   Tally(std::chrono::steady_clock::time_point start, std::size_t total, Progress say)

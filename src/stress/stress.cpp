@@ -16,7 +16,7 @@
 
 #include "compile/generate.h"
 #include "reference/reference.h"
-#include "render/backend.h"
+#include "stress/backends.h"
 #include "stress/cache.h"
 #include "stress/checks.h"
 #include "stress/partners.h"
@@ -38,19 +38,6 @@ std::vector<Case> checked_cases(const Options& o) {
   for (const auto& c : cases)
     if (!names.insert(c.name).second) throw std::runtime_error("stress: case '" + c.name + "' given twice");
   return cases;
-}
-
-std::vector<variants::Target> targets_of(const std::vector<std::string>& backends) {
-  if (backends.empty()) throw std::runtime_error("stress: give at least one --backend");
-  std::vector<variants::Target> targets;
-  for (const auto& b : backends) {
-    const auto names = render::backend_names();
-    if (std::find(names.begin(), names.end(), b) == names.end())
-      throw std::runtime_error("stress: unknown backend '" + b + "' (lavapipe, osmesa, gles)");
-    if (std::find(targets.begin(), targets.end(), render::target_of(b)) == targets.end())
-      targets.push_back(render::target_of(b));
-  }
-  return targets;
 }
 
 // --shipped: the keys of the [ship] variants the --variants globs select.

@@ -57,7 +57,7 @@ struct Options {
   std::filesystem::path manifest = "shader_src/aovar.toml";
   std::vector<std::string> globs;                // --variants; empty = every variant
   bool shipped_only = false;                     // only the manifest's [ship] variants (with globs: both)
-  std::vector<std::string> backends = {"lavapipe"};
+  std::vector<std::string> backends = {render::default_backend()};
   std::vector<Case> cases;                       // empty = default_cases()
   render::Extent size{96, 54};
   int threads = 2;
@@ -71,10 +71,10 @@ struct Options {
   bool reuse = true;                             // keep results of an earlier stress.json whose inputs match
   int reference_rays = 64;                       // per pixel, for the reference error and the coverage probe
   std::filesystem::path reference_cache;         // empty = none
-  // Renders (variant x case) per forked child process: lavapipe never frees ~1.5 MB of compiled code per
+  // Renders (variant x case) per forked child process: the Vulkan driver never frees ~1.5 MB of compiled code per
   // render, so the whole space needs fresh processes. 0 = render in this process.
   long renders_per_process = 700;
-  // lavapipe runs mediump arithmetic in real fp16 (render::BackendOptions::mediump_as_fp16), as mobile GPUs
+  // The Vulkan backend runs mediump arithmetic in real fp16 (render::BackendOptions::mediump_as_fp16), as mobile GPUs
   // do; otherwise llvmpipe runs it in fp32 and mediump never differs from highp.
   bool mediump_fp16 = true;
   // --shard: this shard's cases only (stress/shard.h), OUT/shard.json written; `shard_convention` says where

@@ -1,13 +1,23 @@
 #include "sweep/static_costs.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "analyze/analyze.h"
 #include "compile/generate.h"
+#include "render/backend.h"
 #include "util/hash.h"
 
 namespace aovar::sweep {
 namespace {
+
+// Rows of a backend that runs the Vulkan target carry its SPIR-V programs' hash; an unregistered name (a
+// hand-written table's) carries none.
+bool runs_spirv(const std::string& backend) {
+  const auto names = render::backend_names();
+  return std::find(names.begin(), names.end(), backend) != names.end() &&
+         render::target_of(backend) == variants::Target::vulkan;
+}
 
 // One program's counts as the table's type.
 table::ProgramCounts program_counts(const analyze::ProgramCost& c) {
@@ -44,7 +54,7 @@ table::CostRow unmeasured_row(const table::CostRow& like, const std::string& key
   r.backend = like.backend;
   r.size = like.size;
   r.threads = like.threads;
-  r.spirv_hash = r.backend == "lavapipe" ? vs.vulkan_programs : std::string();
+  r.spirv_hash = runs_spirv(r.backend) ? vs.vulkan_programs : std::string();
   r.static_cost = vs.cost;
   return r;
 }

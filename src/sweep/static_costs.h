@@ -15,12 +15,12 @@ namespace aovar::sweep {
 struct VariantStatic {
   table::StaticCost cost;
   std::map<std::string, std::string> axes;
-  std::string vulkan_programs;  // equal to the lavapipe rows' spirv_hash: variants with the same programs
+  std::string vulkan_programs;  // equal to the Vulkan backend's rows' spirv_hash: variants with the same programs
   std::string same_as;          // the first variant with identical programs and pipeline (itself when none)
 };
 
 // A row for variant `key` where `like` was measured (its scene, view, backend, size, threads), with the
-// variant's axes, static cost and (lavapipe) programs hash: nothing measured, for the cost model to predict.
+// variant's axes, static cost and (Vulkan) programs hash: nothing measured, for the cost model to predict.
 table::CostRow unmeasured_row(const table::CostRow& like, const std::string& key, const VariantStatic& vs);
 
 // Of the variants `globs` select (exact keys are globs too), but `exclude`; compiled with the measurement's

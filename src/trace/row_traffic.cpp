@@ -36,6 +36,7 @@ TrafficStats add_row_traffic(const std::vector<table::CostRow*>& rows, const Row
   const auto loads = gpu::variant_loads(compiled, all);
 
   runner::RunnerOptions ro;
+  ro.backend = render::backend_for(variants::Target::vulkan);  // trace builds run on the Vulkan target
   ro.size = {request.frame.width, request.frame.height};
   ro.calibration = request.calibration;
   ro.device.threads = request.threads;
@@ -82,8 +83,9 @@ RowGpuResult add_gpu_costs(const std::vector<table::CostRow*>& rows, const RowGp
   out.pipelines = costs.pipelines;
   out.seconds = costs.seconds;
   if (request.trace) {
-    say(fmt::format("tracing {} variants' texel fetches on their views at {}x{} (lavapipe) through each family's caches",
-                    keys.size(), request.traffic.frame.width, request.traffic.frame.height));
+    say(fmt::format("tracing {} variants' texel fetches on their views at {}x{} ({}) through each family's caches",
+                    keys.size(), request.traffic.frame.width, request.traffic.frame.height,
+                    render::backend_for(variants::Target::vulkan)));
     out.traffic = add_row_traffic(rows, request.traffic);
   }
   out.families = request.costs.families;

@@ -29,7 +29,7 @@ struct RowTrafficRequest {
 };
 
 // Throws std::runtime_error (a scene or view that does not load, a variant that does not compile) or
-// render::BackendError (no lavapipe).
+// render::BackendError (no Vulkan CPU device).
 TrafficStats add_row_traffic(const std::vector<table::CostRow*>& rows, const RowTrafficRequest& request);
 
 // What a user asks of the GPU estimate (--gpu, --gpu-size, --gpu-trace, --gpu-window); the orchestration

@@ -9,6 +9,7 @@
 
 #include "analyze/analyze.h"
 #include "compile/glslang_compiler.h"
+#include "render/backend.h"
 #include "render/plan.h"
 #include "shadergen/bindings.h"
 #include "trace/instrument.h"
@@ -17,7 +18,7 @@ namespace aovar::trace {
 namespace {
 
 // Words of one draw's storage buffer in one band: 2^27 bytes, the maxStorageBufferRange every Vulkan device
-// must offer (lavapipe offers exactly that).
+// must offer (lavapipe offers exactly that; named here, as below, because tracing is lavapipe's own).
 constexpr std::int64_t kBandWords = (std::int64_t(1) << 27) / 4;
 
 int program_index(const compile::CompiledSpace& compiled, const std::string& key) {
@@ -42,7 +43,9 @@ Window centred_window(render::Extent e, double share, int taps) {
 std::vector<std::uint32_t> trace_build(const compile::CompiledSpace& compiled, int program, const Window& window,
                                        bool early_tests) {
   const int t = compiled.target_index(variants::Target::vulkan);
-  if (t < 0) throw std::runtime_error("trace: the compiled space has no Vulkan builds (trace runs on lavapipe)");
+  if (t < 0)
+    throw std::runtime_error(fmt::format("trace: the compiled space has no Vulkan builds (trace runs on {})",
+                                         render::backend_for(variants::Target::vulkan)));
   const compile::ProgramBuild& b = compiled.builds[t][program];
   const std::string source = instrument(b.source, window, early_tests);
   compile::CompileOutput out = compile::compile_program(source, variants::StageKind::fragment, variants::Target::vulkan);
@@ -134,8 +137,10 @@ int max_taps_of(const std::vector<std::uint32_t>& spirv) {
 
 std::vector<gpu::FetchTrace> trace_variant(runner::VariantRunner& runner, int variant, const scene::View& view,
                                            float radius, const TraceOptions& options, image::FloatImage* image) {
-  if (runner.device().backend != "lavapipe")
-    throw render::BackendError(fmt::format("trace: fetch traces run on lavapipe, not {}", runner.device().backend));
+  // Trace builds are Vulkan SPIR-V with a storage buffer per draw (Backend::read_traces).
+  if (render::target_of(runner.device().backend) != variants::Target::vulkan)
+    throw render::BackendError(fmt::format("trace: fetch traces run on {}, not {}",
+                                           render::backend_for(variants::Target::vulkan), runner.device().backend));
   const compile::CompiledSpace& compiled = runner.compiled();
   const render::PipelinePlan plan = runner.plan(variant);
   const render::Extent size = runner.size();

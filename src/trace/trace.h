@@ -1,7 +1,7 @@
 #pragma once
 // Fetch traces of a variant's passes on a real scene view (issue 33): every fullscreen draw of the variant's
 // plan (G-buffer excluded: its reads are the scene's geometry, not the variant's) runs its trace build
-// (trace/instrument.h) through the same plan on lavapipe, at the frame size of the estimate, and the storage
+// (trace/instrument.h) through the same plan on the Vulkan backend, at the frame size of the estimate, and the storage
 // buffers come back as one gpu::FetchTrace per draw. The shipped programs and plan are not changed: the trace
 // builds are compiled here, beside them.
 #include <string>
@@ -24,7 +24,7 @@ struct TraceOptions {
 };
 
 // Traces variant `variant` (index into runner.compiled().space.variants; its plan with the runner's
-// calibration) on `view` with AO radius `radius`, at runner.size(). The runner must be a lavapipe runner whose
+// calibration) on `view` with AO radius `radius`, at runner.size(). The runner must be a Vulkan-backend runner whose
 // compiled space holds the variant's Vulkan builds, with the scene in use (VariantRunner::use_scene). A trace
 // over 128 MB (2^27 bytes, the storage-buffer range every Vulkan device offers) is taken in row bands, one
 // render each. Throws

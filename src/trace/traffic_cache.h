@@ -1,7 +1,7 @@
 #pragma once
 // A disk cache of simulated texture-cache traffic (issue 35). The search estimates the same draws again and
 // again: its screen and its front round, a resumed run, every shard, the next ship on the same scene. Tracing a
-// draw at 1080p costs about 0.3 s on lavapipe, replaying it a fraction of that; the result is a few numbers.
+// draw at 1080p costs about 0.3 s on the Vulkan CPU backend, replaying it a fraction of that; the result is a few numbers.
 // One file per draw and family under DIR/traffic/, named by the hash of everything the result depends on:
 //   - the view: scene geometry, camera, AO radius, frame size and trace window (`view_context`);
 //   - the draw: TraceSet::draw_key (the executable, its parameter block, its inputs and output);

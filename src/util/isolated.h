@@ -1,7 +1,7 @@
 #pragma once
 // Work in a forked child process, so that a crash, an abort or a leak in it costs only that child: the child
 // streams lines back through a pipe, the parent receives each complete line as it arrives and, at the end,
-// how the child ended. `aovar stress` renders slices of the variant space this way (lavapipe never frees
+// how the child ended. `aovar stress` renders slices of the variant space this way (the Vulkan driver never frees
 // per-pipeline code, and a driver crash must cost the variant it hit, not the run).
 #include <functional>
 #include <string>
