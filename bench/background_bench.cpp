@@ -98,9 +98,10 @@ int main(int argc, char** argv) {
   for (const std::string backend_name : {"lavapipe", "osmesa"}) {
     const auto target = backend_name == std::string("osmesa") ? variants::Target::gl45 : variants::Target::vulkan;
     compile::CompileOptions co;
-    co.targets = {target};
+    co.scope.targets = {target};
     co.globs = keys;
-    auto c = compile::compile_space(manifest, co);
+    co.scope.manifest = manifest;
+    auto c = compile::compile_space(co);
     if (!c.ok() || c.space.variants.size() != keys.size()) {
       std::fprintf(stderr, "bench/background: %s\n",
                    c.diagnostics.empty() ? "a variant is missing from the manifest" : c.diagnostics.front().c_str());

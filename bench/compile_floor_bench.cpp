@@ -94,11 +94,11 @@ int main(int argc, char** argv) {
       std::size_t end = list.find(',', start);
       auto t = variants::parse_target(list.substr(start, end == std::string::npos ? end : end - start));
       if (!t) throw std::runtime_error(fmt::format("unknown target in '{}'", list));
-      options.targets.push_back(*t);
+      options.scope.targets.push_back(*t);
       if (end == std::string::npos) break;
       start = end + 1;
     }
-    options.jobs = std::stoi(argv[3]);
+    options.scope.jobs = std::stoi(argv[3]);
     std::string what = "bare";
     int runs = 1;
     for (int i = 4; i + 1 < argc; i += 2) {
@@ -110,7 +110,8 @@ int main(int argc, char** argv) {
     }
 
     // The same programs as generate: plan_space expands them (outside the timed part).
-    compile::CompiledSpace planned = compile::plan_space(argv[1], options);
+    options.scope.manifest = argv[1];
+    compile::CompiledSpace planned = compile::plan_space(options);
     const auto& programs = planned.space.programs;
     std::size_t count = planned.targets.size() * programs.size();
     compile::initialise_compiler();  // glslang's process set-up: once, as in generate
@@ -119,7 +120,7 @@ int main(int argc, char** argv) {
       compile::ValidationMemo validated;  // per run, as generate has one per run
       double cpu0 = cpu_seconds();
       auto start = util::Clock::now();
-      util::run_parallel(count, options.jobs, [&](std::size_t i) {
+      util::run_parallel(count, options.scope.jobs, [&](std::size_t i) {
         std::size_t t = i / programs.size(), p = i % programs.size();
         const std::string& source = planned.builds[t][p].source;
         bool ok = what == "bare" ? bare_compile(source, programs[p].stage, planned.targets[t])
@@ -129,7 +130,7 @@ int main(int argc, char** argv) {
       double wall = util::seconds_since(start), cpu = cpu_seconds() - cpu0;
       if (failed) throw std::runtime_error(fmt::format("{} of {} programs failed to compile", failed.load(), count));
       std::cout << fmt::format("{} programs={} threads={} wall={:.3f} cpu={:.2f}\n", what, count,
-                               std::min<std::size_t>(util::pool_threads(options.jobs), count), wall, cpu);
+                               std::min<std::size_t>(util::pool_threads(options.scope.jobs), count), wall, cpu);
     }
     return 0;
   } catch (const std::exception& e) {

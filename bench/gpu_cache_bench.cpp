@@ -126,9 +126,10 @@ int main(int argc, char** argv) {
     int w = 0, h = 0;
     if (std::sscanf(size.c_str(), "%dx%d", &w, &h) != 2) throw std::runtime_error("--size WxH");
     compile::CompileOptions co;
-    co.targets = {variants::Target::vulkan};
+    co.scope.targets = {variants::Target::vulkan};
     co.globs = globs;
-    const compile::CompiledSpace compiled = compile::compile_space(manifest, co);
+    co.scope.manifest = manifest;
+    const compile::CompiledSpace compiled = compile::compile_space(co);
     if (!compiled.ok()) throw std::runtime_error("compile failed: " + compiled.diagnostics.front());
     std::vector<int> variants;
     for (std::size_t i = 0; i < compiled.space.variants.size(); ++i) variants.push_back(int(i));

@@ -48,7 +48,7 @@ double median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
   measure::MeasureOptions o;
-  o.manifest = argc > 1 ? argv[1] : "shader_src/aovar.toml";
+  o.scope.manifest = argc > 1 ? argv[1] : "shader_src/aovar.toml";
   o.scene = "builtin:atrium";
   // 14 variants: the sample-count ladder, then one change at a time from the reference.
   o.globs = {"alchemy-s*-p0-nrg8-zdep-rst-d16-bsep-x1-hp",

@@ -159,12 +159,13 @@ int main(int argc, char** argv) {
   // Every r16f/r32f pair: the ten methods at 8 samples, p0, bsep, highp, default reconstruction, at the
   // three resolutions; buffered RGB8 normals and normals from depth where the method reads normals.
   compile::CompileOptions co;
-  co.targets = {variants::Target::vulkan};
+  co.scope.targets = {variants::Target::vulkan};
   co.globs = {"*-s08-p0-nrgb8-zdep-rst-d*-bsep-x*-hp", "*-s08-p0-ndep-zdep-rst-d*-bsep-x*-hp",
               "*-s08-p0-ndep-zdep-_r-d*-bsep-x*-hp"};
   if (!globs.empty()) co.globs = globs;
-  co.cache_dir = compile::CompileCache::default_dir();
-  auto c = compile::compile_space(manifest, co);
+  co.scope.cache_dir = compile::CompileCache::default_dir();
+  co.scope.manifest = manifest;
+  auto c = compile::compile_space(co);
   if (!c.ok()) {
     std::fprintf(stderr, "bench/r16f: %s\n", c.diagnostics.empty() ? "compile failed" : c.diagnostics.front().c_str());
     return 1;
@@ -204,7 +205,7 @@ int main(int argc, char** argv) {
     backend->set_scene(sc);
     for (double factor : factors) {
       profile::Options po;
-      po.manifest = manifest;
+      po.scope.manifest = manifest;
       po.scene = spec;
       po.size = size;
       po.radius = static_cast<float>(sc.ao_radius * factor);

@@ -41,9 +41,9 @@ struct Lavapipe {
 
   explicit Lavapipe(std::vector<std::string> globs) {
     compile::CompileOptions co;
-    co.targets = {variants::Target::vulkan};
+    co.scope.targets = {variants::Target::vulkan};
     co.globs = std::move(globs);
-    compiled = compile::compile_space(source_dir() / "shader_src" / "aovar.toml", co);
+    compiled = compile::compile_space(aovar::test::on_manifest(co, source_dir() / "shader_src" / "aovar.toml"));
     render::BackendOptions bo;
     bo.threads = 2;
     backend = render::make_backend("lavapipe", bo);

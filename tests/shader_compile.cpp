@@ -20,9 +20,10 @@ int main(int argc, char** argv) {
   }
   try {
     compile::CompileOptions options;
-    options.targets = {*target};
+    options.scope.targets = {*target};
     options.globs = {std::string(argv[2]) + "-*"};
-    auto c = compile::compile_space(argv[1], options);
+    options.scope.manifest = argv[1];
+    auto c = compile::compile_space(options);
     for (const auto& d : c.diagnostics) std::cout << d << "\n";
     if (c.space.variants.empty()) {
       std::cout << "no variant of algorithm " << argv[2] << " in " << argv[1] << "\n";

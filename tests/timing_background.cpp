@@ -22,9 +22,9 @@ namespace {
 // 15 rounds); the gaps are several times the noise of this host.
 TEST(Profile, AoPassTimeFallsAsTheSkyGrows) {
   compile::CompileOptions co;
-  co.targets = {variants::Target::vulkan};
+  co.scope.targets = {variants::Target::vulkan};
   co.globs = {"alchemy-s16-p0-nrgb8-zdep-rst-d32-bno-x1-hp"};
-  auto c = compile::compile_space(kManifest, co);
+  auto c = compile::compile_space(aovar::test::on_manifest(co, kManifest));
   ASSERT_TRUE(c.ok() && c.space.variants.size() == 1u);
   const auto sc = scene::load_scene("builtin:atrium");
   const render::Extent size{320, 180};

@@ -20,7 +20,7 @@ using SampleTimes = std::map<std::string, std::map<int, double>>;
 
 void add_round(SampleTimes& t) {
   measure::MeasureOptions o;
-  o.manifest = source_dir() / "shader_src" / "aovar.toml";
+  o.scope.manifest = source_dir() / "shader_src" / "aovar.toml";
   o.globs = {"alchemy-s*-p0-nrg8-zdep-rst-d16-bno-x1-hp"};
   o.baseline = "alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp";
   o.backends = kBackends;

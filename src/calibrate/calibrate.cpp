@@ -68,14 +68,13 @@ std::vector<std::string> algorithms_to_fit(const CalibrateOptions& o, const vari
 
 compile::CompiledSpace compile_fit_variants(const CalibrateOptions& o, const std::vector<std::string>& algorithms,
                                             variants::Target target) {
-  compile::CompileOptions co;
-  co.targets = {target};
+  compile::CompileOptions co{o.scope};
+  co.scope.targets = {target};
   co.globs = o.variants;
   if (co.globs.empty())
     for (const auto& a : algorithms)
       for (auto& g : fit_globs(a, o.fit_normals)) co.globs.push_back(std::move(g));
-  co.cache_dir = o.compile_cache;
-  auto c = compile::compile_space(o.manifest, co);
+  auto c = compile::compile_space(co);
   if (!c.ok()) throw std::runtime_error(c.diagnostics.empty() ? "compile failed" : c.diagnostics.front());
   return c;
 }
@@ -129,7 +128,7 @@ std::vector<Case> load_cases(const CalibrateOptions& o, const ViewSplit& split, 
     ro.radius = k.scene->ao_radius;
     ro.rays = o.rays;
     ro.mode = o.mode;
-    ro.cache_dir = o.reference_cache;
+    ro.cache_dir = o.scope.cache_dir;
     say(fmt::format("reference {} {}", k.scene->name, k.view->name));
     k.truth = reference::trace_reference(*k.scene, *k.view, ro);
   }
@@ -307,7 +306,7 @@ Calibration calibrate(const CalibrateOptions& o, const Progress& progress) {
   if (o.fit_normals != "buffer" && o.fit_normals != "depth")
     throw std::runtime_error("calibrate: error: --normals must be buffer or depth, not '" + o.fit_normals + "'");
   const variants::Target target = render::target_of(o.backend);
-  const auto manifest = variants::load_manifest(o.manifest);
+  const variants::Manifest& manifest = o.scope.manifest.get();
   const std::vector<std::string> algorithms = algorithms_to_fit(o, manifest);
   say("compiling the variants to fit");
   const compile::CompiledSpace c = compile_fit_variants(o, algorithms, target);
@@ -318,7 +317,7 @@ Calibration calibrate(const CalibrateOptions& o, const Progress& progress) {
 
   runner::RunnerOptions ro;
   ro.backend = o.backend;
-  ro.device.threads = o.threads;
+  ro.device.threads = o.scope.threads;
   ro.size = o.size;
   Calibration out;
   out.backend = o.backend;

@@ -13,6 +13,7 @@
 
 #include "calibrate/optimize.h"
 #include "reference/reference.h"
+#include "compile/run_scope.h"
 #include "render/plan.h"
 #include "variants/manifest.h"
 
@@ -42,7 +43,7 @@ ViewSplit split_views(const std::vector<std::string>& scenes, const std::filesys
                       const std::vector<std::string>& training_views, const std::vector<std::string>& holdout_views);
 
 struct CalibrateOptions {
-  std::filesystem::path manifest = "shader_src/aovar.toml";
+  compile::RunScope scope;  // the manifest, rendering threads, the cache root (compile and reference caches)
   std::vector<std::string> algorithms;  // empty: every algorithm of the manifest (with `variants` empty)
   // Variant globs: each matching variant is fitted on its own (a "variants" entry of the file) instead of
   // one variant standing for its method. Empty: one fit per algorithm.
@@ -58,9 +59,7 @@ struct CalibrateOptions {
   ViewSplit views;                      // empty training: builtin_split()
   std::filesystem::path views_file;     // for loading the scenes of `views` (see split_views)
   Budget budget{100};                   // per fit; each evaluation renders every training view
-  int threads = 2;                      // LP_NUM_THREADS
   int fits_at_once = 0;                 // methods (or variants) fitted at once, each with its own runner; 0: cores
-  std::filesystem::path compile_cache, reference_cache;  // empty: none
 };
 
 struct ViewError {

@@ -26,9 +26,9 @@ ExitCode run_analyze_gpu(const GpuAnalyzeArgs& a) {
   for (const std::string& name : options.families) (gpu::gl_chip(name) ? gl : amd) = true;
   if (amd) options.icd = gpu::find_radeon_icd();  // before compiling: a missing driver is the first thing to say
   compile::CompileOptions co = compile_options(a.common);
-  co.targets = {variants::Target::vulkan};  // the plans (and the AMD pipelines) read the Vulkan builds
-  if (gl) co.targets.push_back(variants::Target::gles30);
-  const auto compiled = compile::compile_space(a.common.manifest, co);
+  co.scope.targets = {variants::Target::vulkan};  // the plans (and the AMD pipelines) read the Vulkan builds
+  if (gl) co.scope.targets.push_back(variants::Target::gles30);
+  const auto compiled = compile::compile_space(co);
   if (!report_diagnostics(compiled)) return ExitCode::error;  // the diagnostics are printed
   std::vector<int> variants(compiled.space.variants.size());
   for (std::size_t i = 0; i < variants.size(); ++i) variants[i] = static_cast<int>(i);

@@ -19,15 +19,15 @@ namespace {
 struct CalibrateArgs {
   calibrate::CalibrateOptions options;
   std::string manifest = default_manifest, cache_dir, size = "320x180", mode = default_reference_mode, out, views_file;
+  int threads = 2;
   std::vector<std::string> scenes, views, holdout_views;
 };
 
 ExitCode run_calibrate(const CalibrateArgs& a) {
   calibrate::CalibrateOptions o = a.options;
-  o.manifest = a.manifest;
+  o.scope = {.manifest = std::filesystem::path(a.manifest), .cache_dir = cache_dir(a.cache_dir, false), .threads = a.threads};
   o.size = parse_size(a.size);
   o.mode = reference::parse_mode(a.mode);
-  o.compile_cache = o.reference_cache = cache_dir(a.cache_dir, false);
   if (o.budget.max_evaluations < 1) throw std::runtime_error("--evaluations must be at least 1");
   if (a.scenes.empty() && (!a.views.empty() || !a.holdout_views.empty() || !a.views_file.empty()))
     throw std::runtime_error("--view, --holdout-view and --views-file need --scene (the built-in default split is fixed)");
@@ -72,7 +72,7 @@ Command add_calibrate(CLI::App& app) {
   cmd->add_option("--mode", a->mode, "reference mode: occlusion or obscurance")->capture_default_str();
   cmd->add_option("--evaluations", cal.budget.max_evaluations, "objective evaluations per fit (NLopt BOBYQA; COBYLA for one parameter)")
       ->capture_default_str();
-  cmd->add_option("--threads", cal.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
+  cmd->add_option("--threads", a->threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
   cmd->add_option("--fits-at-once", cal.fits_at_once,
                   "methods (or variants) fitted at once, each on its own device (default 0: one per core; the "
                   "result does not depend on it)")

@@ -50,7 +50,7 @@ ExitCode generate(const CommonOptions& common, const compile::OutputOptions& out
   auto start = util::Clock::now();
   auto options = compile_options(common);
   // The shard is part of what was run: a shard's outputs never pass for the whole selection's, or another's.
-  const std::string settings = compile::run_settings(compile::tool_identity(), common.manifest, options, out) +
+  const std::string settings = compile::run_settings(compile::tool_identity(), options, out) +
                                (spec.sharded() ? "\nshard " + spec.label() : std::string());
   // Up to date: proven from the recorded inputs' hashes, before parsing the manifest or expanding anything.
   // A shard always plans (its shard.json is written from the plan); shards run once each on fresh machines.
@@ -61,7 +61,7 @@ ExitCode generate(const CommonOptions& common, const compile::OutputOptions& out
       return ExitCode::ok;
     }
   }
-  auto c = compile::plan_space(common.manifest, options);
+  auto c = compile::plan_space(options);
   if (!from_table.empty())
     if (auto problem = compile::foreign_table_problem(c, options.globs, from_table, util::display_path(common.manifest));
         !problem.empty())
@@ -75,7 +75,7 @@ ExitCode generate(const CommonOptions& common, const compile::OutputOptions& out
     shard = compile::plan_generate_shard(c, options, spec.index, spec.count, spec.convention);
     std::cerr << fmt::format("aovar: shard {}: {}\n", spec.label(), shard->balance);
     options.exclude.insert(shard->excluded.begin(), shard->excluded.end());
-    c = compile::plan_space(common.manifest, options);
+    c = compile::plan_space(options);
     if (!out.check) compile::write_generate_manifest(out.out, *shard, 0, false, 0);
   }
   compile::build_programs(c, options);

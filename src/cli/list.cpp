@@ -15,7 +15,7 @@ namespace aovar::cli {
 namespace {
 
 ExitCode run_list(const ListArgs& a) {
-  auto c = compile::compile_space(a.common.manifest, compile_options(a.common));
+  auto c = compile::compile_space(compile_options(a.common));
   if (!report_diagnostics(c)) return ExitCode::error;  // the diagnostics are printed
   if (a.json) std::cout << compile::list_json(c, a.show_pruned).dump(1) << "\n";
   else std::cout << compile::list_text(c, a.show_pruned);

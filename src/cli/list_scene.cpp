@@ -11,7 +11,7 @@ ExitCode run_list_scene(const ListArgs& a) {
   ProfileArgs args;
   args.options.scene = a.scene;
   args.size = a.size;
-  const auto o = args.resolve(a.common.manifest);
+  const auto o = args.resolve(a.common.scope().manifest);
   const auto s = run_scene_profile(o);
   auto pruned = profile::prune(s.manifest, s.space, s.profile, a.common.globs);
   if (a.json) std::cout << profile::list_json(s.manifest, s.space, pruned, o.scene, a.show_pruned).dump(1) << "\n";

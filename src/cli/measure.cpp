@@ -10,13 +10,8 @@
 #include "cli/options.h"
 #include "cli/render_options.h"
 #include "cli/whole_space.h"
-#include "gpu/by_key.h"
 #include "measure/measure.h"
 #include "measure/text.h"
-#include "profile/scene_prune.h"
-#include "sweep/sweep.h"
-#include "trace/row_traffic.h"
-#include "util/fs.h"
 
 namespace aovar::cli {
 namespace {
@@ -51,61 +46,26 @@ render::ParamOverrides parse_params(const std::vector<std::string>& items) {
   return out;
 }
 
-// What the scene's profile drops (the default; --no-prune keeps every selected variant), on the views the
-// measurement renders, stored with it in OUT/profile.json and reused from there.
-std::shared_ptr<const profile::ScenePruning> profile_pruning(const measure::MeasureOptions& o,
-                                                             const measure::Progress& progress) {
-  scene::LoadOptions load;
-  load.views_file = o.views_file;
-  const scene::Scene scene = scene::load_scene(o.scene, load);
-  return std::make_shared<const profile::ScenePruning>(
-      profile::prune_scene(measure::prune_options(o), scene, measure::chosen_views(scene, o.views), o.globs, progress));
-}
-
-// --gpu: the measured rows estimated on each family (sweep::gpu_request, as sweep --gpu), then measure.json
-// written again with them.
-void estimate_on_gpu(measure::MeasureResult& res, const measure::MeasureOptions& o, const trace::GpuEstimateOptions& gpu,
-                     const measure::Progress& progress) {
-  std::vector<table::CostRow*> rows;
-  for (auto& r : res.rows) rows.push_back(&r);
-  res.gpu_meta = trace::add_gpu_costs(rows, sweep::gpu_request(o, gpu), [&](const std::string& line) {
-                   if (progress) progress(line);
-                 }).to_json();
-  if (!o.out.empty()) util::write_atomic(o.out / "measure.json", measure::to_json(res, o).dump(1) + "\n");
-}
-
 ExitCode run_measure(const MeasureArgs& a) {
-  measure::MeasureOptions o = a.options;
+  measure::MeasureSceneOptions request{.measure = a.options, .prune_by_profile = !a.no_prune, .gpu = a.gpu.options()};
+  measure::MeasureOptions& o = request.measure;
+  o.scope = a.common.scope();
   o.scene = a.scene;
   o.views_file = a.views_file;
-  o.manifest = a.common.manifest;
   o.truth.mode = reference::parse_mode(a.reference_mode);
   if (o.truth.rays < 1) throw std::runtime_error("--rays must be at least 1");
-  o.truth.cache = a.common.cache();
-  const auto cal_file = a.calibration.load(a.common.manifest, o.calibration.values, o.calibration.source);
+  const auto cal_file = a.calibration.load(o.scope.manifest.get(), o.calibration.values, o.calibration.source);
   o.globs = a.common.globs;
-  o.jobs = a.common.jobs;
   o.size = parse_size(a.size);
   a.reps.apply(o);
   if (o.radius < 0) throw std::runtime_error("--radius must be positive (world units; omit it for the scene's default)");
   if (o.timing.warmup < 0) throw std::runtime_error("--warmup must be 0 or more");
   o.params = parse_params(a.params);
   o.out = a.out;
-  o.cache_dir = a.common.cache();
-  const trace::GpuEstimateOptions gpu = a.gpu.options();
-  gpu::CostRequest families;
-  families.families = gpu.families;
-  gpu::check_request(families);  // an unknown family fails before anything is measured
   const std::size_t views = std::max<std::size_t>(o.views.size(), 1) * std::max<std::size_t>(o.backends.size(), 1);
-  check_whole_space(a.common.manifest, a.common.globs, a.all, {"measure", views, 1});
-  measure::check_request(o);  // before the profile: a bad --param costs no profiling
+  check_whole_space(o.scope.manifest, a.common.globs, a.all, {"measure", views, 1});
   const auto lock = lock_output(o.out);
-  auto r = with_status([&](const auto& progress) {
-    if (!a.no_prune) o.pruning = profile_pruning(o, progress);
-    measure::MeasureResult res = measure::run_measure(o, progress);
-    if (!gpu.families.empty()) estimate_on_gpu(res, o, gpu, progress);
-    return res;
-  });
+  auto r = with_status([&](const auto& progress) { return measure::measure_scene(request, progress); });
   std::cout << measure::to_text(r) << measure::notes_text(r, o, cal_file);
   return ExitCode::ok;
 }
@@ -126,7 +86,7 @@ Command add_measure(CLI::App& app) {
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
   add_reps(cmd, a->reps);
   cmd->add_option("--warmup", mo.timing.warmup, "discarded frames after the first (JIT) frame")->capture_default_str();
-  cmd->add_option("--threads", mo.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
+  add_threads(cmd, a->common);
   cmd->add_option("--device", mo.device, "the Vulkan backend: device by name substring or index (default: the CPU device)");
   cmd->add_option("--batch", mo.timing.batch, "pipelines prepared and interleaved at once")->capture_default_str();
   add_gpu(cmd, a->gpu);

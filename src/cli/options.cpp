@@ -71,18 +71,23 @@ void add_common(CLI::App* cmd, CommonOptions& o) {
   cmd->add_flag("--no-cache", o.no_cache, "compile everything, read and write no cache");
 }
 
-compile::CompileOptions compile_options(const CommonOptions& o) {
-  compile::CompileOptions c;
-  for (const auto& t : o.targets) {
+const compile::RunScope& CommonOptions::scope() const {
+  if (scope_) return *scope_;
+  compile::RunScope s{.manifest = std::filesystem::path(manifest), .cache_dir = cache(), .threads = threads, .jobs = jobs};
+  for (const auto& t : targets) {
     auto target = variants::parse_target(t);
     if (!target) throw std::runtime_error("--targets: unknown target '" + t + "' (use vulkan, gl45, gles30)");
-    c.targets.push_back(*target);
+    s.targets.push_back(*target);
   }
-  c.jobs = o.jobs;
-  c.werror = o.werror;
-  c.globs = o.globs;
-  c.cache_dir = o.cache();
-  return c;
+  return scope_.emplace(std::move(s));
+}
+
+void add_threads(CLI::App* cmd, CommonOptions& o) {
+  cmd->add_option("--threads", o.threads, "rendering threads (LP_NUM_THREADS for llvmpipe)")->capture_default_str();
+}
+
+compile::CompileOptions compile_options(const CommonOptions& o) {
+  return {.scope = o.scope(), .werror = o.werror, .globs = o.globs};
 }
 
 bool report_diagnostics(const compile::CompiledSpace& c) {

@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -46,20 +47,31 @@ std::unique_ptr<util::OutputLock> lock_output(const std::filesystem::path& folde
 // The same for a command whose output is one file (calibrate, merge): the lock of the file's folder.
 std::unique_ptr<util::OutputLock> lock_output_of_file(const std::filesystem::path& file);
 
-// The options of the subcommands that select and compile variants (list, generate, measure, sweep, stress).
+// The options every subcommand that selects, compiles or renders variants shares: the one place they are
+// declared. scope() turns them into the compile::RunScope the libraries take.
 struct CommonOptions {
   std::string manifest = default_manifest;
   std::vector<std::string> globs;
   std::vector<std::string> targets;
   int jobs = 0;
+  int threads = 2;  // --threads, where the subcommand renders (add_threads)
   bool werror = false;
   std::string cache_dir;
   bool no_cache = false;
 
   std::filesystem::path cache() const { return cli::cache_dir(cache_dir, no_cache); }
+  // The run scope, made on the first call and the same object after it: the manifest is parsed once per
+  // command however many libraries the command calls. Throws std::runtime_error for an unknown --targets.
+  const compile::RunScope& scope() const;
+
+ private:
+  mutable std::optional<compile::RunScope> scope_;
 };
+// --manifest, --variants, --targets, --jobs, --werror, --cache-dir and --no-cache.
 void add_common(CLI::App* cmd, CommonOptions& o);
-// Throws std::runtime_error for an unknown --targets name.
+// --threads: rendering threads (llvmpipe's LP_NUM_THREADS, Embree's).
+void add_threads(CLI::App* cmd, CommonOptions& o);
+// The scope with the --variants globs and --werror.
 compile::CompileOptions compile_options(const CommonOptions& o);
 // Prints the diagnostics to stderr; returns false (and says so) when anything failed.
 bool report_diagnostics(const compile::CompiledSpace& c);

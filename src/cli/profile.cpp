@@ -20,7 +20,7 @@ struct ProfileCommandArgs {
 
 ExitCode run_profile(const ProfileCommandArgs& a) {
   const auto lock = lock_output(a.profile.out);
-  const auto o = a.profile.resolve(a.manifest);
+  const auto o = a.profile.resolve(std::filesystem::path(a.manifest));
   const auto s = run_scene_profile(o);
   std::cout << profile::to_text(s.profile);
   auto pruned = profile::prune(s.manifest, s.space, s.profile);
@@ -49,7 +49,7 @@ Command add_profile(CLI::App& app) {
   cmd->add_option("--radius", p.options.radius, "AO radius in scene units (0: the scene's)")->capture_default_str();
   cmd->add_option("--r16f-tolerance", p.options.r16f_tolerance,
                   "keep r16f while its p99 position error is under this share of the radius")->capture_default_str();
-  cmd->add_option("--threads", p.options.threads, "threads (Embree, the renderer)")->capture_default_str();
+  cmd->add_option("--threads", p.options.scope.threads, "threads (Embree, the renderer)")->capture_default_str();
   cmd->add_flag("--no-flicker", p.no_flicker, "do not render the progressive pair along the camera paths");
   cmd->add_flag("--no-cache", p.no_cache, "compile the flicker pair without the cache");
   cmd->add_option("--out,-o", p.out, "folder for profile.json");

@@ -9,19 +9,19 @@
 
 namespace aovar::cli {
 
-std::filesystem::path CalibrationOption::resolve(const std::string& manifest) const {
+std::filesystem::path CalibrationOption::resolve(const std::filesystem::path& manifest) const {
   if (none) return {};
   if (!file.empty()) return file;
-  auto next_to = std::filesystem::path(manifest).parent_path() / "calibration.json";
+  auto next_to = manifest.parent_path() / "calibration.json";
   return std::filesystem::exists(next_to) ? next_to : std::filesystem::path();
 }
 
-std::filesystem::path CalibrationOption::load(const std::string& manifest,
+std::filesystem::path CalibrationOption::load(const variants::Manifest& manifest,
                                               std::map<std::string, render::ParamOverrides>& values,
                                               table::CalibrationRef& source) const {
-  const auto path = resolve(manifest);
+  const auto path = resolve(manifest.path);
   if (path.empty()) return path;
-  values = calibrate::load_calibration(path, variants::load_manifest(manifest));
+  values = calibrate::load_calibration(path, manifest);
   source = calibrate::calibration_source(path);
   return path;
 }

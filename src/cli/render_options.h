@@ -25,10 +25,10 @@ struct CalibrationOption {
   bool none = false;
 
   // The file that applies: empty with --no-calibration or when there is none.
-  std::filesystem::path resolve(const std::string& manifest) const;
+  std::filesystem::path resolve(const std::filesystem::path& manifest) const;
   // The values of resolve()'s file, checked against the manifest (calibrate::load_calibration), into
   // `values`, and what measure.json and the cost table record about it into `source`. Returns the file.
-  std::filesystem::path load(const std::string& manifest, std::map<std::string, render::ParamOverrides>& values,
+  std::filesystem::path load(const variants::Manifest& manifest, std::map<std::string, render::ParamOverrides>& values,
                              table::CalibrationRef& source) const;
 };
 void add_calibration(CLI::App* cmd, CalibrationOption& o, const std::string& help);

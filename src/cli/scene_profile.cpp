@@ -4,18 +4,18 @@
 
 namespace aovar::cli {
 
-profile::Options ProfileArgs::resolve(const std::string& manifest) const {
+profile::Options ProfileArgs::resolve(const compile::ManifestSource& manifest) const {
   profile::Options o = options;
-  o.manifest = manifest;
+  o.scope.manifest = manifest;
+  o.scope.cache_dir = cache_dir("", no_cache);
   o.size = parse_size(size);
   o.measure_flicker = !no_flicker;
-  o.cache_dir = cache_dir("", no_cache);
   return o;
 }
 
 SceneProfile run_scene_profile(const profile::Options& o) {
   SceneProfile s;
-  s.manifest = variants::load_manifest(o.manifest);
+  s.manifest = o.scope.manifest.get();
   s.space = variants::build_space(s.manifest);
   const auto sc = scene::load_scene(o.scene);
   s.profile = with_status(

@@ -17,7 +17,7 @@ struct ProfileArgs {
   bool no_flicker = false, no_cache = false;
 
   // The options with the manifest, --size, --no-flicker and --no-cache applied (the default compile cache).
-  profile::Options resolve(const std::string& manifest) const;
+  profile::Options resolve(const compile::ManifestSource& manifest) const;
 };
 
 struct SceneProfile {

@@ -22,20 +22,15 @@ struct ShipArgs {
 
 ExitCode run_ship(const ShipArgs& a) {
   ship::ShipOptions o = a.options;
-  o.manifest = a.common.manifest;
+  o.scope = a.common.scope();
   o.globs = a.common.globs;
-  o.jobs = a.common.jobs;
   o.size = parse_size(a.size);
   o.fit_size = parse_size(a.fit_size);
   o.views_file = a.views_file;
-  o.cache_dir = a.common.cache();
   o.gpu_frame = a.gpu.frame_size();
   o.gpu_window = a.gpu.window;
   o.out = a.out;
-  const shard::ShardSpec shard = shard_option(a.shard);
-  o.shard_index = shard.index;
-  o.shard_count = shard.count;
-  o.shard_convention = shard.convention;
+  o.shard = shard_option(a.shard);
   o.join.assign(a.join.begin(), a.join.end());
   const auto lock = lock_output(o.out);
   auto r = with_status([&](const auto& progress) { return ship::run_ship(o, progress); });
@@ -81,7 +76,7 @@ Command add_ship(CLI::App& app) {
   cmd->add_option("--reps-cap-s", so.final_reps.cap_s, "the last round: seconds of timed frames per pipeline at most")
       ->capture_default_str();
   cmd->add_option("--rays", so.rays, "reference rays per pixel")->capture_default_str();
-  cmd->add_option("--threads", so.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
+  add_threads(cmd, a->common);
   cmd->add_option("--gpu-size", a->gpu.frame, "with --target: the frame the estimate is for")->capture_default_str();
   cmd->add_option("--gpu-window", a->gpu.window, "with --target: share of each draw traced (centred window)")
       ->check(CLI::Range(0.05, 1.0))

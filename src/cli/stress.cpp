@@ -67,21 +67,16 @@ std::vector<stress::Case> selected_cases(const StressArgs& a) {
 
 stress::Options stress_options(const StressArgs& a) {
   stress::Options o = a.options;
-  o.manifest = a.common.manifest;
+  o.scope = a.common.scope();
   o.globs = a.common.globs;
-  o.jobs = a.common.jobs;
   o.size = parse_size(a.size);
   o.out = a.out;
   o.reuse = !a.no_reuse;
   o.mediump_fp16 = !a.mediump_fp32;
-  if (!a.common.no_cache) o.cache_dir = o.reference_cache = a.common.cache();
   table::CalibrationRef unrecorded;  // stress records no calibration source
-  a.calibration.load(a.common.manifest, o.calibration, unrecorded);
+  a.calibration.load(o.scope.manifest.get(), o.calibration, unrecorded);
   o.cases = selected_cases(a);
-  const shard::ShardSpec spec = shard_option(a.shard);
-  o.shard_index = spec.index;
-  o.shard_count = spec.count;
-  o.shard_convention = spec.convention;
+  o.shard = shard_option(a.shard);
   return o;
 }
 
@@ -97,7 +92,7 @@ ExitCode run_stress(const StressArgs& a) {
   const auto cases = o.cases.empty() ? stress::default_cases() : o.cases;
   std::cout << stress::to_text(r, o, cases);
   if (!r.shard_balance.empty())
-    std::cout << fmt::format("shard {}/{}: {}; OUT/shard.json written\n", o.shard_index + 1, o.shard_count, r.shard_balance);
+    std::cout << fmt::format("shard {}: {}; OUT/shard.json written\n", o.shard.label(), r.shard_balance);
   return r.shipped_failed > 0 ? ExitCode::check_failed : ExitCode::ok;
 }
 
@@ -123,7 +118,7 @@ Command add_stress(CLI::App& app) {
   cmd->add_option("--backend,-b", so.backends, render::backend_list() + " (repeatable or comma-separated)")
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
-  cmd->add_option("--threads", so.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
+  add_threads(cmd, a->common);
   cmd->add_flag("--shipped", so.shipped_only, "only the variants the manifest's [ship] list names");
   cmd->add_option("--case", a->case_names, "only this default case (repeatable; --list-cases)");
   cmd->add_flag("--list-cases", a->list_cases, "print the default cases and exit");

@@ -34,22 +34,18 @@ ExitCode run_sweep(const SweepArgs& a) {
   o.out = a.out;
   measure::MeasureOptions& m = o.measure;
   o.prune_by_profile = !a.no_prune;
-  m.manifest = a.common.manifest;
+  m.scope = a.common.scope();
   m.globs = a.common.globs;
-  m.jobs = a.common.jobs;
   m.size = parse_size(a.size);
   a.reps.apply(m);
-  const shard::ShardSpec shard = shard_option(a.shard);
-  o.shard_index = shard.index;
-  o.shard_count = shard.count;
-  o.shard_convention = shard.convention;
+  o.shard = shard_option(a.shard);
+  const shard::ShardSpec& shard = o.shard;
   if (m.truth.rays < 1) throw std::runtime_error("--rays must be at least 1");
-  m.cache_dir = m.truth.cache = a.common.cache();
   o.gpu = a.gpu.options();
-  const auto cal_file = a.calibration.load(a.common.manifest, m.calibration.values, m.calibration.source);
+  const auto cal_file = a.calibration.load(m.scope.manifest.get(), m.calibration.values, m.calibration.source);
   // Every view of each scene: 3 for the built-in scenes and the derived views of a mesh.
   const std::size_t views = (m.views.empty() ? 3 : m.views.size()) * std::max<std::size_t>(o.scenes.size(), 1);
-  check_whole_space(a.common.manifest, a.common.globs, a.all,
+  check_whole_space(m.scope.manifest, a.common.globs, a.all,
                     {"sweep", views * std::max<std::size_t>(m.backends.size(), 1),
                      static_cast<std::size_t>(std::max(shard.count, 1))});
   const auto lock = lock_output(o.out);
@@ -74,7 +70,7 @@ Command add_sweep(CLI::App& app) {
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
   add_reps(cmd, a->reps);
-  cmd->add_option("--threads", so.measure.threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
+  add_threads(cmd, a->common);
   cmd->add_option("--device", so.measure.device, "the Vulkan backend: device by name substring or index (default: the CPU device)");
   cmd->add_option("--rays", so.measure.truth.rays, "reference rays per pixel")->capture_default_str();
   cmd->add_option("--batch", so.measure.timing.batch, "pipelines prepared and interleaved at once (rows are saved per batch)")

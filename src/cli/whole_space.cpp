@@ -16,14 +16,14 @@ void add_all(CLI::App* cmd, bool& all) {
                             kMostUnselected));
 }
 
-void check_whole_space(const std::string& manifest, const std::vector<std::string>& globs, bool all,
+void check_whole_space(const compile::ManifestSource& manifest, const std::vector<std::string>& globs, bool all,
                        const RunShape& shape) {
   if (all || !globs.empty()) return;
   std::size_t count = 0;
   try {
-    count = variants::build_space(variants::load_manifest(manifest)).variants.size();
+    count = variants::build_space(manifest.get()).variants.size();
   } catch (const std::exception&) {
-    return;  // the run loads the manifest again and reports the error in its own words
+    return;  // the run meets the manifest error and reports it in its own words
   }
   if (count <= kMostUnselected) return;
   const double minutes = static_cast<double>(count) * static_cast<double>(shape.views_per_variant) *
@@ -33,7 +33,7 @@ void check_whole_space(const std::string& manifest, const std::vector<std::strin
       "{}: no --variants selects all {} variants of {}: about {} ({} view(s) each, {} s a view at 640x360 on 2 "
       "cores, bench/shards); give --variants GLOB (scripts/default_selection holds the default sweep's) or --all "
       "to run them all",
-      shape.command, count, manifest, time, shape.views_per_variant, kSecondsPerVariantView));
+      shape.command, count, manifest.path().string(), time, shape.views_per_variant, kSecondsPerVariantView));
 }
 
 }  // namespace aovar::cli

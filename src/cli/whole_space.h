@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "compile/run_scope.h"
+
 namespace aovar::cli {
 
 // The most variants a run without --variants may select: the default sweep (scripts/default_selection)
@@ -29,7 +31,7 @@ struct RunShape {
 
 // Throws std::runtime_error (one line) when `globs` is empty, `all` is false and the manifest keeps more than
 // kMostUnselected variants; otherwise does nothing (a manifest error is left to the run, which reports it).
-void check_whole_space(const std::string& manifest, const std::vector<std::string>& globs, bool all,
+void check_whole_space(const compile::ManifestSource& manifest, const std::vector<std::string>& globs, bool all,
                        const RunShape& shape);
 
 }  // namespace aovar::cli

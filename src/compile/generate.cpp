@@ -62,12 +62,12 @@ struct GroupedDiagnostic {  // one message at one place on one target, and how m
 
 }  // namespace
 
-CompiledSpace plan_space(const fs::path& manifest_path, const CompileOptions& options) {
+CompiledSpace plan_space(const CompileOptions& options) {
   auto start = std::chrono::steady_clock::now();
   CompiledSpace c;
-  c.manifest = variants::load_manifest(manifest_path);
+  c.manifest = options.scope.manifest.get();
   c.space = variants::build_space(c.manifest, options.globs, options.exclude);
-  c.targets = options.targets.empty() ? c.manifest.targets : options.targets;
+  c.targets = options.scope.targets.empty() ? c.manifest.targets : options.scope.targets;
   const auto& programs = c.space.programs;
   const std::string manifest_display = c.manifest.error_prefix();
 
@@ -78,7 +78,7 @@ CompiledSpace plan_space(const fs::path& manifest_path, const CompileOptions& op
   std::vector<shadergen::ExpandedSource> expanded(count);
   std::vector<std::exception_ptr> failed(count);
   c.builds.assign(c.targets.size(), std::vector<ProgramBuild>(programs.size()));
-  util::run_parallel(count, options.jobs, [&](std::size_t i) {
+  util::run_parallel(count, options.scope.jobs, [&](std::size_t i) {
     std::size_t t = i / programs.size(), p = i % programs.size();
     try {
       expanded[i] = shadergen::expand(reader, programs[p], c.targets[t], manifest_display);
@@ -108,9 +108,9 @@ void build_programs(CompiledSpace& c, const CompileOptions& options) {
   auto start = std::chrono::steady_clock::now();
   const auto& programs = c.space.programs;
   const std::string manifest_display = c.manifest.error_prefix();
-  CompileCache cache(options.cache_dir);
+  CompileCache cache(options.scope.cache_dir);
   ValidationMemo validated;
-  util::run_parallel(c.targets.size() * programs.size(), options.jobs, [&](std::size_t i) {
+  util::run_parallel(c.targets.size() * programs.size(), options.scope.jobs, [&](std::size_t i) {
     std::size_t t = i / programs.size(), p = i % programs.size();
     ProgramBuild& b = c.builds[t][p];
     if (auto hit = cache.load(b.hash)) {
@@ -222,8 +222,8 @@ void build_programs(CompiledSpace& c, const CompileOptions& options) {
   c.seconds_compile += util::seconds_since(start);
 }
 
-CompiledSpace compile_space(const fs::path& manifest_path, const CompileOptions& options) {
-  CompiledSpace c = plan_space(manifest_path, options);
+CompiledSpace compile_space(const CompileOptions& options) {
+  CompiledSpace c = plan_space(options);
   build_programs(c, options);
   return c;
 }

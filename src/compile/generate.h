@@ -10,15 +10,14 @@
 
 #include "compile/glslang_compiler.h"
 #include "compile/pick_table.h"
+#include "compile/run_scope.h"
 #include "variants/space.h"
 
 namespace aovar::compile {
 
 struct CompileOptions {
-  std::vector<variants::Target> targets;  // empty = the manifest's
-  int jobs = 0;                           // 0 = hardware threads
+  RunScope scope;                         // the manifest, its targets (empty: the manifest's), jobs, cache root
   bool werror = false;
-  std::filesystem::path cache_dir;        // empty = no cache
   std::vector<std::string> globs;         // --variants
   std::set<std::string> exclude;          // variant keys not to compile (those a scene's profile drops)
 };
@@ -64,12 +63,12 @@ struct CompiledSpace {
 // compile_space = both. All throw variants::ManifestError / shadergen::TemplateError for manifest and
 // template problems; compile errors are collected in the result (all of them, with template positions).
 struct OutputOptions;
-CompiledSpace plan_space(const std::filesystem::path& manifest, const CompileOptions& options);
+CompiledSpace plan_space(const CompileOptions& options);
 void build_programs(CompiledSpace& planned, const CompileOptions& options);
 
 // Throws variants::ManifestError / shadergen::TemplateError for manifest and template problems;
 // compile errors are collected in the result (all of them, with template positions).
-CompiledSpace compile_space(const std::filesystem::path& manifest, const CompileOptions& options);
+CompiledSpace compile_space(const CompileOptions& options);
 
 enum Emit : unsigned { emit_index = 1, emit_source = 2, emit_spirv = 4, emit_cpp = 8, emit_all = 15 };
 

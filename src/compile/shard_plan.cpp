@@ -38,9 +38,9 @@ GenerateShard plan_generate_shard(const CompiledSpace& c, const CompileOptions& 
   for (const auto& target : c.builds)
     for (const auto& build : target) programs.add(build.hash);
   json targets = json::array();
-  for (auto t : co.targets) targets.push_back(static_cast<int>(t));
+  for (auto t : co.scope.targets) targets.push_back(static_cast<int>(t));
   json options = {{"variants", co.globs}, {"targets", targets}, {"werror", co.werror}};
-  s.inputs = {{"manifest", util::hash_hex(c.manifest.text)}, {"templates", programs.hex()},
+  s.inputs = {{"manifest", c.manifest.hash}, {"templates", programs.hex()},
               {"options", util::hash_hex(options.dump())}};
   s.balance = shard::balance_line(s.assignment, index) + " (cost: programs to compile)";
   return s;

@@ -55,12 +55,12 @@ std::string tool_identity() {
   return file_signature("/proc/self/exe") + " " + shadergen::generator_version() + " " + compiler_version();
 }
 
-std::string run_settings(const std::string& tool, const fs::path& manifest, const CompileOptions& co,
+std::string run_settings(const std::string& tool, const CompileOptions& co,
                          const OutputOptions& o) {
   util::Hasher h;
-  h.add(tool).add(fs::absolute(manifest).lexically_normal().string());
+  h.add(tool).add(fs::absolute(co.scope.manifest.path()).lexically_normal().string());
   h.add("targets");
-  for (auto t : co.targets) h.add(variants::target_name(t));
+  for (auto t : co.scope.targets) h.add(variants::target_name(t));
   h.add("globs");
   for (const auto& g : co.globs) h.add(g);
   h.add("exclude");
@@ -108,7 +108,7 @@ void record_run(const std::string& settings, const CompiledSpace& c, const Outpu
                 const std::string& summary, const std::vector<fs::path>& outputs) {
   std::string state = std::string(kFormat) + "\nsettings " + settings + "\n";
   fs::path manifest = fs::absolute(c.manifest.path).lexically_normal();
-  state += "manifest " + util::hash_hex(c.manifest.text) + " " + manifest.string() + "\n";
+  state += "manifest " + c.manifest.hash + " " + manifest.string() + "\n";
   for (std::size_t i = 0; i < c.files.size(); ++i) state += "input " + c.file_hashes[i] + " " + c.files[i].string() + "\n";
   for (const auto& p : c.files_missing) state += "missing " + p.string() + "\n";
   for (const auto& f : outputs) state += "output " + file_signature(f) + " " + f.lexically_relative(o.out).string() + "\n";

@@ -22,7 +22,7 @@ std::string tool_identity();
 // Everything besides the inputs' contents that decides the outputs: `tool` (tool_identity() in the CLI), the
 // manifest's absolute path (templates resolve against its folder), targets, variant selection, --werror,
 // what is emitted and the C++ namespace. Not --jobs, the cache, the depfile or the stamp.
-std::string run_settings(const std::string& tool, const std::filesystem::path& manifest, const CompileOptions& co,
+std::string run_settings(const std::string& tool, const CompileOptions& co,
                          const OutputOptions& o);
 
 // What a no-op run needs to finish: the recorded summary (printed again) and the inputs (for the depfile).

@@ -20,10 +20,10 @@ bool any_amd(const std::vector<std::string>& names) {
 
 }  // namespace
 
-void check_request(const CostRequest& request) {
+void check_gpus(const std::vector<std::string>& names) {
   std::vector<std::string> amd;
   const GlInstall install = find_gl_install();
-  for (const std::string& name : request.families) {
+  for (const std::string& name : names) {
     if (const FamilySpec* chip = gl_chip(name)) check_installed(install, *gl_vendor(chip->compiler->driver));
     else amd.push_back(name);
   }
@@ -33,17 +33,15 @@ void check_request(const CostRequest& request) {
 KeyedCosts costs_by_key(const CostRequest& request, const std::set<std::string>& keys) {
   KeyedCosts out;
   if (request.families.empty() || keys.empty()) return out;
-  compile::CompileOptions co;
-  co.targets = {variants::Target::vulkan};  // the plans and loads read the Vulkan builds
+  compile::CompileOptions co{request.scope};
+  co.scope.targets = {variants::Target::vulkan};  // the plans and loads read the Vulkan builds
   for (const std::string& name : request.families)
     if (gl_chip(name)) {
-      co.targets.push_back(variants::Target::gles30);  // a GL chip compiles the gles30 programs
+      co.scope.targets.push_back(variants::Target::gles30);  // a GL chip compiles the gles30 programs
       break;
     }
   co.globs.assign(keys.begin(), keys.end());  // an exact key is a glob matching itself
-  co.cache_dir = request.cache_dir;
-  co.jobs = request.jobs;
-  const auto compiled = compile::compile_space(request.manifest, co);
+  const auto compiled = compile::compile_space(co);
   // The caller measured these variants: a failure here is not a template error but a broken cache or manifest.
   if (!compiled.ok())
     throw std::runtime_error("--gpu: compiling the variants failed: " +
@@ -53,7 +51,7 @@ KeyedCosts costs_by_key(const CostRequest& request, const std::set<std::string>&
     if (keys.count(compiled.space.variants[v].key)) selected.push_back(static_cast<int>(v));
   GpuOptions options;
   options.families = request.families;
-  options.cache_dir = request.cache_dir;
+  options.cache_dir = request.scope.cache_dir;
   if (any_amd(request.families)) options.icd = find_radeon_icd();
   const GpuAnalysis analysis = analyze_gpu(compiled, selected, options);
   out.by_variant = costs_of(analysis, variant_loads(compiled, selected), request.frame,

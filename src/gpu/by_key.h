@@ -9,16 +9,16 @@
 #include <string>
 #include <vector>
 
+#include "compile/run_scope.h"
 #include "render/frame.h"
 #include "table/gpu_cost.h"
 
 namespace aovar::gpu {
 
 struct CostRequest {
+  compile::RunScope scope;            // the manifest, compile jobs, the cache root
   std::vector<std::string> families;  // empty: nothing to do
   render::Extent frame{1920, 1080};    // the frame the estimate is for
-  std::filesystem::path manifest, cache_dir;
-  int jobs = 0;
 };
 
 struct KeyedCosts {
@@ -31,7 +31,7 @@ struct KeyedCosts {
 
 // Before any work (a sweep measures for minutes first): throws std::runtime_error, one line, for a missing
 // driver or a family this RADV does not know. Nothing when no family is asked for.
-void check_request(const CostRequest& request);
+void check_gpus(const std::vector<std::string>& names);
 
 // Throws std::runtime_error for a missing driver, an unknown family or a program that does not compile.
 KeyedCosts costs_by_key(const CostRequest& request, const std::set<std::string>& keys);

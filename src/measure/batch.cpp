@@ -104,7 +104,7 @@ reference::ReferenceOptions BatchMeasurer::reference_options() const {
   ro.rays = o_.truth.rays;
   ro.mode = o_.truth.mode;
   ro.frame = o_.timing.camera_path ? o_.timing.warmup + o_.timing.reps : 0;
-  ro.cache_dir = o_.truth.cache;
+  ro.cache_dir = o_.scope.cache_dir;
   return ro;
 }
 
@@ -135,7 +135,7 @@ std::string BatchMeasurer::context(const runner::VariantRunner& runner, const sc
   const auto& info = runner.device();
   std::string context = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", shadergen::generator_version(),
                                     scene_.content_hash, scene::camera_text(view), info.backend, info.device,
-                                    info.driver, info.mediump_fp16, size_text(o_.size), o_.threads, reps_text(o_), o_.timing.warmup,
+                                    info.driver, info.mediump_fp16, size_text(o_.size), o_.scope.threads, reps_text(o_), o_.timing.warmup,
                                     res_.radius, c_.space.variants[sel_.baseline].key);
   if (o_.timing.camera_path) context += "|path";
   if (!o_.truth.temporal) context += "|still";  // a row without flicker is not one with it
@@ -160,7 +160,7 @@ MeasureRow BatchMeasurer::new_row(const Candidate& cand, const render::DeviceInf
   row.driver = device.driver;
   row.view = view;
   row.size = size_text(o_.size);
-  row.threads = o_.threads;
+  row.threads = o_.scope.threads;
   row.spirv_hash = cand.inputs.spirv_hash;
   row.inputs_hash = cand.inputs.inputs_hash;
   row.baseline = c_.space.variants[sel_.baseline].key;
@@ -191,7 +191,7 @@ void BatchMeasurer::measure_all(const std::vector<const scene::View*>& views, co
   for (const auto& backend_name : o_.backends) {
     runner::RunnerOptions ro;
     ro.backend = backend_name;
-    ro.device.threads = o_.threads;
+    ro.device.threads = o_.scope.threads;
     ro.device.device = o_.device;
     ro.size = o_.size;
     ro.calibration = o_.calibration.values;

@@ -133,7 +133,7 @@ void check_request(const MeasureOptions& o) {
   // The selection as compile will see it (the baseline too): a bad --param fails here, not after the profile.
   std::vector<std::string> globs = o.globs;
   if (!globs.empty()) globs.push_back(o.baseline);
-  const variants::Manifest manifest = variants::load_manifest(o.manifest);
+  const variants::Manifest& manifest = o.scope.manifest.get();
   const variants::VariantSpace space = variants::build_space(manifest, globs);
   std::vector<int> all(space.variants.size());
   std::iota(all.begin(), all.end(), 0);
@@ -149,17 +149,17 @@ std::vector<const scene::View*> chosen_views(const scene::Scene& sc, const std::
   return views;
 }
 
-profile::PruneOptions prune_options(const MeasureOptions& o) {
-  profile::PruneOptions p;
-  p.profile.manifest = o.manifest;
-  p.profile.scene = o.scene;
-  p.profile.size = o.size;
-  p.profile.radius = o.radius;
-  p.profile.threads = o.threads;
-  p.profile.cache_dir = o.cache_dir;
-  p.store_dir = o.out;
-  p.reuse = o.reuse;
-  return p;
+std::shared_ptr<const ScenePruning> prune_by_profile(const MeasureOptions& o, const scene::Scene& scene,
+                                                     const std::vector<std::string>& covered, const Progress& progress) {
+  const profile::PruneOptions p{.profile = {.scope = o.scope, .scene = o.scene, .size = o.size, .radius = o.radius},
+                                .store_dir = o.out,
+                                .reuse = o.reuse};
+  return std::make_shared<const ScenePruning>(
+      profile::prune_scene(p, scene, chosen_views(scene, o.views), covered, progress));
+}
+
+trace::RowGpuRequest gpu_request(const MeasureOptions& o, const trace::GpuEstimateOptions& gpu) {
+  return {o.scope, gpu, o.views_file, o.radius, o.calibration.values};
 }
 
 namespace {
@@ -224,17 +224,17 @@ MeasureResult MeasureRun::run() {
   res_.radius = o_.radius > 0 ? o_.radius : scene_.ao_radius;
 
   // Compile what the backends need (the baseline variant too, when globs would leave it out).
-  compile::CompileOptions co;
+  compile::CompileOptions co{o_.scope};
+  auto& targets = co.scope.targets;
+  targets.clear();  // what the backends render, whatever the scope's targets
   for (const auto& b : o_.backends)
-    if (auto t = render::target_of(b); std::find(co.targets.begin(), co.targets.end(), t) == co.targets.end())
-      co.targets.push_back(t);
+    if (auto t = render::target_of(b); std::find(targets.begin(), targets.end(), t) == targets.end())
+      targets.push_back(t);
   co.globs = o_.globs;
   if (!co.globs.empty()) co.globs.push_back(o_.baseline);
-  co.cache_dir = o_.cache_dir;
-  co.jobs = o_.jobs;
   if (!prune(co)) return std::move(res_);
   auto compile_start = Clock::now();
-  compile::CompiledSpace c = compile::compile_space(o_.manifest, co);
+  compile::CompiledSpace c = compile::compile_space(co);
   res_.compile_s = seconds_since(compile_start);
   if (!c.ok())
     throw std::runtime_error(fmt::format("{} (and {} more diagnostics): fix the templates first (aovar generate shows all)",
@@ -354,7 +354,7 @@ json to_json(const MeasureResult& res, const MeasureOptions& o) {
   return {{"schema_version", util::kSchemaVersion},
           {"tool", "aovar measure"},
           {"scene", {{"name", res.scene}, {"hash", res.scene_hash}, {"triangles", res.triangles}}},
-          {"manifest", util::display_path(o.manifest)},
+          {"manifest", util::display_path(o.scope.manifest.path())},
           {"counts", res.counts},
           {"contact_sheets", res.contact_sheets},
           {"contact_sheets_rows", res.contact_sheets_rows},
@@ -363,7 +363,7 @@ json to_json(const MeasureResult& res, const MeasureOptions& o) {
           {"reps_auto", reps_auto_json(o)},
           {"reps_reached", reps_reached(res).to_json()},
           {"warmup", o.timing.warmup},
-          {"threads", o.threads},
+          {"threads", o.scope.threads},
           {"radius", res.radius},
           {"calibration", calibration_json(o)},
           {"camera_path", o.timing.camera_path},

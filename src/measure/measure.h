@@ -15,12 +15,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "compile/run_scope.h"
 #include "measure/timing.h"
 #include "metrics/metrics.h"
 #include "profile/scene_prune.h"
 #include "reference/reference.h"
 #include "render/backend.h"
 #include "table/table.h"
+#include "trace/row_traffic.h"
 
 namespace aovar::measure {
 
@@ -65,8 +67,7 @@ struct TimingPlan {
 struct GroundTruth {
   bool enabled = false;
   int rays = 256;
-  reference::Mode mode = reference::Mode::occlusion;
-  std::filesystem::path cache;
+  reference::Mode mode = reference::Mode::occlusion;  // cached under the run scope's cache root
   // Each row's flicker along its view's camera path, and a progressive variant's error from one frame
   // (view.path_frames more renders a row), but for a row the race retired (Stop::dominated: off the front).
   // false: the still error only (ship's screening).
@@ -80,8 +81,8 @@ struct CalibrationInUse {
 };
 
 struct MeasureOptions {
+  compile::RunScope scope;                 // the manifest, rendering threads, compile jobs, the cache root
   // What is measured: the scene, its views, the backends, and which variants.
-  std::filesystem::path manifest = "shader_src/aovar.toml";
   std::string scene = "builtin:atrium";
   std::filesystem::path views_file;        // side file for the scene's views (optional)
   std::vector<std::string> views;          // empty: the scene's first view (overview)
@@ -102,7 +103,6 @@ struct MeasureOptions {
 
   // How it is rendered.
   render::Extent size{640, 360};
-  int threads = 2;
   std::string device;                      // the Vulkan backend: --device NAME|INDEX (render::BackendOptions::device)
   float radius = 0;                        // world units; 0 = the scene's default
   render::ParamOverrides params;           // "<pass>.<name>" -> value
@@ -116,8 +116,6 @@ struct MeasureOptions {
   bool images = true;
   bool contact_sheets = true;              // with images; false leaves the earlier sheets (sweep's pruning phases)
   bool reuse = true;                       // keep rows of an earlier measure.json whose inputs match
-  std::filesystem::path cache_dir;         // compile cache (empty = none)
-  int jobs = 0;
 };
 
 // What fails before any scene is loaded: the options' own rules, and each --param against the manifest (a
@@ -128,9 +126,14 @@ void check_request(const MeasureOptions& options);
 // The views a measurement renders: each named one once, in the order given; none named: the scene's first.
 std::vector<const scene::View*> chosen_views(const scene::Scene& scene, const std::vector<std::string>& names);
 
-// The scene-profile pruning options of a measurement: its manifest, scene, size, radius, threads and compile
-// cache; the profile stored in its output folder and reused with it.
-profile::PruneOptions prune_options(const MeasureOptions& options);
+// What the scene's profile drops on the views measurement `options` renders (chosen_views), profiled in its
+// run scope at its size and radius, stored in its output folder and reused from there. `covered`: the globs
+// the pruning lists cover (the run's --variants, and sweep's --predict; empty: every variant).
+std::shared_ptr<const ScenePruning> prune_by_profile(const MeasureOptions& options, const scene::Scene& scene,
+                                                     const std::vector<std::string>& covered, const Progress& progress);
+
+// The GPU estimate on a measurement's rows (trace::add_gpu_costs): in its run scope, rendered as it rendered.
+trace::RowGpuRequest gpu_request(const MeasureOptions& options, const trace::GpuEstimateOptions& gpu);
 
 // --reps as the inputs hash and the text output hold it: "10", or "auto" with its minimum, target and caps
 // (a row timed to a 2 % target is not one timed to 1 %, nor one of a fixed count).
@@ -205,8 +208,8 @@ struct MeasureResult {
   double wall_s = 0, compile_s = 0;
   int reused = 0;
   std::shared_ptr<const ScenePruning> pruning;  // the options' pruning, when given
-  // A GPU estimate of the rows, when the caller made one (measure estimates nothing itself: the measure
-  // command and sweep add it, sweep::gpu_request): trace::RowGpuResult::to_json(), null without.
+  // A GPU estimate of the rows, when the caller made one (run_measure estimates nothing itself: measure_scene
+  // and sweep add it, gpu_request): trace::RowGpuResult::to_json(), null without.
   nlohmann::json gpu_meta;
 };
 
@@ -221,6 +224,17 @@ std::vector<table::CostRow> cost_rows(const MeasureResult& result, const std::fi
 MeasureResult run_measure(const MeasureOptions& options, const Progress& progress = {});
 
 nlohmann::json to_json(const MeasureResult& result, const MeasureOptions& options);
+
+// `aovar measure`: one scene's measurement with what the command adds around run_measure (sweep adds the
+// same over all its scenes at once).
+struct MeasureSceneOptions {
+  MeasureOptions measure;
+  bool prune_by_profile = true;   // drop, before compiling, what the scene's profile drops (prune_by_profile)
+  trace::GpuEstimateOptions gpu;  // with families: the rows estimated on them, measure.json written again
+};
+// Checks the request (check_request, the GPU names) before profiling or measuring anything; throws as
+// run_measure does.
+MeasureResult measure_scene(const MeasureSceneOptions& options, const Progress& progress = {});
 
 // Sets glibc's heap thresholds so freed driver buffers stay mapped (run_measure calls it; timing code
 // outside run_measure should too). Process-wide and idempotent.

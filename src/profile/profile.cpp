@@ -97,7 +97,7 @@ std::vector<std::pair<double, double>> r16f_normal_p95(const image::FloatImage& 
 // what it implies (SAO levels, early-outs per resolution), the camera's step.
 ViewProfile profile_view(const scene::Scene& sc, const scene::View& view, const Options& o, float radius,
                          const std::vector<double>& resolutions) {
-  const auto traced = reference::trace_depth(sc, view, o.size, 0, o.threads);
+  const auto traced = reference::trace_depth(sc, view, o.size, 0, o.scope.threads);
   ViewProfile vp;
   vp.view = view.name;
   vp.near_plane = view.near_plane;
@@ -163,15 +163,14 @@ void measure_flicker(Profile& p, const std::vector<const scene::View*>& views, c
   if (progressive.empty()) return;
   p.flicker_pair = progressive + " vs " + full;
   say("measuring the flicker of " + p.flicker_pair);
-  compile::CompileOptions co;
-  co.targets = {variants::Target::vulkan};
+  compile::CompileOptions co{o.scope};
+  co.scope.targets = {variants::Target::vulkan};
   co.globs = {progressive, full};
-  co.cache_dir = o.cache_dir;
-  auto c = compile::compile_space(o.manifest, co);
+  auto c = compile::compile_space(co);
   if (!c.ok()) throw std::runtime_error(c.diagnostics.empty() ? "profile: compile failed" : c.diagnostics.front());
   runner::RunnerOptions ro;
   ro.backend = render::default_backend();
-  ro.device.threads = o.threads;
+  ro.device.threads = o.scope.threads;
   ro.size = o.size;
   runner::VariantRunner runner(c, ro);
   runner.use_scene(sc);
@@ -286,7 +285,7 @@ void decide_progressive(Profile& p, const Options& o) {
 
 // The G-buffer the renderer declares ([renderer] in the manifest): normal encodings, position buffer.
 void decide_renderer_buffers(Profile& p, const variants::Manifest& manifest, const Options& o) {
-  const auto display = util::display_path(o.manifest);
+  const auto display = util::display_path(o.scope.manifest.path());
   if (const auto& nb = manifest.renderer.normal_buffers)
     for (const auto& v : manifest.axis_values(Axis::normals)) {
       if (v.text == "depth") continue;
@@ -318,7 +317,7 @@ std::pair<std::string, std::string> flicker_pair(const variants::Manifest& manif
 }
 
 Profile profile_scene(const Options& o, const Progress& progress) {
-  const variants::Manifest manifest = variants::load_manifest(o.manifest);
+  const variants::Manifest& manifest = o.scope.manifest.get();
   const scene::Scene sc = scene::load_scene(o.scene);
   return profile_scene(o, sc, manifest, variants::build_space(manifest), progress);
 }

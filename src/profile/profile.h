@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "compile/run_scope.h"
 #include "render/backend.h"
 #include "render/frame.h"
 #include "render/plan.h"
@@ -28,7 +29,7 @@
 namespace aovar::profile {
 
 struct Options {
-  std::filesystem::path manifest = "shader_src/aovar.toml";
+  compile::RunScope scope;           // the manifest; threads (Embree, the renderer) and the compile cache of the flicker pair
   std::string scene = "builtin:atrium";
   std::vector<std::string> views;    // empty = every view of the scene
   render::Extent size{640, 360};     // the frame size the variants will run at
@@ -44,8 +45,6 @@ struct Options {
   double early_out_share = 0.5;      // a resolution is dropped when more geometry pixels than this early-out
   double flicker_tolerance = 0.005;  // progressive is kept while its flicker exceeds the full form's by less
   bool measure_flicker = true;       // render the progressive pair along moving camera paths (default backend)
-  int threads = 2;
-  std::filesystem::path cache_dir;   // compile cache for the flicker pair (empty = none)
 };
 
 struct ViewProfile {

@@ -52,7 +52,7 @@ ScenePruning prune_scene(const PruneOptions& o, const scene::Scene& sc, const st
   ScenePruning out;
   out.scene = o.profile.scene;
   // One space for everything: the profile picks its flicker pair from it and the variants are pruned from it.
-  const variants::Manifest manifest = variants::load_manifest(o.profile.manifest);
+  const variants::Manifest& manifest = o.profile.scope.manifest.get();
   const variants::VariantSpace space = variants::build_space(manifest);
   // Globs that select nothing are the caller's error to report (after compiling, as without pruning).
   if (std::none_of(space.variants.begin(), space.variants.end(),
@@ -70,7 +70,7 @@ ScenePruning prune_scene(const PruneOptions& o, const scene::Scene& sc, const st
   util::Hasher h;
   h.add("aovar profile 1").add(shadergen::generator_version()).add(compile::compiler_version()).add(manifest.text);
   h.add(sc.content_hash).add(fmt::format("{}x{} {} {}", po.size.width, po.size.height, po.radius > 0 ? po.radius : sc.ao_radius,
-                                         po.threads));
+                                         po.scope.threads));
   h.add(fmt::format("{} {} {} {} {}", po.r16f_tolerance, po.normal_tolerance_deg, po.early_out_share, po.flicker_tolerance,
                     po.measure_flicker));
   for (const scene::View* v : views) h.add(scene::camera_text(*v));

@@ -16,7 +16,7 @@ inline constexpr int kMaxShards = 10000;
 
 struct ShardSpec {
   int index = 0, count = 1;     // 0-based index of count shards
-  std::string convention;       // "--shard", "aovar", "GitLab CI", "Slurm array", "Kubernetes Indexed Job", "Bazel"
+  std::string convention = "--shard";  // "--shard", "aovar", "GitLab CI", "Slurm array", "Kubernetes Indexed Job", "Bazel"
   std::string variables;        // the variables read, "NAME=value ...", for the line that says which was used
   std::string status_file;      // Bazel's TEST_SHARD_STATUS_FILE: the runner must touch it (empty: none)
   bool sharded() const { return count > 1; }

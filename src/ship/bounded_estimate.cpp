@@ -57,15 +57,15 @@ void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::stri
 BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vector<std::string>& training,
                                         const trace::RowGpuRequest& request, const std::string& keep,
                                         const std::function<void(const std::string&)>& say, int chunk) {
-  const std::string& family = request.costs.families.at(0);
+  const std::string& family = request.gpu.families.at(0);
   BoundedEstimate out;
   std::vector<table::CostRow*> all;
   for (auto& r : screen.rows) all.push_back(&r);
   trace::RowGpuRequest statistics = request;
-  statistics.trace = false;
+  statistics.gpu.trace = false;
   out.gpu = trace::add_gpu_costs(all, statistics, say);
   out.gpu.traced = true;
-  out.gpu.window_share = request.traffic.window_share;
+  out.gpu.window_share = request.gpu.window;
 
   // Each candidate's training rows, its worst error and its bound.
   std::map<std::string, std::vector<table::CostRow*>> rows;
@@ -88,7 +88,7 @@ BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vec
     for (const BoundCandidate* c : chunk_of)
       for (table::CostRow* r : rows[c->key])
         if ((r->view == training.front()) == (stage == 0)) traced_rows.push_back(r);
-    out.gpu.traffic += trace::add_row_traffic(traced_rows, request.traffic);
+    out.gpu.traffic += trace::add_row_traffic(traced_rows, request);
     for (BoundCandidate* c : chunk_of)
       for (const table::CostRow* r : rows[c->key])
         if (stage == 1 || r->view == training.front()) c->est = std::max(c->est, r->gpu.at(family).est_ms);

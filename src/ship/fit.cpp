@@ -18,7 +18,7 @@ namespace {
 std::string fit_inputs(const ShipOptions& o, const scene::Scene& sc, const calibrate::ViewSplit& split,
                        const std::string& normals) {
   util::Hasher h;
-  h.add(util::read_file(o.manifest).value_or("")).add(sc.content_hash).add(normals).add(o.backend);
+  h.add(o.scope.manifest->text).add(sc.content_hash).add(normals).add(o.backend);
   for (const auto* group : {&split.training, &split.holdout})
     for (const auto& v : *group) h.add(v.view).add(uint64_t(group == &split.training));
   for (const auto& v : sc.views)
@@ -42,7 +42,7 @@ Fitted fit_methods(const ShipOptions& o, const scene::Scene& sc, const calibrate
   }
   if (!f.reused) {
     calibrate::CalibrateOptions co;
-    co.manifest = o.manifest;
+    co.scope = o.scope;
     co.fit_normals = normals;
     co.backend = o.backend;
     co.size = o.fit_size;
@@ -50,8 +50,6 @@ Fitted fit_methods(const ShipOptions& o, const scene::Scene& sc, const calibrate
     co.views = split;
     co.views_file = o.views_file;
     co.budget.max_evaluations = o.fit_evaluations;
-    co.threads = o.threads;
-    co.compile_cache = co.reference_cache = o.cache_dir;
     calibrate::write_calibration(file, calibrate::calibrate(co, [&](const std::string& line) {
                                    if (progress) progress("fit: " + line);
                                  }));

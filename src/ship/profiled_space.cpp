@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "measure/measure.h"
+#include "profile/scene_prune.h"
 #include "profile/profile.h"
 #include "variants/space.h"
 
@@ -35,16 +35,11 @@ std::string lean_text(const profile::Profile& p) {
 
 ProfiledSpace profile_space(const ShipOptions& o, const scene::Scene& sc, const std::vector<std::string>& views,
                             const variants::Manifest& manifest, ShipResult& res, const Progress& say) {
-  measure::MeasureOptions pm;
-  pm.manifest = o.manifest;
-  pm.scene = o.scene;
-  pm.size = o.size;
-  pm.threads = o.threads;
-  pm.cache_dir = o.cache_dir;
-  pm.out = o.out / "profile";
+  const profile::PruneOptions po{.profile = {.scope = o.scope, .scene = o.scene, .size = o.size},
+                                 .store_dir = o.out / "profile"};
   std::vector<const scene::View*> profiled;
   for (const auto& v : views) profiled.push_back(&sc.view(v));
-  ProfiledSpace out{profile::prune_scene(measure::prune_options(pm), sc, profiled, o.globs, say), {}};
+  ProfiledSpace out{profile::prune_scene(po, sc, profiled, o.globs, say), {}};
   const profile::ScenePruning& pruning = out.pruning;
   for (const auto& d : pruning.dropped) out.skip.insert(d.variant);
   res.selected = int(pruning.kept.size() + pruning.dropped.size());

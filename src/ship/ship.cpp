@@ -60,7 +60,7 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   s.scenes = {o.scene};
   s.out = o.out / round_name(!o.target.empty(), final_round);
   measure::MeasureOptions& m = s.measure;
-  m.manifest = o.manifest;
+  m.scope = o.scope;
   m.views_file = o.views_file;
   m.views = views;
   m.backends = {o.backend};
@@ -68,12 +68,9 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   m.skip = skip;
   m.size = o.size;
   m.timing.batch = batch_of(o);
-  m.threads = o.threads;
-  m.jobs = o.jobs;
   m.truth.rays = o.rays;
   m.calibration.values = fit.values;
   m.calibration.source = fit.source;
-  m.cache_dir = m.truth.cache = o.cache_dir;
   // The budget's variant is timed in every round: each candidate is compared with it in the same rounds.
   if (!o.query.budget_of.empty()) m.baseline = o.query.budget_of;
   s.prune_by_profile = false;  // ship pruned already (the skip list), with the profile of all views
@@ -109,7 +106,7 @@ void render_stills_only(sweep::SweepOptions& so) {
 // scores the stills it retires by itself, before its warm-up and its rounds (TimingPlan::race_scores_stills):
 // no screen runs. Not for shards, whose screens a join merges.
 bool race_without_screen(const ShipOptions& o, int candidates) {
-  return o.target.empty() && o.shard_count <= 1 && o.join.empty() && candidates <= batch_of(o) - 1;
+  return o.target.empty() && o.shard.count <= 1 && o.join.empty() && candidates <= batch_of(o) - 1;
 }
 
 // What a screen depends on beyond the fit: a join takes only shards whose screens had the same.
@@ -120,7 +117,7 @@ std::string screen_inputs(const Fitted& fit, const sweep::SweepOptions& so) {
                        {"views", m.views},      {"backends", m.backends},
                        {"size", fmt::format("{}x{}", m.size.width, m.size.height)},
                        {"reps", measure::reps_text(m)}, {"warmup", m.timing.warmup},
-                       {"threads", m.threads},  {"rays", m.truth.rays},
+                       {"threads", m.scope.threads},  {"rays", m.truth.rays},
                        {"gpu", so.gpu.families}, {"gpu_frame", fmt::format("{}x{}", so.gpu.frame.width, so.gpu.frame.height)},
                        {"gpu_window", so.gpu.window}};
   return util::hash_hex(inputs.dump());
@@ -133,7 +130,7 @@ table::CostTable round_rows(const ShipOptions& o, const Fitted& fit, const sweep
   const auto progress = [&](const std::string& line) {
     if (say) say(r.name + ": " + line);
   };
-  if (final_round || (o.join.empty() && o.shard_count <= 1)) return sweep::run_sweep(so, progress).table;
+  if (final_round || (o.join.empty() && o.shard.count <= 1)) return sweep::run_sweep(so, progress).table;
   const std::string inputs = screen_inputs(fit, so);
   if (!o.join.empty()) {
     JoinedScreen joined = join_screens(o.join, inputs, so.out);
@@ -143,11 +140,9 @@ table::CostTable round_rows(const ShipOptions& o, const Fitted& fit, const sweep
   }
   record_input(o.out, "screen_inputs", inputs);
   sweep::SweepOptions shard = so;
-  shard.shard_index = o.shard_index;
-  shard.shard_count = o.shard_count;
-  shard.shard_convention = o.shard_convention;
+  shard.shard = o.shard;
   sweep::SweepResult done = sweep::run_sweep(shard, progress);
-  res.shard = fmt::format("{}/{}", o.shard_index + 1, o.shard_count);
+  res.shard = o.shard.label();
   res.shard_balance = done.shard_balance;
   return std::move(done.table);
 }
@@ -274,7 +269,7 @@ json ship_meta(const ShipOptions& o, const ShipResult& r, const profile::ScenePr
 void check_options(const ShipOptions& o) {
   if (o.out.empty()) throw std::runtime_error("ship: --out is required");
   check_query(o.query);
-  if (o.shard_count > 1 && !o.join.empty())
+  if (o.shard.count > 1 && !o.join.empty())
     throw std::runtime_error("ship: --shard and --join exclude each other (the shards screen, the join decides)");
   if (o.race_reps < 6) throw std::runtime_error("--race-reps must be at least 6 (fewer rounds give no 95 % interval)");
   if (o.batch != 0 && o.batch < 2) throw std::runtime_error("--batch must be at least 2 (the baseline and one candidate)");
@@ -282,11 +277,7 @@ void check_options(const ShipOptions& o) {
   if (o.target.find(',') != std::string::npos) throw std::runtime_error("--target takes one AMD family");
   if (!(o.race_margin >= 1.0 && o.race_margin < 10.0))
     throw std::runtime_error("--race-margin must be a time ratio in [1, 10) (1 eliminates on any slowdown beyond the noise)");
-  if (!o.target.empty()) {
-    gpu::CostRequest request;
-    request.families = {o.target};
-    gpu::check_request(request);
-  }
+  if (!o.target.empty()) gpu::check_gpus({o.target});
 }
 
 }  // namespace
@@ -314,7 +305,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
 
   // 1. The profile of every view: its pruning and the normals lean.
   say("profiling " + o.scene);
-  const variants::Manifest manifest = variants::load_manifest(o.manifest);
+  const variants::Manifest& manifest = o.scope.manifest.get();
   const ProfiledSpace profiled = profile_space(o, sc, views, manifest, res, say);
   const profile::ScenePruning& pruning = profiled.pruning;
   const std::set<std::string>& skip = profiled.skip;
@@ -366,7 +357,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
     int untraced = 0;  // eliminated by their bound, before the race's rule
     if (!final_round && !o.target.empty() && res.shard.empty()) {
       const sweep::SweepOptions estimated = round_options(o, fit, views, globs, skip, true);
-      BoundedEstimate b = estimate_in_error_order(last, res.training, sweep::gpu_request(estimated.measure, estimated.gpu),
+      BoundedEstimate b = estimate_in_error_order(last, res.training, measure::gpu_request(estimated.measure, estimated.gpu),
                                                   o.query.budget_of, [&](const std::string& line) { say(r.name + ": " + line); });
       last.meta.gpu = b.gpu.to_json();
       for (auto& e : b.eliminated) res.eliminated.push_back({r.name, std::move(e)});
@@ -401,7 +392,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
   q.backend = o.backend;
   res.selection = decide::select(on_views(res.table, res.holdout), q);
   if (res.selection.choice)
-    res.build_line = fmt::format("aovar generate --manifest {} --variants '{}' --out shaders", util::display_path(o.manifest),
+    res.build_line = fmt::format("aovar generate --manifest {} --variants '{}' --out shaders", util::display_path(o.scope.manifest.path()),
                                  res.selection.choice->variant);
   table::write_table_files(res.table, o.out);
   report::write_reports(res.table, o.out, o.out / round_name(!o.target.empty(), true));

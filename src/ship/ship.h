@@ -23,6 +23,8 @@
 
 #include "decide/select.h"
 #include "measure/timing.h"
+#include "compile/run_scope.h"
+#include "shard/env.h"
 #include "render/frame.h"
 #include "ship/holdout.h"
 #include "ship/race.h"
@@ -31,7 +33,7 @@
 namespace aovar::ship {
 
 struct ShipOptions {
-  std::filesystem::path manifest = "shader_src/aovar.toml";
+  compile::RunScope scope;                 // the manifest, rendering threads, jobs, the cache root
   std::string scene = "builtin:atrium";
   std::filesystem::path views_file;
   std::vector<std::string> holdout_views;  // empty: calibrate::split_views' default (every third view)
@@ -48,15 +50,13 @@ struct ShipOptions {
   int race_reps = 6;                       // the first round: the fewest rounds whose sign-test interval is known
   double race_margin = 1.10;               // measured backends: eliminate on a slowdown whose interval is above it (race.h)
   measure::AutoReps final_reps;            // the second round: --reps auto with this target and cap
-  int rays = 256, threads = 2, jobs = 0;
+  int rays = 256;
   render::Extent gpu_frame{1920, 1080};
   double gpu_window = 0.5;
-  std::filesystem::path cache_dir;         // compile and reference cache (empty: none)
   std::filesystem::path out;
-  // Sharded (shards.h): with shard_count > 1 this run profiles, fits and screens its share, then stops;
-  // `join` (the shards' folders) takes their fit and merged screens and carries on from there.
-  int shard_index = 0, shard_count = 1;
-  std::string shard_convention = "--shard";
+  // Sharded (shards.h): a sharded run profiles, fits and screens its share, then stops; `join` (the shards'
+  // folders) takes their fit and merged screens and carries on from there.
+  shard::ShardSpec shard;
   std::vector<std::filesystem::path> join;
 };
 

@@ -143,7 +143,7 @@ std::string reproducer(const Options& o, const Check& check, const std::vector<C
   std::string variants = "--variants " + util::shell_quote(check.variant);
   if (!check.partner.empty()) variants += " --variants " + util::shell_quote(check.partner);  // the comparison needs both
   return fmt::format("aovar stress --manifest {} {} --backend {} --size {}x{}{} {}",
-                     util::shell_quote(util::display_path(o.manifest)), variants, util::shell_quote(check.backend), o.size.width, o.size.height, o.mediump_fp16 ? "" : " --mediump-fp32", args);
+                     util::shell_quote(util::display_path(o.scope.manifest.path())), variants, util::shell_quote(check.backend), o.size.width, o.size.height, o.mediump_fp16 ? "" : " --mediump-fp32", args);
 }
 
 }  // namespace aovar::stress

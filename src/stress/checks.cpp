@@ -20,7 +20,7 @@ using Images = std::map<std::string, image::FloatImage>;  // variant|case of the
 runner::RunnerOptions runner_options(const Options& o, const std::string& backend) {
   runner::RunnerOptions ro;
   ro.backend = backend;
-  ro.device.threads = o.threads;
+  ro.device.threads = o.scope.threads;
   ro.device.mediump_as_fp16 = fp16_on(o, backend);
   ro.size = o.size;
   // No calibration here: each member plans with its calibrated values as overrides, the values its

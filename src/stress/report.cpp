@@ -72,7 +72,7 @@ nlohmann::json to_json(const Result& r, const Options& o) {
     variants.push_back({{"variant", v.variant}, {"shipped", v.shipped}, {"checks", v.checks}, {"passed", v.failures.empty()},
                         {"failures", failing}});
   }
-  return {{"schema_version", util::kSchemaVersion}, {"tool", "aovar stress"}, {"manifest", util::display_path(o.manifest)},
+  return {{"schema_version", util::kSchemaVersion}, {"tool", "aovar stress"}, {"manifest", util::display_path(o.scope.manifest.path())},
           {"size", fmt::format("{}x{}", o.size.width, o.size.height)}, {"backends", o.backends},
           // Names the backends because real fp16 is lavapipe's own (the SPIR-V rewrite); the GL ones keep theirs.
           {"mediump", o.mediump_fp16 ? "fp16 on lavapipe (convert-relaxed-to-half), fp32 on osmesa, the driver's on gles" : "fp32"},

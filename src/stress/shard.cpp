@@ -31,12 +31,11 @@ json input_hashes(const Options& o, const std::vector<Case>& all, const compile:
   json calibration = json::object();
   for (const auto& [algorithm, params] : o.calibration) calibration[algorithm] = params;
   json options = {{"variants", o.globs}, {"shipped", o.shipped_only}, {"backends", o.backends},
-                  {"size", fmt::format("{}x{}", o.size.width, o.size.height)}, {"threads", o.threads},
+                  {"size", fmt::format("{}x{}", o.size.width, o.size.height)}, {"threads", o.scope.threads},
                   {"pair_tolerance", o.pair_tolerance}, {"pair_share", o.pair_share},
                   {"scale_tolerance", o.scale_tolerance}, {"rays", o.reference_rays}, {"mediump_fp16", o.mediump_fp16},
                   {"calibration", calibration}};
-  auto manifest = util::read_file(o.manifest);
-  return {{"manifest", util::hash_hex(manifest.value_or(""))}, {"templates", programs.hex()}, {"cases", cases.hex()},
+  return {{"manifest", o.scope.manifest->hash}, {"templates", programs.hex()}, {"cases", cases.hex()},
           {"options", util::hash_hex(options.dump())}};
 }
 
@@ -54,18 +53,18 @@ StressShard plan_shard(const Options& o, const std::vector<Case>& all, const com
   std::vector<shard::Unit> units;
   for (auto& [root, u] : by_root) units.push_back(std::move(u));
   StressShard s;
-  s.assignment = shard::assign(units, o.shard_count);
-  const auto mine = shard::members_of(units, s.assignment, o.shard_index);
+  s.assignment = shard::assign(units, o.shard.count);
+  const auto mine = shard::members_of(units, s.assignment, o.shard.index);
   for (const auto& cs : all)
     if (std::find(mine.begin(), mine.end(), cs.name) != mine.end()) s.cases.push_back(cs);
   s.inputs = input_hashes(o, all, c);
-  s.balance = shard::balance_line(s.assignment, o.shard_index) + " (a case's cost: 1)";
+  s.balance = shard::balance_line(s.assignment, o.shard.index) + " (a case's cost: 1)";
   return s;
 }
 
 void write_shard_manifest(const Options& o, const StressShard& plan, int checks, bool complete, double wall_s) {
   shard::ShardManifest m = shard::planned_manifest("stress", compile::tool_version(), plan.inputs, plan.assignment,
-                                                   o.shard_index, o.shard_convention, "cases");
+                                                   o.shard.index, o.shard.convention, "cases");
   m.done = checks;
   m.complete = complete;
   m.wall_s = wall_s;

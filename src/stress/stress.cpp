@@ -42,9 +42,9 @@ std::vector<Case> checked_cases(const Options& o) {
 
 // --shipped: the keys of the [ship] variants the --variants globs select.
 std::vector<std::string> shipped_keys(const Options& o) {
-  auto manifest = variants::load_manifest(o.manifest);
+  const variants::Manifest& manifest = o.scope.manifest.get();
   if (manifest.ship.empty())
-    throw std::runtime_error(util::display_path(o.manifest) + ": error: --shipped, but the manifest has no [ship] variants");
+    throw std::runtime_error(util::display_path(o.scope.manifest.path()) + ": error: --shipped, but the manifest has no [ship] variants");
   std::vector<std::string> keys;
   for (const auto& e : variants::build_space(manifest, o.globs).variants)
     if (std::any_of(manifest.ship.begin(), manifest.ship.end(), [&](const auto& g) { return util::glob_match(g.glob, e.key); }))
@@ -54,12 +54,10 @@ std::vector<std::string> shipped_keys(const Options& o) {
 }
 
 compile::CompiledSpace compile_selection(const Options& o) {
-  compile::CompileOptions co;
-  co.targets = targets_of(o.backends);
+  compile::CompileOptions co{o.scope};
+  co.scope.targets = targets_of(o.backends);
   co.globs = o.shipped_only ? shipped_keys(o) : o.globs;
-  co.cache_dir = o.cache_dir;
-  co.jobs = o.jobs;
-  auto c = compile::compile_space(o.manifest, co);
+  auto c = compile::compile_space(co);
   if (!c.ok()) throw std::runtime_error(c.diagnostics.empty() ? "stress: compile failed" : c.diagnostics.front());
   if (c.space.variants.empty()) throw std::runtime_error("stress: no variant matches the --variants globs");
   return c;
@@ -99,8 +97,8 @@ std::vector<reference::ReferenceImage> trace_truth(const Options& o, const std::
     ro.size = o.size;
     ro.radius = cs.radius > 0 ? cs.radius : scenes.at(cs.scene).ao_radius;
     ro.rays = o.reference_rays;
-    ro.threads = o.threads;
-    ro.cache_dir = o.reference_cache;
+    ro.threads = o.scope.threads;
+    ro.cache_dir = o.scope.cache_dir;
     truth.push_back(reference::trace_reference(scenes.at(cs.scene), cs.view, ro));
   }
   return truth;
@@ -134,14 +132,14 @@ Result run_stress(const Options& o, const Progress& progress) {
     if (progress) progress(s);
   };
   std::vector<Case> cases = checked_cases(o);
-  if (o.shard_count > 1 && o.out.empty()) throw std::runtime_error("stress: --shard needs --out (the shard's checks and shard.json)");
+  if (o.shard.count > 1 && o.out.empty()) throw std::runtime_error("stress: --shard needs --out (the shard's checks and shard.json)");
   if (!o.out.empty()) util::remove_stale_temps(o.out);  // what a killed earlier run was writing
   const compile::CompiledSpace c = compile_selection(o);
   std::optional<StressShard> shard;
-  if (o.shard_count > 1) {
+  if (o.shard.count > 1) {
     shard = plan_shard(o, cases, c);
     cases = shard->cases;
-    say(fmt::format("note: shard {}/{}: {}", o.shard_index + 1, o.shard_count, shard->balance));
+    say(fmt::format("note: shard {}/{}: {}", o.shard.index + 1, o.shard.count, shard->balance));
     write_shard_manifest(o, *shard, 0, false, 0);  // incomplete until stress.json is final
   }
   const std::vector<std::string> ship = ship_globs(c.manifest);

@@ -22,6 +22,8 @@
 #include <nlohmann/json.hpp>
 
 #include "image/health.h"
+#include "compile/run_scope.h"
+#include "shard/env.h"
 #include "render/frame.h"
 #include "render/plan.h"
 #include "scene/scene.h"
@@ -54,15 +56,12 @@ Case custom_case(const std::string& scene, glm::vec3 eye, glm::vec3 target, floa
 std::string case_arguments(const Case& c);
 
 struct Options {
-  std::filesystem::path manifest = "shader_src/aovar.toml";
+  compile::RunScope scope;                       // the manifest, rendering threads, jobs, the cache root
   std::vector<std::string> globs;                // --variants; empty = every variant
   bool shipped_only = false;                     // only the manifest's [ship] variants (with globs: both)
   std::vector<std::string> backends = {render::default_backend()};
   std::vector<Case> cases;                       // empty = default_cases()
   render::Extent size{96, 54};
-  int threads = 2;
-  int jobs = 0;
-  std::filesystem::path cache_dir;               // compile cache (empty = none)
   std::map<std::string, render::ParamOverrides> calibration;  // by algorithm (shipped parameter values)
   double pair_tolerance = 0.1;                   // |mediump - highp| or |r16f - r32f| per pixel
   double pair_share = 0.01;                      // share of pixels allowed beyond the tolerance
@@ -70,17 +69,14 @@ struct Options {
   std::filesystem::path out;                     // stress.json and stress.md (empty: no files)
   bool reuse = true;                             // keep results of an earlier stress.json whose inputs match
   int reference_rays = 64;                       // per pixel, for the reference error and the coverage probe
-  std::filesystem::path reference_cache;         // empty = none
   // Renders (variant x case) per forked child process: the Vulkan driver never frees ~1.5 MB of compiled code per
   // render, so the whole space needs fresh processes. 0 = render in this process.
   long renders_per_process = 700;
   // The Vulkan backend runs mediump arithmetic in real fp16 (render::BackendOptions::mediump_as_fp16), as mobile GPUs
   // do; otherwise llvmpipe runs it in fp32 and mediump never differs from highp.
   bool mediump_fp16 = true;
-  // --shard: this shard's cases only (stress/shard.h), OUT/shard.json written; `shard_convention` says where
-  // k/n came from (shard::ShardSpec::convention).
-  int shard_index = 0, shard_count = 1;
-  std::string shard_convention = "--shard";
+  // --shard: this shard's cases only (stress/shard.h), OUT/shard.json written.
+  shard::ShardSpec shard;
 };
 
 struct Check {  // one variant x case x backend

@@ -25,7 +25,7 @@ using json = nlohmann::json;
 // variant joins its highp twin (llvmpipe runs them as the same code: measure times one, same_code.h), so a
 // sharded sweep measures exactly what one process would.
 std::map<std::string, std::string> unit_ids(const SweepOptions& o, const std::map<std::string, VariantStatic>& statics) {
-  const variants::Manifest manifest = variants::load_manifest(o.measure.manifest);
+  const variants::Manifest& manifest = o.measure.scope.manifest.get();
   std::map<std::string, std::string> ids;
   for (const auto& [key, vs] : statics) {
     std::string twin = key;
@@ -113,7 +113,7 @@ json input_hashes(const SweepOptions& o, const std::map<std::string, VariantStat
   }
   json options = {{"variants", m.globs}, {"predict", o.predict}, {"views", m.views}, {"backends", m.backends},
                   {"device", m.device}, {"size", fmt::format("{}x{}", m.size.width, m.size.height)},
-                  {"reps", measure::reps_text(m)}, {"warmup", m.timing.warmup}, {"threads", m.threads},
+                  {"reps", measure::reps_text(m)}, {"warmup", m.timing.warmup}, {"threads", m.scope.threads},
                   {"rays", m.truth.rays}, {"radius", m.radius}, {"params", m.params}, {"baseline", m.baseline},
                   {"calibration", m.calibration.source.hash}, {"profile_prune", o.prune_by_profile},
                   {"prune_dominated", o.prune_dominated}, {"prune_check", o.prune_check},
@@ -124,7 +124,7 @@ json input_hashes(const SweepOptions& o, const std::map<std::string, VariantStat
   if (!o.gpu.families.empty())
     options["gpu_estimate"] = {{"frame", fmt::format("{}x{}", o.gpu.frame.width, o.gpu.frame.height)},
                                {"trace", o.gpu.trace}, {"window", o.gpu.window}};
-  return {{"manifest", file_hash(m.manifest)}, {"templates", programs.hex()}, {"scenes", scenes},
+  return {{"manifest", m.scope.manifest->hash}, {"templates", programs.hex()}, {"scenes", scenes},
           {"views_file", file_hash(m.views_file)}, {"options", util::hash_hex(options.dump())}};
 }
 
@@ -138,8 +138,8 @@ ShardPlan plan_shards(const SweepOptions& o) {
   plan.units = units_by_static_cost(statics, unit_ids(o, statics));
   plan.costs_from = "static cost";
   if (!o.shard_times.empty()) apply_times(plan.units, o.shard_times, plan.costs_from);
-  plan.assignment = shard::assign(plan.units, o.shard_count);
-  const auto mine = shard::members_of(plan.units, plan.assignment, o.shard_index);
+  plan.assignment = shard::assign(plan.units, o.shard.count);
+  const auto mine = shard::members_of(plan.units, plan.assignment, o.shard.index);
   plan.keys = std::make_shared<const std::set<std::string>>(mine.begin(), mine.end());
   plan.inputs = input_hashes(o, statics);
   return plan;
@@ -148,7 +148,7 @@ ShardPlan plan_shards(const SweepOptions& o) {
 void write_sweep_manifest(const SweepOptions& o, const ShardPlan& plan, const std::vector<table::CostRow>& rows,
                           bool complete, double wall_s) {
   shard::ShardManifest m = shard::planned_manifest("sweep", compile::tool_version(), plan.inputs, plan.assignment,
-                                                   o.shard_index, o.shard_convention, plan.costs_from);
+                                                   o.shard.index, o.shard.convention, plan.costs_from);
   m.done = static_cast<int>(rows.size());
   if (complete) {  // pins the table just written: merge refuses it with rows removed or added
     std::vector<std::string> keys;

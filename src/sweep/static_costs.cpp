@@ -61,13 +61,11 @@ table::CostRow unmeasured_row(const table::CostRow& like, const std::string& key
 
 std::map<std::string, VariantStatic> static_costs(const measure::MeasureOptions& mo, const std::vector<std::string>& globs,
                                                   const std::set<std::string>& exclude) {
-  compile::CompileOptions co;
-  co.targets = {variants::Target::vulkan};
+  compile::CompileOptions co{mo.scope};
+  co.scope.targets = {variants::Target::vulkan};
   co.globs = globs;
   co.exclude = exclude;
-  co.cache_dir = mo.cache_dir;
-  co.jobs = mo.jobs;
-  auto c = compile::compile_space(mo.manifest, co);
+  auto c = compile::compile_space(co);
   std::map<std::string, VariantStatic> out;
   // measure compiled the same programs already (from the cache): a failure here is not a template error.
   if (!c.ok()) throw std::runtime_error("sweep: static analysis: " + (c.diagnostics.empty() ? std::string("compile failed") : c.diagnostics.front()));

@@ -31,21 +31,6 @@ namespace aovar::sweep {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-trace::RowGpuRequest gpu_request(const measure::MeasureOptions& m, const trace::GpuEstimateOptions& gpu) {
-  trace::RowGpuRequest r;
-  r.costs = {gpu.families, gpu.frame, m.manifest, m.cache_dir, m.jobs};
-  r.trace = gpu.trace;
-  r.traffic.manifest = m.manifest;
-  r.traffic.cache_dir = m.cache_dir;
-  r.traffic.frame = gpu.frame;
-  r.traffic.window_share = gpu.window;
-  r.traffic.views_file = m.views_file;
-  r.traffic.radius = m.radius;
-  r.traffic.calibration = m.calibration.values;
-  r.traffic.threads = m.threads;
-  return r;
-}
-
 std::string scene_folder(const std::string& scene) {
   std::string out;
   if (scene.rfind("builtin:", 0) == 0) {
@@ -87,8 +72,7 @@ ScenePlans plan_scenes(const SweepOptions& o, SweepResult& res, const std::funct
       if (mo.views.empty())  // every view of the scene: the Pareto front per view and for the worst view
         for (const auto& v : sc.views) mo.views.push_back(v.name);
       if (o.prune_by_profile) {
-        mo.pruning = std::make_shared<const profile::ScenePruning>(
-            profile::prune_scene(measure::prune_options(mo), sc, measure::chosen_views(sc, mo.views), covered, say_for(i)));
+        mo.pruning = measure::prune_by_profile(mo, sc, covered, say_for(i));
         plans.pruning[mo.scene] = mo.pruning;
         res.profile_s += mo.pruning->seconds;
         res.profiles_reused += mo.pruning->reused;
@@ -131,7 +115,7 @@ std::vector<table::CostRow> predicted_rows(const SweepOptions& o, const std::vec
 json add_gpu_costs(const SweepOptions& o, std::vector<table::CostRow>& rows, const Progress& progress) {
   std::vector<table::CostRow*> pointers;
   for (auto& r : rows) pointers.push_back(&r);
-  return trace::add_gpu_costs(pointers, gpu_request(o.measure, o.gpu), [&](const std::string& line) {
+  return trace::add_gpu_costs(pointers, measure::gpu_request(o.measure, o.gpu), [&](const std::string& line) {
            if (progress) progress(line);
          }).to_json();
 }
@@ -141,8 +125,8 @@ table::SweepMeta table_meta(const SweepOptions& o, const SweepResult& res, std::
                             const json& dominated) {
   table::SweepMeta m;
   m.tool = "aovar sweep";
-  m.manifest = util::display_path(o.measure.manifest);
-  m.manifest_hash = util::hash_hex(util::read_file(o.measure.manifest).value_or(""));
+  m.manifest = util::display_path(o.measure.scope.manifest.path());
+  m.manifest_hash = o.measure.scope.manifest->hash;
   m.scenes = std::move(scenes);
   m.backends = o.measure.backends;
   m.size = fmt::format("{}x{}", o.measure.size.width, o.measure.size.height);
@@ -153,7 +137,7 @@ table::SweepMeta table_meta(const SweepOptions& o, const SweepResult& res, std::
   m.calibrated = !o.measure.calibration.values.empty();
   m.calibration = o.measure.calibration.source.file.empty() ? std::optional<table::CalibrationRef>()
                                                              : o.measure.calibration.source;
-  m.shard = fmt::format("{}/{}", o.shard_index + 1, o.shard_count);
+  m.shard = o.shard.label();
   m.cost_models = std::move(models);
   m.profile_prune = o.prune_by_profile;
   if (o.prune_by_profile) m.pruned = std::move(profile_pruned);
@@ -170,20 +154,18 @@ SweepResult run_sweep(const SweepOptions& options, const Progress& progress) {
   if (options.out.empty()) throw std::runtime_error("sweep: --out is required");
   if (options.scenes.empty()) throw std::runtime_error("sweep: give at least one --scene");
   util::remove_stale_temps(options.out);  // what a killed earlier run was writing
-  gpu::CostRequest gpu_request;  // only the families: checked before anything is measured
-  gpu_request.families = options.gpu.families;
-  gpu::check_request(gpu_request);
+  gpu::check_gpus(options.gpu.families);  // before anything is measured
   SweepResult res;
   SweepOptions o = options;  // a shard's plan chooses its variants
   std::optional<ShardPlan> shard_plan;
-  if (o.shard_count < 1 || o.shard_index < 0 || o.shard_index >= o.shard_count)
-    throw std::runtime_error(fmt::format("--shard {}/{}: use k/n with 1 <= k <= n", o.shard_index + 1, o.shard_count));
-  if (o.shard_count > 1) {
+  if (o.shard.count < 1 || o.shard.index < 0 || o.shard.index >= o.shard.count)
+    throw std::runtime_error(fmt::format("--shard {}/{}: use k/n with 1 <= k <= n", o.shard.index + 1, o.shard.count));
+  if (o.shard.count > 1) {
     if (progress) progress("planning the shards: static cost of the selected variants");
     shard_plan = plan_shards(o);
     o.measure.shard_keys = shard_plan->keys;
-    res.shard_balance = shard::balance_line(shard_plan->assignment, o.shard_index) + ", by " + shard_plan->costs_from;
-    if (progress) progress(fmt::format("note: shard {}/{}: {}", o.shard_index + 1, o.shard_count, res.shard_balance));
+    res.shard_balance = shard::balance_line(shard_plan->assignment, o.shard.index) + ", by " + shard_plan->costs_from;
+    if (progress) progress(fmt::format("note: shard {}/{}: {}", o.shard.index + 1, o.shard.count, res.shard_balance));
     write_sweep_manifest(o, *shard_plan, {}, false, 0);  // incomplete until the table is written
   }
   json dominated = json::array();

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "measure/measure.h"
+#include "shard/env.h"
 #include "sweep/cost_models.h"
 #include "table/table.h"
 #include "trace/row_traffic.h"
@@ -40,11 +41,9 @@ struct SweepOptions {
   bool prune_dominated = false;
   int prune_check = 2;
   // Shard k of n (0-based k; n > 1): the variants are split by cost (shard_plan.h, which sets
-  // measure.shard_keys), from the static cost or, with shard_times, an earlier cost_table.json's times;
-  // `shard_convention` says where k/n came from (shard::ShardSpec::convention), for OUT/shard.json.
-  int shard_index = 0, shard_count = 1;
+  // measure.shard_keys), from the static cost or, with shard_times, an earlier cost_table.json's times.
+  shard::ShardSpec shard;
   std::filesystem::path shard_times;
-  std::string shard_convention = "--shard";
 };
 
 struct SweepResult {
@@ -61,11 +60,6 @@ struct SweepResult {
 
 // Throws std::runtime_error (and the scene/manifest/backend errors) with one-line messages.
 SweepResult run_sweep(const SweepOptions& options, const std::function<void(const std::string&)>& progress = {});
-
-// The GPU estimate's request for rows measured with `m`: `gpu`'s families, frame and trace, and the
-// measurement's manifest, compile cache and jobs for the statistics, its views file, radius, calibration and
-// threads for the trace. sweep --gpu, ship and measure --gpu all send it (trace::add_gpu_costs).
-trace::RowGpuRequest gpu_request(const measure::MeasureOptions& m, const trace::GpuEstimateOptions& gpu);
 
 // OUT/measure/<this> for a scene name: builtin:atrium -> builtin_atrium, a file -> its stem plus a short
 // hash of the path (two sponza.obj in different folders stay apart).

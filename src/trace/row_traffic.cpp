@@ -11,7 +11,7 @@
 
 namespace aovar::trace {
 
-TrafficStats add_row_traffic(const std::vector<table::CostRow*>& rows, const RowTrafficRequest& request) {
+TrafficStats add_row_traffic(const std::vector<table::CostRow*>& rows, const RowGpuRequest& request) {
   TrafficStats total;
   std::set<std::string> keys;
   std::map<std::pair<std::string, std::string>, std::vector<table::CostRow*>> by_view;  // (scene, view) -> rows
@@ -22,11 +22,10 @@ TrafficStats add_row_traffic(const std::vector<table::CostRow*>& rows, const Row
     }
   if (keys.empty()) return total;
 
-  compile::CompileOptions co;
-  co.targets = {variants::Target::vulkan};
+  compile::CompileOptions co{request.scope};
+  co.scope.targets = {variants::Target::vulkan};
   co.globs.assign(keys.begin(), keys.end());
-  co.cache_dir = request.cache_dir;
-  const compile::CompiledSpace compiled = compile::compile_space(request.manifest, co);
+  const compile::CompiledSpace compiled = compile::compile_space(co);
   if (!compiled.ok())
     throw std::runtime_error("trace: the rows' variants do not compile: " + compiled.diagnostics.front());
   std::map<std::string, int> index;
@@ -37,12 +36,13 @@ TrafficStats add_row_traffic(const std::vector<table::CostRow*>& rows, const Row
 
   runner::RunnerOptions ro;
   ro.backend = render::backend_for(variants::Target::vulkan);  // trace builds run on the Vulkan target
-  ro.size = {request.frame.width, request.frame.height};
+  const gpu::Frame frame = request.gpu.frame;
+  ro.size = frame;
   ro.calibration = request.calibration;
-  ro.device.threads = request.threads;
+  ro.device.threads = request.scope.threads;
   runner::VariantRunner runner(compiled, ro);
   TraceOptions options;
-  options.window_share = request.window_share;
+  options.window_share = request.gpu.window;
   for (auto& [where, view_rows] : by_view) {
     scene::LoadOptions lo;
     lo.views_file = request.views_file;
@@ -55,8 +55,8 @@ TrafficStats add_row_traffic(const std::vector<table::CostRow*>& rows, const Row
       if (auto it = index.find(r->variant); it != index.end() && costs.emplace(r->variant, r->gpu).second)
         variants.push_back(it->second);
     const float radius = request.radius > 0 ? request.radius : scene.ao_radius;
-    const TrafficCache cache(request.cache_dir, view_context(scene, view, radius, request.frame, options));
-    const TrafficStats s = add_traffic(runner, variants, view, radius, loads, request.frame, costs, options, cache);
+    const TrafficCache cache(request.scope.cache_dir, view_context(scene, view, radius, frame, options));
+    const TrafficStats s = add_traffic(runner, variants, view, radius, loads, frame, costs, options, cache);
     for (table::CostRow* r : view_rows)
       if (auto it = costs.find(r->variant); it != costs.end()) r->gpu = it->second;
     total += s;
@@ -73,8 +73,9 @@ RowGpuResult add_gpu_costs(const std::vector<table::CostRow*>& rows, const RowGp
   RowGpuResult out;
   std::set<std::string> keys;
   for (const table::CostRow* r : rows) keys.insert(r->variant);
-  say(fmt::format("analysing {} variants on RADV's null device ({})", keys.size(), fmt::join(request.costs.families, ", ")));
-  gpu::KeyedCosts costs = gpu::costs_by_key(request.costs, keys);
+  const GpuEstimateOptions& gpu = request.gpu;
+  say(fmt::format("analysing {} variants on RADV's null device ({})", keys.size(), fmt::join(gpu.families, ", ")));
+  gpu::KeyedCosts costs = gpu::costs_by_key({request.scope, gpu.families, gpu.frame}, keys);
   for (table::CostRow* r : rows)
     if (auto it = costs.by_variant.find(r->variant); it != costs.by_variant.end()) r->gpu = it->second;
   for (const auto& e : costs.errors) say("note: --gpu " + e);
@@ -82,16 +83,15 @@ RowGpuResult add_gpu_costs(const std::vector<table::CostRow*>& rows, const RowGp
   out.mesa = costs.mesa;
   out.pipelines = costs.pipelines;
   out.seconds = costs.seconds;
-  if (request.trace) {
+  if (gpu.trace) {
     say(fmt::format("tracing {} variants' texel fetches on their views at {}x{} ({}) through each family's caches",
-                    keys.size(), request.traffic.frame.width, request.traffic.frame.height,
-                    render::backend_for(variants::Target::vulkan)));
-    out.traffic = add_row_traffic(rows, request.traffic);
+                    keys.size(), gpu.frame.width, gpu.frame.height, render::backend_for(variants::Target::vulkan)));
+    out.traffic = add_row_traffic(rows, request);
   }
-  out.families = request.costs.families;
-  out.frame = fmt::format("{}x{}", request.costs.frame.width, request.costs.frame.height);
-  out.traced = request.trace;
-  out.window_share = request.traffic.window_share;
+  out.families = gpu.families;
+  out.frame = fmt::format("{}x{}", gpu.frame.width, gpu.frame.height);
+  out.traced = gpu.trace;
+  out.window_share = gpu.window;
   return out;
 }
 

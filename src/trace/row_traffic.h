@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "compile/run_scope.h"
 #include "gpu/by_key.h"
 #include "render/plan.h"
 #include "table/table.h"
@@ -18,22 +19,7 @@
 
 namespace aovar::trace {
 
-struct RowTrafficRequest {
-  std::filesystem::path manifest, cache_dir;   // the rows' manifest; compile cache (empty: none)
-  gpu::Frame frame{1920, 1080};                 // the estimate's frame (the costs' own)
-  double window_share = 1.0;                    // TraceOptions::window_share
-  std::filesystem::path views_file;             // the scenes' views side file (as measured)
-  float radius = 0;                             // world units; 0 = each scene's default
-  std::map<std::string, render::ParamOverrides> calibration;  // as the rows were rendered
-  int threads = 2;
-};
-
-// Throws std::runtime_error (a scene or view that does not load, a variant that does not compile) or
-// render::BackendError (no Vulkan CPU device).
-TrafficStats add_row_traffic(const std::vector<table::CostRow*>& rows, const RowTrafficRequest& request);
-
-// What a user asks of the GPU estimate (--gpu, --gpu-size, --gpu-trace, --gpu-window); the orchestration
-// that estimates (sweep, ship, the measure command) turns it into a RowGpuRequest (sweep::gpu_request).
+// What a user asks of the GPU estimate (--gpu, --gpu-size, --gpu-trace, --gpu-window).
 struct GpuEstimateOptions {
   std::vector<std::string> families;  // empty: no estimate
   render::Extent frame{1920, 1080};
@@ -41,13 +27,23 @@ struct GpuEstimateOptions {
   double window = 0.5;                // share of each draw's width and height traced (a centred window)
 };
 
-// `measure --gpu` and `sweep --gpu`: each row's ISA statistics and roofline per family (gpu::costs_by_key),
-// then, unless `trace` is off, the traced estimate on its view. `say` gets the progress lines.
+// The estimate on rows: what is asked (`gpu`), in which run (`scope`: the rows' manifest, the cache root,
+// the rendering threads), and how the rows were rendered, so that a trace sees what was measured.
 struct RowGpuRequest {
-  gpu::CostRequest costs;
-  RowTrafficRequest traffic;
-  bool trace = true;
+  compile::RunScope scope;
+  GpuEstimateOptions gpu;
+  std::filesystem::path views_file;                           // the scenes' views side file (as measured)
+  float radius = 0;                                           // world units; 0 = each scene's default
+  std::map<std::string, render::ParamOverrides> calibration;  // as the rows were rendered
 };
+
+// The traced estimate on rows with GPU costs, at request.gpu's frame and window. Throws std::runtime_error
+// (a scene or view that does not load, a variant that does not compile) or render::BackendError (no
+// tracing backend).
+TrafficStats add_row_traffic(const std::vector<table::CostRow*>& rows, const RowGpuRequest& request);
+
+// `measure --gpu` and `sweep --gpu`: each row's ISA statistics and roofline per family (gpu::costs_by_key),
+// then, unless gpu.trace is off, the traced estimate on its view. `say` gets the progress lines.
 struct RowGpuResult {
   std::vector<std::string> errors;  // one line per family that failed (gpu::KeyedCosts::errors)
   std::string mesa;

@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
 #include "util/fs.h"
+#include "util/hash.h"
 #include "util/text.h"
 
 namespace aovar::variants {
@@ -441,11 +444,13 @@ Manifest parse_manifest(std::string_view text, const fs::path& path) {
   m.path = path;
   m.root = path.parent_path();
   m.text = std::string(text);
+  m.hash = util::hash_hex(m.text);
   Parser(m).parse(text);
   return m;
 }
 
 Manifest load_manifest(const fs::path& path) {
+  if (std::getenv("AOVAR_TRACE_MANIFEST_LOADS")) std::fprintf(stderr, "aovar: manifest loaded: %s\n", path.c_str());
   auto text = util::read_file(path);
   if (!text) throw ManifestError(util::display_path(path), {0, 0}, "cannot read the manifest (check the path)");
   return parse_manifest(*text, path);

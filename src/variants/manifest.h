@@ -105,6 +105,7 @@ struct Manifest {
   std::filesystem::path path;  // as given
   std::filesystem::path root;  // templates are resolved relative to this folder (the manifest's)
   std::string text;            // the manifest bytes
+  std::string hash;            // util::hash_hex(text): what caches and cost tables key the manifest by
   std::string name;
   std::vector<Target> targets;
   std::array<std::vector<AxisValue>, kAxisCount> values;
@@ -134,6 +135,8 @@ struct Manifest {
   std::string error_prefix() const;  // display path of the manifest
 };
 
+// Reads and parses the manifest. A command parses it once (compile::RunScope holds the result); with
+// AOVAR_TRACE_MANIFEST_LOADS set each call says so on stderr, for the test that counts them.
 Manifest load_manifest(const std::filesystem::path& path);
 Manifest parse_manifest(std::string_view text, const std::filesystem::path& path);
 

@@ -9,6 +9,7 @@
 
 #include "analyze/analyze.h"
 #include "compile/generate.h"
+#include "test_support.h"
 #include "compile/glslang_compiler.h"
 
 using namespace aovar;
@@ -148,13 +149,13 @@ TEST(Analyze, BytesPerPixel) {
 // The default manifest's AO programs at N = 8 and 16 against shader_src/README.md's fetch column.
 TEST(Analyze, AoMethodFetchesMatchDocumentedCounts) {
   compile::CompileOptions o;
-  o.targets = {variants::Target::vulkan};
+  o.scope.targets = {variants::Target::vulkan};
   for (const char* s : {"08", "16"}) {
     o.globs.push_back(fmt::format("*-s{}-p0-nrgb8-zdep-rst-d32-bsep-x1-hp", s));
     o.globs.push_back(fmt::format("[cuv]*-s{}-p0-ndep-zdep-_r-d32-bsep-x1-hp", s));
     o.globs.push_back(fmt::format("sao-s{}-p0-ndep-zdep-rst-d32-bsep-x1-hp", s));
   }
-  auto c = compile::compile_space(std::filesystem::path(AOVAR_SOURCE_DIR) / "shader_src/aovar.toml", o);
+  auto c = compile::compile_space(aovar::test::on_manifest(o, std::filesystem::path(AOVAR_SOURCE_DIR) / "shader_src/aovar.toml"));
   ASSERT_TRUE(c.ok());
   int ao_pass = -1;
   for (std::size_t p = 0; p < c.manifest.passes.size(); ++p)

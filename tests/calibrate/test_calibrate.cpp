@@ -52,14 +52,14 @@ TEST(Calibrate, MinimizerFindsABowlsMinimumAndStaysInBounds) {
 
 calibrate::CalibrateOptions small_options(const TempDir& dir) {
   calibrate::CalibrateOptions o;
-  o.manifest = source_dir() / "shader_src" / "aovar.toml";
+  o.scope.manifest = source_dir() / "shader_src" / "aovar.toml";
   o.algorithms = {"alchemy"};
   o.size = {96, 54};
   o.rays = 64;
   o.views.training = {{"builtin:stairs", "overview"}, {"builtin:cornell", "overview"}};
   o.views.holdout = {{"builtin:stairs", "closeup"}};
   o.budget.max_evaluations = 16;
-  o.reference_cache = dir / "cache";
+  o.scope.cache_dir = dir / "cache";
   return o;
 }
 
@@ -84,7 +84,7 @@ TEST(Calibrate, FittingLowersTrainingErrorWithinTheManifestsRanges) {
 
   // The file round-trips the fitted values, and a broken file is one line naming it.
   calibrate::write_calibration(dir / "cal.json", cal);
-  const auto manifest = variants::load_manifest(small_options(dir).manifest);
+  const auto manifest = small_options(dir).scope.manifest.get();
   auto loaded = calibrate::load_calibration(dir / "cal.json", manifest);
   EXPECT_EQ(loaded.at("alchemy"), f.fitted);
   util::write_atomic(dir / "bad.json", "{\"algorithms\": 3}");
@@ -100,7 +100,7 @@ TEST(Calibrate, FittingLowersTrainingErrorWithinTheManifestsRanges) {
   // measure --reference with the calibration: the row carries `error`, and the calibrated values beat the
   // defaults on a training view.
   measure::MeasureOptions mo;
-  mo.manifest = small_options(dir).manifest;
+  mo.scope.manifest = small_options(dir).scope.manifest;
   mo.scene = "builtin:stairs";
   mo.globs = {f.variant};
   mo.baseline = f.variant;
@@ -108,7 +108,7 @@ TEST(Calibrate, FittingLowersTrainingErrorWithinTheManifestsRanges) {
   mo.timing.reps = 1;
   mo.truth.enabled = true;
   mo.truth.rays = 64;
-  mo.truth.cache = dir / "cache";
+  mo.scope.cache_dir = dir / "cache";
   mo.out = dir / "default";
   auto plain = measure::run_measure(mo);
   mo.calibration.values = loaded;
@@ -235,13 +235,13 @@ TEST(Calibrate, OnAScenesTrainingViewsReportsTheHeldOutView) {
   ASSERT_TRUE(doc.at("variants").contains(f.variant));
   EXPECT_EQ(doc.at("variants").at(f.variant).at("search").at("evaluations").get<int>(), f.search.evaluations);
   EXPECT_EQ(doc.at("holdout").at(0).at("view"), "background");
-  const auto manifest = variants::load_manifest(o.manifest);
+  const auto manifest = o.scope.manifest.get();
   auto loaded = calibrate::load_calibration(dir / "cal.json", manifest);
   loaded["alchemy"] = {{"ao.intensity", 0.25}};
   compile::CompileOptions co;
-  co.targets = {variants::Target::vulkan};
+  co.scope.targets = {variants::Target::vulkan};
   co.globs = {f.variant, "alchemy-s16-p0-nrgb8-zdep-rst-d32-bsep-x1-hp"};
-  auto c = compile::compile_space(o.manifest, co);
+  auto c = compile::compile_space(aovar::test::on_manifest(co, o.scope.manifest.path()));
   ASSERT_TRUE(c.ok());
   runner::RunnerOptions ro;
   ro.calibration = loaded;

@@ -16,8 +16,8 @@ using test::TempDir;
 compile::CompileOptions options(std::vector<variants::Target> targets, const fs::path& cache = {},
                                 std::vector<std::string> globs = {}) {
   compile::CompileOptions o;
-  o.targets = std::move(targets);
-  o.cache_dir = cache;
+  o.scope.targets = std::move(targets);
+  o.scope.cache_dir = cache;
   o.globs = std::move(globs);
   return o;
 }
@@ -31,8 +31,7 @@ int program_index(const compile::CompiledSpace& c, const std::string& key) {
 }
 
 TEST(Generate, ProgramsWithIdenticalSpirvAreDeduplicated) {
-  auto c = compile::compile_space(default_manifest(),
-                                  options({variants::Target::vulkan}, {}, {"alchemy-s08-p0-nrg8-zpos-*"}));
+  auto c = compile::compile_space(aovar::test::on_manifest(options({variants::Target::vulkan}, {}, {"alchemy-s08-p0-nrg8-zpos-*"}), default_manifest()));
   ASSERT_TRUE(c.ok()) << (c.diagnostics.empty() ? "" : c.diagnostics[0]);
   // With a position buffer the reconstruction method is dead code: both programs compile to the same SPIR-V.
   int rip = program_index(c, "alchemy-s08-p0-nrg8-zpos-rip-hp.frag");
@@ -45,7 +44,7 @@ TEST(Generate, ProgramsWithIdenticalSpirvAreDeduplicated) {
   // ...and the variants that differ only there collapse in the dedup count.
   EXPECT_LT(c.dedup, c.space.variants.size());
   // Different sample counts never dedup.
-  auto d = compile::compile_space(default_manifest(), options({variants::Target::vulkan}, {}, {"alchemy-s0[48]-p0-nrg8-zdep-rst-*-hp"}));
+  auto d = compile::compile_space(aovar::test::on_manifest(options({variants::Target::vulkan}, {}, {"alchemy-s0[48]-p0-nrg8-zdep-rst-*-hp"}), default_manifest()));
   int s4 = program_index(d, "alchemy-s04-p0-nrg8-zdep-rst-hp.frag");
   int s8 = program_index(d, "alchemy-s08-p0-nrg8-zdep-rst-hp.frag");
   EXPECT_EQ(d.builds[0][s4].same_as, -1);
@@ -64,8 +63,8 @@ TEST(Generate, BrokenTemplateNamesTemplateLineKeyAndTarget) {
   int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + at, '\n'));
   text.replace(at, 16, "params.intensityy");
   util::write_atomic(alchemy, text);
-  auto c = compile::compile_space(manifest, options({variants::Target::vulkan, variants::Target::gles30}, {},
-                                                    {"alchemy-s08-p0-nrg8-zdep-r*"}));
+  auto c = compile::compile_space(aovar::test::on_manifest(options({variants::Target::vulkan, variants::Target::gles30}, {},
+                                                    {"alchemy-s08-p0-nrg8-zdep-r*"}), manifest));
   EXPECT_FALSE(c.ok());
   bool found_vulkan = false, found_gles = false;
   std::string expected = "ao/alchemy.glsl:" + std::to_string(line) + ": error: ";
@@ -83,7 +82,7 @@ TEST(Generate, BrokenIncludeNamesTheIncludeLine) {
   TempDir dir;
   fs::path manifest = test::copy_shader_src(dir);
   test::append_line(dir / "shader_src/common/kernels.glsl", "float broken_here = undeclared_thing;");
-  auto c = compile::compile_space(manifest, options({variants::Target::gl45}, {}, {"alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp"}));
+  auto c = compile::compile_space(aovar::test::on_manifest(options({variants::Target::gl45}, {}, {"alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp"}), manifest));
   EXPECT_FALSE(c.ok());
   std::string text = util::read_file(dir / "shader_src/common/kernels.glsl").value();
   int last_line = static_cast<int>(std::count(text.begin(), text.end(), '\n'));
@@ -100,14 +99,14 @@ TEST(Generate, NoOpRegenerateRewritesNothing) {
   out.out = dir / "out";
   out.depfile = dir / "out.d";
   auto opts = options({}, dir / "cache", {"alchemy-s0[48]-*"});
-  auto first = compile::compile_space(default_manifest(), opts);
+  auto first = compile::compile_space(aovar::test::on_manifest(opts, default_manifest()));
   ASSERT_TRUE(first.ok());
   auto r1 = compile::write_outputs(first, out);
   EXPECT_GT(r1.written, 0);
   std::map<fs::path, fs::file_time_type> times;
   for (const auto& e : fs::recursive_directory_iterator(out.out)) times[e.path()] = fs::last_write_time(e.path());
 
-  auto second = compile::compile_space(default_manifest(), opts);
+  auto second = compile::compile_space(aovar::test::on_manifest(opts, default_manifest()));
   for (const auto& s : second.stats) EXPECT_EQ(s.compiled, 0) << "everything comes from the cache";
   auto r2 = compile::write_outputs(second, out);
   EXPECT_EQ(r2.written, 0);
@@ -123,7 +122,7 @@ TEST(Generate, DepfileListsManifestTemplatesAndIncludes) {
   out.emit = compile::emit_index;
   out.depfile = dir / "x.d";
   out.depfile_target = dir / "x.stamp";
-  auto c = compile::compile_space(default_manifest(), options({variants::Target::vulkan}, dir / "cache"));
+  auto c = compile::compile_space(aovar::test::on_manifest(options({variants::Target::vulkan}, dir / "cache"), default_manifest()));
   ASSERT_TRUE(c.ok());
   compile::write_outputs(c, out);
   std::string dep = util::read_file(dir / "x.d").value();
@@ -138,7 +137,7 @@ TEST(Generate, ChangingOneIncludeRecompilesExactlyTheProgramsThatReadIt) {
   TempDir dir;
   fs::path manifest = test::copy_shader_src(dir);
   auto opts = options({variants::Target::vulkan, variants::Target::gles30}, dir / "cache");
-  auto before = compile::compile_space(manifest, opts);
+  auto before = compile::compile_space(aovar::test::on_manifest(opts, manifest));
   ASSERT_TRUE(before.ok());
   fs::path include = (dir / "shader_src/common/kernels.glsl").lexically_normal();
   int file = static_cast<int>(std::find(before.files.begin(), before.files.end(), include) - before.files.begin());
@@ -153,7 +152,7 @@ TEST(Generate, ChangingOneIncludeRecompilesExactlyTheProgramsThatReadIt) {
   ASSERT_LT(readers, total);
 
   test::append_line(include, "// a comment changes the bytes, not the code");
-  auto after = compile::compile_space(manifest, opts);
+  auto after = compile::compile_space(aovar::test::on_manifest(opts, manifest));
   ASSERT_TRUE(after.ok());
   int compiled = 0;
   for (std::size_t t = 0; t < after.builds.size(); ++t)
@@ -170,7 +169,7 @@ TEST(Generate, EveryParamIsCheckedAgainstTheTemplate) {
   TempDir dir;
   fs::path manifest = test::copy_shader_src(dir);
   test::replace_in_file(manifest, "params.contrast ", "params.contrasty ");
-  auto c = compile::compile_space(manifest, options({variants::Target::vulkan}, {}, {"alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp"}));
+  auto c = compile::compile_space(aovar::test::on_manifest(options({variants::Target::vulkan}, {}, {"alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp"}), manifest));
   EXPECT_FALSE(c.ok());
   bool found = false;
   for (const auto& d : c.diagnostics) found |= d.find("parameter 'contrasty' is not a float member") != std::string::npos;
@@ -178,7 +177,7 @@ TEST(Generate, EveryParamIsCheckedAgainstTheTemplate) {
 }
 
 TEST(Generate, CppEmbeddingHasTheLookupApi) {
-  auto c = compile::compile_space(default_manifest(), options({variants::Target::vulkan}, {}, {"alchemy-s04-p0-*"}));
+  auto c = compile::compile_space(aovar::test::on_manifest(options({variants::Target::vulkan}, {}, {"alchemy-s04-p0-*"}), default_manifest()));
   ASSERT_TRUE(c.ok());
   auto [header, source] = compile::cpp_embedding(c, "my_shaders");
   EXPECT_NE(header.find("#include <cstdint>"), std::string::npos);

@@ -20,24 +20,25 @@ class UpToDate : public ::testing::Test {
  protected:
   void SetUp() override {
     manifest = test::copy_shader_src(dir);
-    co.targets = {variants::Target::vulkan, variants::Target::gles30};
+    co.scope.manifest = manifest;
+    co.scope.targets = {variants::Target::vulkan, variants::Target::gles30};
     co.globs = {"alchemy-s04-p0-nrg8-zpos-*"};
-    co.cache_dir = dir / "cache";
+    co.scope.cache_dir = dir / "cache";
     oo.out = dir / "out";
     run(tool);
   }
 
   // A full generate as the CLI does it: plan, compile, write, record.
   void run(const std::string& with_tool) {
-    auto c = compile::compile_space(manifest, co);
+    auto c = compile::compile_space(co);
     ASSERT_TRUE(c.ok()) << (c.diagnostics.empty() ? "" : c.diagnostics[0]);
     auto r = compile::write_outputs(c, oo);
-    compile::record_run(compile::run_settings(with_tool, manifest, co, oo), c, oo, compile::summary_table(c), r.files);
+    compile::record_run(compile::run_settings(with_tool, co, oo), c, oo, compile::summary_table(c), r.files);
   }
 
   bool current() const { return current_with(tool, co, oo); }
   bool current_with(const std::string& t, const compile::CompileOptions& c, const compile::OutputOptions& o) const {
-    return compile::recorded_if_current(compile::run_settings(t, manifest, c, o), o).has_value();
+    return compile::recorded_if_current(compile::run_settings(t, c, o), o).has_value();
   }
 
   std::map<fs::path, fs::file_time_type> mtimes() const {
@@ -56,7 +57,7 @@ class UpToDate : public ::testing::Test {
 TEST_F(UpToDate, NothingChangedIsCurrentAndTouchesNoFile) {
   auto before = mtimes();
   ASSERT_GT(before.size(), 3u);
-  auto recorded = compile::recorded_if_current(compile::run_settings(tool, manifest, co, oo), oo);
+  auto recorded = compile::recorded_if_current(compile::run_settings(tool, co, oo), oo);
   ASSERT_TRUE(recorded.has_value());
   EXPECT_NE(recorded->summary.find("space "), std::string::npos) << recorded->summary;
   EXPECT_EQ(recorded->manifest, fs::absolute(manifest).lexically_normal());
@@ -80,13 +81,13 @@ TEST_F(UpToDate, EditingTheManifestTemplateOrIncludeRegenerates) {
 TEST_F(UpToDate, AFileAppearingWhereAnIncludeWasLookedForRegenerates) {
   // alchemy.glsl's `#include "common/..."` is looked for beside it first (ao/common/...), then at the root.
   fs::path shadow = dir / "shader_src/ao/common/kernels.glsl";
-  auto planned = compile::plan_space(manifest, co);
+  auto planned = compile::plan_space(aovar::test::on_manifest(co, manifest));
   ASSERT_NE(std::find(planned.files_missing.begin(), planned.files_missing.end(), shadow.lexically_normal()),
             planned.files_missing.end());
   fs::create_directories(shadow.parent_path());
   fs::copy_file(dir / "shader_src/common/kernels.glsl", shadow);
   EXPECT_FALSE(current());
-  auto after = compile::plan_space(manifest, co);  // and the expansion really reads it now
+  auto after = compile::plan_space(aovar::test::on_manifest(co, manifest));  // and the expansion really reads it now
   EXPECT_NE(std::find(after.files.begin(), after.files.end(), shadow.lexically_normal()), after.files.end());
 }
 
@@ -96,7 +97,7 @@ TEST_F(UpToDate, ChangingAnOptionOrTheToolRegenerates) {
   werror.werror = true;
   EXPECT_FALSE(current_with(tool, werror, oo));
   auto targets = co;
-  targets.targets = {variants::Target::vulkan};
+  targets.scope.targets = {variants::Target::vulkan};
   EXPECT_FALSE(current_with(tool, targets, oo));
   auto globs = co;
   globs.globs = {"alchemy-s04-p0-nrg8-*"};
@@ -109,8 +110,8 @@ TEST_F(UpToDate, ChangingAnOptionOrTheToolRegenerates) {
   EXPECT_FALSE(current_with(tool, co, ns));
   // What does not change an output does not count: threads, the cache, the depfile, the stamp.
   auto other = co;
-  other.jobs = 1;
-  other.cache_dir = dir / "another-cache";
+  other.scope.jobs = 1;
+  other.scope.cache_dir = dir / "another-cache";
   auto files = oo;
   files.depfile = dir / "x.d";
   files.stamp = dir / "x.stamp";
@@ -129,11 +130,11 @@ TEST_F(UpToDate, ATouchedOrMissingOutputRegenerates) {
 
 TEST_F(UpToDate, AnEditDuringTheRunIsSeenNextTime) {
   // The state records the hash of what the run expanded, not of what the file holds when it is recorded.
-  auto c = compile::compile_space(manifest, co);
+  auto c = compile::compile_space(co);
   ASSERT_TRUE(c.ok());
   test::append_line(dir / "shader_src/common/kernels.glsl", "// edited while compiling");
   auto r = compile::write_outputs(c, oo);
-  compile::record_run(compile::run_settings(tool, manifest, co, oo), c, oo, compile::summary_table(c), r.files);
+  compile::record_run(compile::run_settings(tool, co, oo), c, oo, compile::summary_table(c), r.files);
   EXPECT_FALSE(current());
 }
 

@@ -24,7 +24,7 @@ using measure::Stop;
 TEST(Measure, WritesJsonAndImagesAndReusesUnchangedRows) {
   TempDir dir;
   measure::MeasureOptions o;
-  o.manifest = source_dir() / "shader_src" / "aovar.toml";
+  o.scope.manifest = source_dir() / "shader_src" / "aovar.toml";
   o.scene = "builtin:spheres";
   o.globs = {"alchemy-s0[48]-p0-nrg8-zdep-rst-d16-bsep-x1-hp"};
   o.size = {160, 90};
@@ -112,14 +112,14 @@ constexpr const char* kFull = "alchemy-s16-p0-nrgb8-zdep-rst-d32-bsep-x1-hp";
 constexpr const char* kHalf = "alchemy-s16-p1-nrgb8-zdep-rst-d32-bsep-x1-hp";
 measure::MeasureOptions stairs_full_and_half(const TempDir& dir) {
   measure::MeasureOptions mo;
-  mo.manifest = source_dir() / "shader_src" / "aovar.toml";
+  mo.scope.manifest = source_dir() / "shader_src" / "aovar.toml";
   mo.scene = "builtin:stairs";
   mo.globs = {kFull, kHalf};
   mo.baseline = kFull;
   mo.size = {96, 54};
   mo.truth.enabled = true;
   mo.truth.rays = 64;
-  mo.truth.cache = dir / "cache";
+  mo.scope.cache_dir = dir / "cache";
   return mo;
 }
 

@@ -98,7 +98,7 @@ TEST(Reuse, EachRenderSettingAndBackendReMeasures) {
   EXPECT_EQ(measured(measure::run_measure(o)), all);
   o.size = {64, 40};
   EXPECT_EQ(measured(measure::run_measure(o)), all) << "size";
-  o.threads = 1;
+  o.scope.threads = 1;
   EXPECT_EQ(measured(measure::run_measure(o)), all) << "threads";
   o.timing.reps = 2;
   EXPECT_EQ(measured(measure::run_measure(o)), all) << "reps";
@@ -117,7 +117,7 @@ TEST(Reuse, EachRenderSettingAndBackendReMeasures) {
 TEST(Reuse, ProgramAndSceneContentReMeasure) {
   TempDir dir;
   auto o = tiny(dir);
-  o.manifest = copy_shader_src(dir);
+  o.scope.manifest = copy_shader_src(dir);
   EXPECT_EQ(measured(measure::run_measure(o)), rows({kBase, kAlchemy8, kGtao}, {"overview"}));
   // A template's bytes change gtao's programs: its row, and the baseline timed with it.
   append_line(dir / "shader_src" / "ao" / "gtao.glsl", "// changes the program hash, not the code");

@@ -24,7 +24,7 @@ const fs::path kManifest = fs::path(AOVAR_SOURCE_DIR) / "shader_src" / "aovar.to
 
 profile::Profile profile_of(const std::string& scene, const fs::path& manifest = kManifest) {
   profile::Options o;
-  o.manifest = manifest;
+  o.scope.manifest = manifest;
   o.scene = scene;
   o.size = {320, 180};
   o.measure_flicker = false;
@@ -229,7 +229,7 @@ TEST(Profile, BadRendererTableIsAOneLineErrorWithItsLine) {
 
 TEST(Profile, ProgressiveFlickerIsMeasuredAlongMovingPaths) {
   profile::Options o;
-  o.manifest = kManifest;
+  o.scope.manifest = kManifest;
   o.scene = "builtin:atrium";
   o.size = {160, 90};
   auto p = profile::profile_scene(o);

@@ -14,6 +14,7 @@
 #include "render/plan.h"
 #include "render_support.h"
 #include "scene/scene.h"
+#include "test_support.h"
 
 namespace aovar::render {
 namespace {
@@ -35,9 +36,9 @@ FrameSetup frame_of(const scene::View& view, int frame, float radius = test::kBo
 // (GL_INVALID_OPERATION) and lavapipe silently took an invalid image.
 TEST(Osmesa, SaoPyramidFitsATinyTarget) {
   compile::CompileOptions o;
-  o.targets = {variants::Target::gl45};
+  o.scope.targets = {variants::Target::gl45};
   o.globs = {"sao-s12-p1-ndep-zdep-rst-d32-bbil-x4-hp"};
-  auto c = compile::compile_space(std::filesystem::path(AOVAR_SOURCE_DIR) / "shader_src" / "aovar.toml", o);
+  auto c = compile::compile_space(aovar::test::on_manifest(o, std::filesystem::path(AOVAR_SOURCE_DIR) / "shader_src" / "aovar.toml"));
   ASSERT_TRUE(c.ok() && c.space.variants.size() == 1u);
   const PipelinePlan plan = plan_pipeline(c, 0, variants::Target::gl45);
   auto zmip = [](const PipelinePlan& p) {

@@ -12,9 +12,9 @@ namespace {
 
 TEST(Plan, SingleFramePlanReadsThisFramesHalfTwice) {
   compile::CompileOptions co;
-  co.targets = {variants::Target::vulkan};
+  co.scope.targets = {variants::Target::vulkan};
   co.globs = {"alchemy-s16-p[01]-nrgb8-zdep-rst-d32-bsep-x1-hp"};
-  auto c = compile::compile_space(source_dir() / "shader_src" / "aovar.toml", co);
+  auto c = compile::compile_space(aovar::test::on_manifest(co, source_dir() / "shader_src" / "aovar.toml"));
   ASSERT_TRUE(c.ok());
   for (std::size_t v = 0; v < c.space.variants.size(); ++v) {
     auto plan = render::plan_pipeline(c, static_cast<int>(v), variants::Target::vulkan);

@@ -89,7 +89,7 @@ RC_GTEST_PROP(StressRandom, ShippedVariantsStayFiniteAndInRange, (const std::vec
   std::vector<Config> configs(drawn.begin(), drawn.begin() + std::min<std::size_t>(drawn.size(), 4));
   aovar::stress::Options o;
   const char* manifest = std::getenv("AOVAR_STRESS_MANIFEST");
-  o.manifest = manifest ? std::filesystem::path(manifest) : std::filesystem::path(AOVAR_SOURCE_DIR) / "shader_src" / "aovar.toml";
+  o.scope.manifest = manifest ? std::filesystem::path(manifest) : std::filesystem::path(AOVAR_SOURCE_DIR) / "shader_src" / "aovar.toml";
   o.shipped_only = true;
   o.size = {48, 27};
   o.reference_rays = 8;

@@ -46,24 +46,24 @@ void expect_readback_pattern(const image::FloatImage& img, int width, int height
 measure::MeasureOptions tiny_measure(const std::filesystem::path& dir, std::vector<std::string> globs,
                                      const std::string& baseline) {
   measure::MeasureOptions o;
-  o.manifest = source_dir() / "shader_src" / "aovar.toml";
+  o.scope.manifest = source_dir() / "shader_src" / "aovar.toml";
   o.scene = "builtin:stairs";
   o.globs = std::move(globs);
   o.baseline = baseline;
   o.size = {64, 36};
   o.timing.reps = 1;
   o.timing.warmup = 0;
-  o.cache_dir = o.truth.cache = dir / "cache";
+  o.scope.cache_dir = dir / "cache";
   o.out = dir / "m";
   return o;
 }
 
 compile::CompiledSpace compile_variants(const std::vector<std::string>& keys, bool with_gles) {
   compile::CompileOptions o;
-  o.targets = {variants::Target::vulkan, variants::Target::gl45};
-  if (with_gles) o.targets.push_back(variants::Target::gles30);
+  o.scope.targets = {variants::Target::vulkan, variants::Target::gl45};
+  if (with_gles) o.scope.targets.push_back(variants::Target::gles30);
   o.globs = keys;
-  auto c = compile::compile_space(source_dir() / "shader_src" / "aovar.toml", o);
+  auto c = compile::compile_space(aovar::test::on_manifest(o, source_dir() / "shader_src" / "aovar.toml"));
   if (!c.ok()) throw std::runtime_error("compile failed: " + (c.diagnostics.empty() ? "" : c.diagnostics[0]));
   return c;
 }

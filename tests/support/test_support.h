@@ -28,6 +28,12 @@ class TempDir {
 };
 
 std::filesystem::path source_dir();                 // the repository root
+// `options` (compile::CompileOptions, measure::MeasureOptions, ...) with its run scope's manifest set.
+template <class Options>
+Options on_manifest(Options options, const std::filesystem::path& manifest) {
+  options.scope.manifest = manifest;
+  return options;
+}
 std::filesystem::path copy_shader_src(const TempDir& dir);  // copy of shader_src/, returns its manifest
 void append_line(const std::filesystem::path& file, const std::string& line);
 void write_text(const std::filesystem::path& file, const std::string& text);  // its folders made; not atomic

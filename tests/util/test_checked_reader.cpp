@@ -65,7 +65,7 @@ TEST(CheckedReader, RefusesAFileOverTheLimitBeforeReadingIt) {
 
 compile::CompileOptions one_variant() {
   compile::CompileOptions o;
-  o.targets = {variants::Target::vulkan};
+  o.scope.targets = {variants::Target::vulkan};
   o.globs = {"alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp"};
   return o;
 }
@@ -84,7 +84,7 @@ TEST(CheckedReader, TemplateAndIncludeThatAreNotFilesNameTheirLine) {
       {"common/fifo.glsl", "common/fifo.glsl: it is a FIFO"}};
   for (const auto& [target, why] : includes) {
     util::write_atomic(alchemy, original + "#include \"" + target + "\"\n");
-    const std::string e = test::thrown_message([&] { compile::plan_space(manifest, one_variant()); });
+    const std::string e = test::thrown_message([&] { compile::plan_space(aovar::test::on_manifest(one_variant(), manifest)); });
     EXPECT_TRUE(test::is_one_line(e)) << target << ": " << e;
     EXPECT_TRUE(test::has_text(e, "alchemy.glsl:" + std::to_string(last) + ": error: #include \"" + target + "\" names "))
         << e;
@@ -92,7 +92,7 @@ TEST(CheckedReader, TemplateAndIncludeThatAreNotFilesNameTheirLine) {
   }
   util::write_atomic(alchemy, original);
   test::replace_in_file(manifest, "template = \"ao/{depth_mip}/{algorithm}.glsl\"", "template = \"/dev/zero\"");
-  const std::string e = test::thrown_message([&] { compile::plan_space(manifest, one_variant()); });
+  const std::string e = test::thrown_message([&] { compile::plan_space(aovar::test::on_manifest(one_variant(), manifest)); });
   EXPECT_TRUE(test::has_text(e, "aovar.toml:")) << e;
   EXPECT_TRUE(test::has_text(e, "error: template '/dev/zero' (/dev/zero): it is a character device")) << e;
 }
