@@ -21,7 +21,7 @@ ExitCode run_analyze_gpu(const GpuAnalyzeArgs& a) {
   const auto lock = lock_output(a.out);
   gpu::GpuOptions options;
   options.families = gpu::parse_families(a.families);
-  options.cache_dir = a.common.cache();
+  options.scope = a.common.scope();
   bool amd = false, gl = false;
   for (const std::string& name : options.families) (gpu::gl_chip(name) ? gl : amd) = true;
   if (amd) options.icd = gpu::find_radeon_icd();  // before compiling: a missing driver is the first thing to say

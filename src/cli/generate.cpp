@@ -80,7 +80,7 @@ ExitCode generate(const CommonOptions& common, const compile::OutputOptions& out
   }
   compile::build_programs(c, options);
   if (!report_diagnostics(c)) return ExitCode::error;  // the diagnostics are printed
-  auto r = compile::write_outputs(c, out);
+  auto r = compile::write_outputs(c, out, options.scope.jobs);
   if (out.check) {
     std::cerr << compile::stale_text(r, out.out);
     if (!r.changed.empty()) return ExitCode::check_failed;
@@ -99,7 +99,6 @@ ExitCode generate(const CommonOptions& common, const compile::OutputOptions& out
 ExitCode run_generate(GenerateArgs& a) {
   a.out.out = a.out_dir;
   a.out.emit = parse_emit(a.emit);
-  a.out.jobs = a.common.jobs;
   if (!a.depfile.empty()) a.out.depfile = a.depfile;
   if (!a.depfile_target.empty()) a.out.depfile_target = a.depfile_target;
   if (!a.stamp.empty()) a.out.stamp = a.stamp;

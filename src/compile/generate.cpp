@@ -255,7 +255,7 @@ void check_cpp_namespace(const std::string& ns) {
 }
 }  // namespace
 
-OutputReport write_outputs(const CompiledSpace& c, const OutputOptions& o) {
+OutputReport write_outputs(const CompiledSpace& c, const OutputOptions& o, int jobs) {
   if (!o.check) {  // what a killed earlier run was writing, in the folders generate writes (not the user's tree)
     util::remove_stale_temps(o.out, false);
     for (variants::Target t : c.targets) util::remove_stale_temps(o.out / std::string(variants::target_name(t)), false);
@@ -293,7 +293,7 @@ OutputReport write_outputs(const CompiledSpace& c, const OutputOptions& o) {
   }
   enum Outcome : char { unchanged, written, differs, missing };
   std::vector<Outcome> outcome(entries.size(), unchanged);
-  util::run_parallel(entries.size(), o.jobs, [&](std::size_t i) {
+  util::run_parallel(entries.size(), jobs, [&](std::size_t i) {
     const auto& [path, content] = *entries[i];
     if (o.check) {
       auto old = util::read_file(path);

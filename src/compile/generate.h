@@ -80,7 +80,6 @@ struct OutputOptions {
   std::optional<std::filesystem::path> depfile_target;  // default: <out>/variants.json
   std::optional<std::filesystem::path> stamp;
   bool check = false;  // compare only: write nothing, list what would change
-  int jobs = 0;        // threads writing the files (0 = hardware threads)
   // From a cost table (generate --from-table): the fronts the C++ embedding's pick() looks along; empty:
   // the embedding has no pick table.
   std::vector<PickFront> pick_fronts;
@@ -92,7 +91,8 @@ struct OutputReport {
   std::vector<std::filesystem::path> files;  // every output of this run
 };
 
-OutputReport write_outputs(const CompiledSpace& compiled, const OutputOptions& options);
+// `jobs`: threads writing the files (0: the hardware threads; the run scope's jobs).
+OutputReport write_outputs(const CompiledSpace& compiled, const OutputOptions& options, int jobs = 0);
 // The depfile (the manifest and every template and include read) and the stamp: write_outputs calls it, a
 // no-op run (compile/up_to_date.h) calls it alone with the recorded inputs.
 void finish_outputs(const std::filesystem::path& manifest, const std::vector<std::filesystem::path>& files,

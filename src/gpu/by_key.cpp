@@ -51,7 +51,7 @@ KeyedCosts costs_by_key(const CostRequest& request, const std::set<std::string>&
     if (keys.count(compiled.space.variants[v].key)) selected.push_back(static_cast<int>(v));
   GpuOptions options;
   options.families = request.families;
-  options.cache_dir = request.scope.cache_dir;
+  options.scope = request.scope;
   if (any_amd(request.families)) options.icd = find_radeon_icd();
   const GpuAnalysis analysis = analyze_gpu(compiled, selected, options);
   out.by_variant = costs_of(analysis, variant_loads(compiled, selected), request.frame,

@@ -207,7 +207,7 @@ GpuAnalysis analyze_gpu(const compile::CompiledSpace& compiled, const std::vecto
     }
   }
   GlChipsAnalysis gl_stats;
-  if (!gl.empty()) gl_stats = analyze_gl_chips(compiled, variants, gl, options.cache_dir);  // checks first
+  if (!gl.empty()) gl_stats = analyze_gl_chips(compiled, variants, gl, options.scope.cache_dir);  // checks first
   GpuAnalysis a;
   if (!amd.empty()) {
     const Work work = plan_work(compiled, variants);

@@ -62,7 +62,7 @@ struct GpuAnalysis {
 struct GpuOptions {
   std::vector<std::string> families;  // AMD families (RADV names) and GL chips (gpu/family_specs.h gl_chips)
   std::filesystem::path icd;          // empty: find_radeon_icd(), when an AMD family is asked for
-  std::filesystem::path cache_dir;    // GL chips' statistics cache (empty: none)
+  compile::RunScope scope;            // its cache root holds the GL chips' statistics cache (empty: none)
 };
 
 // `variants` index compiled.space.variants; `compiled` holds successful vulkan builds for them (AMD families)
