@@ -190,7 +190,9 @@ class PlanBuilder {
     }
   }
 
-  // Method-specific inputs of the AO pass (plan.h): the texture bound at kPrefilter, or -1.
+  // Method-specific inputs of the AO pass (plan.h): the texture bound at kPrefilter, or -1. The passes are named
+  // here because the renderer draws them: a method with a prefilter pass of its own is the one kind that touches
+  // the source (docs/architecture.md, "Where a new AO method goes").
   int prefilter(int depth, bool full_ao) {
     if (const auto* blur = pass("unsharp_blur")) {
       // The depth Gaussian in two 1-D draws; r32f because the AO pass subtracts it from depth.

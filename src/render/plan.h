@@ -7,7 +7,7 @@
 //   prefilter   method-specific inputs of the AO pass, read at binding::kPrefilter: AO resolution
 //                 unsharp: depth Gaussian, 2 draws (axis 0, 1) -> depth_blur (r32f)
 //                 sao: camera-space z pyramid, one draw per MIP level -> zmip (r32f, kZmipLevels levels)
-//                 depth_mip = on (alchemy, hbao, gtao, vbao, sc2): the same pyramid (manifest pass depth_mip)
+//                 depth_mip = on (the methods whose [algorithms.*] reads name it): the same pyramid (pass depth_mip)
 //   ao          fullscreen -> ao_half[parity]                                    AO resolution
 //   progressive fullscreen: ao_half[parity] + ao_half[1 - parity] -> ao_avg       AO resolution
 //   blur        separable: 2 draws (axis 0, 1) via blur_tmp; bilateral: 1 draw   AO resolution

@@ -200,7 +200,8 @@ Grid passes_grid(const CostTable& t, const std::string& family, const std::vecto
 std::string pyramid_text(const CostTable& t, const std::string& family) {
   std::vector<double> share;
   for (const auto& [key, v] : variants_on(t, family)) {
-    // The renderer draws SAO's MIP chain as its "prefilter" pass (render/plan.h).
+    // The renderer draws SAO's MIP chain as its "prefilter" pass (render/plan.h). Named on purpose: the sentence
+    // sets the paper's claim about SAO's pyramid against the estimate.
     const auto* pyramid = axis(*v.row, "algorithm") == "sao" ? v.cost->pass("prefilter") : nullptr;
     if (pyramid && v.cost->est_ms > 0) share.push_back(pyramid->est_ms / v.cost->est_ms);
   }

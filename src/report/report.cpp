@@ -43,13 +43,16 @@ std::string algorithm_of(const CostRow& r) {
   return it != r.axes.end() ? it->second : r.variant.substr(0, r.variant.find('-'));
 }
 
-// A fixed colour per method, so charts of different tables read the same.
-std::string colour(const std::string& algorithm) {
-  static const std::map<std::string, std::string> c = {
-      {"alchemy", "#1f77b4"}, {"crytek", "#ff7f0e"}, {"sc2", "#2ca02c"},  {"hbao", "#d62728"}, {"homebrew", "#9467bd"},
-      {"unsharp", "#8c564b"}, {"vo", "#e377c2"},     {"sao", "#17becf"},  {"gtao", "#bcbd22"}, {"vbao", "#393b79"}};
-  auto it = c.find(algorithm);
-  return it != c.end() ? it->second : "#7f7f7f";
+// A method's colour in every chart: its manifest entry's, so charts of different tables read the same; grey
+// for a method the manifest lacks.
+const variants::Algorithm* method_of(const Methods& methods, const std::string& algorithm) {
+  for (const auto& m : methods)
+    if (m.name == algorithm) return &m;
+  return nullptr;
+}
+std::string colour(const Methods& methods, const std::string& algorithm) {
+  const variants::Algorithm* m = method_of(methods, algorithm);
+  return m ? m->color : "#7f7f7f";
 }
 
 std::string escape(const std::string& s) { return html_escape(s); }
@@ -117,14 +120,18 @@ std::string scatter_svg(const std::string& title, const std::string& x_label, co
   return s + "</svg>";
 }
 
-std::string legend_html(const std::set<std::string>& algorithms) {
+// Each method as its key names it, with its display name where the manifest gives another.
+std::string legend_html(const std::set<std::string>& algorithms, const Methods& methods) {
   std::string s = "<p>";
-  for (const auto& a : algorithms)
-    s += fmt::format("<span style=\"color:{}\">&#9679;</span> {} &nbsp; ", colour(a), escape(a));
+  for (const auto& a : algorithms) {
+    const variants::Algorithm* m = method_of(methods, a);
+    const std::string label = m && m->display_name != a ? a + " (" + m->display_name + ")" : a;
+    s += fmt::format("<span style=\"color:{}\">&#9679;</span> {} &nbsp; ", colour(methods, a), escape(label));
+  }
   return s + "</p>";
 }
 
-std::string time_bars_svg(const std::string& title, const std::vector<const CostRow*>& rows) {
+std::string time_bars_svg(const std::string& title, const std::vector<const CostRow*>& rows, const Methods& methods) {
   const std::size_t n = std::min<std::size_t>(rows.size(), 60);
   const double w = 560, bar = 12, left = 290, top = 26;
   double h = top + n * (bar + 2) + 10, max_t = 0;
@@ -138,7 +145,7 @@ std::string time_bars_svg(const std::string& title, const std::vector<const Cost
     s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{}</text>", left - 4, y + bar - 2, escape(r.variant));
     // Predicted rows: outlined bars and a "~" before the figure.
     s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{:.1f}\" height=\"{}\" fill=\"{}\" stroke=\"{}\"><title>{} {:.2f} ms{}</title></rect>",
-                     left, y, len, bar, r.predicted ? "none" : colour(algorithm_of(r)), colour(algorithm_of(r)),
+                     left, y, len, bar, r.predicted ? "none" : colour(methods, algorithm_of(r)), colour(methods, algorithm_of(r)),
                      escape(r.variant), r.time_ms.decision(), r.predicted ? " (predicted)" : "");
     s += fmt::format("<text x=\"{:.1f}\" y=\"{}\">{}{:.2f}</text>", left + len + 3, y + bar - 2, r.predicted ? "~" : "",
                      r.time_ms.decision());
@@ -277,7 +284,7 @@ std::string markdown_with_front(const CostTable& t) {
 // Over 120 lines on purpose: the page is written top to bottom in the order a reader sees it (header, charts,
 // bounded grids, GPU section), each section a few lines calling its own helper; splitting it would only pass
 // the stream and the table through a chain of functions. (Grew past 120 with issue 34's section bounds.)
-std::string html_with_front(const CostTable& t, const fs::path& dir) {
+std::string html_with_front(const CostTable& t, const fs::path& dir, const Methods& methods) {
   std::ostringstream h;
   h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>aovar sweep report</title><style>"
        "body{font-family:sans-serif;margin:24px;max-width:1200px}table{border-collapse:collapse}td,th{border:1px solid "
@@ -314,7 +321,7 @@ std::string html_with_front(const CostTable& t, const fs::path& dir) {
   }
   std::set<std::string> algorithms;
   for (const auto& r : t.rows) algorithms.insert(algorithm_of(r));
-  h << legend_html(algorithms);
+  h << legend_html(algorithms, methods);
   for (const auto& [k, rows] : worst_view_fronts(t)) {
     h << "<h2>What to ship: " << escape(k.first) << " / " << escape(k.second) << ", worst view</h2><p>Each variant's "
       << "worst view (max RMSE and max time over " << escape(view_list(rows.front().view)) << "); <code>aovar select</code> picks "
@@ -339,23 +346,23 @@ std::string html_with_front(const CostTable& t, const fs::path& dir) {
     for (const CostRow* r : shown) {
       std::string a = algorithm_of(*r);
       if (r->error) {
-        pts.push_back({r->time_ms.decision(), r->error->rmse, colour(a), r->variant});
+        pts.push_back({r->time_ms.decision(), r->error->rmse, colour(methods, a), r->variant});
         if (r->pareto) front.emplace_back(r->time_ms.decision(), r->error->rmse);
       }
-      if (double s = static_cost(*r); s >= 0) statics.push_back({s, r->time_ms.decision(), colour(a), r->variant, r->predicted});
+      if (double s = static_cost(*r); s >= 0) statics.push_back({s, r->time_ms.decision(), colour(methods, a), r->variant, r->predicted});
     }
     h << scatter_svg("Pareto: time against error (dashed: the front)", "frame time, paired (ms)", "RMSE vs reference", pts, front);
     h << scatter_svg("static cost against measured time", "static work per output pixel (ALU + reads, all passes)",
                      "frame time, paired (ms)",
                      statics);
-    h << time_bars_svg("time per variant (fastest 60; outlined: predicted)", rows);
+    h << time_bars_svg("time per variant (fastest 60; outlined: predicted)", rows, methods);
     // The predicting cost model's held-out predictions against the measured (paired) time.
     for (const auto& cm : m.cost_models.value_or(std::vector<table::ModelFit>{})) {
       if (!cm.predicts || cm.scene != std::get<0>(g) || cm.view != std::get<1>(g) || cm.backend != std::get<2>(g)) continue;
       std::vector<Point> held;
       double lo = 1e300, hi = -1e300;
       for (const auto& e : cm.held_out) {
-        held.push_back({e.measured, e.predicted, colour(e.variant.substr(0, e.variant.find('-'))), e.variant});
+        held.push_back({e.measured, e.predicted, colour(methods, e.variant.substr(0, e.variant.find('-'))), e.variant});
         lo = std::min({lo, e.measured, e.predicted}), hi = std::max({hi, e.measured, e.predicted});
       }
       if (held.empty()) continue;
@@ -390,22 +397,22 @@ std::string html_with_front(const CostTable& t, const fs::path& dir) {
 
 }  // namespace
 
-void write_reports(const CostTable& t, const fs::path& dir) { write_reports(t, dir, dir); }
+void write_reports(const CostTable& t, const fs::path& dir, const Methods& methods) { write_reports(t, dir, dir, methods); }
 
 std::string markdown_report(const CostTable& from_file) { return markdown_with_front(with_recomputed_front(from_file)); }
 
-std::string html_report(const CostTable& from_file, const fs::path& dir) {
-  return html_with_front(with_recomputed_front(from_file), dir);
+std::string html_report(const CostTable& from_file, const fs::path& dir, const Methods& methods) {
+  return html_with_front(with_recomputed_front(from_file), dir, methods);
 }
 
-void write_reports(CostTable&& t, const fs::path& dir, const fs::path& images_dir) {
+void write_reports(CostTable&& t, const fs::path& dir, const fs::path& images_dir, const Methods& methods) {
   decide::mark_pareto(t);  // once for both reports: the front is the costly part
   util::write_atomic(dir / "report.md", markdown_with_front(t));
-  util::write_atomic(dir / "report.html", html_with_front(t, images_dir));
+  util::write_atomic(dir / "report.html", html_with_front(t, images_dir, methods));
 }
 
-void write_reports(const CostTable& from_file, const fs::path& dir, const fs::path& images_dir) {
-  write_reports(CostTable(from_file), dir, images_dir);
+void write_reports(const CostTable& from_file, const fs::path& dir, const fs::path& images_dir, const Methods& methods) {
+  write_reports(CostTable(from_file), dir, images_dir, methods);
 }
 
 }  // namespace aovar::report

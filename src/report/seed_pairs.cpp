@@ -38,6 +38,8 @@ const std::vector<Spec>& specs() {
        "Sunet 2018, §5.7: quality difference negligible; the separable blur is faster", +1},
       {"8 vs 16 samples", "samples", "8", "16",
        "McGuire et al. 2012, §4: vary the sample and blur taps to trade run time against spatial and temporal noise", +1},
+      // The one pair that names methods, on purpose: it checks the SAO paper's own comparison (McGuire et al.
+      // 2012, Table 1), so it is SAO and Alchemy or nothing; the pair is empty when a table lacks either.
       {"SAO vs Alchemy", "algorithm", "alchemy", "sao",
        "McGuire et al. 2012, Table 1: SAO 2.26 ms against AlchemyAO 16.10 ms at 2560x1600 (7.1x faster)", -1,
        {"normals", "position", "reconstruct", "depth_format"}},

@@ -395,7 +395,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
     res.build_line = fmt::format("aovar generate --manifest {} --variants '{}' --out shaders", util::display_path(o.scope.manifest.path()),
                                  res.selection.choice->variant);
   table::write_table_files(res.table, o.out);
-  report::write_reports(res.table, o.out, o.out / round_name(!o.target.empty(), true));
+  report::write_reports(res.table, o.out, o.out / round_name(!o.target.empty(), true), manifest.algorithms);
   res.wall_s = util::seconds_since(start);
   return res;
 }

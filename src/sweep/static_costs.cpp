@@ -111,6 +111,8 @@ std::map<std::string, VariantStatic> static_costs(const measure::MeasureOptions&
       total += pc;
       if (pass == "ao") ao = pc;
       if (pass == "gbuffer") continue;
+      // Prefilter passes of more than one draw (render/plan.cpp's prefilter(): a pyramid's levels, the depth
+      // Gaussian's two 1-D draws), named as the renderer names them.
       double draws = (pass == "zmip" || pass == "depth_mip") ? 4.0 / 3.0 : (pass == "unsharp_blur" || (pass.rfind("blur", 0) == 0 && blur == "separable")) ? 2.0 : 1.0;
       double pixels = pass == "upsample" ? 1.0 : resolution * resolution;
       work += draws * pixels * (pc.alu + pc.total_fetches());

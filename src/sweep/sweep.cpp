@@ -26,6 +26,7 @@
 #include "util/clock.h"
 #include "util/fs.h"
 #include "util/hash.h"
+#include "variants/manifest.h"
 
 namespace aovar::sweep {
 namespace fs = std::filesystem;
@@ -232,7 +233,7 @@ SweepResult run_sweep(const SweepOptions& options, const Progress& progress) {
   res.table.meta = table_meta(o, res, std::move(scenes), gm.models, std::move(profile_pruned), dominated);
   res.table.meta.gpu = gpu;
   table::write_table_files(res.table, o.out);
-  report::write_reports(res.table, o.out);
+  report::write_reports(res.table, o.out, o.measure.scope.manifest->algorithms);  // the charts' colours
   res.wall_s = util::seconds_since(start);
   if (shard_plan) write_sweep_manifest(o, *shard_plan, res.table.rows, true, res.wall_s);
   return res;

@@ -1,5 +1,6 @@
 #include "variants/axes.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -9,9 +10,8 @@ namespace aovar::variants {
 namespace {
 const std::array<AxisInfo, kAxisCount>& table() {
   static const std::array<AxisInfo, kAxisCount> t = {{
-      {Axis::algorithm, "algorithm", AxisKind::name, 'a',
-       {{"crytek", "crytek"}, {"sc2", "sc2"}, {"alchemy", "alchemy"}, {"hbao", "hbao"}, {"homebrew", "homebrew"},
-        {"unsharp", "unsharp"}, {"vo", "vo"}, {"sao", "sao"}, {"gtao", "gtao"}, {"vbao", "vbao"}}},
+      // The methods are the manifest's ([algorithms.*]): no list here, each key token is the method's name.
+      {Axis::algorithm, "algorithm", AxisKind::name, 'a', {}},
       {Axis::samples, "samples", AxisKind::integer, 's', {}},
       {Axis::progressive, "progressive", AxisKind::boolean, 'p', {}},
       {Axis::normals, "normals", AxisKind::name, 'n',
@@ -34,6 +34,18 @@ int resolution_divisor(double r) {
   double k = 1.0 / r;
   double rounded = std::round(k);
   return std::fabs(k - rounded) < 1e-9 && rounded <= 64 ? static_cast<int>(rounded) : 0;
+}
+// A value of an axis whose values the manifest names (algorithm): it becomes the key token as it is, a
+// define (AO_ALGORITHM_<NAME>) and a template file name, so lower-case letters, digits and '_', starting
+// with a letter: no '-' (the key separator), and no two names that upper-case to one define.
+std::optional<std::string> check_open_name(const AxisInfo& info, const std::string& text) {
+  const bool ok = !text.empty() && text[0] >= 'a' && text[0] <= 'z' &&
+                  std::all_of(text.begin(), text.end(), [](char c) {
+                    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+                  });
+  if (ok) return std::nullopt;
+  return "'" + text + "' cannot be a value of axis '" + std::string(info.name) +
+         "': use lower-case letters, digits and '_', starting with a letter";
 }
 }  // namespace
 
@@ -100,6 +112,7 @@ std::optional<std::string> check_value(Axis axis, const AxisValue& value) {
   const AxisInfo& info = axis_info(axis);
   switch (info.kind) {
     case AxisKind::name: {
+      if (info.tokens.empty()) return check_open_name(info, value.text);
       std::string allowed;
       for (const auto& [v, token] : info.tokens) {
         if (v == value.text) return std::nullopt;

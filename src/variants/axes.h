@@ -31,7 +31,8 @@ struct AxisInfo {
   std::string_view name;        // manifest / JSON spelling
   AxisKind kind;
   char letter;                  // used in the collapsed token "_<letter>"
-  // name axes: allowed values and their key tokens
+  // name axes: allowed values and their key tokens; empty for algorithm, whose values the manifest names
+  // (any lower-case identifier, its own token)
   std::vector<std::pair<std::string_view, std::string_view>> tokens;
 };
 

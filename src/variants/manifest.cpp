@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <tuple>
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
@@ -59,6 +60,15 @@ const Algorithm* Manifest::algorithm(std::string_view n) const {
   return nullptr;
 }
 std::string Manifest::error_prefix() const { return util::display_path(path); }
+
+std::string_view method_palette_color(std::size_t place) {
+  // matplotlib's tab10 with #393b79 in place of its grey (the report's colour for a method no manifest names),
+  // then tab20's light tints of the same: distinct on white.
+  static constexpr std::string_view kPalette[] = {
+      "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#bcbd22", "#17becf", "#393b79",
+      "#aec7e8", "#ffbb78", "#98df8a", "#ff9896", "#c5b0d5", "#c49c94", "#f7b6d2", "#dbdb8d", "#9edae5", "#6b6ecf"};
+  return kPalette[place % std::size(kPalette)];
+}
 
 namespace {
 
@@ -345,7 +355,7 @@ class Parser {
       AxisValue name{a.name, 0};
       if (auto err = check_value(Axis::algorithm, name)) fail(a.pos, *err);
       const toml::table& t = table_of(v, "an algorithm");
-      check_keys(t, {"reads", "params", "source", "normals_from_depth"}, "an algorithm");
+      check_keys(t, {"reads", "params", "source", "normals_from_depth", "display_name", "color"}, "an algorithm");
       if (const toml::node* r = t.get("reads")) a.reads = axis_list(*r, "reads");
       if (const toml::node* f = t.get("normals_from_depth")) {
         if (!f->is_boolean()) fail(*f, fmt::format("normals_from_depth of algorithm '{}' must be true or false", a.name));
@@ -353,8 +363,40 @@ class Parser {
       }
       if (const toml::node* s = t.get("params")) a.params = parse_params(*s);
       if (const toml::node* s = t.get("source")) a.source = string_of(*s, "source");
+      a.display_name = a.name;
+      if (const toml::node* d = t.get("display_name")) a.display_name = display_name_of(*d, a.name);
+      if (const toml::node* c = t.get("color")) a.color = color_of(*c, a.name);
       m_.algorithms.push_back(std::move(a));
     }
+    default_colors();
+  }
+
+  std::string display_name_of(const toml::node& n, const std::string& algorithm) {
+    std::string text = string_of(n, fmt::format("[algorithms.{}] display_name", algorithm));
+    if (text.empty()) fail(n, fmt::format("[algorithms.{}] display_name must not be empty", algorithm));
+    return text;
+  }
+
+  // "#rrggbb": what the HTML report writes into its SVG as is.
+  std::string color_of(const toml::node& n, const std::string& algorithm) {
+    std::string text = string_of(n, fmt::format("[algorithms.{}] color", algorithm));
+    const bool ok = text.size() == 7 && text[0] == '#' && std::all_of(text.begin() + 1, text.end(), [](char c) {
+      return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F');
+    });
+    if (!ok) fail(n, fmt::format("[algorithms.{}] color '{}' must be \"#rrggbb\" (six hex digits)", algorithm, text));
+    return text;
+  }
+
+  // A method without `color` takes the palette's colour at its table's place in the file (toml++ iterates
+  // tables by name; the file order keeps the colours of earlier methods when one is added at the end).
+  void default_colors() {
+    std::vector<Algorithm*> in_file;
+    for (Algorithm& a : m_.algorithms) in_file.push_back(&a);
+    std::sort(in_file.begin(), in_file.end(), [](const Algorithm* a, const Algorithm* b) {
+      return std::tie(a->pos.line, a->pos.column) < std::tie(b->pos.line, b->pos.column);
+    });
+    for (std::size_t place = 0; place < in_file.size(); ++place)
+      if (in_file[place]->color.empty()) in_file[place]->color = std::string(method_palette_color(place));
   }
 
   void parse(std::string_view text) {

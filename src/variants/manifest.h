@@ -93,8 +93,15 @@ struct Algorithm {
   bool normals_from_depth = false;
   std::vector<Param> params;
   std::string source;
+  // How reports show the method: `display_name` (default: the name) and `color`, "#rrggbb" (default: the
+  // method palette's colour at the table's place among [algorithms.*], so a new method is never uncoloured).
+  std::string display_name;
+  std::string color;
   SourcePos pos;
 };
+// The colours of methods whose table names none, by their place among [algorithms.*] (repeating after the
+// last).
+std::string_view method_palette_color(std::size_t place);
 
 enum class Target { vulkan, gl45, gles30 };
 inline constexpr std::array<Target, 3> kAllTargets = {Target::vulkan, Target::gl45, Target::gles30};

@@ -13,6 +13,7 @@
 #include "report/report.h"
 #include "test_support.h"
 #include "util/fs.h"
+#include "variants/manifest.h"
 
 namespace aovar::test {
 namespace {
@@ -139,19 +140,23 @@ TEST(Report, CliWritesReportsFromATable) {
   EXPECT_NE(missing.output.find("nope.json"), std::string::npos) << missing.output;
 }
 
-// A headless Chromium screenshot of report.html shows the charts: marks in the algorithm colours (Alchemy
-// #1f77b4, GTAO #bcbd22: scatter points, legend, time bars) and dark text, axes and the front line. An HTML
-// whose SVG failed to parse would show none of the colours.
+// A headless Chromium screenshot of report.html shows the charts: marks in the manifest's colours of two
+// methods (scatter points, legend, time bars) and dark text, axes and the front line. An HTML whose SVG
+// failed to parse would show none of the colours.
 TEST(Report, HtmlRendersInHeadlessChromium) {
+  const auto manifest = variants::load_manifest(source_dir() / "shader_src/aovar.toml");
+  const auto& methods = manifest.axis_values(variants::Axis::algorithm);
+  ASSERT_GE(methods.size(), 2u);
+  const variants::Algorithm* drawn[2] = {manifest.algorithm(methods[0].text), manifest.algorithm(methods[1].text)};
   table::CostTable t;
   for (int i = 0; i < 12; ++i) {
-    std::string alg = i % 2 ? "gtao" : "alchemy";
+    const std::string alg = drawn[i % 2]->name;
     t.rows.push_back(axes_row(alg + "-" + std::to_string(i), {{"algorithm", alg}, {"samples", std::to_string(4 + i)}},
                          10 + 2 * i, 0.1 - 0.005 * i + 0.01 * (i % 3)));
   }
   decide::mark_pareto(t);
   TempDir dir;
-  report::write_reports(t, dir.path());
+  report::write_reports(t, dir.path(), manifest.algorithms);
   std::string cmd = "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --user-data-dir=" +
                     (dir / "profile").string() + " --window-size=1000,900 --screenshot=" + (dir / "shot.png").string() +
                     " file://" + (dir / "report.html").string() + " >" + (dir / "chromium.log").string() + " 2>&1";
@@ -160,18 +165,54 @@ TEST(Report, HtmlRendersInHeadlessChromium) {
   unsigned char* px = stbi_load((dir / "shot.png").c_str(), &w, &h, &n, 3);
   ASSERT_NE(px, nullptr) << "no screenshot";
   EXPECT_EQ(w, 1000);
-  long alchemy = 0, gtao = 0, dark = 0;
+  auto channel = [](const std::string& hex, int i) { return std::stoi(hex.substr(1 + 2 * i, 2), nullptr, 16); };
+  long marks[2] = {0, 0}, dark = 0;
   for (long i = 0; i < long(w) * h; ++i) {
     int r = px[3 * i], g = px[3 * i + 1], b = px[3 * i + 2];
-    auto near = [&](int R, int G, int B) { return std::abs(r - R) + std::abs(g - G) + std::abs(b - B) < 60; };
-    alchemy += near(0x1f, 0x77, 0xb4);
-    gtao += near(0xbc, 0xbd, 0x22);
+    for (int k = 0; k < 2; ++k) {
+      const std::string& c = drawn[k]->color;
+      marks[k] += std::abs(r - channel(c, 0)) + std::abs(g - channel(c, 1)) + std::abs(b - channel(c, 2)) < 60;
+    }
     dark += r < 60 && g < 60 && b < 60;
   }
   stbi_image_free(px);
-  EXPECT_GT(alchemy, 50) << "Alchemy's points are drawn";
-  EXPECT_GT(gtao, 50) << "GTAO's points are drawn";
+  for (int k = 0; k < 2; ++k) EXPECT_GT(marks[k], 50) << drawn[k]->name << "'s points are drawn in " << drawn[k]->color;
   EXPECT_GT(dark, 500) << "text, axes and the front line are drawn";
+}
+
+// The HTML colours each method as the manifest says, and names it with its display name in the legend; a
+// method the manifest lacks is grey.
+TEST(Report, MethodColoursComeFromTheManifest) {
+  const auto manifest = variants::parse_manifest(R"(
+[axes]
+algorithm = ["first", "second"]
+samples = [8]
+progressive = [false]
+normals = ["rgb8"]
+position = ["depth"]
+reconstruct = ["similar_triangles"]
+depth_format = ["r32f"]
+blur = ["none"]
+resolution = [1.0]
+precision = ["highp"]
+[passes.ao]
+vertex = { template = "v.vert" }
+fragment = { template = "f.frag" }
+[algorithms.first]
+color = "#123abc"
+display_name = "First AO"
+[algorithms.second]
+)", "m.toml");
+  table::CostTable t;
+  t.rows.push_back(axes_row("first-a", {{"algorithm", "first"}}, 10, 0.1));
+  t.rows.push_back(axes_row("second-a", {{"algorithm", "second"}}, 12, 0.05));
+  t.rows.push_back(axes_row("stranger-a", {{"algorithm", "stranger"}}, 14, 0.01));
+  const std::string html = report::html_report(t, ".", manifest.algorithms);
+  EXPECT_TRUE(has_text(html, "<span style=\"color:#123abc\">&#9679;</span> first (First AO)")) << html;
+  const std::string second = manifest.algorithm("second")->color;
+  EXPECT_EQ(second, variants::method_palette_color(1)) << "no colour: the palette's at its place";
+  EXPECT_TRUE(has_text(html, "<span style=\"color:" + second + "\">&#9679;</span> second &nbsp;")) << html;
+  EXPECT_TRUE(has_text(html, "<span style=\"color:#7f7f7f\">&#9679;</span> stranger &nbsp;")) << html;
 }
 
 }  // namespace

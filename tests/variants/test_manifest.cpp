@@ -1,6 +1,8 @@
 // Manifest errors carry file, line and column; good manifests parse into the expected structure.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "variants/key.h"
 #include "variants/manifest.h"
 #include "variants/space.h"
@@ -96,6 +98,41 @@ TEST(Manifest, AManifestWithoutDepthMipKeepsItsKeys) {
   EXPECT_FALSE(parse_key(m, s.variants.front().key + "-zmip").has_value()) << "the manifest has no on value";
   // The other axes stay required.
   expect_error(with("precision = [\"highp\"]\n", ""), 3, 1, "[axes] is missing axis 'precision'");
+}
+
+// [algorithms.*] display_name and color say how reports show a method: a method without them is shown under
+// its name in the palette's colour at its table's place; a bad colour is a one-line error at its value.
+TEST(Manifest, AlgorithmDisplayNameAndColor) {
+  Manifest plain = parse_manifest(kBase, "m.toml");
+  EXPECT_EQ(plain.algorithm("alchemy")->display_name, "alchemy");
+  EXPECT_EQ(plain.algorithm("alchemy")->color, method_palette_color(0));
+  Manifest styled = parse_manifest(
+      with("[algorithms.alchemy]\n", "[algorithms.alchemy]\ndisplay_name = \"Alchemy AO\"\ncolor = \"#1F77b4\"\n"), "m.toml");
+  EXPECT_EQ(styled.algorithm("alchemy")->display_name, "Alchemy AO");
+  EXPECT_EQ(styled.algorithm("alchemy")->color, "#1F77b4");
+  for (const char* bad : {"\"blue\"", "\"#1f77b\"", "\"#1f77bg\"", "\"1f77b4f\""})
+    expect_error(with("[algorithms.alchemy]\n", std::string("[algorithms.alchemy]\ncolor = ") + bad + "\n"), 30, 9,
+                 "[algorithms.alchemy] color");
+  expect_error(with("[algorithms.alchemy]\n", "[algorithms.alchemy]\ncolor = \"blue\"\n"), 30, 9,
+               "[algorithms.alchemy] color 'blue' must be \"#rrggbb\"");
+  expect_error(with("[algorithms.alchemy]\n", "[algorithms.alchemy]\ncolor = 3\n"), 30, 9, "color must be a string");
+  expect_error(with("[algorithms.alchemy]\n", "[algorithms.alchemy]\ndisplay_name = \"\"\n"), 30, 16, "must not be empty");
+}
+
+// The algorithm axis takes any method the manifest names (its template and table are all a method needs);
+// a name that cannot be a key token, define and file name is refused.
+TEST(Manifest, AlgorithmNamesAreTheManifests) {
+  Manifest m = parse_manifest(with("algorithm = [\"alchemy\"]", "algorithm = [\"alchemy\", \"toy_2\"]") +
+                                  "[algorithms.toy_2]\nreads = [\"samples\"]\n",
+                              "m.toml");
+  ASSERT_NE(m.algorithm("toy_2"), nullptr);
+  EXPECT_EQ(m.algorithm("toy_2")->color, method_palette_color(1)) << "the second table in the file";
+  VariantSpace s = build_space(m);
+  const auto toy = std::find_if(s.variants.begin(), s.variants.end(), [](const auto& v) { return v.key.rfind("toy_2-s04-", 0) == 0; });
+  ASSERT_NE(toy, s.variants.end());
+  EXPECT_EQ(parse_key(m, toy->key), toy->point);
+  expect_error(with("algorithm = [\"alchemy\"]", "algorithm = [\"alchemy\", \"Toy-1\"]"), 4, 25,
+               "'Toy-1' cannot be a value of axis 'algorithm'");
 }
 
 TEST(Manifest, UnknownAxisNamesItsPosition) {
