@@ -67,7 +67,7 @@ int main(int argc, char** argv) {
   o.images = false;
   o.reuse = false;
   std::printf("bench/measure: builtin:atrium %dx%d, %d reps, %d warm-up, LP_NUM_THREADS=%d\n", o.size.width,
-              o.size.height, o.timing.reps, o.timing.warmup, o.threads);
+              o.size.height, o.timing.reps, o.timing.warmup, o.scope.threads);
   auto progress = [](const std::string& s) { std::fprintf(stderr, "\r\033[K%s", s.c_str()); };
 
   bool ok = true, measured = true;  // the targets met; every backend measured 2 variants or more

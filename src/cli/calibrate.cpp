@@ -25,7 +25,9 @@ struct CalibrateArgs {
 
 ExitCode run_calibrate(const CalibrateArgs& a) {
   calibrate::CalibrateOptions o = a.options;
-  o.scope = {.manifest = std::filesystem::path(a.manifest), .cache_dir = cache_dir(a.cache_dir, false), .threads = a.threads};
+  o.scope.manifest = std::filesystem::path(a.manifest);
+  o.scope.cache_dir = cache_dir(a.cache_dir, false);
+  o.scope.threads = a.threads;
   o.size = parse_size(a.size);
   o.mode = reference::parse_mode(a.mode);
   if (o.budget.max_evaluations < 1) throw std::runtime_error("--evaluations must be at least 1");

@@ -73,7 +73,11 @@ void add_common(CLI::App* cmd, CommonOptions& o) {
 
 const compile::RunScope& CommonOptions::scope() const {
   if (scope_) return *scope_;
-  compile::RunScope s{.manifest = std::filesystem::path(manifest), .cache_dir = cache(), .threads = threads, .jobs = jobs};
+  compile::RunScope s;
+  s.manifest = std::filesystem::path(manifest);
+  s.cache_dir = cache();
+  s.threads = threads;
+  s.jobs = jobs;
   for (const auto& t : targets) {
     auto target = variants::parse_target(t);
     if (!target) throw std::runtime_error("--targets: unknown target '" + t + "' (use vulkan, gl45, gles30)");
@@ -87,7 +91,10 @@ void add_threads(CLI::App* cmd, CommonOptions& o) {
 }
 
 compile::CompileOptions compile_options(const CommonOptions& o) {
-  return {.scope = o.scope(), .werror = o.werror, .globs = o.globs};
+  compile::CompileOptions c{o.scope()};
+  c.werror = o.werror;
+  c.globs = o.globs;
+  return c;
 }
 
 bool report_diagnostics(const compile::CompiledSpace& c) {

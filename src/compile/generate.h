@@ -16,6 +16,8 @@
 namespace aovar::compile {
 
 struct CompileOptions {
+  CompileOptions(RunScope run = {}) : scope(std::move(run)) {}  // implicit: `CompileOptions co{o.scope};`
+
   RunScope scope;                         // the manifest, its targets (empty: the manifest's), jobs, cache root
   bool werror = false;
   std::vector<std::string> globs;         // --variants

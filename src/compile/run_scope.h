@@ -18,6 +18,7 @@ class ManifestSource {
  public:
   ManifestSource(std::filesystem::path path = "shader_src/aovar.toml");  // implicit: `scope.manifest = path;`
   ManifestSource(const char* path) : ManifestSource(std::filesystem::path(path)) {}
+  ManifestSource(const std::string& path) : ManifestSource(std::filesystem::path(path)) {}
   explicit ManifestSource(variants::Manifest parsed);
 
   // Throws variants::ManifestError (an unreadable or invalid manifest) on the first use; later calls

@@ -151,9 +151,13 @@ std::vector<const scene::View*> chosen_views(const scene::Scene& sc, const std::
 
 std::shared_ptr<const ScenePruning> prune_by_profile(const MeasureOptions& o, const scene::Scene& scene,
                                                      const std::vector<std::string>& covered, const Progress& progress) {
-  const profile::PruneOptions p{.profile = {.scope = o.scope, .scene = o.scene, .size = o.size, .radius = o.radius},
-                                .store_dir = o.out,
-                                .reuse = o.reuse};
+  profile::PruneOptions p;
+  p.profile.scope = o.scope;
+  p.profile.scene = o.scene;
+  p.profile.size = o.size;
+  p.profile.radius = o.radius;
+  p.store_dir = o.out;
+  p.reuse = o.reuse;
   return std::make_shared<const ScenePruning>(
       profile::prune_scene(p, scene, chosen_views(scene, o.views), covered, progress));
 }

@@ -96,7 +96,7 @@ struct MeasureOptions {
   std::shared_ptr<const std::set<std::string>> shard_keys;
   bool in_shard(const std::string& key) const { return !shard_keys || shard_keys->count(key) > 0; }
   // What the scene's profile drops (scene_prune.h), computed by the caller: sweep over all its scenes'
-  // selections, the measure command with prune_options and chosen_views below; null: nothing pruned. The
+  // selections, measure_scene with prune_by_profile below; null: nothing pruned. The
   // dropped variants are neither compiled nor measured and are listed in measure.json's "pruned" section
   // with their reasons (the baseline, when dropped, is still timed as the pairing reference: a timing-only row).
   std::shared_ptr<const ScenePruning> pruning;

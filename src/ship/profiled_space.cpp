@@ -35,8 +35,11 @@ std::string lean_text(const profile::Profile& p) {
 
 ProfiledSpace profile_space(const ShipOptions& o, const scene::Scene& sc, const std::vector<std::string>& views,
                             const variants::Manifest& manifest, ShipResult& res, const Progress& say) {
-  const profile::PruneOptions po{.profile = {.scope = o.scope, .scene = o.scene, .size = o.size},
-                                 .store_dir = o.out / "profile"};
+  profile::PruneOptions po;
+  po.profile.scope = o.scope;
+  po.profile.scene = o.scene;
+  po.profile.size = o.size;
+  po.store_dir = o.out / "profile";
   std::vector<const scene::View*> profiled;
   for (const auto& v : views) profiled.push_back(&sc.view(v));
   ProfiledSpace out{profile::prune_scene(po, sc, profiled, o.globs, say), {}};

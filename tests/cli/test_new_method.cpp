@@ -67,7 +67,9 @@ TEST(NewMethod, ToyMethodGoesThroughListGenerateMeasureReportAndSelect) {
   ASSERT_NE(toy, nullptr);
   EXPECT_EQ(toy->display_name, "Toy AO");
   for (const auto& other : parsed.algorithms)
-    if (other.name != kToy) EXPECT_NE(toy->color, other.color) << "the palette gives the toy a colour of its own";
+    if (other.name != kToy) {
+      EXPECT_NE(toy->color, other.color) << "the palette gives the toy a colour of its own";
+    }
   const std::string m = " --manifest " + manifest.string() + " --cache-dir " + (dir / "cache").string();
 
   const auto list = run_aovar("list" + m + " --variants '" + kToyGlob + "'");

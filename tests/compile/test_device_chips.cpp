@@ -12,7 +12,9 @@ namespace {
 compile::ChipMatch device_match(std::uint32_t vendor, std::uint32_t id, const std::string& name = "") {
   auto m = compile::gl_chip_for_device(vendor, id, name);
   EXPECT_TRUE(m) << std::hex << vendor << " " << id << " " << name;
-  if (m) EXPECT_NE(gpu::gl_chip(m->chip), nullptr) << m->chip << " (" << m->how << ") has no product entry";
+  if (m) {
+    EXPECT_NE(gpu::gl_chip(m->chip), nullptr) << m->chip << " (" << m->how << ") has no product entry";
+  }
   return m.value_or(compile::ChipMatch{});
 }
 

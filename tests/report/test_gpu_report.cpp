@@ -29,7 +29,7 @@ CostRow row(const std::string& variant, std::map<std::string, std::string> axes,
     ao.alu_ms = t / 2;
     ao.est_ms = t;
     ao.bound = "texture";
-    r.gpu[family] = {"product of " + family, "Mesa test", "1920x1080", "", t, {ao}};
+    r.gpu[family] = {"product of " + family, "Mesa test", "1920x1080", "", t, {ao}, {}};
   }
   return r;
 }
