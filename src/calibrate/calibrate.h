@@ -14,6 +14,7 @@
 #include "calibrate/optimize.h"
 #include "reference/reference.h"
 #include "compile/run_scope.h"
+#include "render/backend.h"
 #include "render/plan.h"
 #include "variants/manifest.h"
 

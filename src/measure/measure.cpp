@@ -229,11 +229,7 @@ MeasureResult MeasureRun::run() {
 
   // Compile what the backends need (the baseline variant too, when globs would leave it out).
   compile::CompileOptions co{o_.scope};
-  auto& targets = co.scope.targets;
-  targets.clear();  // what the backends render, whatever the scope's targets
-  for (const auto& b : o_.backends)
-    if (auto t = render::target_of(b); std::find(targets.begin(), targets.end(), t) == targets.end())
-      targets.push_back(t);
+  co.scope.targets = render::targets_of(o_.backends);  // what the backends render, whatever the scope's targets
   co.globs = o_.globs;
   if (!co.globs.empty()) co.globs.push_back(o_.baseline);
   if (!prune(co)) return std::move(res_);

@@ -80,6 +80,13 @@ BackendInfo backend_info(std::string_view name) {
 
 variants::Target target_of(std::string_view backend) { return backend_info(backend).target; }
 
+std::vector<variants::Target> targets_of(const std::vector<std::string>& backends) {
+  std::vector<variants::Target> targets;
+  for (const auto& b : backends)
+    if (const auto t = target_of(b); std::find(targets.begin(), targets.end(), t) == targets.end()) targets.push_back(t);
+  return targets;
+}
+
 std::vector<Backend::TracedDraw> Backend::read_traces(PreparedPipeline&) {
   throw BackendError(fmt::format("{}: fetch traces run on {} only (a storage buffer per traced draw)",
                                  info().backend, backend_for(variants::Target::vulkan)));

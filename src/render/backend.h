@@ -131,6 +131,9 @@ class BackendRegistration {
 // registered.
 [[nodiscard]] BackendRegistration register_backend(BackendInfo info);
 
+// The backend a run uses unless told: the registry's first built-in one.
+std::string default_backend();
+
 std::vector<BackendInfo> registered_backends();  // built-in ones first, in registration order
 std::vector<std::string> backend_names();        // their names, in that order
 // The names for help text and errors, "a, b, c" (or "a / b / c"); `last`, when given, joins the last two
@@ -144,6 +147,8 @@ BackendInfo backend_info(std::string_view name);
 
 // The shader target a backend runs. Throws BackendError naming the backends for an unknown name.
 variants::Target target_of(std::string_view backend);
+// The targets `backends` run, each once, in first-use order (what to compile for them). Throws as target_of.
+std::vector<variants::Target> targets_of(const std::vector<std::string>& backends);
 
 // Throws BackendError (unknown name, missing driver, failed context) with what to do.
 std::unique_ptr<Backend> make_backend(std::string_view name, const BackendOptions& options);

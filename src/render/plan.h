@@ -54,10 +54,6 @@ struct Texture {
 inline constexpr float kClearFar = -12345.0f;   // placeholder: +background_depth(far), finite for far = inf
 inline constexpr float kClearNegFar = -54321.0f;  // placeholder: -background_depth(far)
 
-// The backend a run uses unless told: the registry's first (render/registry.cpp). Declared with the plan, not
-// with the registry (render/backend.h), so that options structs which include only the plan can default to it.
-std::string default_backend();
-
 struct TextureRef {
   int texture = -1;
   bool previous = false;  // double-buffered texture: the copy written in the previous frame

@@ -25,6 +25,7 @@
 #include "measure/timing.h"
 #include "compile/run_scope.h"
 #include "shard/env.h"
+#include "render/backend.h"
 #include "render/frame.h"
 #include "ship/holdout.h"
 #include "ship/race.h"

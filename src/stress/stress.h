@@ -25,6 +25,7 @@
 #include "compile/run_scope.h"
 #include "shard/env.h"
 #include "render/frame.h"
+#include "render/backend.h"
 #include "render/plan.h"
 #include "scene/scene.h"
 
