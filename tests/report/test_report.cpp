@@ -128,7 +128,7 @@ TEST(Report, CliWritesReportsFromATable) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("7 rows"), std::string::npos) << r.output;
   auto md = util::read_file(dir / "out" / "report.md").value();
-  EXPECT_NE(md.find("What to ship: s / lavapipe, worst view"), std::string::npos) << md;
+  EXPECT_NE(md.find("The front over the worst view: s / lavapipe"), std::string::npos) << md;
   EXPECT_NE(md.find("| gtao-good | 22.00 | 0.0600"), std::string::npos) << "worst of the two views:\n" << md;
   EXPECT_EQ(md.find("| sao-bad |"), std::string::npos) << md;
   auto html = util::read_file(dir / "out" / "report.html").value();
