@@ -90,7 +90,7 @@ void write_calibration(const fs::path& path, const Calibration& cal) {
   util::write_atomic(path, doc.dump(2) + "\n");
 }
 
-std::map<std::string, render::ParamOverrides> load_calibration(const fs::path& path, const variants::Manifest& manifest) {
+variants::CalibratedValues load_calibration(const fs::path& path, const variants::Manifest& manifest) {
   const std::string display = util::display_path(path);
   auto text = util::read_file(path);
   if (!text) throw std::runtime_error(fmt::format("{}: error: cannot read the calibration file", display));
@@ -106,7 +106,7 @@ std::map<std::string, render::ParamOverrides> load_calibration(const fs::path& p
     throw std::runtime_error(
         fmt::format("{}: error: not a calibration file ({}); write one with aovar calibrate", display, e.what()));
   }
-  std::map<std::string, render::ParamOverrides> out;
+  variants::CalibratedValues out;
   try {
     for (auto& [name, entry] : doc.at("algorithms").items()) {
       const variants::Algorithm* a = manifest.algorithm(name);
@@ -133,7 +133,14 @@ table::CalibrationRef calibration_source(const fs::path& path) {
   if (path.empty()) return {};
   auto text = util::read_file(path);
   if (!text) throw std::runtime_error(fmt::format("{}: error: cannot read the calibration file", util::display_path(path)));
-  return {util::display_path(path), util::hash_hex(*text)};
+  return {util::display_path(path), util::hash_hex(*text), {}};
+}
+
+table::CalibrationRef read_calibration(const fs::path& path, const variants::Manifest& manifest) {
+  if (path.empty()) return {};
+  table::CalibrationRef c = calibration_source(path);
+  c.values = load_calibration(path, manifest);
+  return c;
 }
 
 std::string measured_with(const std::optional<table::CalibrationRef>& used, const table::CalibrationRef& expected,

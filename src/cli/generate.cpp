@@ -25,6 +25,7 @@ struct GenerateArgs {
   compile::OutputOptions out;
   std::string out_dir, depfile, depfile_target, stamp, emit = "index,source,spirv,cpp", shard;
   TableRequestArgs table;  // --from-table: the selection and the pick table come from a cost table
+  std::string calibration;  // --calibration: the fitted values the variants embed
 };
 
 // "index,source,spirv,cpp" -> compile::Emit bits; throws std::runtime_error naming an unknown item.
@@ -111,8 +112,14 @@ ExitCode run_generate(GenerateArgs& a) {
     std::cerr << choice.summary;
     a.common.globs = std::move(choice.keys);  // exact keys: the glob path's outputs, depfile and no-op check
     a.out.pick_fronts = std::move(choice.fronts);
+    a.out.parameters = std::move(choice.parameters);
   } else if (!a.table.targets.empty() || a.table.budget_ms || a.table.max_error || !a.table.budget_of.empty()) {
     throw std::runtime_error("generate: --for, --budget-ms, --budget-of and --max-error need --from-table");
+  }
+  if (!a.calibration.empty()) {
+    if (!a.table.table.empty())
+      throw std::runtime_error("generate: --from-table embeds the table's own calibration; leave out --calibration");
+    a.out.parameters = calibration_values(a.calibration, a.common.scope().manifest.get());
   }
   const auto lock = a.out.check ? nullptr : lock_output(a.out.out);  // --check writes nothing
   return generate(a.common, a.out, shard_option(a.shard), a.table.table.empty() ? std::string() : util::display_path(a.table.table));
@@ -147,6 +154,9 @@ Command add_generate(CLI::App& app) {
       ->check(finite_number(0, false))
       ->excludes(budget)
       ->excludes(budget_of);
+  cmd->add_option("--calibration", a->calibration,
+                  "calibration.json (aovar calibrate, ship's OUT/calibration.json): embed its fitted values as each "
+                  "variant's params, beside the manifest's (default: the manifest's values; --from-table: the table's)");
   cmd->add_flag("--check", a->out.check, "write nothing; exit 1 when any output would change (CI staleness check)");
   return {cmd, runs(a, run_generate)};
 }

@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 
+#include "calibrate/file.h"
 #include "cli/render_parts.h"
 #include "compile/pick_table.h"
 #include "decide/fronts.h"
@@ -43,7 +45,53 @@ std::string summary_line(const decide::TargetFront& f) {
                      first.variant, first.time_ms, first.rmse, last.variant, last.time_ms, last.rmse);
 }
 
+// The fitted values the table's rows were scored with: meta.calibration's, once the file it names is found
+// with the bytes that were scored. The recorded path is relative to where the sweep ran, so the file is
+// looked for there, then beside the table (ship's OUT/calibration.json), then beside the manifest (the
+// default calibration). A merged table names no file and carries the values alone. None recorded: the
+// manifest's defaults.
+variants::CalibratedValues scored_parameters(const table::CostTable& t, const std::filesystem::path& table,
+                                             const std::filesystem::path& manifest) {
+  if (!t.meta.calibration || !*t.meta.calibration) return {};
+  const table::CalibrationRef& c = **t.meta.calibration;
+  const std::string where = util::display_path(table);
+  if (!c.file.empty()) {
+    const std::filesystem::path name = std::filesystem::path(c.file).filename();
+    // The first place that holds the scored bytes; else the first that holds a file of that name.
+    std::filesystem::path file;
+    std::optional<std::string> bytes;
+    for (const std::filesystem::path& candidate : {std::filesystem::path(c.file), table.parent_path() / name,
+                                                   manifest.parent_path() / name}) {
+      auto read = util::read_file(candidate);
+      if (!read || (bytes && util::hash_hex(*read) != c.hash)) continue;
+      file = candidate;
+      bytes = std::move(read);
+      if (util::hash_hex(*bytes) == c.hash) break;
+    }
+    if (!bytes)
+      throw std::runtime_error(fmt::format(
+          "{}: error: its rows were scored with the calibration {}, which is not there, beside the table or beside "
+          "the manifest; nothing was written (put the file back, or sweep again)",
+          where, c.file));
+    if (util::hash_hex(*bytes) != c.hash)
+      throw std::runtime_error(fmt::format(
+          "{}: error: the calibration {} changed after the table was scored (hash {}, recorded {}); nothing was "
+          "written (restore it, or sweep again with it)",
+          where, util::display_path(file), util::hash_hex(*bytes).substr(0, 12), c.hash.substr(0, 12)));
+  }
+  if (c.values.empty())
+    throw std::runtime_error(fmt::format(
+        "{}: error: the table records its calibration {} by hash alone (written before tables kept the fitted "
+        "values); nothing was written (sweep again, or generate --variants ... --calibration FILE)",
+        where, c.file.empty() ? "(merged)" : c.file));
+  return c.values;
+}
+
 }  // namespace
+
+variants::CalibratedValues calibration_values(const std::string& file, const variants::Manifest& manifest) {
+  return calibrate::load_calibration(file, manifest);
+}
 
 TableChoice choose_from_table(const TableRequestArgs& a) {
   check_target_names(util::display_path(a.table), a.targets);
@@ -62,7 +110,7 @@ TableChoice choose_from_table(const TableRequestArgs& a) {
   request.pick.max_error = a.max_error;
   request.pick.budget_of = a.budget_of;
   const auto keep = decide::keep_from_table(t, request, [](const std::string& name) { return !is_backend(name); });
-  TableChoice choice{keep.keys, {}, {}};
+  TableChoice choice{keep.keys, {}, scored_parameters(t, a.table, a.manifest), {}};
   for (const auto& f : keep.fronts) {
     choice.fronts.push_back(pick_front(f));
     choice.summary += summary_line(f);

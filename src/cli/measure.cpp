@@ -55,7 +55,7 @@ ExitCode run_measure(const MeasureArgs& a) {
   o.views_file = a.views_file;
   o.truth.mode = reference::parse_mode(a.reference_mode);
   if (o.truth.rays < 1) throw std::runtime_error("--rays must be at least 1");
-  const auto cal_file = a.calibration.load(o.scope.manifest.get(), o.calibration.values, o.calibration.source);
+  const auto cal_file = a.calibration.load(o.scope.manifest.get(), o.calibration);
   o.globs = a.common.globs;
   o.size = parse_size(a.size);
   a.reps.apply(o);

@@ -17,13 +17,9 @@ std::filesystem::path CalibrationOption::resolve(const std::filesystem::path& ma
   return std::filesystem::exists(next_to) ? next_to : std::filesystem::path();
 }
 
-std::filesystem::path CalibrationOption::load(const variants::Manifest& manifest,
-                                              std::map<std::string, render::ParamOverrides>& values,
-                                              table::CalibrationRef& source) const {
+std::filesystem::path CalibrationOption::load(const variants::Manifest& manifest, table::CalibrationRef& calibration) const {
   const auto path = resolve(manifest.path);
-  if (path.empty()) return path;
-  values = calibrate::load_calibration(path, manifest);
-  source = calibrate::calibration_source(path);
+  calibration = calibrate::read_calibration(path, manifest);
   return path;
 }
 

@@ -30,10 +30,9 @@ struct CalibrationOption {
 
   // The file that applies: empty with --no-calibration or when there is none.
   std::filesystem::path resolve(const std::filesystem::path& manifest) const;
-  // The values of resolve()'s file, checked against the manifest (calibrate::load_calibration), into
-  // `values`, and what measure.json and the cost table record about it into `source`. Returns the file.
-  std::filesystem::path load(const variants::Manifest& manifest, std::map<std::string, render::ParamOverrides>& values,
-                             table::CalibrationRef& source) const;
+  // resolve()'s file, its hash and its values checked against the manifest (calibrate::read_calibration),
+  // as measure.json and the cost table record them. Returns the file (empty: none).
+  std::filesystem::path load(const variants::Manifest& manifest, table::CalibrationRef& calibration) const;
 };
 void add_calibration(CLI::App* cmd, CalibrationOption& o, const std::string& help);
 inline constexpr const char* calibration_help = "calibration file (default: calibration.json next to the manifest)";

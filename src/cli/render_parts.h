@@ -42,10 +42,16 @@ struct TableRequestArgs {
 struct TableChoice {
   std::vector<std::string> keys;            // the variants to generate, sorted
   std::vector<compile::PickFront> fronts;   // the pick table
+  variants::CalibratedValues parameters;    // what the rows were scored with (the table's meta.calibration)
   std::string summary;                      // a line per target: its front's size and ends
 };
 // Throws std::runtime_error, one line: an unknown family or backend in --for, a table whose meta.manifest_hash
-// is not the manifest's, a target the table has no rows for, a pick nothing satisfies, an unreadable table.
+// is not the manifest's, a table whose calibration file is not there or differs from what was scored, a target
+// the table has no rows for, a pick nothing satisfies, an unreadable table.
 TableChoice choose_from_table(const TableRequestArgs& a);
+
+// generate --calibration FILE: its values checked against the manifest (calibrate/file.h), for the variants
+// the globs select.
+variants::CalibratedValues calibration_values(const std::string& file, const variants::Manifest& manifest);
 
 }  // namespace aovar::cli

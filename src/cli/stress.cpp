@@ -74,8 +74,9 @@ stress::Options stress_options(const StressArgs& a) {
   o.out = a.out;
   o.reuse = !a.no_reuse;
   o.mediump_fp16 = !a.mediump_fp32;
-  table::CalibrationRef unrecorded;  // stress records no calibration source
-  a.calibration.load(o.scope.manifest.get(), o.calibration, unrecorded);
+  table::CalibrationRef calibration;  // stress applies the values and records no source
+  a.calibration.load(o.scope.manifest.get(), calibration);
+  o.calibration = std::move(calibration.values);
   o.cases = selected_cases(a);
   o.shard = shard_option(a.shard);
   return o;

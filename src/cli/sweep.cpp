@@ -43,7 +43,7 @@ ExitCode run_sweep(const SweepArgs& a) {
   const shard::ShardSpec& shard = o.shard;
   if (m.truth.rays < 1) throw std::runtime_error("--rays must be at least 1");
   o.gpu = a.gpu.options();
-  const auto cal_file = a.calibration.load(m.scope.manifest.get(), m.calibration.values, m.calibration.source);
+  const auto cal_file = a.calibration.load(m.scope.manifest.get(), m.calibration);
   // Every view of each scene: 3 for the built-in scenes and the derived views of a mesh.
   const std::size_t views = (m.views.empty() ? 3 : m.views.size()) * std::max<std::size_t>(o.scenes.size(), 1);
   check_whole_space(m.scope.manifest, a.common.globs, a.all,

@@ -30,6 +30,9 @@ ExitCode run_analyze_gpu(const GpuAnalyzeArgs&) { throw std::runtime_error(witho
 TableChoice choose_from_table(const TableRequestArgs&) {
   throw std::runtime_error(without_render_message("aovar generate --from-table"));
 }
+variants::CalibratedValues calibration_values(const std::string&, const variants::Manifest&) {
+  throw std::runtime_error(without_render_message("aovar generate --calibration"));
+}
 ExitCode run_list_scene(const ListArgs&) { throw std::runtime_error(without_render_message("aovar list --scene")); }
 
 Command add_profile(CLI::App& app) { return unavailable(app, "profile", "what a scene needs and what it lets you drop"); }

@@ -261,7 +261,7 @@ OutputReport write_outputs(const CompiledSpace& c, const OutputOptions& o, int j
     for (variants::Target t : c.targets) util::remove_stale_temps(o.out / std::string(variants::target_name(t)), false);
   }
   std::map<fs::path, std::string> files;
-  if (o.emit & emit_index) files[o.out / "variants.json"] = index_json(c);
+  if (o.emit & emit_index) files[o.out / "variants.json"] = index_json(c, o.parameters);
   for (std::size_t t = 0; t < c.targets.size(); ++t) {
     fs::path dir = o.out / std::string(variants::target_name(c.targets[t]));
     for (std::size_t p = 0; p < c.space.programs.size(); ++p) {
@@ -277,7 +277,7 @@ OutputReport write_outputs(const CompiledSpace& c, const OutputOptions& o, int j
   }
   if (o.emit & emit_cpp) {
     check_cpp_namespace(o.cpp_namespace);
-    auto [header, source] = cpp_embedding(c, o.cpp_namespace, o.pick_fronts);
+    auto [header, source] = cpp_embedding(c, o.cpp_namespace, o.pick_fronts, o.parameters);
     files[o.out / (o.cpp_namespace + ".h")] = std::move(header);
     files[o.out / (o.cpp_namespace + ".cpp")] = std::move(source);
   }

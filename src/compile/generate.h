@@ -85,6 +85,10 @@ struct OutputOptions {
   // From a cost table (generate --from-table): the fronts the C++ embedding's pick() looks along; empty:
   // the embedding has no pick table.
   std::vector<PickFront> pick_fronts;
+  // The fitted values each variant was scored with (generate --from-table: the table's calibration;
+  // --calibration FILE), by variant key or algorithm; the embedding's Variant::params carries them beside the
+  // manifest's values. Empty: every variant's params are the manifest's.
+  variants::CalibratedValues parameters;
 };
 
 struct OutputReport {
@@ -104,8 +108,10 @@ void finish_outputs(const std::filesystem::path& manifest, const std::vector<std
 std::string counts_line(const CompiledSpace& c);
 
 // Renderers and tests: variants.json text and the C++ embedding (header, source).
-std::string index_json(const CompiledSpace& c);
+// `parameters`: the fitted values the embedding carries (OutputOptions::parameters); each variant lists its own.
+std::string index_json(const CompiledSpace& c, const variants::CalibratedValues& parameters = {});
 std::pair<std::string, std::string> cpp_embedding(const CompiledSpace& c, const std::string& ns,
-                                                  const std::vector<PickFront>& pick_fronts = {});
+                                                  const std::vector<PickFront>& pick_fronts = {},
+                                                  const variants::CalibratedValues& parameters = {});
 
 }  // namespace aovar::compile

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "compile/generate.h"
+#include "compile/parameters.h"
 #include "shadergen/expand.h"
 #include "util/hash.h"
 #include "util/schema.h"
@@ -39,7 +40,7 @@ std::string lines(const std::vector<ordered_json>& items) {
 
 }  // namespace
 
-std::string index_json(const CompiledSpace& c) {
+std::string index_json(const CompiledSpace& c, const variants::CalibratedValues& parameters) {
   const auto& m = c.manifest;
   ordered_json head;
   head["schema_version"] = util::kSchemaVersion;
@@ -125,6 +126,11 @@ std::string index_json(const CompiledSpace& c) {
     }
     ordered_json e = {{"key", var.key}, {"axes", axes_v}, {"passes", passes}};
     if (c.variant_same_as[v] >= 0) e["same_as"] = c.space.variants[c.variant_same_as[v]].key;
+    if (!parameters.empty()) {  // generated with fitted values: the values each variant embeds (Variant::params)
+      ordered_json values = ordered_json::object();
+      for (const auto& p : variant_params(c, int(v), parameters)) values[p.key] = p.value;
+      e["params"] = values;
+    }
     vars.push_back(std::move(e));
   }
   std::vector<ordered_json> pruned;

@@ -71,6 +71,11 @@ std::string run_settings(const std::string& tool, const CompileOptions& co,
     h.add(f.target).add(f.family ? 1 : 0);
     for (const auto& p : f.points) h.add(p.variant).add(fmt::format("{:.17g} {:.17g}", p.time_ms, p.rmse));
   }
+  h.add("parameters");
+  for (const auto& [owner, values] : o.parameters) {
+    h.add(owner);
+    for (const auto& [key, value] : values) h.add(key).add(fmt::format("{:.17g}", value));
+  }
   return h.hex();
 }
 

@@ -334,8 +334,8 @@ MeasureResult run_measure(const MeasureOptions& options, const Progress& progres
 }
 
 json calibration_json(const MeasureOptions& o) {
-  if (o.calibration.source.file.empty()) return nullptr;
-  return {{"file", o.calibration.source.file}, {"hash", o.calibration.source.hash}};
+  if (o.calibration.file.empty()) return nullptr;
+  return {{"file", o.calibration.file}, {"hash", o.calibration.hash}, {"values", o.calibration.values}};
 }
 
 json to_json(const MeasureResult& res, const MeasureOptions& o) {

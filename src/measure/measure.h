@@ -74,12 +74,6 @@ struct GroundTruth {
   bool temporal = true;
 };
 
-// Calibrated parameter values by algorithm (aovar calibrate) and where they came from; --param wins over them.
-struct CalibrationInUse {
-  std::map<std::string, render::ParamOverrides> values;
-  table::CalibrationRef source;  // what measure.json and the cost table record; empty: none
-};
-
 struct MeasureOptions {
   compile::RunScope scope;                 // the manifest, rendering threads, compile jobs, the cache root
   // What is measured: the scene, its views, the backends, and which variants.
@@ -106,7 +100,9 @@ struct MeasureOptions {
   std::string device;                      // the Vulkan backend: --device NAME|INDEX (render::BackendOptions::device)
   float radius = 0;                        // world units; 0 = the scene's default
   render::ParamOverrides params;           // "<pass>.<name>" -> value
-  CalibrationInUse calibration;
+  // Calibrated parameter values (aovar calibrate), where they came from and what measure.json and the cost
+  // table record of them; empty: the manifest's defaults. --param wins over them.
+  table::CalibrationRef calibration;
 
   TimingPlan timing;
   GroundTruth truth;

@@ -115,7 +115,7 @@ struct PipelinePlan {
 };
 
 // Parameter values by "<pass>.<name>" (e.g. "ao.intensity", "blur.radius_px"); missing = manifest default.
-using ParamOverrides = std::map<std::string, double>;
+using ParamOverrides = variants::ParamValues;
 
 // Builds the plan of variant `variant` (index into compiled.space.variants) for `target` (vulkan: SPIR-V,
 // gl45: GLSL source). `compiled` must hold successful builds for that target. Throws std::runtime_error

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "compile/parameters.h"
+
 namespace aovar::runner {
 
 VariantRunner::VariantRunner(const compile::CompiledSpace& compiled, RunnerOptions options)
@@ -16,11 +18,8 @@ void VariantRunner::use_scene(const scene::Scene& scene) {
 
 render::PipelinePlan VariantRunner::plan(int variant, const render::ParamOverrides& overrides, bool strict) const {
   render::ParamOverrides values = overrides;
-  const auto& point = compiled_.space.variants[variant].point;
-  const auto& algorithm = compiled_.manifest.value(variants::Axis::algorithm, point[variants::index(variants::Axis::algorithm)]);
-  auto cal = options_.calibration.find(compiled_.space.variants[variant].key);
-  if (cal == options_.calibration.end()) cal = options_.calibration.find(algorithm.text);
-  if (cal != options_.calibration.end()) values.insert(cal->second.begin(), cal->second.end());  // keeps the caller's
+  if (const auto* calibrated = compile::calibrated_for(compiled_, variant, options_.calibration))
+    values.insert(calibrated->begin(), calibrated->end());  // keeps the caller's
   return render::plan_pipeline(compiled_, variant, target_, values, strict);
 }
 

@@ -25,7 +25,7 @@ struct RunnerOptions {
   render::Extent size{640, 360};     // output size every prepared pipeline renders at
   // Calibrated parameter values by variant key or algorithm name (aovar calibrate; a variant's entry wins
   // over its algorithm's); a plan's overrides win over both.
-  std::map<std::string, render::ParamOverrides> calibration;
+  variants::CalibratedValues calibration;
 };
 
 // An AO result read back, with its NaN / Inf / out-of-range counts over every pixel.

@@ -55,8 +55,7 @@ Fitted fit_methods(const ShipOptions& o, const scene::Scene& sc, const calibrate
                                  }));
     record_input(o.out, "fit_inputs", inputs);
   }
-  f.values = calibrate::load_calibration(file, manifest);
-  f.source = calibrate::calibration_source(file);
+  f.calibration = calibrate::read_calibration(file, manifest);
   return f;
 }
 

@@ -15,8 +15,7 @@
 namespace aovar::ship {
 
 struct Fitted {
-  std::map<std::string, render::ParamOverrides> values;
-  table::CalibrationRef source;
+  table::CalibrationRef calibration;  // OUT/calibration.json: where, its hash and the fitted values
   std::string inputs;  // hash of what the fit depends on (manifest, scene, views, normals, sizes, budget)
   bool reused = false;
 };

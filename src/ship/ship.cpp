@@ -69,8 +69,7 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   m.size = o.size;
   m.timing.batch = batch_of(o);
   m.truth.rays = o.rays;
-  m.calibration.values = fit.values;
-  m.calibration.source = fit.source;
+  m.calibration = fit.calibration;
   // The budget's variant is timed in every round: each candidate is compared with it in the same rounds.
   if (!o.query.budget_of.empty()) m.baseline = o.query.budget_of;
   s.prune_by_profile = false;  // ship pruned already (the skip list), with the profile of all views
@@ -112,7 +111,7 @@ bool race_without_screen(const ShipOptions& o, int candidates) {
 // What a screen depends on beyond the fit: a join takes only shards whose screens had the same.
 std::string screen_inputs(const Fitted& fit, const sweep::SweepOptions& so) {
   const measure::MeasureOptions& m = so.measure;
-  const json inputs = {{"fit", fit.inputs},     {"calibration", m.calibration.source.hash},
+  const json inputs = {{"fit", fit.inputs},     {"calibration", m.calibration.hash},
                        {"globs", m.globs},      {"skip", m.skip},
                        {"views", m.views},      {"backends", m.backends},
                        {"size", fmt::format("{}x{}", m.size.width, m.size.height)},
@@ -399,9 +398,11 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
   decide::mark_pareto(last);
   res.table = std::move(last);
   res.selection = decide::select(on_views(res.table, res.holdout), final_query(o));
+  // The line carries the fit: the generated library holds the values the choice was scored with.
   if (res.selection.choice)
-    res.build_line = fmt::format("aovar generate --manifest {} --variants '{}' --out shaders", util::display_path(o.scope.manifest.path()),
-                                 res.selection.choice->variant);
+    res.build_line = fmt::format("aovar generate --manifest {} --variants '{}'{} --out shaders",
+                                 util::display_path(o.scope.manifest.path()), res.selection.choice->variant,
+                                 fit.calibration.file.empty() ? "" : " --calibration " + fit.calibration.file);
   res.table.meta.ship = ship_meta(o, res, pruning);
   table::write_table_files(res.table, o.out);
   report::write_reports(res.table, o.out, o.out / round_name(!o.target.empty(), true), manifest.algorithms);

@@ -63,7 +63,7 @@ struct Options {
   std::vector<std::string> backends = {render::default_backend()};
   std::vector<Case> cases;                       // empty = default_cases()
   render::Extent size{96, 54};
-  std::map<std::string, render::ParamOverrides> calibration;  // by algorithm (shipped parameter values)
+  variants::CalibratedValues calibration;  // by algorithm (shipped parameter values)
   double pair_tolerance = 0.1;                   // |mediump - highp| or |r16f - r32f| per pixel
   double pair_share = 0.01;                      // share of pixels allowed beyond the tolerance
   double scale_tolerance = 0.005;                // |RMSE of a scaled case - RMSE of its original|

@@ -115,7 +115,7 @@ json input_hashes(const SweepOptions& o, const std::map<std::string, VariantStat
                   {"device", m.device}, {"size", fmt::format("{}x{}", m.size.width, m.size.height)},
                   {"reps", measure::reps_text(m)}, {"warmup", m.timing.warmup}, {"threads", m.scope.threads},
                   {"rays", m.truth.rays}, {"radius", m.radius}, {"params", m.params}, {"baseline", m.baseline},
-                  {"calibration", m.calibration.source.hash}, {"profile_prune", o.prune_by_profile},
+                  {"calibration", m.calibration.hash}, {"profile_prune", o.prune_by_profile},
                   {"prune_dominated", o.prune_dominated}, {"prune_check", o.prune_check},
                   {"min_model_spearman", o.min_model_spearman}, {"gpu", o.gpu.families},
                   {"shard_times", file_hash(o.shard_times)}};

@@ -136,8 +136,7 @@ table::SweepMeta table_meta(const SweepOptions& o, const SweepResult& res, std::
   m.reps_reached = res.reps.to_json();
   m.rays = o.measure.truth.rays;
   m.calibrated = !o.measure.calibration.values.empty();
-  m.calibration = o.measure.calibration.source.file.empty() ? std::optional<table::CalibrationRef>()
-                                                             : o.measure.calibration.source;
+  m.calibration = o.measure.calibration.file.empty() ? std::optional<table::CalibrationRef>() : o.measure.calibration;
   m.shard = o.shard.label();
   m.cost_models = std::move(models);
   m.profile_prune = o.prune_by_profile;

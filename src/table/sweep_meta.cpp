@@ -81,7 +81,7 @@ json to_json(const SweepMeta& m) {
   put(j, "calibrated", m.calibrated);
   if (m.calibration) {
     j["calibration"] = nullptr;
-    if (const auto& c = *m.calibration) j["calibration"] = {{"hash", c->hash}};
+    if (const auto& c = *m.calibration) j["calibration"] = {{"hash", c->hash}, {"values", c->values}};
     if (const auto& c = *m.calibration; c && !c->file.empty()) j["calibration"]["file"] = c->file;  // merge drops it
   }
   put(j, "shard", m.shard);
@@ -119,7 +119,8 @@ SweepMeta sweep_meta_from_json(const json& meta) {
   m.calibrated = take<bool>(rest, "calibrated");
   m.calibration = take(rest, "calibration", [](const json& v) -> std::optional<CalibrationRef> {
     if (v.is_null()) return std::nullopt;
-    return CalibrationRef{v.value("file", std::string()), v.at("hash").get<std::string>()};
+    return CalibrationRef{v.value("file", std::string()), v.at("hash").get<std::string>(),
+                          v.value("values", variants::CalibratedValues{})};
   });
   m.shard = take<std::string>(rest, "shard");
   m.profile_prune = take<bool>(rest, "profile_prune");

@@ -14,6 +14,7 @@
 
 #include "table/model_fit.h"
 #include "table/pruning_counts.h"
+#include "variants/manifest.h"
 
 namespace aovar::table {
 
@@ -26,9 +27,12 @@ struct MeasuredScene {
   bool operator==(const MeasuredScene&) const = default;
 };
 
-// The calibration file the parameters came from (meta.calibration): `file` says where, `hash` what.
+// The calibration the parameters came from (meta.calibration): `file` says where, `hash` what (its bytes),
+// and `values` the fitted values it holds, so that a table says what every row was scored with on its own
+// (generate --from-table embeds them). Empty `file`: none, the manifest's defaults.
 struct CalibrationRef {
   std::string file, hash;
+  variants::CalibratedValues values;
   bool operator==(const CalibrationRef&) const = default;
 };
 

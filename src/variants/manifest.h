@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -57,6 +58,13 @@ struct Param {
   std::string unit;
   SourcePos pos;
 };
+// Parameter values by "<pass>.<name>" ("ao.intensity", "blur.radius_px"); a name left out keeps the manifest's
+// value.
+using ParamValues = std::map<std::string, double>;
+// Fitted values (aovar calibrate, ship's fit) by algorithm name or variant key; a variant's entry wins over its
+// algorithm's.
+using CalibratedValues = std::map<std::string, ParamValues>;
+
 // "1": a pure number; "radius" / "radius^2": in units of the AO radius (squared); "depth": a share of
 // the pixel's linear depth; "px": pixels of the pass's target; "rad": an angle.
 inline constexpr std::string_view kParamUnits[] = {"1", "radius", "radius^2", "depth", "px", "rad"};

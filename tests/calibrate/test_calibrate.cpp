@@ -302,7 +302,7 @@ TEST(Calibrate, RunsRecordTheCalibrationTheyApplied) {
   auto meta = nlohmann::json::parse(util::read_file(dir / "m" / "measure.json").value());
   const auto source = calibrate::calibration_source(dir / "cal.json");
   EXPECT_EQ(meta.at("calibration").at("hash"), source.hash);
-  const table::CalibrationRef recorded{meta.at("calibration").at("file"), meta.at("calibration").at("hash")};
+  const table::CalibrationRef recorded{meta.at("calibration").at("file"), meta.at("calibration").at("hash"), {}};
   EXPECT_EQ(calibrate::measured_with(recorded, source, "m/measure.json"), "");
   const std::string other = calibrate::measured_with(recorded, calibrate::calibration_source(dir / "other.json"), "t.json");
   EXPECT_NE(other.find("t.json: error: measured with "), std::string::npos) << other;

@@ -63,5 +63,51 @@ TEST(GenerateFromTable, ATableOfAnotherManifestIsRefusedByItsHash) {
   EXPECT_TRUE(std::filesystem::exists(dir / "out" / "variants.json"));
 }
 
+// What the rows were scored with travels (issue 53): --from-table embeds the table's calibration values as
+// each variant's params (variants.json lists them), once the file it names is found with the bytes that were
+// scored; an edited or missing file is refused in one line and nothing is written.
+TEST(GenerateFromTable, EmbedsTheScoredCalibrationAndRefusesAChangedOrMissingFile) {
+  test::TempDir dir;
+  const std::string manifest = (test::source_dir() / "shader_src" / "aovar.toml").string();
+  const std::string key = "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
+  const std::string calibration_text =
+      R"({"algorithms": {"alchemy": {"algorithm": "alchemy", "params": {"ao.intensity": 0.625, "ao.contrast": 1.25}}}})";
+  const std::filesystem::path fitted = dir / "fit" / "fitted.json";  // not beside the table or the manifest
+  std::filesystem::create_directories(fitted.parent_path());
+  util::write_atomic(fitted, calibration_text);
+  table::CostTable t;
+  t.rows = {test::point_row(key, 1.0, 0.05)};
+  t.meta.manifest_hash = util::hash_hex(*util::read_file(manifest));
+  t.meta.calibration = table::CalibrationRef{fitted.string(), util::hash_hex(calibration_text),
+                                             {{"alchemy", {{"ao.intensity", 0.625}, {"ao.contrast", 1.25}}}}};
+  table::write_json(t, dir / "cost_table.json");
+  const auto generate = [&](const std::string& out) {
+    return test::run_aovar(fmt::format("generate --manifest {} --from-table {} --targets vulkan --emit index,cpp --out {}",
+                                       manifest, (dir / "cost_table.json").string(), (dir / out).string()));
+  };
+  const auto scored = generate("scored");
+  ASSERT_EQ(scored.status, 0) << scored.output;
+  const auto index = test::read_json(dir / "scored" / "variants.json");
+  ASSERT_EQ(index.at("variants").size(), 1u);
+  EXPECT_EQ(index["variants"][0]["params"]["ao.intensity"], 0.625);
+  EXPECT_EQ(index["variants"][0]["params"]["ao.contrast"], 1.25);
+  EXPECT_EQ(index["variants"][0]["params"]["ao.bias"], 0.0005) << "a value the fit left out keeps the manifest's";
+  const std::string source = util::read_file(dir / "scored" / "aovar_shaders.cpp").value_or("");
+  EXPECT_NE(source.find("{\"ao.intensity\", 0.625f, 2.0f,"), std::string::npos) << "the fitted value beside the manifest's";
+
+  util::write_atomic(fitted, R"({"algorithms": {}})");  // edited after the sweep
+  const auto edited = generate("edited");
+  EXPECT_EQ(edited.status, 2) << edited.output;
+  EXPECT_NE(edited.output.find("changed after the table was scored"), std::string::npos) << edited.output;
+  EXPECT_EQ(std::count(edited.output.begin(), edited.output.end(), '\n'), 1) << edited.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "edited" / "variants.json"));
+
+  std::filesystem::remove(fitted);
+  const auto missing = generate("missing");
+  EXPECT_EQ(missing.status, 2) << missing.output;
+  EXPECT_NE(missing.output.find("which is not there, beside the table or beside the manifest"), std::string::npos)
+      << missing.output;
+}
+
 }  // namespace
 }  // namespace aovar

@@ -131,6 +131,18 @@ TEST(ShipCli, AResumedRunAndJoinedShardsReachTheSameFrontAndTheBuildLineGenerate
   ASSERT_EQ(index.at("variants").size(), 1u) << index.dump();
   const std::string chosen = whole.output.substr(whole.output.find("choice: ") + 8);
   EXPECT_EQ(index.at("variants")[0].at("key").get<std::string>(), chosen.substr(0, chosen.find(' ')));
+
+  // The line carries the fit: the library holds the values the choice was scored with (issue 53), each one
+  // OUT/calibration.json's fitted value for its method.
+  ASSERT_NE(line.find("--calibration "), std::string::npos) << line;
+  const json calibration = json::parse(util::read_file(dir / "whole" / "calibration.json").value_or("{}"));
+  const std::string algorithm = chosen.substr(0, chosen.find('-'));
+  const json& fitted = calibration.at("algorithms").at(algorithm).at("params");
+  const json& embedded = index.at("variants")[0].at("params");
+  ASSERT_FALSE(fitted.empty());
+  for (const auto& [key, value] : fitted.items()) EXPECT_EQ(embedded.at(key), value) << key;
+  const std::string source = util::read_file(dir / "shaders" / "aovar_shaders.cpp").value_or("");
+  EXPECT_NE(source.find("const VariantParam kVariantParams_0[]"), std::string::npos);
 }
 
 // A cube whose 8 corners share one normal each (the diagonal): every face's buffered normal leans 35 to 55

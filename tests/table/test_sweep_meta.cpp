@@ -23,7 +23,7 @@ SweepMeta full_meta() {
   m.reps = 3;
   m.rays = 64;
   m.calibrated = true;
-  m.calibration = CalibrationRef{"cal.json", "beef"};
+  m.calibration = CalibrationRef{"cal.json", "beef", {{"alchemy", {{"ao.intensity", 0.6}}}}};
   m.shard = "1/1";
   m.profile_prune = true;
   PruningCounts far{"builtin:far", 4, 1, 3, {{"depth_format r16f", 3}}, {{"a-s08", "depth_format r16f", "depth_format r16f: 0.01"}}};

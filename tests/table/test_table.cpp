@@ -39,7 +39,7 @@ CostTable sample_table() {
   CostTable t;
   t.meta.tool = "test";
   t.meta.size = "64x36";
-  t.meta.calibration = CalibrationRef{"cal.json", "beef"};
+  t.meta.calibration = CalibrationRef{"cal.json", "beef", {}};
   t.meta.other = {{"from_a_newer_aovar", {1, 2}}};  // kept as read
   CostRow a = plain_row("alchemy-s08", 1.5, 0.05);
   a.axes = {{"algorithm", "alchemy"}, {"samples", "8"}};
