@@ -113,6 +113,7 @@ ExitCode run_generate(GenerateArgs& a) {
     a.common.globs = std::move(choice.keys);  // exact keys: the glob path's outputs, depfile and no-op check
     a.out.pick_fronts = std::move(choice.fronts);
     a.out.parameters = std::move(choice.parameters);
+    if (!choice.calibration.empty()) a.out.depends.push_back(choice.calibration);
   } else if (!a.table.targets.empty() || a.table.budget_ms || a.table.max_error || !a.table.budget_of.empty()) {
     throw std::runtime_error("generate: --for, --budget-ms, --budget-of and --max-error need --from-table");
   }
@@ -120,6 +121,7 @@ ExitCode run_generate(GenerateArgs& a) {
     if (!a.table.table.empty())
       throw std::runtime_error("generate: --from-table embeds the table's own calibration; leave out --calibration");
     a.out.parameters = calibration_values(a.calibration, a.common.scope().manifest.get());
+    a.out.depends.push_back(a.calibration);
   }
   const auto lock = a.out.check ? nullptr : lock_output(a.out.out);  // --check writes nothing
   return generate(a.common, a.out, shard_option(a.shard), a.table.table.empty() ? std::string() : util::display_path(a.table.table));

@@ -50,8 +50,9 @@ std::string summary_line(const decide::TargetFront& f) {
 // looked for there, then beside the table (ship's OUT/calibration.json), then beside the manifest (the
 // default calibration). A merged table names no file and carries the values alone. None recorded: the
 // manifest's defaults.
+// `found`: where the file is.
 variants::CalibratedValues scored_parameters(const table::CostTable& t, const std::filesystem::path& table,
-                                             const std::filesystem::path& manifest) {
+                                             const std::filesystem::path& manifest, std::filesystem::path& found) {
   if (!t.meta.calibration || !*t.meta.calibration) return {};
   const table::CalibrationRef& c = **t.meta.calibration;
   const std::string where = util::display_path(table);
@@ -78,6 +79,7 @@ variants::CalibratedValues scored_parameters(const table::CostTable& t, const st
           "{}: error: the calibration {} changed after the table was scored (hash {}, recorded {}); nothing was "
           "written (restore it, or sweep again with it)",
           where, util::display_path(file), util::hash_hex(*bytes).substr(0, 12), c.hash.substr(0, 12)));
+    found = file;
   }
   if (c.values.empty())
     throw std::runtime_error(fmt::format(
@@ -110,7 +112,8 @@ TableChoice choose_from_table(const TableRequestArgs& a) {
   request.pick.max_error = a.max_error;
   request.pick.budget_of = a.budget_of;
   const auto keep = decide::keep_from_table(t, request, [](const std::string& name) { return !is_backend(name); });
-  TableChoice choice{keep.keys, {}, scored_parameters(t, a.table, a.manifest), {}};
+  TableChoice choice{keep.keys, {}, {}, {}, {}};
+  choice.parameters = scored_parameters(t, a.table, a.manifest, choice.calibration);
   for (const auto& f : keep.fronts) {
     choice.fronts.push_back(pick_front(f));
     choice.summary += summary_line(f);

@@ -2,6 +2,7 @@
 // The parts of generator subcommands that need the rendering modules: `analyze --gpu` (RADV) and
 // `list --scene` (a scene profile). With AOVAR_WITH_RENDER they are analyze_gpu.cpp and list_scene.cpp;
 // a generator-only build links without_render.cpp instead, which says in one line that they are not in it.
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -43,6 +44,7 @@ struct TableChoice {
   std::vector<std::string> keys;            // the variants to generate, sorted
   std::vector<compile::PickFront> fronts;   // the pick table
   variants::CalibratedValues parameters;    // what the rows were scored with (the table's meta.calibration)
+  std::filesystem::path calibration;        // the file that holds them, where the table names one
   std::string summary;                      // a line per target: its front's size and ends
 };
 // Throws std::runtime_error, one line: an unknown family or backend in --for, a table whose meta.manifest_hash

@@ -349,6 +349,7 @@ void finish_outputs(const fs::path& manifest, const std::vector<fs::path>& files
     std::string dep = escape(o.depfile_target.value_or(o.out / "variants.json")) + ":";
     dep += " \\\n  " + escape(manifest);
     for (const auto& f : files) dep += " \\\n  " + escape(f);
+    for (const auto& f : o.depends) dep += " \\\n  " + escape(f);
     dep += "\n";
     util::write_if_changed(*o.depfile, dep);
   }

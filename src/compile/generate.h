@@ -89,6 +89,9 @@ struct OutputOptions {
   // --calibration FILE), by variant key or algorithm; the embedding's Variant::params carries them beside the
   // manifest's values. Empty: every variant's params are the manifest's.
   variants::CalibratedValues parameters;
+  // Files the outputs depend on besides the manifest and the templates (the calibration a cost table was
+  // scored with): the depfile lists them, so that a build system regenerates, and re-checks, when one changes.
+  std::vector<std::filesystem::path> depends;
 };
 
 struct OutputReport {

@@ -82,8 +82,10 @@ TEST(GenerateFromTable, EmbedsTheScoredCalibrationAndRefusesAChangedOrMissingFil
                                              {{"alchemy", {{"ao.intensity", 0.625}, {"ao.contrast", 1.25}}}}};
   table::write_json(t, dir / "cost_table.json");
   const auto generate = [&](const std::string& out) {
-    return test::run_aovar(fmt::format("generate --manifest {} --from-table {} --targets vulkan --emit index,cpp --out {}",
-                                       manifest, (dir / "cost_table.json").string(), (dir / out).string()));
+    return test::run_aovar(fmt::format("generate --manifest {} --from-table {} --targets vulkan --emit index,cpp --out {} "
+                                       "--depfile {}",
+                                       manifest, (dir / "cost_table.json").string(), (dir / out).string(),
+                                       (dir / (out + ".d")).string()));
   };
   const auto scored = generate("scored");
   ASSERT_EQ(scored.status, 0) << scored.output;
@@ -94,6 +96,8 @@ TEST(GenerateFromTable, EmbedsTheScoredCalibrationAndRefusesAChangedOrMissingFil
   EXPECT_EQ(index["variants"][0]["params"]["ao.bias"], 0.0005) << "a value the fit left out keeps the manifest's";
   const std::string source = util::read_file(dir / "scored" / "aovar_shaders.cpp").value_or("");
   EXPECT_NE(source.find("{\"ao.intensity\", 0.625f, 2.0f,"), std::string::npos) << "the fitted value beside the manifest's";
+  // A build system regenerates, and checks again, when the calibration changes.
+  EXPECT_NE(util::read_file(dir / "scored.d").value_or("").find(fitted.string()), std::string::npos);
 
   util::write_atomic(fitted, R"({"algorithms": {}})");  // edited after the sweep
   const auto edited = generate("edited");
