@@ -158,3 +158,22 @@ TEST(GlEstimate, EveryGlChipWithLanesHasAnEstimateSpecAndAmdFamiliesKeepTheirs) 
 
 }  // namespace
 }  // namespace aovar
+
+namespace aovar {
+namespace {
+
+// select --target and ship --target say how far to trust the estimate: the paper table where bench/gpu_seeds
+// checked the chip, "no validation" where no paper measured it, and "no estimate" for statistics only.
+TEST(GlEstimate, EachTargetSaysItsValidationInOneLine) {
+  const std::string a320 = gpu::validation_line("a320");
+  EXPECT_NE(a320.find("Sunet 2018"), std::string::npos) << a320;
+  EXPECT_NE(a320.find("Spearman"), std::string::npos) << a320;
+  EXPECT_NE(a320.find("median ratio error"), std::string::npos) << a320;
+  EXPECT_NE(gpu::validation_line("a660").find("no validation"), std::string::npos);
+  EXPECT_NE(gpu::validation_line("navi21").find("no validation"), std::string::npos);
+  EXPECT_NE(gpu::validation_line("phoenix").find("no estimate"), std::string::npos);
+  for (const std::string line : {a320, gpu::validation_line("navi21")}) EXPECT_EQ(line.find('\n'), std::string::npos);
+}
+
+}  // namespace
+}  // namespace aovar
