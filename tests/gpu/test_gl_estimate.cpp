@@ -16,7 +16,7 @@ namespace aovar {
 namespace {
 
 // A made-up tiler: 64 lanes at 500 MHz, 4 texture units, 10 GB/s; one texture cache and an L2.
-gpu::FamilySpec synthetic_chip() {
+gpu::FamilySpec gl_synthetic_chip() {
   gpu::FamilySpec chip;
   chip.family = "synthetic";
   chip.product = "synthetic chip";
@@ -35,7 +35,7 @@ gpu::FamilySpec synthetic_chip() {
   return chip;
 }
 
-gpu::PassLoad load_of(double fetches, double bytes) {
+gpu::PassLoad gl_pass_load(double fetches, double bytes) {
   gpu::PassLoad load;
   load.pass = "ao";
   load.fetches = fetches;
@@ -43,7 +43,7 @@ gpu::PassLoad load_of(double fetches, double bytes) {
   return load;
 }
 
-table::GpuPassCost estimated(const gpu::FamilySpec& chip, double lane_cycles, const gpu::PassLoad& load) {
+table::GpuPassCost gl_estimated(const gpu::FamilySpec& chip, double lane_cycles, const gpu::PassLoad& load) {
   table::GpuPassCost c;
   c.pass = load.pass;
   gpu::apply_chip_roofline(c, load, chip, {600, 960}, lane_cycles);
@@ -51,40 +51,40 @@ table::GpuPassCost estimated(const gpu::FamilySpec& chip, double lane_cycles, co
 }
 
 TEST(GlEstimate, AnAluBoundPassScalesWithItsIssueCountAndTheLanes) {
-  const gpu::FamilySpec chip = synthetic_chip();
-  const gpu::PassLoad load = load_of(2, 8);  // few fetches, few bytes
-  const table::GpuPassCost a = estimated(chip, 800, load);
+  const gpu::FamilySpec chip = gl_synthetic_chip();
+  const gpu::PassLoad load = gl_pass_load(2, 8);  // few fetches, few bytes
+  const table::GpuPassCost a = gl_estimated(chip, 800, load);
   EXPECT_EQ(a.bound, "alu");
   EXPECT_DOUBLE_EQ(a.est_ms, a.alu_ms);
-  EXPECT_NEAR(estimated(chip, 1600, load).alu_ms / a.alu_ms, 2.0, 1e-12);  // twice the instructions
+  EXPECT_NEAR(gl_estimated(chip, 1600, load).alu_ms / a.alu_ms, 2.0, 1e-12);  // twice the instructions
   gpu::FamilySpec wider = chip;
   wider.alu_lanes *= 2;
-  EXPECT_NEAR(estimated(wider, 800, load).alu_ms / a.alu_ms, 0.5, 1e-12);  // twice the lanes
+  EXPECT_NEAR(gl_estimated(wider, 800, load).alu_ms / a.alu_ms, 0.5, 1e-12);  // twice the lanes
   // A shader clock apart from the core clock (GT200, Fermi) drives the ALUs, not the texture units.
   gpu::FamilySpec hot = chip;
   hot.shader_clock_mhz = 2 * chip.clock_mhz;
-  const table::GpuPassCost h = estimated(hot, 800, load);
+  const table::GpuPassCost h = gl_estimated(hot, 800, load);
   EXPECT_NEAR(h.alu_ms / a.alu_ms, 0.5, 1e-12);
   EXPECT_DOUBLE_EQ(h.texture_ms, a.texture_ms);
 }
 
 TEST(GlEstimate, ATextureBoundPassScalesWithFetchesOverTheTexelRate) {
-  const gpu::FamilySpec chip = synthetic_chip();
-  const gpu::PassLoad load = load_of(64, 16);  // many fetches from a tiny footprint, little arithmetic
-  const table::GpuPassCost t = estimated(chip, 20, load);
+  const gpu::FamilySpec chip = gl_synthetic_chip();
+  const gpu::PassLoad load = gl_pass_load(64, 16);  // many fetches from a tiny footprint, little arithmetic
+  const table::GpuPassCost t = gl_estimated(chip, 20, load);
   EXPECT_EQ(t.bound, "texture");
   EXPECT_NEAR(t.texture_ms, 1e3 * 64 * 600 * 960 / (chip.tmus * chip.clock_mhz * 1e6), 1e-9);
   gpu::FamilySpec more_tmus = chip;
   more_tmus.tmus *= 2;
-  const table::GpuPassCost m = estimated(more_tmus, 20, load);
+  const table::GpuPassCost m = gl_estimated(more_tmus, 20, load);
   EXPECT_NEAR(m.texture_ms / t.texture_ms, 0.5, 1e-12);
   EXPECT_DOUBLE_EQ(m.alu_ms, t.alu_ms);
 }
 
 TEST(GlEstimate, AMemoryBoundPassIsBoundByItsTrafficAndTheCacheModelTakesOver) {
-  const gpu::FamilySpec chip = synthetic_chip();
-  const gpu::PassLoad load = load_of(4, 400);  // wide texels and many render targets
-  table::GpuPassCost c = estimated(chip, 20, load);
+  const gpu::FamilySpec chip = gl_synthetic_chip();
+  const gpu::PassLoad load = gl_pass_load(4, 400);  // wide texels and many render targets
+  table::GpuPassCost c = gl_estimated(chip, 20, load);
   EXPECT_EQ(c.bound, "bandwidth");
   const double untraced = c.est_ms;
   // The traced replay: most reads hit, but the pass still misses 200 B per pixel to DRAM.
@@ -105,14 +105,14 @@ TEST(GlEstimate, AMemoryBoundPassIsBoundByItsTrafficAndTheCacheModelTakesOver) {
   // A faster memory moves it; more lanes do not.
   gpu::FamilySpec wider = chip;
   wider.alu_lanes *= 4;
-  table::GpuPassCost w = estimated(wider, 20, load);
+  table::GpuPassCost w = gl_estimated(wider, 20, load);
   gpu::apply_cache_model(w, load, wider, {600, 960}, traffic);
   EXPECT_DOUBLE_EQ(w.est_ms, c.est_ms);
 }
 
 TEST(GlEstimate, TheGbufferWriteFollowsItsRenderTargetBytes) {
-  const gpu::FamilySpec chip = synthetic_chip();
-  gpu::PassLoad rg = load_of(0, 2 + 2), rgb = load_of(0, 4 + 2);  // rg8 / rgba8 normals, r16f depth
+  const gpu::FamilySpec chip = gl_synthetic_chip();
+  gpu::PassLoad rg = gl_pass_load(0, 2 + 2), rgb = gl_pass_load(0, 4 + 2);  // rg8 / rgba8 normals, r16f depth
   rg.pass = rgb.pass = "gbuffer";
   table::GpuPassCost a, b;
   gpu::apply_gbuffer_write(a, rg, chip, {600, 960});
@@ -129,19 +129,19 @@ TEST(GlEstimate, EachVendorCountsItsOwnIssueSlots) {
   gpu::ShaderStats valhall;
   valhall.instructions = 120;
   valhall.values = {{"inst", 120}, {"cycles", 2.5}};
-  gpu::FamilySpec mali = synthetic_chip();
+  gpu::FamilySpec mali = gl_synthetic_chip();
   mali.compiler = gpu::CompilerRef{"panfrost", "750"};
   EXPECT_DOUBLE_EQ(gpu::chip_alu_lane_cycles(mali, midgard), 176);  // a VLIW bundle per pipe-clock
   EXPECT_DOUBLE_EQ(gpu::chip_alu_lane_cycles(mali, valhall), 120);
   for (const char* driver : {"nouveau", "freedreno", "intel"}) {
-    gpu::FamilySpec chip = synthetic_chip();
+    gpu::FamilySpec chip = gl_synthetic_chip();
     chip.compiler = gpu::CompilerRef{driver, "x"};
     EXPECT_DOUBLE_EQ(gpu::chip_alu_lane_cycles(chip, valhall), 120) << driver;
   }
   // Without a count the ALU term, and so the estimate, is NaN: never a silent zero.
   gpu::ShaderStats none;
-  const gpu::FamilySpec chip = synthetic_chip();
-  const table::GpuPassCost c = estimated(chip, gpu::chip_alu_lane_cycles(chip, none), load_of(4, 8));
+  const gpu::FamilySpec chip = gl_synthetic_chip();
+  const table::GpuPassCost c = gl_estimated(chip, gpu::chip_alu_lane_cycles(chip, none), gl_pass_load(4, 8));
   EXPECT_TRUE(std::isnan(c.est_ms));
 }
 
