@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "gpu/cache_estimate.h"
 #include "gpu/family_specs.h"
@@ -173,6 +176,34 @@ TEST(GlEstimate, EachTargetSaysItsValidationInOneLine) {
   EXPECT_NE(gpu::validation_line("navi21").find("no validation"), std::string::npos);
   EXPECT_NE(gpu::validation_line("phoenix").find("no estimate"), std::string::npos);
   for (const std::string line : {a320, gpu::validation_line("navi21")}) EXPECT_EQ(line.find('\n'), std::string::npos);
+}
+
+}  // namespace
+}  // namespace aovar
+
+namespace aovar {
+namespace {
+
+// A variant on a GL chip: every pass on the vendor's count, and the G-buffer's write in the frame (on AMD it
+// is left out: tests/gpu/test_roofline.cpp).
+TEST(GlEstimate, AVariantOnAGlChipSumsItsPassesWithTheGbufferWrite) {
+  gpu::VariantStats v{"k", {}};
+  for (const char* pass : {"gbuffer", "ao", "blur"}) {
+    gpu::PipelineStats stats;
+    stats.unrolled.instructions = 100;
+    stats.unrolled.values = {{"inst", 100}};
+    stats.shipped = stats.unrolled;
+    v.passes.push_back({pass, 0, std::make_shared<const gpu::PipelineStats>(stats)});
+  }
+  const std::vector<gpu::PassLoad> loads = {{"gbuffer", 1, 1, 0, 8}, {"ao", 1, 1, 4, 16}, {"blur", 2, 1, 2, 8}};
+  const gpu::FamilySpec chip = gl_synthetic_chip();
+  const table::GpuCost cost = gpu::estimate(v, loads, &chip, {600, 960}, "Mesa test");
+  ASSERT_EQ(cost.passes.size(), 3u);
+  EXPECT_EQ(cost.passes[0].pass, "gbuffer");
+  EXPECT_EQ(cost.passes[0].bound, "dram");
+  EXPECT_DOUBLE_EQ(cost.est_ms, cost.passes[0].est_ms + cost.passes[1].est_ms + cost.passes[2].est_ms);
+  EXPECT_NEAR(cost.passes[1].alu_ms, 1e3 * 100 * 600 * 960 / (chip.alu_lanes * chip.clock_mhz * 1e6), 1e-9);
+  EXPECT_NEAR(cost.passes[2].alu_ms, 2 * cost.passes[1].alu_ms, 1e-9);  // the separable blur's two draws
 }
 
 }  // namespace
