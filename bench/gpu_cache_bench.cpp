@@ -1,7 +1,7 @@
 // bench/gpu_cache: the cache model against the papers (issue 33). Traces variants on a scene view through
 // lavapipe at the estimate's frame size, replays the traces through each product's caches, and prints per
-// variant and pass: reads and DRAM bytes per pixel, each level's hit rate, and (for RADV families) the
-// estimate on the traffic with its bound. Several radii in one run give the cost against the radius.
+// variant and pass: reads and DRAM bytes per pixel, each level's hit rate, and (for RADV families and the GL
+// chips with an estimate, bench/gpu_seeds) the estimate on the traffic with its bound. Several radii in one run give the cost against the radius.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
   app.add_option("--view", view_name);
   app.add_option("--size", size);
   app.add_option("--manifest", manifest);
-  app.add_option("--families", families, "RADV families: statistics and the estimate on the traffic");
+  app.add_option("--families", families, "RADV families and GL chips: statistics and the estimate on the traffic");
   app.add_option("--products", products, "reference products (families.json): traffic only");
   app.add_option("--radii", radii, "AO radii in scene units (default: the scene's)");
   app.add_option("--window", window, "share of each draw traced (a centred window)");
@@ -127,6 +127,11 @@ int main(int argc, char** argv) {
     if (std::sscanf(size.c_str(), "%dx%d", &w, &h) != 2) throw std::runtime_error("--size WxH");
     compile::CompileOptions co;
     co.scope.targets = {variants::Target::vulkan};
+    for (const std::string& f : split(families))
+      if (gpu::gl_chip(f)) {
+        co.scope.targets.push_back(variants::Target::gles30);  // a GL chip compiles the gles30 programs
+        break;
+      }
     co.globs = globs;
     co.scope.manifest = manifest;
     const compile::CompiledSpace compiled = compile::compile_space(co);

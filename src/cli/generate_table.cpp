@@ -10,6 +10,7 @@
 #include "cli/render_parts.h"
 #include "compile/pick_table.h"
 #include "decide/fronts.h"
+#include "gpu/family_specs.h"
 #include "render/backend.h"
 #include "util/fs.h"
 #include "util/hash.h"
@@ -24,10 +25,10 @@ bool is_backend(const std::string& name) {
 
 void check_target_names(const std::string& table, const std::vector<std::string>& targets) {
   for (const auto& name : targets)
-    if (!is_backend(name) && !compile::is_amd_family(name))
+    if (!is_backend(name) && !compile::is_amd_family(name) && !gpu::estimate_spec(name))
       throw std::runtime_error(fmt::format(
-          "{}: --for '{}': not an AMD GPU family or a backend (backends: {}; families, Mesa's "
-          "names: {})",
+          "{}: --for '{}': not an AMD GPU family or a backend, nor a GL chip with an estimate (backends: {}; "
+          "families, Mesa's names: {})",
           table, name, render::backend_list(), compile::amd_family_names()));
 }
 

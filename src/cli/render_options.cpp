@@ -59,7 +59,7 @@ render::Extent GpuOption::frame_size() const {
 void add_gpu(CLI::App* cmd, GpuOption& o) {
   auto* families = cmd->add_option("--gpu", o.families,
                                    "GPUs (AMD families such as navi21,vangogh; GL chips such as gf110,a320,t760,byt): "
-                                   "every row's variant compiled for each and, for AMD families, estimated "
+                                   "every row's variant compiled for each and estimated "
                                    "(gpu.<family> columns; docs/gpu-cost.md)");
   cmd->add_option("--gpu-size", o.frame, "frame size the --gpu estimate is for")->capture_default_str()->needs(families);
   cmd->add_option("--gpu-trace", o.trace,

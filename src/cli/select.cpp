@@ -8,6 +8,7 @@
 #include "cli/options.h"
 #include "cli/subcommand.h"
 #include "decide/select.h"
+#include "gpu/family_specs.h"
 #include "table/table.h"
 
 namespace aovar::cli {
@@ -27,6 +28,7 @@ ExitCode run_select(const SelectArgs& a) {
   auto sel = decide::select(t, a.query);
   if (a.json) std::cout << decide::to_json(sel).dump(1) << "\n";  // a script reads ok (or the exit status)
   else (sel.ok ? std::cout : std::cerr) << sel.text;
+  if (!a.json && !a.query.target.empty()) (sel.ok ? std::cout : std::cerr) << "estimate on " << gpu::validation_line(a.query.target) << "\n";
   return sel.ok ? ExitCode::ok : ExitCode::check_failed;
 }
 
@@ -58,7 +60,7 @@ Command add_select(CLI::App& app) {
   cmd->add_option("--view", q.view, "only this view (default: each variant's worst view)");
   cmd->add_option("--backend,-b", q.backend, "only this backend (default: each separately)");
   cmd->add_option("--target", q.target,
-                  "an AMD GPU family (sweep --gpu): decide by the estimate on it (gpu.<family>.est_ms: traced on the row's view, or the roofline) "
+                  "a GPU with an estimate, an AMD family or a GL chip (sweep --gpu): decide by the estimate on it (gpu.<family>.est_ms: traced on the row's view, or the roofline) "
                   "instead of the time measured here; errors still from the reference");
   cmd->add_option("--calibration", a->calibration,
                   "refuse a table not measured with this calibration file (aovar calibrate; compared by content hash)");

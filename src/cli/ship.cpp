@@ -53,7 +53,7 @@ Command add_ship(CLI::App& app) {
   cmd->add_option("--holdout-view", so.holdout_views,
                   "held-out view the choice is made on (repeatable; default: every third view of the scene)");
   auto* target = cmd->add_option("--target", so.target,
-                                 "an AMD family: time is the traced estimate on it (one render per variant for the error)");
+                                 "a GPU with an estimate (an AMD family or a GL chip): time is the traced estimate on it (one render per variant for the error)");
   cmd->add_option("--backend,-b", so.backend, "the measured backend (" + render::backend_list() + ")")->capture_default_str()->excludes(target);
   auto* budget = cmd->add_option("--budget-ms", so.query.budget_ms, "lowest error with time <= this")->check(finite_number(0, true));
   auto* budget_of = cmd->add_option("--budget-of", so.query.budget_of, "a variant key: no slower than it (beyond the noise)")

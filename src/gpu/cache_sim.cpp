@@ -23,7 +23,8 @@ void check_inputs(const FetchTrace& t, const CacheHierarchy& h, const ReplayOrde
     bad_trace(t, std::to_string(t.reads.size()) + " reads for " + std::to_string(t.width) + "x" +
                      std::to_string(t.height) + " pixels of " + std::to_string(t.max_taps) + " taps");
   const std::string product = "cache hierarchy of '" + h.product + "': ";
-  if (h.wave_size != 32 && h.wave_size != 64) throw std::invalid_argument(product + "wave size must be 32 or 64");
+  if (h.wave_size < 1 || h.wave_size > 64 || (h.wave_size & (h.wave_size - 1)) != 0)
+    throw std::invalid_argument(product + "wave size must be a power of two from 1 to 64");
   if (h.shader_arrays < 1 || h.cus < h.shader_arrays)
     throw std::invalid_argument(product + "needs at least one CU per shader array");
   if (h.levels.empty()) throw std::invalid_argument(product + "has no cache level");
@@ -31,7 +32,9 @@ void check_inputs(const FetchTrace& t, const CacheHierarchy& h, const ReplayOrde
     throw std::invalid_argument("replay order: tile must be a multiple of 8, waves per CU 1..64");
 }
 
-// Lane -> pixel offset in the wave's block: 2x2 quads, the quads in Morton order (x in the even bits).
+// Lane -> pixel offset in the wave's block: 2x2 quads, the quads in Morton order (x in the even bits of the
+// lane, y in the odd ones). So a wave64 covers 8x8 pixels, a wave32 8x4, a wave16 (Adreno 3xx, Intel SIMD16,
+// Valhall) 4x4, and a single-thread Midgard "wave" of 1 one pixel.
 struct WaveShape {
   int width = 8, height = 8;
   std::array<std::pair<int, int>, 64> lane{};
@@ -39,11 +42,16 @@ struct WaveShape {
 
 WaveShape wave_shape(int wave_size) {
   WaveShape s;
-  s.height = wave_size == 64 ? 8 : 4;
+  s.width = s.height = 1;
   for (int l = 0; l < wave_size; ++l) {
-    const int q = l / 4;
-    const int qx = (q & 1) | (q >> 2 & 1) << 1, qy = (q >> 1 & 1) | (q >> 3 & 1) << 1;
-    s.lane[l] = {qx * 2 + (l & 1), qy * 2 + (l >> 1 & 1)};
+    int x = 0, y = 0;
+    for (int bit = 0; bit < 3; ++bit) {
+      x |= (l >> (2 * bit) & 1) << bit;
+      y |= (l >> (2 * bit + 1) & 1) << bit;
+    }
+    s.lane[l] = {x, y};
+    s.width = std::max(s.width, x + 1);
+    s.height = std::max(s.height, y + 1);
   }
   return s;
 }

@@ -2,7 +2,7 @@
 // Replays a draw's texel fetches (gpu/fetch_trace.h) through a GPU's texture-path caches in the order the
 // GPU issues them (issue 33, docs/gpu-cost.md "The cache simulator"):
 //   - pixels form waves of the product's wave size: 2x2 quads in Morton order, a wave64 covering an 8x8
-//     block of the frame, a wave32 8x4;
+//     block of the frame, a wave32 8x4, a wave16 4x4, a single thread (Midgard) one pixel;
 //   - the frame is cut into square screen tiles (ReplayOrder::tile); tiles go to shader arrays by
 //     (tile x + tile y) mod arrays, each array takes its tiles in row-major order and their waves in
 //     row-major order, and hands its waves to its CUs round-robin;
@@ -23,7 +23,7 @@ namespace aovar::gpu {
 // What the simulator needs of a product: its wave size, CUs, shader arrays and cache levels.
 struct CacheHierarchy {
   std::string product;          // "Radeon RX 6800 XT"
-  int wave_size = 64;           // 32 or 64
+  int wave_size = 64;           // a power of two, 1 to 64
   int cus = 1;                  // CUs (SMs); spread over the shader arrays as evenly as they divide
   int shader_arrays = 1;        // rasteriser groups (GCN: shader engines' arrays; Fermi: GPCs)
   std::vector<CacheLevelSpec> levels;  // nearest first; DRAM after the last

@@ -23,7 +23,7 @@ std::map<std::string, table::GpuCosts> costs_of(const GpuAnalysis& analysis,
   std::map<std::string, table::GpuCosts> out;
   for (const FamilyStats& f : analysis.families) {
     if (!f.ok() && errors) errors->push_back(f.family + ": " + f.error);
-    const FamilySpec* spec = family_spec(f.family);
+    const FamilySpec* spec = estimate_spec(f.family);
     for (const VariantStats& v : f.variants) {
       auto it = loads.find(v.key);
       if (it == loads.end()) continue;

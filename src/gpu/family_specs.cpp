@@ -70,6 +70,8 @@ FamilySpec spec_from(const nlohmann::json& e, const std::map<std::string, std::s
   s.bandwidth_gbs = positive(e, "bandwidth_gbs", s.family);
   s.shader_engines = static_cast<int>(positive(e, "shader_engines", s.family));
   s.shader_arrays_per_engine = static_cast<int>(positive(e, "shader_arrays_per_engine", s.family));
+  if (e.contains("alu_lanes")) s.alu_lanes = positive(e, "alu_lanes", s.family);
+  s.validation = e.value("validation", std::string());
   if (s.cus < s.shader_arrays()) bad(s.family + " has fewer CUs than shader arrays");
   for (const auto& c : e.at("caches")) s.caches.push_back(level_from(c, s.family, sources));
   if (s.caches.empty()) bad(s.family + ".caches is empty");
@@ -126,6 +128,20 @@ std::vector<const FamilySpec*> gl_chips() {
 const FamilySpec* gl_chip(const std::string& name) {
   const FamilySpec* s = find_in(reference_products(), name);
   return s && s->compiler ? s : nullptr;
+}
+
+const FamilySpec* estimate_spec(const std::string& name) {
+  if (const FamilySpec* s = family_spec(name)) return s;
+  const FamilySpec* chip = gl_chip(name);
+  return chip && chip->alu_lanes > 0 ? chip : nullptr;
+}
+
+std::string validation_line(const std::string& name) {
+  const FamilySpec* s = estimate_spec(name);
+  if (!s) return name + ": no estimate (compiler statistics only)";
+  const std::string what = name + " (" + s->product + ")";
+  if (s->validation.empty()) return what + ": no validation (no paper measured this chip)";
+  return what + ": validated against " + s->validation + " (bench/gpu_seeds)";
 }
 
 const FamilySpec* product_spec(const std::string& name) {

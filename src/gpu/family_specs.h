@@ -46,6 +46,9 @@ struct FamilySpec {
   int shader_engines = 1, shader_arrays_per_engine = 1;  // rasteriser groups: screen tiles go to arrays
   std::vector<CacheLevelSpec> caches;  // texture path, nearest the shader first; DRAM after the last
   std::optional<CompilerRef> compiler; // reference products a Mesa GL driver compiles for; none on AMD families
+  double alu_lanes = 0;              // GL chips: fp32 lanes retiring one scalar instruction per ALU clock; 0: none
+  std::string validation;            // GL chips: one line, the paper table the estimate was checked against
+  double alu_clock_mhz() const { return shader_clock_mhz > 0 ? shader_clock_mhz : clock_mhz; }
   int shader_arrays() const { return shader_engines * shader_arrays_per_engine; }
 };
 
@@ -65,6 +68,15 @@ std::vector<const FamilySpec*> gl_chips();
 
 // That chip by name or alias; nullptr when it is no GL chip.
 const FamilySpec* gl_chip(const std::string& name);
+
+// The product a frame-time estimate uses for `name`: an AMD family with an entry, or a GL chip with the
+// figures its estimate needs (alu_lanes); nullptr for a chip that gets statistics only.
+const FamilySpec* estimate_spec(const std::string& name);
+
+// One line on how far to trust the estimate on `name` (select --target, ship --target): the paper table it was
+// checked against with its Spearman and median ratio error (families.json's "validation", written from
+// bench/gpu_seeds' output), "no validation" where no paper measured the chip, or that it has no estimate.
+std::string validation_line(const std::string& name);
 
 // A family (family_spec) or else a reference product, by name or alias; nullptr when neither has it.
 const FamilySpec* product_spec(const std::string& name);

@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "gpu/gl/estimate.h"
+
 namespace aovar::gpu {
 namespace {
 
@@ -73,16 +75,28 @@ table::GpuCost estimate(const VariantStats& stats, const std::vector<PassLoad>& 
   cost.product = spec ? spec->product : "";
   cost.mesa = mesa;
   cost.frame = fmt::format("{}x{}", frame.width, frame.height);
+  const bool chip = spec && spec->compiler;  // a GL chip: the vendor's issue count, and the G-buffer's write
   double total = spec ? 0.0 : NAN;
   for (const PassLoad& load : loads) {
     const PassStats* p = stats.pass(load.pass);
-    if (!p || load.pass == "gbuffer") continue;
+    if (load.pass == "gbuffer") {
+      // Its raster is the scene's, but its render targets' bytes are the variant's (depth format, position,
+      // normal encoding): on the GL chips that write is in the frame (issue 56); AMD keeps issue 17's frame.
+      if (!chip) continue;
+      table::GpuPassCost c = p ? pass_statistics(*p) : table::GpuPassCost{};
+      apply_gbuffer_write(c, load, *spec, frame);
+      total += c.est_ms;
+      cost.passes.push_back(std::move(c));
+      continue;
+    }
+    if (!p) continue;
     table::GpuPassCost c = pass_statistics(*p);
     c.draws = load.draws;
     c.pixel_share = load.pixel_share;
     c.fetches = load.fetches;
     c.bytes_per_pixel = load.bytes_per_pixel;
-    if (spec) apply_roofline(c, load, *spec, frame);
+    if (chip) apply_chip_roofline(c, load, *spec, frame, chip_alu_lane_cycles(*spec, p->unrolled()));
+    else if (spec) apply_roofline(c, load, *spec, frame);
     total += c.est_ms;
     cost.passes.push_back(std::move(c));
   }

@@ -35,9 +35,10 @@ void apply_roofline(table::GpuPassCost& cost, const PassLoad& load, const Family
 // The pass's statistics (the unrolled analysis copy; shipped instructions alongside) as the table's type.
 table::GpuPassCost pass_statistics(const PassStats& p);
 
-// Every pass of `loads` the variant has statistics for (the G-buffer excluded: its cost is the scene's
-// geometry, not the variant's), estimated on `spec` when given (nullptr: statistics only, est_ms NaN).
-// est_ms sums the passes.
+// Every pass of `loads` the variant has statistics for, estimated on `spec` when given (nullptr: statistics
+// only, est_ms NaN): an AMD family by the roofline above, a GL chip by gpu/gl/estimate.h. The G-buffer is
+// left out on AMD (its cost is the scene's geometry, not the variant's); on a GL chip its render-target write
+// is in (apply_gbuffer_write: the axes change it). est_ms sums the passes.
 table::GpuCost estimate(const VariantStats& stats, const std::vector<PassLoad>& loads, const FamilySpec* spec,
                         Frame frame, const std::string& mesa);
 

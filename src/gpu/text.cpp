@@ -44,8 +44,8 @@ std::string family_text(const FamilyStats& f, const VariantCosts* costs) {
   if (!f.variants.empty()) {
     const table::GpuCost* first = f.variants.empty() ? nullptr : cost_of(costs, f.variants[0].key, f.family);
     if (first && !first->product.empty())
-      out += fmt::format("est_ms: roofline on {} at {}, G-buffer excluded (docs/gpu-cost.md)\n", first->product,
-                         first->frame);
+      out += fmt::format("est_ms: roofline on {} at {}, {} (docs/gpu-cost.md)\n", first->product, first->frame,
+                         amd ? "G-buffer excluded" : "G-buffer's render-target write included");
     if (amd)
       out += fmt::format("{:<44} {:<6} {:>5} {:>5} {:>6} {:>5} {:>6} {:>7} {:>5} {:>8} {:>7} {:>6} {:>7}\n", "variant",
                          "pass", "VGPR", "SGPR", "spills", "waves", "instr", "shipped", "VMEM", "latency", "inv.thr",

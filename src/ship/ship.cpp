@@ -15,6 +15,7 @@
 #include "calibrate/calibrate.h"
 #include "decide/pareto.h"
 #include "gpu/by_key.h"
+#include "gpu/family_specs.h"
 #include "profile/scene_prune.h"
 #include "report/report.h"
 #include "scene/scene.h"
@@ -285,10 +286,13 @@ void check_options(const ShipOptions& o) {
   if (o.race_reps < 6) throw std::runtime_error("--race-reps must be at least 6 (fewer rounds give no 95 % interval)");
   if (o.batch != 0 && o.batch < 2) throw std::runtime_error("--batch must be at least 2 (the baseline and one candidate)");
   if (o.fit_evaluations < 1) throw std::runtime_error("--evaluations must be at least 1");
-  if (o.target.find(',') != std::string::npos) throw std::runtime_error("--target takes one AMD family");
+  if (o.target.find(',') != std::string::npos) throw std::runtime_error("--target takes one GPU");
   if (!(o.race_margin >= 1.0 && o.race_margin < 10.0))
     throw std::runtime_error("--race-margin must be a time ratio in [1, 10) (1 eliminates on any slowdown beyond the noise)");
-  if (!o.target.empty()) gpu::check_gpus({o.target});
+  if (!o.target.empty()) {
+    gpu::check_gpus({o.target});
+    if (!gpu::estimate_spec(o.target)) throw std::runtime_error("--target " + gpu::validation_line(o.target));
+  }
 }
 
 }  // namespace
@@ -433,6 +437,7 @@ std::string to_text(const ShipResult& r, const ShipOptions& o) {
   if (!r.shard_balance.empty()) s += "shards joined: " + r.shard_balance + "\n";
   s += "\nWhat to ship (selected on the held-out view" + std::string(r.holdout.size() > 1 ? "s" : "") + "):\n";
   s += r.selection.text;
+  if (!o.target.empty()) s += "estimate on " + gpu::validation_line(o.target) + "\n";
   if (!r.build_line.empty()) s += "build it: " + r.build_line + "\n";
   s += fmt::format("cost table and report: {}/cost_table.json, {}/report.html ({:.0f} s)\n", util::display_path(o.out),
                    util::display_path(o.out), r.wall_s);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -135,32 +136,27 @@ int max_taps_of(const std::vector<std::uint32_t>& spirv) {
   return cost.has_dynamic_loop() ? 2 * counted + 16 : counted + 1;
 }
 
-std::vector<gpu::FetchTrace> trace_variant(runner::VariantRunner& runner, int variant, const scene::View& view,
-                                           float radius, const TraceOptions& options, image::FloatImage* image) {
-  // Trace builds are Vulkan SPIR-V with a storage buffer per draw (Backend::read_traces).
-  if (render::target_of(runner.device().backend) != variants::Target::vulkan)
-    throw render::BackendError(fmt::format("trace: fetch traces run on {}, not {}",
-                                           render::backend_for(variants::Target::vulkan), runner.device().backend));
+namespace {
+
+// A dynamic loop's reads are not counted by the analyser (one trip), so its first guess of slots can be short: a
+// pixel whose reads overflow is traced again with twice the slots, up to this many (the 2-D bilateral blur at
+// the manifest's largest radius reads (2 x 8 + 1)^2 taps of two textures: 578).
+constexpr int kMaxTraceTaps = 1024;
+
+// One trace of `draws` (plan draw indices) with their windows, band by band: each draw's window cut into the same
+// number of row bands, so that every storage buffer fits the range every Vulkan device offers; each band one
+// render with its trace builds. Fills `traces` (plan draw -> trace; a draw traced again replaces its old trace).
+void trace_draws(runner::VariantRunner& runner, const render::PipelinePlan& plan, const std::vector<int>& draws,
+                 const std::vector<Window>& windows, const scene::View& view, float radius,
+                 std::map<int, gpu::FetchTrace>& traces, image::FloatImage* image) {
   const compile::CompiledSpace& compiled = runner.compiled();
-  const render::PipelinePlan plan = runner.plan(variant);
   const render::Extent size = runner.size();
-  const std::vector<int> all = traceable_draws(plan);
-  const std::vector<int> draws = options.draws.empty() ? all : options.draws;
-  std::vector<Window> windows(plan.draws.size());
   int bands = 1;
   for (int i : draws) {
-    if (std::find(all.begin(), all.end(), i) == all.end())
-      throw std::invalid_argument(fmt::format("trace: draw {} of {} cannot be traced", i, plan.variant));
-    const render::Draw& d = plan.draws[i];
-    windows[i] = centred_window(draw_extent(d, size, plan.resolution), options.window_share,
-                                max_taps_of(plan.shaders[d.fragment].spirv));
     const std::int64_t row_words = std::int64_t(windows[i].width) * windows[i].max_taps;
     bands = std::max<int>(bands, int((windows[i].height * row_words + kBandWords - 2) / (kBandWords - 1)));
   }
-
-  // Band by band (each draw's window cut into the same number of row bands, so that every storage buffer fits
-  // the range every Vulkan device offers), each band one render with its trace builds.
-  std::map<int, gpu::FetchTrace> traces;  // plan draw -> trace, for the draws the prepared plan kept
+  std::set<int> fresh_draws;
   for (int b = 0; b < bands; ++b) {
     render::PipelinePlan banded = plan;
     for (int i : draws) {
@@ -185,10 +181,45 @@ std::vector<gpu::FetchTrace> trace_variant(runner::VariantRunner& runner, int va
       if (i == plan.draws.size()) throw std::logic_error("trace: a traced draw is not in the plan: " + td.name);
       const render::Draw& d = plan.draws[i];
       DrawInputs inputs = inputs_of(plan, d, size);
-      auto [it, fresh] = traces.try_emplace(int(i));
-      if (fresh) it->second = empty_trace(d, windows[i], draw_extent(d, size, plan.resolution), inputs);
-      fill_band(it->second, band_of(windows[i], b, bands), td.words, inputs.lod_offset);
+      if (fresh_draws.insert(int(i)).second)
+        traces[int(i)] = empty_trace(d, windows[i], draw_extent(d, size, plan.resolution), inputs);
+      fill_band(traces[int(i)], band_of(windows[i], b, bands), td.words, inputs.lod_offset);
     }
+  }
+}
+
+}  // namespace
+
+std::vector<gpu::FetchTrace> trace_variant(runner::VariantRunner& runner, int variant, const scene::View& view,
+                                           float radius, const TraceOptions& options, image::FloatImage* image) {
+  // Trace builds are Vulkan SPIR-V with a storage buffer per draw (Backend::read_traces).
+  if (render::target_of(runner.device().backend) != variants::Target::vulkan)
+    throw render::BackendError(fmt::format("trace: fetch traces run on {}, not {}",
+                                           render::backend_for(variants::Target::vulkan), runner.device().backend));
+  const render::PipelinePlan plan = runner.plan(variant);
+  const render::Extent size = runner.size();
+  const std::vector<int> all = traceable_draws(plan);
+  std::vector<int> draws = options.draws.empty() ? all : options.draws;
+  std::vector<Window> windows(plan.draws.size());
+  for (int i : draws) {
+    if (std::find(all.begin(), all.end(), i) == all.end())
+      throw std::invalid_argument(fmt::format("trace: draw {} of {} cannot be traced", i, plan.variant));
+    const render::Draw& d = plan.draws[i];
+    windows[i] = centred_window(draw_extent(d, size, plan.resolution), options.window_share,
+                                max_taps_of(plan.shaders[d.fragment].spirv));
+  }
+  std::map<int, gpu::FetchTrace> traces;  // plan draw -> trace, for the draws the prepared plan kept
+  trace_draws(runner, plan, draws, windows, view, radius, traces, image);
+  // Draws whose reads overflowed their slots (a dynamic loop, the blurs' run-time radius), again with more.
+  for (;;) {
+    draws.clear();
+    for (const auto& [i, t] : traces)
+      if (t.overflowed_pixels > 0 && windows[i].max_taps < kMaxTraceTaps) {
+        windows[i].max_taps = std::min(2 * windows[i].max_taps, kMaxTraceTaps);
+        draws.push_back(i);
+      }
+    if (draws.empty()) break;
+    trace_draws(runner, plan, draws, windows, view, radius, traces, nullptr);
   }
   std::vector<gpu::FetchTrace> out;
   std::map<std::string, int> draws_in_pass;

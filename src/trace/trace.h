@@ -27,7 +27,8 @@ struct TraceOptions {
 // calibration) on `view` with AO radius `radius`, at runner.size(). The runner must be a Vulkan-backend runner whose
 // compiled space holds the variant's Vulkan builds, with the scene in use (VariantRunner::use_scene). A trace
 // over 128 MB (2^27 bytes, the storage-buffer range every Vulkan device offers) is taken in row bands, one
-// render each. Throws
+// render each. A draw whose pixels read more than their slots (a dynamic loop: the blurs' run-time radius) is
+// traced again with twice the slots, up to 1024, so no read is lost. Throws
 // std::runtime_error (a trace build that does not compile, naming the program) or render::BackendError.
 // `image` (optional) receives the result the trace build rendered: the shipped pipeline's, bit for bit.
 std::vector<gpu::FetchTrace> trace_variant(runner::VariantRunner& runner, int variant, const scene::View& view,

@@ -83,7 +83,7 @@ TrafficStats add_traffic(runner::VariantRunner& runner, const std::vector<int>& 
     auto variant_loads = loads.find(key);
     if (row == costs.end() || variant_loads == loads.end()) continue;
     for (auto& [family, cost] : row->second) {
-      const gpu::FamilySpec* spec = gpu::family_spec(family);
+      const gpu::FamilySpec* spec = gpu::estimate_spec(family);
       if (!spec || spec->caches.empty()) continue;
       // The draws of each pass, simulated (once per draw and family) and merged.
       const auto by_pass = draw_traffic(set, v, family, gpu::hierarchy_of(*spec), cache, memo, stats);

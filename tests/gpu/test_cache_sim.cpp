@@ -198,6 +198,25 @@ TEST(CacheSim, AWave64IsAnEightByEightBlockOnOneCu) {
   }
 }
 
+TEST(CacheSim, NarrowWavesAreSmallerBlocksOnMoreCus) {
+  // 8x8 frame, every pixel reads its own texel's 4x4 line (64-byte lines of 4-byte texels): four lines.
+  // Two CUs with one-line caches. A wave16 (Adreno 3xx, Intel SIMD16) is a 4x4 block, exactly one line, so
+  // each wave misses once: 4 misses. Single-thread "waves" (Midgard) alternate CUs pixel by pixel, so both
+  // CUs see every line: still 4 distinct lines, but each CU misses on every line change.
+  gpu::FetchTrace t = empty_trace(8, 8, 1);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) set_read(t, x, y, 0, x, y);
+  auto misses = [&](int wave) {
+    gpu::CacheHierarchy h{"two CUs", wave, 2, 1, {level("L0", gpu::CacheScope::cu, 64, 64, 1)}};
+    return gpu::simulate(t, h).levels[0];
+  };
+  EXPECT_EQ(misses(16).misses(), 4);
+  EXPECT_EQ(misses(16).accesses, 64);
+  EXPECT_EQ(misses(1).unique_lines, 4);
+  EXPECT_GT(misses(1).misses(), misses(16).misses());
+  for (int wave : {1, 2, 4, 8, 16, 32, 64}) EXPECT_EQ(misses(wave).accesses, 64) << "wave" << wave;
+}
+
 TEST(CacheSim, TheReplayIsDeterministic) {
   gpu::FetchTrace t = empty_trace(200, 120, 16, 200, 120);
   uint32_t s = 12345;
@@ -248,7 +267,8 @@ TEST(CacheSim, BadTracesAreRefused) {
   set_read(outside, 0, 0, 0, 16, 0);
   EXPECT_THROW(gpu::simulate(outside, h), std::out_of_range);
   EXPECT_THROW(gpu::simulate(empty_trace(8, 8, 1), one_cu({}, 64)), std::invalid_argument);
-  EXPECT_THROW(gpu::simulate(empty_trace(8, 8, 1), one_cu(h.levels, 16)), std::invalid_argument);
+  EXPECT_THROW(gpu::simulate(empty_trace(8, 8, 1), one_cu(h.levels, 24)), std::invalid_argument);  // no power of two
+  EXPECT_THROW(gpu::simulate(empty_trace(8, 8, 1), one_cu(h.levels, 128)), std::invalid_argument);
 }
 
 TEST(CacheData, HawaiiAndTheGtx580Load) {

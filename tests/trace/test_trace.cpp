@@ -148,5 +148,32 @@ TEST(TraceSet, TwinsAndBlursShareTheDrawsThatFetchAlike) {
   EXPECT_GT(set.traced_draws(), int(hp.size()));  // its blur is its own
 }
 
+// The blurs' radius is a run-time loop bound the analyser counts once, so the first guess of slots is short for
+// the 2-D bilateral blur ((2R + 1)^2 taps): its overflowing pixels are traced again with more slots, and no read
+// is lost. The bilateral then reads more per pixel than one draw of the separable blur (2R + 1 taps).
+TEST(TraceOverflow, ABilateralBlurKeepsEveryReadOfItsRunTimeLoop) {
+  const std::string sep = "alchemy-s04-p0-nrgb8-zdep-rst-d16-bsep-x1-hp", bil = "alchemy-s04-p0-nrgb8-zdep-rst-d16-bbil-x1-hp";
+  compile::CompiledSpace compiled = test::compile_variants({sep, bil});
+  runner::RunnerOptions options;
+  options.size = {64, 36};
+  runner::VariantRunner runner(compiled, options);
+  const scene::Scene scene = scene::load_scene("builtin:atrium");
+  runner.use_scene(scene);
+  auto blur_reads = [&](const std::string& key) {
+    const auto traces = trace::trace_variant(runner, test::variant_index(compiled, key), scene.views[0], scene.ao_radius, {});
+    int busiest = 0;
+    for (const gpu::FetchTrace& t : traces) {
+      if (t.pass != "blur") continue;
+      EXPECT_EQ(t.overflowed_pixels, 0) << key;
+      for (int y = t.y0; y < t.y0 + t.height; ++y)
+        for (int x = t.x0; x < t.x0 + t.width; ++x) busiest = std::max(busiest, t.reads_of(x, y));
+    }
+    return busiest;
+  };
+  const int separable = blur_reads(sep), bilateral = blur_reads(bil);
+  EXPECT_GT(separable, 0);
+  EXPECT_GT(bilateral, 2 * separable);  // (2R + 1)^2 against 2R + 1 taps, R >= 1
+}
+
 }  // namespace
 }  // namespace aovar

@@ -22,6 +22,10 @@ struct GlVendor {
   std::vector<std::pair<std::string, std::string>> env;  // what else makes the driver print its statistics
   // The fragment program's statistics among one program's compiler messages (one line each), or nothing.
   std::optional<ShaderStats> (*fragment_stats)(const std::vector<std::string>& messages) = nullptr;
+  // The estimate's ALU term (gpu/gl/estimate.h): the lane-cycles one pixel's program takes, the issue slots the
+  // vendor's statistics count per thread, to be divided by the chip's alu_lanes (families.json); NaN when the
+  // statistics lack the count.
+  double (*alu_lane_cycles)(const ShaderStats& stats) = nullptr;
 };
 
 // Every registered vendor (gpu/gl/vendors.cpp), in a fixed order.

@@ -25,11 +25,16 @@ std::optional<ShaderStats> freedreno_fragment_stats(const std::vector<std::strin
   return s;
 }
 
+// ir3 is a scalar ISA issued in order; `inst` counts the nops ir3 schedules as delay slots, which occupy the
+// issue slot as any instruction does (the hardware has no interlock for ALU results).
+double freedreno_alu_lane_cycles(const ShaderStats& s) { return s.instructions; }
+
 }  // namespace
 
 const GlVendor& freedreno_vendor() {
   static const GlVendor v{"freedreno", "Qualcomm Adreno (freedreno)", "arm64", "libfreedreno_noop_drm_shim.so",
-                          "FD_GPU_ID", {{"FD_MESA_DEBUG", "shaderdb"}}, freedreno_fragment_stats};
+                          "FD_GPU_ID", {{"FD_MESA_DEBUG", "shaderdb"}}, freedreno_fragment_stats,
+                          freedreno_alu_lane_cycles};
   return v;
 }
 

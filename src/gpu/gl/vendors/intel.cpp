@@ -34,11 +34,17 @@ std::optional<ShaderStats> intel_fragment_stats(const std::vector<std::string>& 
   return widest;
 }
 
+// brw's instructions of the widest dispatch compiled: a SIMD-N instruction takes N / 8 clocks on an EU's eight fp32
+// lanes (two SIMD-4 FPUs, Gen7.5 white paper), one lane-cycle per pixel. `cycles` is brw's latency estimate of
+// one thread alone, which the EU's other threads hide: not a throughput.
+double intel_alu_lane_cycles(const ShaderStats& s) { return s.instructions; }
+
 }  // namespace
 
 const GlVendor& intel_vendor() {
   static const GlVendor v{"intel", "Intel (crocus, iris)", "amd64", "libintel_noop_drm_shim.so",
-                          "INTEL_STUB_GPU_PLATFORM", {}, intel_fragment_stats};
+                          "INTEL_STUB_GPU_PLATFORM", {}, intel_fragment_stats,
+                          intel_alu_lane_cycles};
   return v;
 }
 

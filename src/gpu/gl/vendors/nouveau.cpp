@@ -25,11 +25,15 @@ std::optional<ShaderStats> nouveau_fragment_stats(const std::vector<std::string>
   return s;
 }
 
+// nv50 ir issues one instruction per thread per clock on a CUDA core (a warp of 32 over the SM's cores); the
+// texture and memory instructions take an issue slot too. No ALU split is reported, so every instruction counts.
+double nouveau_alu_lane_cycles(const ShaderStats& s) { return s.instructions; }
+
 }  // namespace
 
 const GlVendor& nouveau_vendor() {
   static const GlVendor v{"nouveau", "NVIDIA (nouveau)", "amd64", "libnouveau_noop_drm_shim.so", "NOUVEAU_CHIPSET",
-                          {}, nouveau_fragment_stats};
+                          {}, nouveau_fragment_stats, nouveau_alu_lane_cycles};
   return v;
 }
 

@@ -2,6 +2,8 @@
 // quadwords, 8 registers, 2 threads, 0 loops, 0:0 spills:fills"; Bifrost and Valhall (G31 and later) add
 // malioc-like cycle estimates ("15.83 cycles, 15.83 arith, 4.5 texture, ..."). Debian builds panfrost only for
 // arm: its arm64 packages run under qemu-user. Both compilers print with their *_MESA_DEBUG=shaderdb.
+#include <cmath>
+
 #include "gpu/gl/vendor.h"
 
 namespace aovar::gpu {
@@ -23,12 +25,20 @@ std::optional<ShaderStats> panfrost_fragment_stats(const std::vector<std::string
   return s;
 }
 
+// Midgard issues one VLIW bundle per clock per arithmetic pipe for one thread (Arm, "The Midgard Shader Core"):
+// its `bundles` are the pipe-cycles of a pixel (texture and load/store bundles, which run on their own pipes,
+// included: an overcount). Valhall issues warp instructions on 16-lane units: `inst` per thread.
+double panfrost_alu_lane_cycles(const ShaderStats& s) {
+  const double bundles = field(s.values, "bundles");
+  return std::isnan(bundles) ? s.instructions : bundles;
+}
+
 }  // namespace
 
 const GlVendor& panfrost_vendor() {
   static const GlVendor v{"panfrost", "Arm Mali (panfrost)", "arm64", "libpanfrost_noop_drm_shim.so", "PAN_GPU_ID",
                           {{"MIDGARD_MESA_DEBUG", "shaderdb"}, {"BIFROST_MESA_DEBUG", "shaderdb"}},
-                          panfrost_fragment_stats};
+                          panfrost_fragment_stats, panfrost_alu_lane_cycles};
   return v;
 }
 
