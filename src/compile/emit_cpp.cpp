@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "compile/generate.h"
+#include "util/cpp_literal.h"
 
 namespace aovar::compile {
 using variants::Axis;
@@ -193,12 +194,12 @@ std::vector<std::vector<int>> append_programs(std::string& s, const CompiledSpac
       if (!spec.params.empty()) {
         s += fmt::format("const Param kParams_{}[] = {{", id);
         for (const auto& prm : spec.params)
-          s += fmt::format(" {{\"{}\", {}, {}, {}}},", prm.name, float_literal(prm.value), float_literal(prm.min),
+          s += fmt::format(" {{{}, {}, {}, {}}},", util::cpp_string_literal(prm.name), float_literal(prm.value), float_literal(prm.min),
                            float_literal(prm.max));
         s += " };\n";
         params = "kParams_" + id;
       }
-      table += fmt::format("  {{\"{}\", Stage::{}, {}, {}, {}, {}, {}}},\n", spec.key, variants::stage_name(spec.stage),
+      table += fmt::format("  {{{}, Stage::{}, {}, {}, {}, {}, {}}},\n", util::cpp_string_literal(spec.key), variants::stage_name(spec.stage),
                            spirv, words, glsl, params, spec.params.size());
       slot[t][p] = count++;
     }
@@ -239,7 +240,7 @@ void append_variants(std::string& s, const CompiledSpace& c, const std::vector<s
                        : fmt::format("{{{}, {}}}, ", program_ref(t, var.passes[i][0]), program_ref(t, var.passes[i][1]));
       progs += "}, ";
     }
-    s += fmt::format("  {{\"{}\", {{{}}}, 0x{:x}, {}, {{{}}}}},\n", var.key, axes, mask, same, progs);
+    s += fmt::format("  {{{}, {{{}}}, 0x{:x}, {}, {{{}}}}},\n", util::cpp_string_literal(var.key), axes, mask, same, progs);
   }
   s += "};\n";
 }
