@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render_parts.h"
+#include "cli/subcommand.h"
 #include "util/fs.h"
 
 namespace aovar::cli {
@@ -28,10 +29,9 @@ ExitCode run_analyze(const std::string& dir) {
 }  // namespace
 
 Command add_analyze(CLI::App& app) {
-  auto a = std::make_shared<GpuAnalyzeArgs>();
+  auto [cmd, a] = subcommand<GpuAnalyzeArgs>(
+      app, "analyze", "static cost per program and variant: of a generated folder (SPIR-V), or on GPUs (--gpu)");
   auto in_dir = std::make_shared<std::string>();
-  auto* cmd = app.add_subcommand(
-      "analyze", "static cost per program and variant: of a generated folder (SPIR-V), or on GPUs (--gpu)");
   auto* in = cmd->add_option("--in", *in_dir, "folder written by `aovar generate --emit index,spirv`");
   auto* gpu = cmd->add_option("--gpu", a->families,
                               "GPUs: AMD families (e.g. navi21,vangogh,polaris10; RADV's null device) and GL chips "
@@ -48,11 +48,11 @@ Command add_analyze(CLI::App& app) {
   add_cache_dir(cmd, a->common.cache_dir, "compile cache");
   cmd->add_flag("--no-cache", a->common.no_cache, "compile everything, read and write no cache");
   in->excludes(gpu);
-  return {cmd, [a, in_dir, cmd] {
-            if (cmd->count("--gpu")) return run_analyze_gpu(*a);
+  return {cmd, runs(a, [in_dir, cmd](const GpuAnalyzeArgs& args) {
+            if (cmd->count("--gpu")) return run_analyze_gpu(args);
             if (in_dir->empty()) throw std::runtime_error("analyze: give --in DIR (a generated folder) or --gpu FAMILY");
             return run_analyze(*in_dir);
-          }};
+          })};
 }
 
 }  // namespace aovar::cli

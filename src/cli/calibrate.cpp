@@ -11,6 +11,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render_options.h"
+#include "cli/subcommand.h"
 #include "util/fs.h"
 
 namespace aovar::cli {
@@ -47,11 +48,10 @@ ExitCode run_calibrate(const CalibrateArgs& a) {
 }  // namespace
 
 Command add_calibrate(CLI::App& app) {
-  auto a = std::make_shared<CalibrateArgs>();
-  auto& cal = a->options;
-  auto* cmd = app.add_subcommand("calibrate",
+  auto [cmd, a] = subcommand<CalibrateArgs>(app, "calibrate",
                                  "fit each method's artistic parameters to ray-traced references (training views), "
                                  "report the error on held-out views, write a calibration file");
+  auto& cal = a->options;
   add_manifest(cmd, a->manifest);
   cmd->add_option("--algorithms", cal.algorithms, "algorithms to fit (comma-separated; default: all)")->delimiter(',');
   cmd->add_option("--variants", cal.variants,
@@ -81,7 +81,7 @@ Command add_calibrate(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--out,-o", a->out, "calibration file to write (e.g. shader_src/calibration.json)")->required();
   add_cache_dir(cmd, a->cache_dir, "compile and reference cache");
-  return {cmd, [a] { return run_calibrate(*a); }};
+  return {cmd, runs(a, run_calibrate)};
 }
 
 }  // namespace aovar::cli

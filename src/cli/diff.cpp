@@ -5,6 +5,7 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/subcommand.h"
 #include "decide/diff.h"
 #include "table/table.h"
 
@@ -26,12 +27,13 @@ ExitCode run_diff(const DiffArgs& args) {
 }  // namespace
 
 Command add_diff(CLI::App& app) {
-  auto a = std::make_shared<DiffArgs>();
-  auto* cmd = app.add_subcommand("diff", "per-variant deltas between two cost tables (helped / hurt beyond the noise, inconclusive)");
+  auto [cmd, a] = subcommand<DiffArgs>(
+      app, "diff",
+      "per-variant deltas between two cost tables (helped / hurt beyond the noise, inconclusive)");
   cmd->add_option("A", a->a, "the old cost_table.json")->required();
   cmd->add_option("B", a->b, "the new cost_table.json")->required();
   add_json(cmd, a->json);
-  return {cmd, [a] { return run_diff(*a); }};
+  return {cmd, runs(a, run_diff)};
 }
 
 }  // namespace aovar::cli

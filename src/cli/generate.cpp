@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render_parts.h"
+#include "cli/subcommand.h"
 #include "compile/shard_plan.h"
 #include "compile/text.h"
 #include "compile/up_to_date.h"
@@ -120,8 +121,9 @@ ExitCode run_generate(GenerateArgs& a) {
 }  // namespace
 
 Command add_generate(CLI::App& app) {
-  auto a = std::make_shared<GenerateArgs>();
-  auto* cmd = app.add_subcommand("generate", "templates -> per-target sources, SPIR-V, variants.json, C++ embedding");
+  auto [cmd, a] = subcommand<GenerateArgs>(
+      app, "generate",
+      "templates -> per-target sources, SPIR-V, variants.json, C++ embedding");
   add_common(cmd, a->common);
   cmd->add_option("--out,-o", a->out_dir, "output folder")->required();
   cmd->add_option("--depfile", a->depfile, "write a gcc-style depfile listing the manifest and every template read");
@@ -146,7 +148,7 @@ Command add_generate(CLI::App& app) {
       ->excludes(budget)
       ->excludes(budget_of);
   cmd->add_flag("--check", a->out.check, "write nothing; exit 1 when any output would change (CI staleness check)");
-  return {cmd, [a] { return run_generate(*a); }};
+  return {cmd, runs(a, run_generate)};
 }
 
 }  // namespace aovar::cli

@@ -8,6 +8,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render_parts.h"
+#include "cli/subcommand.h"
 #include "compile/list_json.h"
 #include "compile/text.h"
 
@@ -25,15 +26,16 @@ ExitCode run_list(const ListArgs& a) {
 }  // namespace
 
 Command add_list(CLI::App& app) {
-  auto a = std::make_shared<ListArgs>();
-  auto* cmd = app.add_subcommand("list", "print the variants after rules (one key a line) and the counts");
+  auto [cmd, a] = subcommand<ListArgs>(app, "list", "print the variants after rules (one key a line) and the counts");
   add_common(cmd, a->common);
   cmd->add_flag("--pruned", a->show_pruned, "also print every dropped variant with the rule's reason");
   cmd->add_option("--scene,-s", a->scene,
                   "keep only what this scene needs (aovar profile); --pruned prints each drop's reason");
   cmd->add_option("--size", a->size, "frame size the scene is profiled at")->capture_default_str();
   add_json(cmd, a->json);
-  return {cmd, [a, cmd] { return cmd->count("--scene") ? run_list_scene(*a) : run_list(*a); }};
+  return {cmd, runs(a, [cmd](const ListArgs& args) {
+            return cmd->count("--scene") ? run_list_scene(args) : run_list(args);
+          })};
 }
 
 }  // namespace aovar::cli

@@ -9,6 +9,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render_options.h"
+#include "cli/subcommand.h"
 #include "cli/whole_space.h"
 #include "measure/measure.h"
 #include "measure/text.h"
@@ -73,11 +74,12 @@ ExitCode run_measure(const MeasureArgs& a) {
 }  // namespace
 
 Command add_measure(CLI::App& app) {
-  auto a = std::make_shared<MeasureArgs>();
+  auto [cmd, a] = subcommand<MeasureArgs>(
+      app, "measure",
+      "render and time variants on a scene through " + render::backend_list(" / "));
   auto& mo = a->options;
-  auto* cmd = app.add_subcommand("measure", "render and time variants on a scene through " + render::backend_list(" / "));
   add_common(cmd, a->common);
-  cmd->add_option("--scene,-s", a->scene, "builtin:atrium|spheres|stairs|cornell or an .obj/.gltf/.glb file")
+  cmd->add_option("--scene,-s", a->scene, scene_help("the scene"))
       ->capture_default_str();
   cmd->add_option("--views-file", a->views_file, "views side file (TOML or JSON) for the scene");
   cmd->add_option("--view", mo.views, "view name (repeatable; default: the scene's first view)");
@@ -108,7 +110,7 @@ Command add_measure(CLI::App& app) {
   add_calibration(cmd, a->calibration,
                   "calibrated parameters per algorithm (default: calibration.json next to the manifest, when present)");
   add_all(cmd, a->all);
-  return {cmd, [a] { return run_measure(*a); }};
+  return {cmd, runs(a, run_measure)};
 }
 
 }  // namespace aovar::cli

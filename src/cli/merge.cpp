@@ -6,6 +6,7 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/subcommand.h"
 #include "sweep/merge.h"
 #include "table/table.h"
 #include "util/fs.h"
@@ -34,13 +35,14 @@ ExitCode run_merge(const MergeArgs& a) {
 }  // namespace
 
 Command add_merge(CLI::App& app) {
-  auto a = std::make_shared<MergeArgs>();
-  auto* cmd = app.add_subcommand("merge", "join sweep shards (checked by their shard.json) or cost tables into one");
+  auto [cmd, a] = subcommand<MergeArgs>(
+      app, "merge",
+      "join sweep shards (checked by their shard.json) or cost tables into one");
   cmd->add_option("OUT", a->out, "cost_table.json to write")->required();
   cmd->add_option("IN", a->inputs,
                   "shard output folders or their cost_table.json files (a sharded run: every shard exactly once)")
       ->required();
-  return {cmd, [a] { return run_merge(*a); }};
+  return {cmd, runs(a, run_merge)};
 }
 
 }  // namespace aovar::cli

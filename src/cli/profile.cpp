@@ -6,7 +6,9 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/render_options.h"
 #include "cli/scene_profile.h"
+#include "cli/subcommand.h"
 #include "profile/pruned_text.h"
 #include "util/fs.h"
 
@@ -37,12 +39,13 @@ ExitCode run_profile(const ProfileCommandArgs& a) {
 }  // namespace
 
 Command add_profile(CLI::App& app) {
-  auto a = std::make_shared<ProfileCommandArgs>();
+  auto [cmd, a] = subcommand<ProfileCommandArgs>(
+      app, "profile",
+      "what a scene needs (depth range, r16f error, radius in pixels, background, "
+      "flicker, the renderer's buffers) and the variants it can drop");
   auto& p = a->profile;
-  auto* cmd = app.add_subcommand("profile", "what a scene needs (depth range, r16f error, radius in pixels, background, "
-                                            "flicker, the renderer's buffers) and the variants it can drop");
   add_manifest(cmd, a->manifest);
-  cmd->add_option("--scene,-s", p.options.scene, "builtin:atrium|spheres|stairs|cornell|... or a mesh file")
+  cmd->add_option("--scene,-s", p.options.scene, scene_help("the scene"))
       ->capture_default_str();
   cmd->add_option("--view", p.options.views, "only these views (repeatable; default: every view)");
   cmd->add_option("--size", p.size, "frame size the variants will run at")->capture_default_str();
@@ -53,7 +56,7 @@ Command add_profile(CLI::App& app) {
   cmd->add_flag("--no-flicker", p.no_flicker, "do not render the progressive pair along the camera paths");
   cmd->add_flag("--no-cache", p.no_cache, "compile the flicker pair without the cache");
   cmd->add_option("--out,-o", p.out, "folder for profile.json");
-  return {cmd, [a] { return run_profile(*a); }};
+  return {cmd, runs(a, run_profile)};
 }
 
 }  // namespace aovar::cli

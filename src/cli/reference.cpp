@@ -8,6 +8,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render_options.h"
+#include "cli/subcommand.h"
 #include "reference/reference.h"
 #include "reference/text.h"
 
@@ -61,10 +62,9 @@ ExitCode run_reference(const ReferenceArgs& a) {
 }  // namespace
 
 Command add_reference(CLI::App& app) {
-  auto a = std::make_shared<ReferenceArgs>();
+  auto [cmd, a] = subcommand<ReferenceArgs>(app, "reference", "ray-trace the ground-truth AO of scene views (Embree)");
   auto& ro = a->options;
-  auto* cmd = app.add_subcommand("reference", "ray-trace the ground-truth AO of scene views (Embree)");
-  cmd->add_option("--scene,-s", a->scene, "builtin:atrium|spheres|stairs|cornell or an .obj/.gltf/.glb file")
+  cmd->add_option("--scene,-s", a->scene, scene_help("the scene"))
       ->capture_default_str();
   cmd->add_option("--views-file", a->views_file, "views side file (TOML or JSON) for the scene");
   cmd->add_option("--view", ro.views, "view name (repeatable; default: the scene's first view)");
@@ -80,7 +80,7 @@ Command add_reference(CLI::App& app) {
       ->required();
   add_cache_dir(cmd, a->cache_dir, "reference cache root");
   cmd->add_flag("--no-cache", a->no_cache, "trace everything, read and write no cache");
-  return {cmd, [a] { return run_reference(*a); }};
+  return {cmd, runs(a, run_reference)};
 }
 
 }  // namespace aovar::cli

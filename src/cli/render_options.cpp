@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "calibrate/file.h"
+#include "scene/scene.h"
 #include "gpu/families.h"
 #include "variants/manifest.h"
 
@@ -24,6 +25,13 @@ std::filesystem::path CalibrationOption::load(const variants::Manifest& manifest
   values = calibrate::load_calibration(path, manifest);
   source = calibrate::calibration_source(path);
   return path;
+}
+
+std::string scene_help(const std::string& what) {
+  std::string builtins;
+  for (const std::string& name : scene::builtin_scene_names()) builtins += (builtins.empty() ? "" : "|") + name;
+  return what + ": " + builtins + ", or an .obj/.gltf/.glb file; SPEC" + std::string(scene::kScaleSuffix) +
+         "F scales it";
 }
 
 void add_calibration(CLI::App* cmd, CalibrationOption& o, const std::string& help) {

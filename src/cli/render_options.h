@@ -18,6 +18,10 @@ namespace aovar::cli {
 inline constexpr const char* default_scene = "builtin:atrium";  // measure, reference
 inline constexpr const char* default_reference_mode = "occlusion";  // measure, reference, calibrate
 
+// Help of --scene: `what` the scene is to this command, then the forms it takes, from the scene library (the
+// built-in scenes, mesh files, the @scale= suffix), so that no subcommand lists the built-ins by hand.
+std::string scene_help(const std::string& what);
+
 // --calibration FILE and --no-calibration. The calibration file of a manifest is calibration.json next to
 // it: it applies, when it exists, unless another file (--calibration) or none (--no-calibration) is asked for.
 struct CalibrationOption {

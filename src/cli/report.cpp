@@ -9,6 +9,7 @@
 
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/subcommand.h"
 #include "report/report.h"
 #include "table/table.h"
 #include "util/fs.h"
@@ -50,16 +51,15 @@ ExitCode run_report(const ReportArgs& a) {
 }  // namespace
 
 Command add_report(CLI::App& app) {
-  auto a = std::make_shared<ReportArgs>();
-  auto* cmd = app.add_subcommand("report", "report.md and a self-contained report.html from a cost table");
+  auto [cmd, a] = subcommand<ReportArgs>(app, "report", "report.md and a self-contained report.html from a cost table");
   cmd->add_option("--table,-t", a->table, "cost_table.json (image paths are relative to its folder)")->required();
   cmd->add_option("--out,-o", a->out, "output folder (default: the table's folder)");
   add_manifest(cmd, a->manifest);  // the methods' colours ([algorithms.*] color)
   CLI::Option* manifest = cmd->get_option("--manifest");
-  return {cmd, [a, manifest] {
-            a->manifest_given = manifest->count() > 0;
-            return run_report(*a);
-          }};
+  return {cmd, runs(a, [manifest](ReportArgs& args) {
+            args.manifest_given = manifest->count() > 0;
+            return run_report(args);
+          })};
 }
 
 }  // namespace aovar::cli

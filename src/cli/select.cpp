@@ -6,6 +6,7 @@
 #include "calibrate/file.h"
 #include "cli/commands.h"
 #include "cli/options.h"
+#include "cli/subcommand.h"
 #include "decide/select.h"
 #include "table/table.h"
 
@@ -32,10 +33,11 @@ ExitCode run_select(const SelectArgs& a) {
 }  // namespace
 
 Command add_select(CLI::App& app) {
-  auto a = std::make_shared<SelectArgs>();
+  auto [cmd, a] = subcommand<SelectArgs>(
+      app, "select",
+      "the variant to ship under a time budget or an error target, with the "
+      "reason, the runners-up and the margin");
   auto& q = a->query;
-  auto* cmd = app.add_subcommand("select", "the variant to ship under a time budget or an error target, with the "
-                                           "reason, the runners-up and the margin");
   cmd->add_option("--table,-t", a->table, "cost_table.json")->required();
   auto* budget = cmd->add_option("--budget-ms", q.budget_ms, "lowest error with time (time_ms.paired, else min) <= this")
                      ->check(finite_number(0, true));
@@ -61,7 +63,7 @@ Command add_select(CLI::App& app) {
   cmd->add_option("--calibration", a->calibration,
                   "refuse a table not measured with this calibration file (aovar calibrate; compared by content hash)");
   add_json(cmd, a->json);
-  return {cmd, [a] { return run_select(*a); }};
+  return {cmd, runs(a, run_select)};
 }
 
 }  // namespace aovar::cli

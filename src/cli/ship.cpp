@@ -7,6 +7,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render_options.h"
+#include "cli/subcommand.h"
 #include "ship/ship.h"
 
 namespace aovar::cli {
@@ -41,12 +42,13 @@ ExitCode run_ship(const ShipArgs& a) {
 }  // namespace
 
 Command add_ship(CLI::App& app) {
-  auto a = std::make_shared<ShipArgs>();
+  auto [cmd, a] = subcommand<ShipArgs>(
+      app, "ship",
+      "from a scene to the variant to ship: profile, fit on the training views, "
+      "race the pruned space, select on the held-out views");
   auto& so = a->options;
-  auto* cmd = app.add_subcommand("ship", "from a scene to the variant to ship: profile, fit on the training views, "
-                                         "race the pruned space, select on the held-out views");
   add_common(cmd, a->common);
-  cmd->add_option("--scene,-s", so.scene, "the scene: builtin:atrium|spheres|stairs|cornell or a mesh file")->capture_default_str();
+  cmd->add_option("--scene,-s", so.scene, scene_help("the scene"))->capture_default_str();
   cmd->add_option("--views-file", a->views_file, "views side file (TOML or JSON) for the scene");
   cmd->add_option("--holdout-view", so.holdout_views,
                   "held-out view the choice is made on (repeatable; default: every third view of the scene)");
@@ -88,7 +90,7 @@ Command add_ship(CLI::App& app) {
                                      "screens, then eliminate, race the survivors and select")
       ->excludes(shard);
   cmd->add_option("--out,-o", a->out, "output folder: cost_table.json, report.html, calibration.json, the rounds")->required();
-  return {cmd, [a] { return run_ship(*a); }};
+  return {cmd, runs(a, run_ship)};
 }
 
 }  // namespace aovar::cli

@@ -11,6 +11,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render_options.h"
+#include "cli/subcommand.h"
 #include "stress/stress.h"
 #include "stress/text.h"
 #include "util/fs.h"
@@ -110,10 +111,11 @@ void add_custom_case(CLI::App* cmd, StressArgs& a) {
 }  // namespace
 
 Command add_stress(CLI::App& app) {
-  auto a = std::make_shared<StressArgs>();
+  auto [cmd, a] = subcommand<StressArgs>(
+      app, "stress",
+      "numerical stability: every variant under extreme cameras, radii, geometry "
+      "and formats; exit 1 when a shipped variant has NaN, Inf or out-of-range AO");
   auto& so = a->options;
-  auto* cmd = app.add_subcommand("stress", "numerical stability: every variant under extreme cameras, radii, geometry "
-                                           "and formats; exit 1 when a shipped variant has NaN, Inf or out-of-range AO");
   add_common(cmd, a->common);
   cmd->add_option("--backend,-b", so.backends, render::backend_list() + " (repeatable or comma-separated)")
       ->delimiter(',')->capture_default_str();
@@ -136,7 +138,7 @@ Command add_stress(CLI::App& app) {
                   "variant x case renders per child process (the Vulkan driver keeps memory per render; 0: render in this process)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  return {cmd, [a] { return run_stress(*a); }};
+  return {cmd, runs(a, run_stress)};
 }
 
 }  // namespace aovar::cli

@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render_options.h"
+#include "cli/subcommand.h"
 #include "cli/whole_space.h"
 #include "sweep/sweep.h"
 #include "sweep/text.h"
@@ -59,11 +60,12 @@ ExitCode run_sweep(const SweepArgs& a) {
 }  // namespace
 
 Command add_sweep(CLI::App& app) {
-  auto a = std::make_shared<SweepArgs>();
+  auto [cmd, a] = subcommand<SweepArgs>(
+      app, "sweep",
+      "measure variants on scenes against the ray-traced reference: cost_table.{json,csv,md}");
   auto& so = a->options;
-  auto* cmd = app.add_subcommand("sweep", "measure variants on scenes against the ray-traced reference: cost_table.{json,csv,md}");
   add_common(cmd, a->common);
-  cmd->add_option("--scene,-s", so.scenes, "scenes (repeatable): builtin:atrium|spheres|stairs|cornell or a mesh file")
+  cmd->add_option("--scene,-s", so.scenes, scene_help("scenes (repeatable)"))
       ->capture_default_str();
   cmd->add_option("--view", so.measure.views, "view name (repeatable; default: every view of each scene)");
   cmd->add_option("--backend,-b", so.measure.backends, render::backend_list() + " (repeatable or comma-separated)")
@@ -101,7 +103,7 @@ Command add_sweep(CLI::App& app) {
                 "profile drops)");
   add_all(cmd, a->all);
   cmd->add_option("--out,-o", a->out, "output folder: cost_table.{json,csv,md}, measure/<scene>/")->required();
-  return {cmd, [a] { return run_sweep(*a); }};
+  return {cmd, runs(a, run_sweep)};
 }
 
 }  // namespace aovar::cli

@@ -79,5 +79,9 @@ Selection select(const table::CostTable& table, const SelectQuery& q);
 // `aovar select --json`: the selection as one JSON document (schema_version, the query, ok, choice, reason,
 // interval, ties, runners-up, margin, consider, nearest); candidates with their times, intervals and errors.
 nlohmann::json to_json(const Selection& s);
+// A query as JSON (in a selection, and in a ship table's meta.ship, where the report answers it again) and
+// back. query_from_json throws std::runtime_error naming the field that is not what to_json writes.
+nlohmann::json to_json(const SelectQuery& q);
+SelectQuery query_from_json(const nlohmann::json& j);
 
 }  // namespace aovar::decide

@@ -2,6 +2,10 @@
 #include "decide/select.h"
 #include "util/schema.h"
 
+#include <fmt/format.h>
+
+#include <stdexcept>
+
 namespace aovar::decide {
 
 namespace {
@@ -30,7 +34,9 @@ json candidates_json(const std::vector<Candidate>& list) {
 
 json optional_json(const std::optional<Candidate>& c) { return c ? candidate_json(*c) : json(nullptr); }
 
-json query_json(const SelectQuery& q) {
+}  // namespace
+
+json to_json(const SelectQuery& q) {
   return {{"budget_ms", q.budget_ms ? json(*q.budget_ms) : json(nullptr)},
           {"budget_of", q.budget_of},
           {"max_error", q.max_error ? json(*q.max_error) : json(nullptr)},
@@ -40,7 +46,36 @@ json query_json(const SelectQuery& q) {
           {"backend", q.backend},
           {"target", q.target}};
 }
-}  // namespace
+
+SelectQuery query_from_json(const json& j) {
+  if (!j.is_object()) throw std::runtime_error("select query: not a JSON object");
+  const auto bad = [](const char* name, const char* what) {
+    return std::runtime_error(fmt::format("select query: \"{}\" is not {}", name, what));
+  };
+  // An absent field or null: the query's default (no budget, no filter).
+  const auto number = [&](const char* name) -> std::optional<double> {
+    const auto it = j.find(name);
+    if (it == j.end() || it->is_null()) return std::nullopt;
+    if (!it->is_number()) throw bad(name, "a number");
+    return it->get<double>();
+  };
+  const auto text = [&](const char* name) {
+    const auto it = j.find(name);
+    if (it == j.end() || it->is_null()) return std::string();
+    if (!it->is_string()) throw bad(name, "a string");
+    return it->get<std::string>();
+  };
+  SelectQuery q;
+  q.budget_ms = number("budget_ms");
+  q.budget_of = text("budget_of");
+  q.max_error = number("max_error");
+  q.tolerance = number("tolerance").value_or(q.tolerance);
+  q.scene = text("scene");
+  q.view = text("view");
+  q.backend = text("backend");
+  q.target = text("target");
+  return q;
+}
 
 json to_json(const Selection& s) {
   json margin = nullptr;
@@ -51,7 +86,7 @@ json to_json(const Selection& s) {
               {"method", s.margin->method}};
   return {{"schema_version", util::kSchemaVersion},
           {"tool", "aovar select"},
-          {"query", query_json(s.query)},
+          {"query", to_json(s.query)},
           {"ok", s.ok},
           {"choice", optional_json(s.choice)},
           {"reason", s.reason},

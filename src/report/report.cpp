@@ -12,9 +12,12 @@
 
 #include "decide/pareto.h"
 #include "report/bounds.h"
+#include "report/embed.h"
 #include "report/error_sources.h"
 #include "report/gpu_section.h"
 #include "report/grid.h"
+#include "report/ship_decision.h"
+#include "report/ship_section.h"
 #include "util/fs.h"
 #include "util/path_names.h"
 
@@ -56,24 +59,6 @@ std::string colour(const Methods& methods, const std::string& algorithm) {
 }
 
 std::string escape(const std::string& s) { return html_escape(s); }
-
-std::string base64(const std::string& bytes) {
-  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  std::size_t i = 0;
-  for (; i + 2 < bytes.size(); i += 3) {
-    unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8 | (unsigned char)bytes[i + 2];
-    out += {k[v >> 18], k[(v >> 12) & 63], k[(v >> 6) & 63], k[v & 63]};
-  }
-  if (i + 1 == bytes.size()) {
-    unsigned v = (unsigned char)bytes[i] << 16;
-    out += {k[v >> 18], k[(v >> 12) & 63], '=', '='};
-  } else if (i + 2 == bytes.size()) {
-    unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8;
-    out += {k[v >> 18], k[(v >> 12) & 63], k[(v >> 6) & 63], '='};
-  }
-  return out;
-}
 
 // x-y scatter with axes, coloured points (tooltips: <title>), and an optional polyline through `line`.
 struct Point {
@@ -162,26 +147,6 @@ double static_cost(const CostRow& r) {  // static work per output pixel of the f
   return r.static_cost ? r.static_cost->work_per_pixel : -1;
 }
 
-// Only images inside the table's folder are read: a table names its images, and a hand-made one could name
-// any file on the machine (the report is a CI artifact that gets shared).
-std::string image_tag(const fs::path& root, const fs::path& file, const std::string& caption) {
-  if (!util::is_inside(root, file)) {
-    std::cerr << "aovar report: warning: " << util::display_path(file)
-              << " lies outside the table's folder " << util::display_path(root) << ": not embedded\n";
-    return "<figure><figcaption>" + escape(caption) + " (outside the table folder: not embedded)</figcaption></figure>";
-  }
-  std::optional<std::string> bytes;
-  try {
-    bytes = util::read_file(file);
-  } catch (const util::ReadError& e) {  // a FIFO or a folder where an image should be: a caption, not a failure
-    std::cerr << "aovar report: warning: " << e.what() << ": not embedded\n";
-    return "<figure><figcaption>" + escape(caption) + " (not a readable image: not embedded)</figcaption></figure>";
-  }
-  if (!bytes) return "<figure><figcaption>" + escape(caption) + " (missing)</figcaption></figure>";
-  return fmt::format("<figure><img src=\"data:image/png;base64,{}\" width=\"240\"><figcaption>{}</figcaption></figure>",
-                     base64(*bytes), escape(caption));
-}
-
 }  // namespace
 
 namespace {
@@ -248,12 +213,61 @@ CostTable with_recomputed_front(const CostTable& from_file) {
 
 namespace {
 
-std::string markdown_with_front(const CostTable& t) {
+// What the page is: a ship's decision, a merge of tables, or a sweep.
+std::string page_title(const CostTable& t, const std::optional<ShipDecision>& decision) {
+  if (decision) return "aovar ship report: " + decision->scene;
+  if (t.meta.merged_from) return "aovar report of merged cost tables";
+  return "aovar sweep report";
+}
+
+const char* kCostModelsNote =
+    "Each scene, view and backend's cost model predicts a variant's measured time from its static cost (the "
+    "SPIR-V's work per pixel), cross-validated on rows it was not fitted on. It decides whether `aovar sweep "
+    "--predict` may stand in for timing; no decision above rests on it.";
+
+// The cost-model diagnostics, an appendix: they say whether static cost predicts time here.
+std::string cost_models_html(const table::SweepMeta& m) {
+  const auto models = m.cost_models.value_or(std::vector<table::ModelFit>{});
+  if (models.empty()) return "";
+  std::string h = "<h2 id=\"appendix-cost-models\">Appendix: cost-model diagnostics</h2><p>" + escape(kCostModelsNote) +
+                  "</p><ul>";
+  for (const auto& cm : models) {
+    // A not predictive model's numbers are its reason, not a result.
+    if (!cm.predictive) {
+      h += fmt::format("<li>cost model {} / {} ({} features, {} rows): not predictive ({})</li>", escape(cm.scene),
+                       escape(cm.view), escape(cm.features), cm.rows, escape(cm.reason));
+      continue;
+    }
+    h += fmt::format("<li>cost model {} / {}: {} rows, cross-validated R² {:.3f}, Spearman ρ {:.3f} against the paired time "
+                     "({:.3f} against time_ms.min; {} features{})</li>",
+                     escape(cm.scene), escape(cm.view), cm.rows, cm.cv_r2, cm.cv_spearman, cm.cv_spearman_min,
+                     escape(cm.features), cm.predicts ? "; predicts" : "");
+  }
+  return h + "</ul>";
+}
+
+std::string cost_models_markdown(const table::SweepMeta& m) {
+  const auto models = m.cost_models.value_or(std::vector<table::ModelFit>{});
+  if (models.empty()) return "";
+  std::string md = std::string("## Appendix: cost-model diagnostics\n\n") + kCostModelsNote + "\n\n";
+  for (const auto& cm : models)
+    md += cm.predictive ? fmt::format("- {} / {}: {} rows, cross-validated R² {:.3f}, Spearman {:.3f}{}\n", cm.scene, cm.view,
+                                      cm.rows, cm.cv_r2, cm.cv_spearman, cm.predicts ? "; predicts" : "")
+                        : fmt::format("- {} / {}: not predictive ({})\n", cm.scene, cm.view, cm.reason);
+  return md + "\n";
+}
+
+std::string markdown_with_front(const CostTable& t, const fs::path& images_rel) {
   std::ostringstream md;
-  md << "# aovar sweep report\n\n" << kTimeNote << "\n\n";
+  const std::optional<ShipDecision> decision = ship_decision(t);
+  md << "# " << page_title(t, decision) << "\n\n";
+  if (decision)
+    md << decision_markdown(*decision) << decision_images_markdown(*decision, images_rel) << funnel_markdown(*decision)
+       << "# The evidence\n\n";
+  md << kTimeNote << "\n\n";
   if (auto pruned = table::pruned_summary(t); !pruned.empty()) md << "## Scene profiles\n\n" << pruned.substr(1) << "\n";
   for (const auto& [k, rows] : worst_view_fronts(t)) {
-    md << fmt::format("## What to ship: {} / {}, worst view\n\nEach variant's worst view (max RMSE and max time over "
+    md << fmt::format("## The front over the worst view: {} / {}\n\nEach variant's worst view (max RMSE and max time over "
                       "{}); `aovar select` picks from this front:\n\n| variant | worst paired ms [95 % interval] | worst rmse | ssim |\n"
                       "|---|---:|---:|---:|\n", k.first, k.second, view_list(rows.front().view));
     for (std::size_t i = 0; i < std::min(rows.size(), kMaxListed); ++i)
@@ -277,19 +291,28 @@ std::string markdown_with_front(const CostTable& t) {
   md << "## The pairs the seeds compared, on these scenes\n\n" << kPairsNote << "\n\n"
      << markdown(pairs_grid(seed_pairs(t), "time"));
   md << "\n" << gpu_markdown(t);
+  md << cost_models_markdown(t.meta);
   md << "The full table: cost_table.md / cost_table.csv / cost_table.json.\n";
   return md.str();
 }
 
-// Over 120 lines on purpose: the page is written top to bottom in the order a reader sees it (header, charts,
-// bounded grids, GPU section), each section a few lines calling its own helper; splitting it would only pass
+// Over 120 lines on purpose: the page is written top to bottom in the order a reader sees it (a ship's decision,
+// header, charts, bounded grids, GPU section, appendix), each section a few lines calling its own helper; splitting it would only pass
 // the stream and the table through a chain of functions. (Grew past 120 with issue 34's section bounds.)
 std::string html_with_front(const CostTable& t, const fs::path& dir, const Methods& methods) {
   std::ostringstream h;
-  h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>aovar sweep report</title><style>"
+  const std::optional<ShipDecision> decision = ship_decision(t);
+  const std::string title = escape(page_title(t, decision));
+  h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>" << title << "</title><style>"
        "body{font-family:sans-serif;margin:24px;max-width:1200px}table{border-collapse:collapse}td,th{border:1px solid "
        "#ccc;padding:2px 6px;font-size:12px}figure{display:inline-block;margin:4px}figcaption{font-size:10px;max-width:240px;"
-       "word-break:break-all}svg{margin:6px}</style></head><body><h1>aovar sweep report</h1>";
+       "word-break:break-all}svg{margin:6px}.verdict{font-size:18px}.verdict code{font-size:17px}"
+       "table.decision th{text-align:left}table.decision td,table.decision th{font-size:14px}"
+       "pre{background:#f4f4f4;padding:6px;white-space:pre-wrap}.row{display:flex;flex-wrap:wrap;gap:4px}"
+       "</style></head><body><h1>" << title << "</h1>";
+  if (decision)
+    h << decision_html(*decision) << decision_images_html(*decision, dir) << funnel_html(*decision, t)
+      << "<h1>The evidence</h1>";
   // What was measured, in words (the full header is in cost_table.json's meta).
   const table::SweepMeta& m = t.meta;
   std::string scenes;
@@ -298,20 +321,7 @@ std::string html_with_front(const CostTable& t, const fs::path& dir, const Metho
     << (m.reps_auto && !m.reps_auto->is_null() ? "--reps auto" : std::to_string(m.reps.value_or(0)) + " reps")
     << ", references " << m.rays.value_or(0) << " rays; "
     << (m.calibrated.value_or(false) ? "calibrated parameters" : "manifest defaults") << "; shard "
-    << escape(m.shard.value_or("1/1")) << ".</p><p>" << escape(kTimeNote) << "</p><ul>";
-  for (const auto& cm : m.cost_models.value_or(std::vector<table::ModelFit>{})) {
-    // A not predictive model's numbers are its reason, not a result.
-    if (!cm.predictive) {
-      h << fmt::format("<li>cost model {} / {} ({} features, {} rows): not predictive ({})</li>", escape(cm.scene),
-                       escape(cm.view), escape(cm.features), cm.rows, escape(cm.reason));
-      continue;
-    }
-    h << fmt::format("<li>cost model {} / {}: {} rows, cross-validated R² {:.3f}, Spearman ρ {:.3f} against the paired time "
-                     "({:.3f} against time_ms.min; {} features{})</li>",
-                     escape(cm.scene), escape(cm.view), cm.rows, cm.cv_r2, cm.cv_spearman, cm.cv_spearman_min,
-                     escape(cm.features), cm.predicts ? "; predicts" : "");
-  }
-  h << "</ul>";
+    << escape(m.shard.value_or("1/1")) << ".</p><p>" << escape(kTimeNote) << "</p>";
   // The scene profiles' pruning, counts only (the variants and reasons are in cost_table.json meta.pruned).
   if (m.pruned && !m.pruned->empty()) {
     h << "<p>Pruned before compiling by each scene's profile (every dropped variant with its reason: "
@@ -323,7 +333,7 @@ std::string html_with_front(const CostTable& t, const fs::path& dir, const Metho
   for (const auto& r : t.rows) algorithms.insert(algorithm_of(r));
   h << legend_html(algorithms, methods);
   for (const auto& [k, rows] : worst_view_fronts(t)) {
-    h << "<h2>What to ship: " << escape(k.first) << " / " << escape(k.second) << ", worst view</h2><p>Each variant's "
+    h << "<h2>The front over the worst view: " << escape(k.first) << " / " << escape(k.second) << "</h2><p>Each variant's "
       << "worst view (max RMSE and max time over " << escape(view_list(rows.front().view)) << "); <code>aovar select</code> picks "
       << "from this front.</p><table><tr><th>variant</th><th>worst paired ms [95 % interval]</th><th>worst RMSE</th><th>SSIM</th></tr>";
     for (std::size_t i = 0; i < std::min(rows.size(), kMaxListed); ++i)
@@ -376,12 +386,10 @@ std::string html_with_front(const CostTable& t, const fs::path& dir, const Metho
     for (const CostRow* r : front_rows) {
       if (r->images.size() < 3 || imaged == kMaxImaged) continue;
       ++imaged;
-      fs::path preview = dir / r->images[1], heat = dir / r->images[2];
-      // images/<backend>/<view>/<key>.png under measure/<scene>/: the reference is images/reference/<view>.png.
-      fs::path scene_dir = preview.parent_path().parent_path().parent_path().parent_path();
-      h << "<div>" << image_tag(dir, preview, r->variant + fmt::format(" ({:.2f} ms, RMSE {:.4f})", r->time_ms.decision(), r->error->rmse))
-        << image_tag(dir, scene_dir / "images" / "reference" / (r->view + ".png"), "ray-traced reference")
-        << image_tag(dir, heat, "error (red: too dark, blue: too light)") << "</div>";
+      const RowImages images = row_images(*r, dir);
+      h << "<div>" << image_tag(dir, images.preview, r->variant + fmt::format(" ({:.2f} ms, RMSE {:.4f})", r->time_ms.decision(), r->error->rmse))
+        << image_tag(dir, images.reference, "ray-traced reference")
+        << image_tag(dir, images.error_map, kErrorMapCaption) << "</div>";
     }
     if (std::size_t with_images = std::count_if(front_rows.begin(), front_rows.end(),
                                                 [](const CostRow* r) { return r->images.size() >= 3; });
@@ -391,7 +399,7 @@ std::string html_with_front(const CostTable& t, const fs::path& dir, const Metho
   }
   h << "<h2>The pairs the seeds compared, on these scenes</h2><p>" << escape(kPairsNote) << "</p>"
     << html(pairs_grid(seed_pairs(t), "time"));
-  h << gpu_html(t) << "</body></html>\n";
+  h << gpu_html(t) << cost_models_html(m) << "</body></html>\n";
   return h.str();
 }
 
@@ -399,7 +407,7 @@ std::string html_with_front(const CostTable& t, const fs::path& dir, const Metho
 
 void write_reports(const CostTable& t, const fs::path& dir, const Methods& methods) { write_reports(t, dir, dir, methods); }
 
-std::string markdown_report(const CostTable& from_file) { return markdown_with_front(with_recomputed_front(from_file)); }
+std::string markdown_report(const CostTable& from_file) { return markdown_with_front(with_recomputed_front(from_file), {}); }
 
 std::string html_report(const CostTable& from_file, const fs::path& dir, const Methods& methods) {
   return html_with_front(with_recomputed_front(from_file), dir, methods);
@@ -407,7 +415,7 @@ std::string html_report(const CostTable& from_file, const fs::path& dir, const M
 
 void write_reports(CostTable&& t, const fs::path& dir, const fs::path& images_dir, const Methods& methods) {
   decide::mark_pareto(t);  // once for both reports: the front is the costly part
-  util::write_atomic(dir / "report.md", markdown_with_front(t));
+  util::write_atomic(dir / "report.md", markdown_with_front(t, images_dir.lexically_relative(dir)));
   util::write_atomic(dir / "report.html", html_with_front(t, images_dir, methods));
 }
 

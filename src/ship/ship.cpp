@@ -242,6 +242,16 @@ table::CostTable race_then_holdout(const ShipOptions& o, const Fitted& fit, swee
   return last;
 }
 
+// The query the held-out views answer: the user's, on the target's estimate or the measured backend.
+decide::SelectQuery final_query(const ShipOptions& o) {
+  decide::SelectQuery q = o.query;
+  q.target = o.target;
+  q.backend = o.backend;
+  return q;
+}
+
+// meta.ship: every choice made, and the question the held-out views answered (`query`, the report asks it
+// again of the table) with the line that builds the answer.
 json ship_meta(const ShipOptions& o, const ShipResult& r, const profile::ScenePruning& pruning) {
   json rounds = json::array(), eliminated = json::array();
   for (const auto& x : r.rounds)
@@ -265,7 +275,9 @@ json ship_meta(const ShipOptions& o, const ShipResult& r, const profile::ScenePr
           {"lean_dropped", r.lean_dropped},
           {"rounds", rounds},
           {"eliminated", eliminated},
-          {"holdout_timing", {{"rule", r.holdout_rule}, {"timed", r.holdout_timed}, {"untimed", untimed}}}};
+          {"holdout_timing", {{"rule", r.holdout_rule}, {"timed", r.holdout_timed}, {"untimed", untimed}}},
+          {"query", decide::to_json(final_query(o))},
+          {"build_line", r.build_line}};
 }
 
 // Usage errors, before anything is profiled or fitted (an unknown family or a missing RADV too).
@@ -410,14 +422,11 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
   // 4. Select among the survivors on the held-out views.
   decide::mark_pareto(last);
   res.table = std::move(last);
-  res.table.meta.ship = ship_meta(o, res, pruning);
-  decide::SelectQuery q = o.query;
-  q.target = o.target;
-  q.backend = o.backend;
-  res.selection = decide::select(on_views(res.table, res.holdout), q);
+  res.selection = decide::select(on_views(res.table, res.holdout), final_query(o));
   if (res.selection.choice)
     res.build_line = fmt::format("aovar generate --manifest {} --variants '{}' --out shaders", util::display_path(o.scope.manifest.path()),
                                  res.selection.choice->variant);
+  res.table.meta.ship = ship_meta(o, res, pruning);
   table::write_table_files(res.table, o.out);
   report::write_reports(res.table, o.out, o.out / round_name(!o.target.empty(), true), manifest.algorithms);
   res.wall_s = util::seconds_since(start);

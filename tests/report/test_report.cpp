@@ -55,6 +55,34 @@ TEST(Report, SeedPairsMatchRowsDifferingInOneAxis) {
   EXPECT_TRUE(std::filesystem::exists(dir / "report.md"));
 }
 
+// The title says what the page is (a sweep, or a merge of tables; the ship report has its own test), and the
+// cost-model diagnostics close the page as an appendix, after the evidence a decision rests on.
+TEST(Report, TheTitleSaysWhatThePageIsAndTheCostModelsAreAnAppendix) {
+  table::CostTable t;
+  t.rows.push_back(axes_row("a-bsep", {{"algorithm", "alchemy"}, {"blur", "separable"}}, 10, 0.050));
+  t.rows.push_back(axes_row("a-bbil", {{"algorithm", "alchemy"}, {"blur", "bilateral"}}, 12, 0.040));
+  table::ModelFit model;
+  model.scene = "s";
+  model.view = "v";
+  model.reason = "8 rows or fewer";
+  t.meta.cost_models = std::vector<table::ModelFit>{model};
+  const std::string md = report::markdown_report(t);
+  EXPECT_EQ(md.rfind("# aovar sweep report\n", 0), 0u) << md.substr(0, 80);
+  const auto appendix = md.find("## Appendix: cost-model diagnostics");
+  ASSERT_NE(appendix, std::string::npos) << md;
+  EXPECT_GT(appendix, md.find("## The pairs the seeds compared"));
+  EXPECT_NE(md.find("- s / v: not predictive (8 rows or fewer)", appendix), std::string::npos);
+
+  TempDir dir;
+  report::write_reports(t, dir.path());
+  const std::string html = util::read_file(dir / "report.html").value();
+  EXPECT_NE(html.find("<title>aovar sweep report</title>"), std::string::npos);
+  EXPECT_GT(html.find("Appendix: cost-model diagnostics"), html.find("The pairs the seeds compared"));
+
+  t.meta.merged_from = std::vector<std::string>{"a/cost_table.json", "b/cost_table.json"};
+  EXPECT_EQ(report::markdown_report(t).rfind("# aovar report of merged cost tables\n", 0), 0u);
+}
+
 // "Where the error comes from": per view, the front rows' breakdowns with their numbers and one reading
 // generated from them (here both rows mostly far and too light); dominated rows and rows without a
 // breakdown are left out, and a table without any has no section.
@@ -128,7 +156,7 @@ TEST(Report, CliWritesReportsFromATable) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("7 rows"), std::string::npos) << r.output;
   auto md = util::read_file(dir / "out" / "report.md").value();
-  EXPECT_NE(md.find("What to ship: s / lavapipe, worst view"), std::string::npos) << md;
+  EXPECT_NE(md.find("The front over the worst view: s / lavapipe"), std::string::npos) << md;
   EXPECT_NE(md.find("| gtao-good | 22.00 | 0.0600"), std::string::npos) << "worst of the two views:\n" << md;
   EXPECT_EQ(md.find("| sao-bad |"), std::string::npos) << md;
   auto html = util::read_file(dir / "out" / "report.html").value();

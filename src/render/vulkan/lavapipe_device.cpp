@@ -429,6 +429,16 @@ uint32_t Device::memory_type(uint32_t bits, VkMemoryPropertyFlags required, VkMe
   return static_cast<uint32_t>(fallback);
 }
 
+VkDeviceMemory Device::allocate(const VkMemoryRequirements& req, VkMemoryPropertyFlags required,
+                                VkMemoryPropertyFlags preferred, const char* what) const {
+  VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  mai.allocationSize = req.size;
+  mai.memoryTypeIndex = memory_type(req.memoryTypeBits, required, preferred);
+  VkDeviceMemory memory_handle = VK_NULL_HANDLE;
+  check(vkAllocateMemory(device, &mai, nullptr, &memory_handle), what);
+  return memory_handle;
+}
+
 Buffer Device::create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool readback) {
   Buffer b;
   b.size = size;
@@ -440,12 +450,8 @@ Buffer Device::create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool r
     check(vkCreateBuffer(device, &bci, nullptr, &b.buffer), "vkCreateBuffer");
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(device, b.buffer, &req);
-    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    mai.allocationSize = req.size;
-    mai.memoryTypeIndex = memory_type(req.memoryTypeBits,
-                                      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
-                                      readback ? VK_MEMORY_PROPERTY_HOST_CACHED_BIT : 0);
-    check(vkAllocateMemory(device, &mai, nullptr, &b.memory), "vkAllocateMemory (buffer)");
+    b.memory = allocate(req, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                        readback ? VK_MEMORY_PROPERTY_HOST_CACHED_BIT : 0, "vkAllocateMemory (buffer)");
     check(vkBindBufferMemory(device, b.buffer, b.memory, 0), "vkBindBufferMemory");
     check(vkMapMemory(device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped), "vkMapMemory");
   } catch (...) {
@@ -476,10 +482,7 @@ Image Device::create_image(VkExtent2D extent, VkFormat format, VkImageUsageFlags
     check(vkCreateImage(device, &ici, nullptr, &img.image), "vkCreateImage");
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(device, img.image, &req);
-    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    mai.allocationSize = req.size;
-    mai.memoryTypeIndex = memory_type(req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    check(vkAllocateMemory(device, &mai, nullptr, &img.memory), "vkAllocateMemory (image)");
+    img.memory = allocate(req, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "vkAllocateMemory (image)");
     check(vkBindImageMemory(device, img.image, img.memory, 0), "vkBindImageMemory");
     VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vci.image = img.image;

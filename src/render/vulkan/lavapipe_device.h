@@ -101,6 +101,10 @@ class Device {
 
  private:
   uint32_t memory_type(uint32_t bits, VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred) const;
+  // Memory for `req` of a type with `required` properties (and `preferred` ones where a type has them);
+  // `what` names it in the error.
+  VkDeviceMemory allocate(const VkMemoryRequirements& req, VkMemoryPropertyFlags required,
+                          VkMemoryPropertyFlags preferred, const char* what) const;
   // The steps of the constructor, in order; each throws BackendError with what to install.
   void create_instance(bool validation);
   void create_messenger();
