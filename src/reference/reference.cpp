@@ -43,7 +43,8 @@ void check_options(const ReferenceOptions& o) {
                                          o.size.height));
   if (!(o.radius > 0.0f) || !std::isfinite(o.radius))
     throw std::runtime_error(fmt::format("reference: radius {} must be a positive number of world units", o.radius));
-  if (o.rays < 1) throw std::runtime_error(fmt::format("reference: rays {} must be at least 1", o.rays));
+  if (o.rays < 1 || o.rays > kMaxRays)
+    throw std::runtime_error(fmt::format("reference: rays {} must be from 1 to {} per pixel", o.rays, kMaxRays));
   if (o.frame < 0) throw std::runtime_error(fmt::format("reference: frame {} must be 0 or more", o.frame));
   if (o.threads < 0) throw std::runtime_error(fmt::format("reference: threads {} must be 0 (all cores) or more", o.threads));
 }

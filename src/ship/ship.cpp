@@ -333,7 +333,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
   scene::LoadOptions lo;
   lo.views_file = o.views_file;
   const scene::Scene sc = scene::load_scene(o.scene, lo);
-  const calibrate::ViewSplit split = calibrate::split_views({o.scene}, o.views_file, {}, o.holdout_views);
+  const calibrate::ViewSplit split = calibrate::split_views({o.scene}, o.views_file, {}, o.holdout_views, "ship");
   for (const auto& v : split.training) res.training.push_back(v.view);
   for (const auto& v : split.holdout) res.holdout.push_back(v.view);
   std::vector<std::string> views = res.training;

@@ -14,7 +14,7 @@
 namespace aovar::test {
 namespace {
 
-std::size_t full_plan_index(const render::PipelinePlan& plan, const std::string& name) {
+std::size_t index_in_full_plan(const render::PipelinePlan& plan, const std::string& name) {
   const auto it = std::find_if(plan.draws.begin(), plan.draws.end(), [&](const auto& d) { return d.name == name; });
   return static_cast<std::size_t>(it - plan.draws.begin());
 }
@@ -36,7 +36,7 @@ TEST(DrawIndexAtSize, NamesTheDrawOfThePlanThatRunsAtTheSmallestSizes) {
     ASSERT_LT(ao, ran.draws.size());
     EXPECT_EQ(ran.draws[ao].name, "ao");
     if (size.width <= 8) {
-      EXPECT_LT(ao, full_plan_index(plan, "ao")) << "MIP draws were dropped before it";
+      EXPECT_LT(ao, index_in_full_plan(plan, "ao")) << "MIP draws were dropped before it";
     }
   }
   EXPECT_THROW(render::draw_index_at_size(plan, {8, 8}, "no-such-draw"), std::runtime_error);

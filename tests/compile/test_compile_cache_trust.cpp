@@ -15,7 +15,7 @@ namespace aovar::test {
 namespace {
 namespace fs = std::filesystem;
 
-compile::CompileOptions cache_options(const fs::path& cache) {
+compile::CompileOptions cache_trust_options(const fs::path& cache) {
   compile::CompileOptions o;
   o.scope.targets = {variants::Target::vulkan, variants::Target::gl45};
   o.scope.cache_dir = cache;
@@ -24,14 +24,14 @@ compile::CompileOptions cache_options(const fs::path& cache) {
 }
 
 // Every program's SPIR-V, by target and program.
-std::vector<std::vector<std::vector<std::uint32_t>>> spirv_of(const compile::CompiledSpace& c) {
+std::vector<std::vector<std::vector<std::uint32_t>>> spirv_of_builds(const compile::CompiledSpace& c) {
   std::vector<std::vector<std::vector<std::uint32_t>>> out(c.builds.size());
   for (std::size_t t = 0; t < c.builds.size(); ++t)
     for (const auto& b : c.builds[t]) out[t].push_back(b.output.spirv);
   return out;
 }
 
-int cached_programs(const compile::CompiledSpace& c) {
+int programs_from_cache(const compile::CompiledSpace& c) {
   int n = 0;
   for (const auto& target : c.builds)
     for (const auto& b : target) n += b.ok && !b.compiled;
@@ -42,9 +42,9 @@ int cached_programs(const compile::CompiledSpace& c) {
 // which crashed lavapipe): spirv-val rejects them, they are recompiled, and the programs are the uncached ones.
 TEST(CompileCacheTrust, SpirvThatDoesNotValidateIsRecompiledNotUsed) {
   TempDir dir;
-  const auto uncached = compile::compile_space(cache_options({}));
+  const auto uncached = compile::compile_space(cache_trust_options({}));
   ASSERT_TRUE(uncached.ok());
-  const auto warm = compile::compile_space(cache_options(dir / "cache"));
+  const auto warm = compile::compile_space(cache_trust_options(dir / "cache"));
   const compile::CompileCache cache(dir / "cache");
   int poisoned = 0;
   for (const auto& target : warm.builds)
@@ -56,20 +56,20 @@ TEST(CompileCacheTrust, SpirvThatDoesNotValidateIsRecompiledNotUsed) {
       }
   ASSERT_GT(poisoned, 0);
   testing::internal::CaptureStderr();
-  const auto again = compile::compile_space(cache_options(dir / "cache"));
+  const auto again = compile::compile_space(cache_trust_options(dir / "cache"));
   const std::string said = testing::internal::GetCapturedStderr();
   EXPECT_TRUE(has_text(said, "a damaged compile cache entry: computing it again")) << said;
-  EXPECT_EQ(cached_programs(again), 0) << "no poisoned entry was used";
-  EXPECT_EQ(spirv_of(again), spirv_of(uncached));
-  EXPECT_GT(cached_programs(compile::compile_space(cache_options(dir / "cache"))), 0) << "stored again, whole";
+  EXPECT_EQ(programs_from_cache(again), 0) << "no poisoned entry was used";
+  EXPECT_EQ(spirv_of_builds(again), spirv_of_builds(uncached));
+  EXPECT_GT(programs_from_cache(compile::compile_space(cache_trust_options(dir / "cache"))), 0) << "stored again, whole";
 }
 
 // Swapped entries (two programs' files exchanged) and flipped bytes: the entry names another key or fails
 // its checksum; recompiled, and the SPIR-V is the uncached build's.
 TEST(CompileCacheTrust, SwappedOrFlippedEntriesAreRecompiledToTheUncachedPrograms) {
   TempDir dir;
-  const auto uncached = compile::compile_space(cache_options({}));
-  compile::compile_space(cache_options(dir / "cache"));
+  const auto uncached = compile::compile_space(cache_trust_options({}));
+  compile::compile_space(cache_trust_options(dir / "cache"));
   std::vector<fs::path> entries;
   for (const auto& e : fs::recursive_directory_iterator(dir / "cache" / "compile"))
     if (e.is_regular_file()) entries.push_back(e.path());
@@ -81,11 +81,11 @@ TEST(CompileCacheTrust, SwappedOrFlippedEntriesAreRecompiledToTheUncachedProgram
   flipped[flipped.size() / 2] ^= 0x40;
   util::write_atomic(entries[2], flipped);
   testing::internal::CaptureStderr();
-  const auto again = compile::compile_space(cache_options(dir / "cache"));
+  const auto again = compile::compile_space(cache_trust_options(dir / "cache"));
   const std::string said = testing::internal::GetCapturedStderr();
   EXPECT_TRUE(has_text(said, "the entry of another key")) << said;
   EXPECT_TRUE(has_text(said, "checksum")) << said;
-  EXPECT_EQ(spirv_of(again), spirv_of(uncached));
+  EXPECT_EQ(spirv_of_builds(again), spirv_of_builds(uncached));
 }
 
 }  // namespace

@@ -20,18 +20,18 @@
 namespace aovar {
 namespace {
 
-const char* kKey = "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
+const char* kInjectionTableKey = "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
 
-table::CostTable table_naming(const std::string& gpu, const std::string& backend) {
+table::CostTable table_naming_targets(const std::string& gpu, const std::string& backend) {
   table::CostTable t;
-  table::CostRow r = test::point_row(kKey, 1.0, 0.05);
+  table::CostRow r = test::point_row(kInjectionTableKey, 1.0, 0.05);
   r.backend = backend;
   r.gpu[gpu].est_ms = 0.5;
   t.rows = {r};
   return t;
 }
 
-test::CommandResult generate_cpp(const test::TempDir& dir, const table::CostTable& t) {
+test::CommandResult generate_cpp_from_table(const test::TempDir& dir, const table::CostTable& t) {
   table::write_json(t, dir / "cost_table.json");
   return test::run_aovar(fmt::format("generate --manifest {} --from-table {} --targets vulkan --emit cpp --out {}",
                                      (test::source_dir() / "shader_src" / "aovar.toml").string(),
@@ -44,7 +44,7 @@ TEST(TableNames, AFamilyNameThatInjectsCodeIsRefusedNamingTheRowAndNothingIsWrit
   const std::string injected =
       "navi21\", true, kFrontPoints_0, 8}};\nstatic int injected = (__builtin_printf(\"INJECTED\"),1);\n"
       "const Front kUnused[] = {{\"x";
-  const auto r = generate_cpp(dir, table_naming(injected, "lavapipe"));
+  const auto r = generate_cpp_from_table(dir, table_naming_targets(injected, "lavapipe"));
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_TRUE(test::has_text(r.output, "cost_table.json: row 0 (")) << r.output;
   EXPECT_TRUE(test::has_text(r.output, "is no GPU aovar knows")) << r.output;
@@ -61,7 +61,7 @@ TEST(TableNames, UnknownOrHostileGpuAndBackendNamesAreRefusedInOneLine) {
            {"navi21", ""}}) {
     SCOPED_TRACE(gpu + " / " + backend);
     test::TempDir dir;
-    const auto r = generate_cpp(dir, table_naming(gpu, backend));
+    const auto r = generate_cpp_from_table(dir, table_naming_targets(gpu, backend));
     EXPECT_EQ(r.status, 2) << r.output;
     EXPECT_TRUE(test::has_text(r.output, "row 0 (")) << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
@@ -70,9 +70,9 @@ TEST(TableNames, UnknownOrHostileGpuAndBackendNamesAreRefusedInOneLine) {
 }
 
 TEST(TableNames, KnownNamesPassTheCheck) {
-  EXPECT_NO_THROW(decide::check_row_targets(table_naming("navi21", "lavapipe"), "t.json"));
-  EXPECT_NO_THROW(decide::check_row_targets(table_naming("gfx1201", "gles"), "t.json"));   // families.json
-  EXPECT_NO_THROW(decide::check_row_targets(table_naming("pitcairn", "osmesa"), "t.json"));  // Mesa, no spec
+  EXPECT_NO_THROW(decide::check_row_targets(table_naming_targets("navi21", "lavapipe"), "t.json"));
+  EXPECT_NO_THROW(decide::check_row_targets(table_naming_targets("gfx1201", "gles"), "t.json"));   // families.json
+  EXPECT_NO_THROW(decide::check_row_targets(table_naming_targets("pitcairn", "osmesa"), "t.json"));  // Mesa, no spec
   EXPECT_TRUE(decide::is_known_gpu("gfx1100"));  // an alias of navi31
   EXPECT_FALSE(decide::is_known_gpu("navi99"));
   EXPECT_FALSE(decide::is_known_backend("vulkan"));  // a target, not a backend

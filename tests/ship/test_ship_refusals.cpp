@@ -16,21 +16,21 @@ namespace aovar::test {
 namespace {
 namespace fs = std::filesystem;
 
-const char* kBaseline = "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
+const char* kRefusalBaseline = "alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
 
 // Two folders that look like shard runs (a ship.json each).
-void make_shards(const TempDir& dir) {
+void make_fake_shard_folders(const TempDir& dir) {
   for (const char* s : {"s1", "s2"}) write_text(dir / s / "ship.json", "{}\n");
 }
 
-void expect_refused_at_once(const CommandResult& r, const std::string& part, double seconds) {
+void expect_refused_before_the_work(const CommandResult& r, const std::string& part, double seconds) {
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_TRUE(has_text(r.output, part)) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   EXPECT_LT(seconds, 20.0) << "refused before the work, not after it";
 }
 
-CommandResult timed(const std::string& args, double& seconds) {
+CommandResult timed_refusal_run(const std::string& args, double& seconds) {
   const auto t0 = std::chrono::steady_clock::now();
   auto r = run_aovar(args);
   seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -41,13 +41,13 @@ CommandResult timed(const std::string& args, double& seconds) {
 // an --out inside a shard's folder, and merge into a shard's own table.
 TEST(JoinIntoInputs, AnOutputThatIsOrLiesInAnInputIsRefusedAndTheInputsStayAsTheyWere) {
   TempDir dir;
-  make_shards(dir);
+  make_fake_shard_folders(dir);
   for (const fs::path& out : {dir / "s1", dir / "s2" / "joined"}) {
     SCOPED_TRACE(out.string());
     double s = 0;
-    const auto r = timed(fmt::format("ship --scene builtin:stairs --budget-of {} --join {} {} --out {}", kBaseline,
+    const auto r = timed_refusal_run(fmt::format("ship --scene builtin:stairs --budget-of {} --join {} {} --out {}", kRefusalBaseline,
                                      (dir / "s1").string(), (dir / "s2").string(), out.string()), s);
-    expect_refused_at_once(r, "a join never writes into its inputs", s);
+    expect_refused_before_the_work(r, "a join never writes into its inputs", s);
     EXPECT_FALSE(fs::exists(dir / "s1" / "screen"));
     EXPECT_FALSE(fs::exists(dir / "s2" / "joined" / "screen"));
   }
@@ -63,13 +63,13 @@ TEST(JoinIntoInputs, AnOutputThatIsOrLiesInAnInputIsRefusedAndTheInputsStayAsThe
 // Issue 54, reproduction 13's first member: a missing folder or a file said "screened other inputs".
 TEST(JoinIntoInputs, AJoinOfSomethingThatIsNoShardFolderSaysSo) {
   TempDir dir;
-  make_shards(dir);
+  make_fake_shard_folders(dir);
   for (const fs::path& bad : {dir / "missing", fs::path("/etc/passwd")}) {
     SCOPED_TRACE(bad.string());
     double s = 0;
-    const auto r = timed(fmt::format("ship --scene builtin:stairs --budget-of {} --join {} {} --out {}", kBaseline,
+    const auto r = timed_refusal_run(fmt::format("ship --scene builtin:stairs --budget-of {} --join {} {} --out {}", kRefusalBaseline,
                                      (dir / "s1").string(), bad.string(), (dir / "out").string()), s);
-    expect_refused_at_once(r, "is not the folder of an `aovar ship --shard k/n` run", s);
+    expect_refused_before_the_work(r, "is not the folder of an `aovar ship --shard k/n` run", s);
   }
 }
 
@@ -80,13 +80,13 @@ TEST(BudgetOfResolved, BeforeAnythingRenders) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"--budget-of nosuch-key", "is no variant of"},
       {"--budget-of 'alchemy-s08-*'", "is a pattern"},
-      {fmt::format("--budget-of {} --variants 'sao-s08-*'", kBaseline), "is outside --variants"}};
+      {fmt::format("--budget-of {} --variants 'sao-s08-*'", kRefusalBaseline), "is outside --variants"}};
   for (const auto& [args, part] : cases) {
     SCOPED_TRACE(args);
     double s = 0;
-    const auto r = timed(fmt::format("ship --scene builtin:stairs {} --rays 16 --size 64x36 --cache-dir {} --out {}",
+    const auto r = timed_refusal_run(fmt::format("ship --scene builtin:stairs {} --rays 16 --size 64x36 --cache-dir {} --out {}",
                                      args, (dir / "cache").string(), (dir / "out").string()), s);
-    expect_refused_at_once(r, part, s);
+    expect_refused_before_the_work(r, part, s);
     EXPECT_FALSE(fs::exists(dir / "out" / "ship.json"));
   }
 }
@@ -106,7 +106,7 @@ TEST(ShipFit, ADamagedFitIsFittedAgainOnResume) {
       "ship --scene builtin:atrium --variants 'alchemy-s0[48]-p0-*-zdep-rst-d16-bsep-x1-hp' --budget-of {} "
       "--backend lavapipe --size 64x36 --fit-size 8x8 --evaluations 1 --rays 8 --reps-cap-s 0.1 "
       "--cache-dir {} --out {}",
-      kBaseline, (dir / "cache").string(), (dir / "out").string());
+      kRefusalBaseline, (dir / "cache").string(), (dir / "out").string());
   const auto first = run_aovar(args);
   ASSERT_EQ(first.status, 0) << first.output;
   const fs::path fit = dir / "out" / "calibration.json";

@@ -14,10 +14,10 @@ namespace aovar::test {
 namespace {
 namespace fs = std::filesystem;
 
-std::string bytes_of(const fs::path& p) { return *util::read_file(p); }
+std::string verified_entry_bytes(const fs::path& p) { return *util::read_file(p); }
 
 // Reads `key` with stderr captured: the content (or nullopt) and what was said.
-std::pair<std::optional<std::string>, std::string> read_quietly(const util::VerifiedCache& c, const std::string& key) {
+std::pair<std::optional<std::string>, std::string> read_entry_quietly(const util::VerifiedCache& c, const std::string& key) {
   testing::internal::CaptureStderr();
   auto content = c.read(key);
   return {content, testing::internal::GetCapturedStderr()};
@@ -27,7 +27,7 @@ TEST(VerifiedCache, AWholeEntryIsItsOwnContentAndAMissingOneIsAQuietMiss) {
   TempDir dir;
   const util::VerifiedCache c(dir.path(), "unit");
   const std::string key = std::string("a key\nwith a newline and a NUL \0 byte", 38);
-  EXPECT_EQ(read_quietly(c, key), (std::pair<std::optional<std::string>, std::string>{std::nullopt, ""}));
+  EXPECT_EQ(read_entry_quietly(c, key), (std::pair<std::optional<std::string>, std::string>{std::nullopt, ""}));
   c.write(key, std::string("content\0\xff", 9));
   EXPECT_EQ(c.read(key), std::string("content\0\xff", 9));
   EXPECT_EQ(c.read("another key"), std::nullopt);
@@ -41,7 +41,7 @@ TEST(VerifiedCache, EveryKindOfDamagedOrForeignEntryIsAMissWithOneWarning) {
   c.write("k1", "the first content");
   c.write("k2", "the second content");
   const fs::path e1 = c.entry_path("k1"), e2 = c.entry_path("k2");
-  const std::string whole1 = bytes_of(e1), whole2 = bytes_of(e2);
+  const std::string whole1 = verified_entry_bytes(e1), whole2 = verified_entry_bytes(e2);
   auto flipped = whole1;
   flipped.back() ^= 1;
   const std::vector<std::pair<std::string, std::function<void()>>> damages = {
@@ -54,13 +54,13 @@ TEST(VerifiedCache, EveryKindOfDamagedOrForeignEntryIsAMissWithOneWarning) {
       {"a directory", [&] { fs::remove(e1), fs::create_directories(e1 / "x"); }},
       {"another cache's entry", [&] {
          other_kind.write("k1", "the first content");
-         util::write_atomic(e1, bytes_of(other_kind.entry_path("k1")));
+         util::write_atomic(e1, verified_entry_bytes(other_kind.entry_path("k1")));
        }},
   };
   for (const auto& [name, damage] : damages) {
     SCOPED_TRACE(name);
     damage();
-    const auto [content, said] = read_quietly(c, "k1");
+    const auto [content, said] = read_entry_quietly(c, "k1");
     EXPECT_EQ(content, std::nullopt);
     EXPECT_TRUE(has_text(said, "aovar: warning: ")) << said;
     EXPECT_TRUE(has_text(said, "a damaged unit cache entry: computing it again")) << said;
