@@ -405,7 +405,7 @@ TEST(Reference, CliBadInputGivesOneLineErrorAndExitTwo) {
            {"--scene builtin:spheres --view nope", "no view 'nope' (available: overview, closeup, background"},
            {"--scene builtin:spheres --radius abc", "--radius: radius 'abc': not a number"},
            {"--scene builtin:spheres --radius 1.5%x", "radius '1.5%x'"},
-           {"--scene builtin:spheres --rays 0", "--rays 0: need at least 1"},
+           {"--scene builtin:spheres --rays 0", "aovar reference: --rays: '0' is not a whole number from 1 to 65536"},
            {"--scene builtin:spheres --mode ambient", "--mode: unknown mode 'ambient' (use occlusion or obscurance)"},
            {"--scene " + (dir / "missing.obj").string(), "missing.obj"},
        }) {
