@@ -16,7 +16,7 @@
 # along, or with BUDGET_MS / BUDGET_OF / MAX_ERROR only select's pick; the header then has
 # pick(device, budget_ms), pick_level, step_up / step_down (docs/install.md). The step re-runs when the
 # table changes. A table from another manifest, an unknown name in FOR or a target without rows fails the
-# step with one line.
+# step with one line; an empty FROM_TABLE or one naming no file fails at configure, in one line.
 #
 # <target> becomes a C++ namespace and the names of the generated files, so it must be a C++ identifier.
 include_guard(GLOBAL)
@@ -78,7 +78,34 @@ function(aovar_add_shader_variants target)
     list(APPEND args --werror)
   endif()
   set(table_depends "")
-  if(arg_FROM_TABLE)
+  # FROM_TABLE with no value (an unset variable) or an empty one would generate the whole space without a
+  # pick table; a missing file would fail the build with the generator's "missing and no known rule".
+  # (cmake_parse_arguments drops an empty value before CMP0174, so the arguments are read as given.)
+  set(table_given FALSE)
+  set(table_empty FALSE)
+  math(EXPR last_arg "${ARGC} - 1")
+  foreach(i RANGE 1 ${last_arg})
+    if("${ARGV${i}}" STREQUAL "FROM_TABLE")
+      set(table_given TRUE)
+      math(EXPR next "${i} + 1")
+      if(next GREATER last_arg OR "${ARGV${next}}" STREQUAL "" OR "${ARGV${next}}" MATCHES
+         "^(FOR|TARGETS|VARIANTS|MANIFEST|OUTPUT_DIR|BUDGET_MS|BUDGET_OF|MAX_ERROR|WERROR)$")
+        set(table_empty TRUE)
+      endif()
+    endif()
+  endforeach()
+  if(table_empty)
+    message(FATAL_ERROR "aovar_add_shader_variants(${target}): FROM_TABLE is empty (an unset variable?): give the "
+                        "cost_table.json of an aovar sweep or ship, or leave FROM_TABLE out")
+  endif()
+  if(DEFINED arg_FROM_TABLE)
+    get_filename_component(table "${arg_FROM_TABLE}" ABSOLUTE)
+    if(NOT EXISTS "${table}" OR IS_DIRECTORY "${table}")
+      message(FATAL_ERROR "aovar_add_shader_variants(${target}): FROM_TABLE ${table}: no such file: give the "
+                          "cost_table.json of an aovar sweep or ship (aovar sweep --out DIR writes DIR/cost_table.json)")
+    endif()
+  endif()
+  if(DEFINED arg_FROM_TABLE)
     if(arg_VARIANTS)
       message(FATAL_ERROR "aovar_add_shader_variants(${target}): FROM_TABLE chooses the variants; leave out VARIANTS")
     endif()

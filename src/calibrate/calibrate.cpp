@@ -141,16 +141,16 @@ class Objective {
  public:
   Objective(runner::VariantRunner& runner, int variant, const std::vector<Case>& cases)
       : runner_(runner), variant_(variant), cases_(cases), plan_(runner.plan(variant, {}, true)) {
-    auto ao = std::find_if(plan_.draws.begin(), plan_.draws.end(), [](const auto& d) { return d.name == "ao"; });
-    if (ao == plan_.draws.end()) throw std::runtime_error(plan_.variant + ": no ao draw");
-    ao_index_ = static_cast<std::size_t>(ao - plan_.draws.begin());
+    // The index in the plan the backend runs at this size (MIP draws before the AO draw may be dropped).
+    ao_index_ = render::draw_index_at_size(plan_, runner.size(), "ao");
     prepared_ = runner.prepare(plan_);
   }
 
   // Per-case MSE over the cases of one kind (NaN, Inf and values outside [0, 1] count as an error of 1
   // each, so a parameter set cannot win by breaking pixels).
   std::vector<double> errors(const render::ParamOverrides& values, bool training) {
-    runner_.backend().set_params(*prepared_, ao_index_, runner_.plan(variant_, values, true).draws[ao_index_].params);
+    const auto ran = render::plan_for_size(runner_.plan(variant_, values, true), runner_.size());
+    runner_.backend().set_params(*prepared_, ao_index_, ran.draws[ao_index_].params);
     std::vector<double> mse;
     for (const Case& k : cases_) {
       if (k.training != training) continue;

@@ -39,9 +39,10 @@ ViewSplit builtin_split();
 // else every third view of the scene (the derived views: background). A views file replaces or adds
 // views of every scene (with several scenes it must name views each of them accepts). Throws
 // std::runtime_error with one line: an unknown view (naming the scene and its views), a view both trained
-// and held out, no training or no held-out view left.
+// and held out, no training or no held-out view left; it starts with `command` and names only its options.
 ViewSplit split_views(const std::vector<std::string>& scenes, const std::filesystem::path& views_file,
-                      const std::vector<std::string>& training_views, const std::vector<std::string>& holdout_views);
+                      const std::vector<std::string>& training_views, const std::vector<std::string>& holdout_views,
+                      const std::string& command = "calibrate");
 
 struct CalibrateOptions {
   compile::RunScope scope;  // the manifest, rendering threads, the cache root (compile and reference caches)

@@ -9,9 +9,11 @@
 #include "calibrate/file.h"
 #include "calibrate/text.h"
 #include "cli/commands.h"
+#include "cli/limits.h"
 #include "cli/options.h"
 #include "cli/render_options.h"
 #include "cli/subcommand.h"
+#include "reference/reference.h"
 #include "util/fs.h"
 
 namespace aovar::cli {
@@ -70,14 +72,16 @@ Command add_calibrate(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--backend,-b", cal.backend, render::backend_list(", ", " or "))->capture_default_str();
   cmd->add_option("--size", a->size, "render and reference size WxH")->capture_default_str();
-  cmd->add_option("--rays", cal.rays, "reference rays per pixel")->capture_default_str();
+  cmd->add_option("--rays", cal.rays, "reference rays per pixel")->check(whole_number(1, reference::kMaxRays))->capture_default_str();
   cmd->add_option("--mode", a->mode, "reference mode: occlusion or obscurance")->capture_default_str();
   cmd->add_option("--evaluations", cal.budget.max_evaluations, "objective evaluations per fit (NLopt BOBYQA; COBYLA for one parameter)")
+      ->check(whole_number(1, kMaxEvaluations))
       ->capture_default_str();
-  cmd->add_option("--threads", a->threads, "LP_NUM_THREADS for llvmpipe")->capture_default_str();
+  cmd->add_option("--threads", a->threads, "LP_NUM_THREADS for llvmpipe")->check(whole_number(1, kMaxThreads))->capture_default_str();
   cmd->add_option("--fits-at-once", cal.fits_at_once,
                   "methods (or variants) fitted at once, each on its own device (default 0: one per core; the "
                   "result does not depend on it)")
+      ->check(whole_number(0, kMaxThreads))
       ->capture_default_str();
   cmd->add_option("--out,-o", a->out, "calibration file to write (e.g. shader_src/calibration.json)")->required();
   add_cache_dir(cmd, a->cache_dir, "compile and reference cache");

@@ -3,6 +3,7 @@
 // registers the subcommands (in the order --help lists them) and runs the one given.
 #include <CLI/CLI.hpp>
 
+#include <iostream>
 #include <string>
 #include <vector>
 
@@ -25,10 +26,13 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    // CLI11 prints help or the version (its code 0) or the usage error (its own codes, 100 and up).
-    return app.exit(e) == 0 ? exit_status(ExitCode::ok) : exit_status(ExitCode::error);
+    // CLI11 prints help or the version (its code 0); a usage error is one line naming the command that was
+    // run and the option (CLI11's own text would add a second line).
+    if (e.get_exit_code() == 0) return app.exit(e) == 0 ? exit_status(ExitCode::ok) : exit_status(ExitCode::error);
+    std::cerr << usage_error_line(commands, e.what()) << "\n";
+    return exit_status(ExitCode::error);
   }
   for (const auto& c : commands)
-    if (c.app->parsed()) return exit_status(run_guarded(c.run));
+    if (c.app->parsed()) return exit_status(run_guarded(c.run, c.app->get_name()));
   return exit_status(ExitCode::error);  // not reached: require_subcommand(1) makes the parse fail without one
 }

@@ -7,12 +7,14 @@
 #include <stdexcept>
 
 #include "cli/commands.h"
+#include "cli/limits.h"
 #include "cli/options.h"
 #include "cli/render_options.h"
 #include "cli/subcommand.h"
 #include "cli/whole_space.h"
 #include "measure/measure.h"
 #include "measure/text.h"
+#include "reference/reference.h"
 
 namespace aovar::cli {
 namespace {
@@ -87,10 +89,10 @@ Command add_measure(CLI::App& app) {
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
   add_reps(cmd, a->reps);
-  cmd->add_option("--warmup", mo.timing.warmup, "discarded frames after the first (JIT) frame")->capture_default_str();
+  cmd->add_option("--warmup", mo.timing.warmup, "discarded frames after the first (JIT) frame")->check(whole_number(0, kMaxWarmup))->capture_default_str();
   add_threads(cmd, a->common);
   cmd->add_option("--device", mo.device, "the Vulkan backend: device by name substring or index (default: the CPU device)");
-  cmd->add_option("--batch", mo.timing.batch, "pipelines prepared and interleaved at once")->capture_default_str();
+  cmd->add_option("--batch", mo.timing.batch, "pipelines prepared and interleaved at once")->check(whole_number(1, kMaxBatch))->capture_default_str();
   add_gpu(cmd, a->gpu);
   cmd->add_option("--baseline", mo.baseline, "variant timed in every round (rel_time = 1)")->capture_default_str();
   cmd->add_option("--radius", mo.radius, "AO radius in world units (default: the scene's)");
@@ -104,7 +106,7 @@ Command add_measure(CLI::App& app) {
                 "measure every selected variant (default: drop, before compiling, those the scene's profile drops)");
   cmd->add_flag("--reference", mo.truth.enabled,
                 "score every row against a ray-traced reference of its view (error: rmse, mae, psnr, ssim, bias, max)");
-  cmd->add_option("--rays", mo.truth.rays, "reference rays per pixel (with --reference)")->capture_default_str();
+  cmd->add_option("--rays", mo.truth.rays, "reference rays per pixel (with --reference)")->check(whole_number(1, reference::kMaxRays))->capture_default_str();
   cmd->add_option("--reference-mode", a->reference_mode, "occlusion or obscurance (with --reference)")
       ->capture_default_str();
   add_calibration(cmd, a->calibration,

@@ -10,6 +10,7 @@
 #include "sweep/merge.h"
 #include "table/table.h"
 #include "util/fs.h"
+#include "util/output_apart.h"
 
 namespace aovar::cli {
 namespace {
@@ -21,6 +22,7 @@ struct MergeArgs {
 
 ExitCode run_merge(const MergeArgs& a) {
   std::vector<std::filesystem::path> in(a.inputs.begin(), a.inputs.end());
+  util::check_output_apart_from_inputs(a.out, in, "merge");  // before the lock leaves a file in an input
   const auto lock = lock_output_of_file(a.out);
   auto r = sweep::merge_shards(in, a.out);
   table::write_json(r.table, a.out);

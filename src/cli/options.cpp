@@ -9,8 +9,11 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "cli/commands.h"
+#include "cli/limits.h"
 #include "compile/cache.h"
 #include "compile/text.h"
+#include "util/text.h"
 
 namespace aovar::cli {
 
@@ -65,7 +68,7 @@ void add_common(CLI::App* cmd, CommonOptions& o) {
   add_manifest(cmd, o.manifest);
   cmd->add_option("--variants", o.globs, "only variants whose key matches this glob (repeatable)");
   cmd->add_option("--targets", o.targets, "vulkan,gl45,gles30 (default: the manifest's)")->delimiter(',');
-  cmd->add_option("--jobs,-j", o.jobs, "compile threads (default: cores)");
+  cmd->add_option("--jobs,-j", o.jobs, "compile threads (default: cores)")->check(whole_number(0, kMaxThreads));
   cmd->add_flag("--werror", o.werror, "treat glslang warnings as errors");
   add_cache_dir(cmd, o.cache_dir, "compile cache");
   cmd->add_flag("--no-cache", o.no_cache, "compile everything, read and write no cache");
@@ -87,7 +90,7 @@ const compile::RunScope& CommonOptions::scope() const {
 }
 
 void add_threads(CLI::App* cmd, CommonOptions& o) {
-  cmd->add_option("--threads", o.threads, "rendering threads (LP_NUM_THREADS for llvmpipe)")->capture_default_str();
+  cmd->add_option("--threads", o.threads, "rendering threads (LP_NUM_THREADS for llvmpipe)")->check(whole_number(1, kMaxThreads))->capture_default_str();
 }
 
 compile::CompileOptions compile_options(const CommonOptions& o) {
@@ -113,11 +116,20 @@ shard::ShardSpec shard_option(const std::string& text) {
   return spec;
 }
 
-ExitCode run_guarded(const std::function<ExitCode()>& run) {
+std::string usage_error_line(const std::vector<Command>& commands, const std::string& what) {
+  std::string command = "aovar";
+  for (const auto& c : commands)
+    if (c.app->parsed()) command += " " + c.app->get_name();
+  return fmt::format("{}: {} ({} --help lists the options)", command, util::one_line(what), command);
+}
+
+ExitCode run_guarded(const std::function<ExitCode()>& run, const std::string& command) {
   try {
     return run();
   } catch (const std::exception& e) {
-    std::cerr << e.what() << "\n";
+    // An option's own error ("--gpu-size: expected WxH ...") is told with the command that was run.
+    const std::string what = e.what();
+    std::cerr << (what.rfind("--", 0) == 0 && !command.empty() ? "aovar " + command + ": " : "") << what << "\n";
     return ExitCode::error;
   }
 }

@@ -106,7 +106,13 @@ auto with_status(Work&& work) {
 // through (every comparison with it is false) and take "inf".
 CLI::Validator finite_number(double min, bool strict);
 
-// Runs a subcommand: a std::exception becomes its message on stderr and ExitCode::error.
-ExitCode run_guarded(const std::function<ExitCode()>& run);
+// A command-line error as one line naming the command that was run ("aovar ship: --rays: '0' is not a whole
+// number from 1 to 65536 (aovar ship --help lists the options)"); the command is the subcommand being parsed.
+struct Command;
+std::string usage_error_line(const std::vector<Command>& commands, const std::string& what);
+
+// Runs a subcommand: a std::exception becomes its message on stderr and ExitCode::error; a message that
+// starts with an option ("--size: ...") is prefixed "aovar <command>: ".
+ExitCode run_guarded(const std::function<ExitCode()>& run, const std::string& command = "");
 
 }  // namespace aovar::cli

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "cli/limits.h"
 #include "cli/options.h"
 #include "cli/render_options.h"
 #include "cli/scene_profile.h"
@@ -52,7 +53,7 @@ Command add_profile(CLI::App& app) {
   cmd->add_option("--radius", p.options.radius, "AO radius in scene units (0: the scene's)")->capture_default_str();
   cmd->add_option("--r16f-tolerance", p.options.r16f_tolerance,
                   "keep r16f while its p99 position error is under this share of the radius")->capture_default_str();
-  cmd->add_option("--threads", p.options.scope.threads, "threads (Embree, the renderer)")->capture_default_str();
+  cmd->add_option("--threads", p.options.scope.threads, "threads (Embree, the renderer)")->check(whole_number(1, kMaxThreads))->capture_default_str();
   cmd->add_flag("--no-flicker", p.no_flicker, "do not render the progressive pair along the camera paths");
   cmd->add_flag("--no-cache", p.no_cache, "compile the flicker pair without the cache");
   cmd->add_option("--out,-o", p.out, "folder for profile.json");

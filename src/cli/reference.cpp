@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "cli/commands.h"
+#include "cli/limits.h"
 #include "cli/options.h"
 #include "cli/render_options.h"
 #include "cli/subcommand.h"
@@ -70,11 +71,11 @@ Command add_reference(CLI::App& app) {
   cmd->add_option("--view", ro.views, "view name (repeatable; default: the scene's first view)");
   cmd->add_option("--radius", ro.radius,
                   "AO radius: world units (0.5) or a percentage of the bounding-box diagonal (1.5%); default: the scene's");
-  cmd->add_option("--rays", ro.reference.rays, "hemisphere rays per pixel")->capture_default_str();
+  cmd->add_option("--rays", ro.reference.rays, "hemisphere rays per pixel")->check(whole_number(1, reference::kMaxRays))->capture_default_str();
   cmd->add_option("--mode", a->mode, "occlusion (hit or not) or obscurance (a hit at t occludes 1 - t/radius)")
       ->capture_default_str();
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
-  cmd->add_option("--threads", ro.reference.threads, "tracing threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--threads", ro.reference.threads, "tracing threads (0 = all cores)")->check(whole_number(0, kMaxThreads))->capture_default_str();
   cmd->add_option("--frame", ro.reference.frame, "camera-path frame of the view (0 = its first pose)")->capture_default_str();
   cmd->add_option("--out,-o", a->out, "output folder: <view>.pfm, <view>.stderr.pfm, <view>.png, reference.json")
       ->required();

@@ -1,7 +1,9 @@
 #include "cli/render_options.h"
 
-#include <cstdio>
+#include <charconv>
 #include <stdexcept>
+
+#include <fmt/format.h>
 
 #include "calibrate/file.h"
 #include "scene/scene.h"
@@ -35,12 +37,20 @@ void add_calibration(CLI::App* cmd, CalibrationOption& o, const std::string& hel
   cmd->add_flag("--no-calibration", o.none, "use the manifest's default parameters");
 }
 
-render::Extent parse_size(const std::string& text) {
+render::Extent parse_size(const std::string& text, const std::string& option) {
   render::Extent e;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &e.width, &x, &e.height, &extra) != 3 || (x != 'x' && x != 'X') ||
-      e.width < 1 || e.height < 1 || e.width > 16384 || e.height > 16384)
-    throw std::runtime_error("--size: expected WxH such as 640x360 (1 to 16384 each), got '" + text + "'");
+  const auto x = text.find_first_of("xX");
+  auto whole = [](std::string_view s, int& out) {
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+    return ec == std::errc() && end == s.data() + s.size() && !s.empty();
+  };
+  const bool parsed = x != std::string::npos && whole(std::string_view(text).substr(0, x), e.width) &&
+                      whole(std::string_view(text).substr(x + 1), e.height);
+  if (!parsed || e.width < 1 || e.height < 1 || e.width > kMaxSide || e.height > kMaxSide ||
+      static_cast<long long>(e.width) * e.height > kMaxFramePixels)
+    throw std::runtime_error(fmt::format("{}: expected WxH such as 640x360 (1 to {} each, at most 7680x4320 pixels), "
+                                         "got '{}'",
+                                         option, kMaxSide, text));
   return e;
 }
 
@@ -48,13 +58,7 @@ std::vector<std::string> GpuOption::family_list() const {
   return families.empty() ? std::vector<std::string>{} : gpu::parse_families(families);
 }
 
-render::Extent GpuOption::frame_size() const {
-  try {
-    return parse_size(frame);
-  } catch (const std::runtime_error&) {
-    throw std::runtime_error("--gpu-size: expected WxH such as 1920x1080 (1 to 16384 each), got '" + frame + "'");
-  }
-}
+render::Extent GpuOption::frame_size() const { return parse_size(frame, "--gpu-size"); }
 
 void add_gpu(CLI::App* cmd, GpuOption& o) {
   auto* families = cmd->add_option("--gpu", o.families,
@@ -68,7 +72,7 @@ void add_gpu(CLI::App* cmd, GpuOption& o) {
       ->transform(CLI::CheckedTransformer(std::map<std::string, bool>{{"on", true}, {"off", false}}))
       ->capture_default_str()->needs(families);
   cmd->add_option("--gpu-window", o.window, "share of each draw's width and height traced (a centred window)")
-      ->check(CLI::Range(0.05, 1.0))->capture_default_str()->needs(families);
+      ->check(finite_range(0.05, 1.0))->capture_default_str()->needs(families);
 }
 
 trace::GpuEstimateOptions GpuOption::options() const { return {family_list(), frame_size(), trace, window}; }
@@ -85,8 +89,8 @@ void RepsOption::apply(measure::MeasureOptions& o) const {
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used == 0 || used != reps.size() || n < 1)
-    throw std::runtime_error("--reps: expected a number of rounds (1 or more) or auto, got '" + reps + "'");
+  if (used == 0 || used != reps.size() || n < 1 || n > kMaxRounds)
+    throw std::runtime_error(fmt::format("--reps: expected a number of rounds (1 to {}) or auto, got '{}'", kMaxRounds, reps));
   o.timing.reps = n;
   o.timing.auto_reps.reset();
 }
@@ -97,10 +101,10 @@ void add_reps(CLI::App* cmd, RepsOption& o) {
       ->capture_default_str();
   cmd->add_option("--ci-target", o.ci_target_pct,
                   "--reps auto: half-width of the 95 % interval of each row's ratio to the baseline, % of it")
-      ->check(CLI::PositiveNumber)
+      ->check(finite_range(0, 100, true))
       ->capture_default_str();
   cmd->add_option("--reps-cap-s", o.cap_s, "--reps auto: seconds of a row's own timed frames after which it stops anyway")
-      ->check(CLI::PositiveNumber)
+      ->check(finite_range(0, 1e6, true))
       ->capture_default_str();
 }
 

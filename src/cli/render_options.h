@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/limits.h"
 #include "measure/measure.h"
 #include "render/frame.h"
 #include "trace/row_traffic.h"
@@ -62,7 +63,8 @@ struct RepsOption {
 };
 void add_reps(CLI::App* cmd, RepsOption& o);
 
-// "WxH" (1 to 16384 each) -> extent; throws std::runtime_error naming --size.
-render::Extent parse_size(const std::string& text);
+// WxH with each side from 1 to kMaxSide and at most kMaxFramePixels pixels (cli/limits.h); throws
+// std::runtime_error naming `option` ("--fit-size: ...", not --size).
+render::Extent parse_size(const std::string& text, const std::string& option = "--size");
 
 }  // namespace aovar::cli

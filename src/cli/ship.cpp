@@ -5,9 +5,11 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "cli/limits.h"
 #include "cli/options.h"
 #include "cli/render_options.h"
 #include "cli/subcommand.h"
+#include "reference/reference.h"
 #include "ship/ship.h"
 
 namespace aovar::cli {
@@ -26,7 +28,7 @@ ExitCode run_ship(const ShipArgs& a) {
   o.scope = a.common.scope();
   o.globs = a.common.globs;
   o.size = parse_size(a.size);
-  o.fit_size = parse_size(a.fit_size);
+  o.fit_size = parse_size(a.fit_size, "--fit-size");
   o.views_file = a.views_file;
   o.gpu_frame = a.gpu.frame_size();
   o.gpu_window = a.gpu.window;
@@ -64,24 +66,28 @@ Command add_ship(CLI::App& app) {
       ->excludes(budget_of);
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
   cmd->add_option("--fit-size", a->fit_size, "calibration render size WxH")->capture_default_str();
-  cmd->add_option("--evaluations", so.fit_evaluations, "objective evaluations per method fit")->capture_default_str();
-  cmd->add_option("--race-reps", so.race_reps, "timed rounds of the first round of the race")->capture_default_str();
+  cmd->add_option("--evaluations", so.fit_evaluations, "objective evaluations per method fit")->check(whole_number(1, kMaxEvaluations))->capture_default_str();
+  cmd->add_option("--race-reps", so.race_reps, "timed rounds of the first round of the race")->check(whole_number(6, kMaxRounds))->capture_default_str();
   cmd->add_option("--batch", so.batch,
                   "measured backends: pipelines prepared and timed together (the race retires within one; default 128 "
-                  "at 640x360 or less, fewer for larger frames, at least 24)");
+                  "at 640x360 or less, fewer for larger frames, at least 24)")
+      ->check(whole_number(0, kMaxBatch));
   cmd->add_option("--race-margin", so.race_margin,
                   "measured backends: eliminate only when the slowdown's 95 % interval lies above this ratio")
+      ->check(finite_range(1, 10, false, true))
       ->capture_default_str();
   cmd->add_option("--ci-target", so.final_reps.ci_target,
                   "the last round: rounds until each row's 95 % interval half-width is within this share")
+      ->check(finite_range(0, 1, true))
       ->capture_default_str();
   cmd->add_option("--reps-cap-s", so.final_reps.cap_s, "the last round: seconds of timed frames per pipeline at most")
+      ->check(finite_range(0, 1e6, true))
       ->capture_default_str();
-  cmd->add_option("--rays", so.rays, "reference rays per pixel")->capture_default_str();
+  cmd->add_option("--rays", so.rays, "reference rays per pixel")->check(whole_number(1, reference::kMaxRays))->capture_default_str();
   add_threads(cmd, a->common);
   cmd->add_option("--gpu-size", a->gpu.frame, "with --target: the frame the estimate is for")->capture_default_str();
   cmd->add_option("--gpu-window", a->gpu.window, "with --target: share of each draw traced (centred window)")
-      ->check(CLI::Range(0.05, 1.0))
+      ->check(finite_range(0.05, 1.0))
       ->capture_default_str();
   auto* shard = cmd->add_option("--shard", a->shard,
                                 "k/n or auto: profile, fit and screen only the k-th of n shards of the candidates, "

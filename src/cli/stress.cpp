@@ -137,7 +137,7 @@ Command add_stress(CLI::App& app) {
   cmd->add_flag("--mediump-fp32", a->mediump_fp32, "run mediump in fp32 on the Vulkan backend (default: real fp16, as mobile GPUs)");
   cmd->add_option("--renders-per-process", so.renders_per_process,
                   "variant x case renders per child process (the Vulkan driver keeps memory per render; 0: render in this process)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(whole_number(0, 1000000))
       ->capture_default_str();
   return {cmd, runs(a, run_stress)};
 }

@@ -8,10 +8,12 @@
 #include <tuple>
 
 #include "cli/commands.h"
+#include "cli/limits.h"
 #include "cli/options.h"
 #include "cli/render_options.h"
 #include "cli/subcommand.h"
 #include "cli/whole_space.h"
+#include "reference/reference.h"
 #include "sweep/sweep.h"
 #include "sweep/text.h"
 #include "table/table.h"
@@ -74,14 +76,15 @@ Command add_sweep(CLI::App& app) {
   add_reps(cmd, a->reps);
   add_threads(cmd, a->common);
   cmd->add_option("--device", so.measure.device, "the Vulkan backend: device by name substring or index (default: the CPU device)");
-  cmd->add_option("--rays", so.measure.truth.rays, "reference rays per pixel")->capture_default_str();
+  cmd->add_option("--rays", so.measure.truth.rays, "reference rays per pixel")->check(whole_number(1, reference::kMaxRays))->capture_default_str();
   cmd->add_option("--batch", so.measure.timing.batch, "pipelines prepared and interleaved at once (rows are saved per batch)")
+      ->check(whole_number(1, kMaxBatch))
       ->capture_default_str();
   cmd->add_option("--predict", so.predict,
                   "variants (globs, repeatable) to predict from the cost model instead of measuring: rows marked predicted");
   cmd->add_option("--min-model-spearman", so.min_model_spearman,
                   "least held-out Spearman of a cost model that may predict (--predict, --prune-dominated)")
-      ->check(CLI::Range(-1.0, 1.0))
+      ->check(finite_range(-1.0, 1.0))
       ->capture_default_str();
   cmd->add_option("--shard", a->shard, shard_help);
   cmd->add_option("--shard-times", so.shard_times,
@@ -89,14 +92,14 @@ Command add_sweep(CLI::App& app) {
   add_calibration(cmd, a->calibration, calibration_help);
   cmd->add_option("--views-file", so.measure.views_file, "views side file (TOML or JSON) for the scene(s)");
   cmd->add_option("--warmup", so.measure.timing.warmup, "discarded frames after the first (JIT) frame")
-      ->check(CLI::NonNegativeNumber)
+      ->check(whole_number(0, kMaxWarmup))
       ->capture_default_str();
   add_gpu(cmd, a->gpu);
   cmd->add_flag("--prune-dominated", so.prune_dominated,
                 "measure a first share, then skip the variants the cost model predicts to be dominated");
   cmd->add_option("--prune-check", so.prune_check,
                   "with --prune-dominated: measure max(N, a tenth) of the skipped ones anyway, report if any reach the front")
-      ->check(CLI::NonNegativeNumber)
+      ->check(whole_number(0, 1000000))
       ->capture_default_str();
   cmd->add_flag("--no-prune", a->no_prune,
                 "measure every selected variant on every scene (default: drop, before compiling, what each scene's "

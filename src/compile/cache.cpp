@@ -9,7 +9,7 @@ namespace aovar::compile {
 namespace fs = std::filesystem;
 
 namespace {
-constexpr std::string_view kMagic = "aovar-compile-cache 2\n";
+constexpr std::string_view kMagic = "aovar-compile-cache 3\n";
 
 void put_u32(std::string& s, std::uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); }
 void put_str(std::string& s, std::string_view v) {
@@ -45,13 +45,7 @@ fs::path CompileCache::default_dir() {
 }
 
 std::optional<CompileOutput> CompileCache::load(const std::string& hash) const {
-  if (!enabled()) return std::nullopt;
-  std::optional<std::string> bytes;
-  try {
-    bytes = util::read_file(entry(hash));
-  } catch (const util::ReadError&) {  // something else sits where the entry goes: a miss, recompiled
-    return std::nullopt;
-  }
+  const std::optional<std::string> bytes = cache_.read(hash);
   if (!bytes || bytes->rfind(kMagic, 0) != 0) return std::nullopt;
   Reader r{std::string_view(*bytes).substr(kMagic.size())};
   CompileOutput out;
@@ -72,7 +66,10 @@ std::optional<CompileOutput> CompileCache::load(const std::string& hash) const {
     out.params_block.push_back(std::move(m));
   }
   std::string spirv = r.str();
-  if (!r.ok || spirv.size() % 4) return std::nullopt;  // truncated or foreign: recompile
+  if (!r.ok || spirv.size() % 4) {  // checksummed, so written wrong by another build: recompile
+    cache_.reject(hash, "a compile output that does not decode");
+    return std::nullopt;
+  }
   out.spirv.resize(spirv.size() / 4);
   if (!spirv.empty()) std::memcpy(out.spirv.data(), spirv.data(), spirv.size());  // no SPIR-V (gles30): data() may be null
   return out;
@@ -95,11 +92,7 @@ void CompileCache::store(const std::string& hash, const CompileOutput& out) cons
     put_str(s, m.name);
   }
   put_str(s, std::string_view(reinterpret_cast<const char*>(out.spirv.data()), out.spirv.size() * 4));
-  try {
-    util::write_atomic(entry(hash), s, util::Durability::replaceable);
-  } catch (const std::exception&) {
-    // A read-only or full cache folder only costs speed, never correctness.
-  }
+  cache_.write(hash, s);  // an unwritable cache warns once and only costs speed
 }
 
 }  // namespace aovar::compile

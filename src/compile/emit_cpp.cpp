@@ -6,6 +6,7 @@
 
 #include "compile/generate.h"
 #include "compile/parameters.h"
+#include "util/cpp_literal.h"
 
 namespace aovar::compile {
 using variants::Axis;
@@ -203,12 +204,12 @@ std::vector<std::vector<int>> append_programs(std::string& s, const CompiledSpac
       if (!spec.params.empty()) {
         s += fmt::format("const Param kParams_{}[] = {{", id);
         for (const auto& prm : spec.params)
-          s += fmt::format(" {{\"{}\", {}, {}, {}}},", prm.name, float_literal(prm.value), float_literal(prm.min),
+          s += fmt::format(" {{{}, {}, {}, {}}},", util::cpp_string_literal(prm.name), float_literal(prm.value), float_literal(prm.min),
                            float_literal(prm.max));
         s += " };\n";
         params = "kParams_" + id;
       }
-      table += fmt::format("  {{\"{}\", Stage::{}, {}, {}, {}, {}, {}}},\n", spec.key, variants::stage_name(spec.stage),
+      table += fmt::format("  {{{}, Stage::{}, {}, {}, {}, {}, {}}},\n", util::cpp_string_literal(spec.key), variants::stage_name(spec.stage),
                            spirv, words, glsl, params, spec.params.size());
       slot[t][p] = count++;
     }
@@ -231,8 +232,8 @@ std::vector<std::string> append_variant_params(std::string& s, const CompiledSpa
     }
     std::string init;
     for (const auto& p : params)
-      init += fmt::format(" {{\"{}\", {}, {}, {}, {}}},", p.key, float_literal(p.value), float_literal(p.manifest_default),
-                          float_literal(p.min), float_literal(p.max));
+      init += fmt::format(" {{{}, {}, {}, {}, {}}},", util::cpp_string_literal(p.key), float_literal(p.value),
+                          float_literal(p.manifest_default), float_literal(p.min), float_literal(p.max));
     auto [it, added] = arrays.emplace(init, fmt::format("kVariantParams_{}", arrays.size()));
     if (added) s += fmt::format("const VariantParam {}[] = {{{} }};\n", it->second, init);
     refs.push_back(fmt::format("{}, {}", it->second, params.size()));
@@ -275,7 +276,8 @@ void append_variants(std::string& s, const CompiledSpace& c, const std::vector<s
                        : fmt::format("{{{}, {}}}, ", program_ref(t, var.passes[i][0]), program_ref(t, var.passes[i][1]));
       progs += "}, ";
     }
-    s += fmt::format("  {{\"{}\", {{{}}}, 0x{:x}, {}, {{{}}}, {}}},\n", var.key, axes, mask, same, progs, params[v]);
+    s += fmt::format("  {{{}, {{{}}}, 0x{:x}, {}, {{{}}}, {}}},\n", util::cpp_string_literal(var.key), axes, mask, same, progs,
+                     params[v]);
   }
   s += "};\n";
 }

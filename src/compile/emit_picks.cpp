@@ -9,6 +9,7 @@
 #include "compile/amd_devices.h"
 #include "compile/generate.h"
 #include "compile/pick_table.h"
+#include "util/cpp_literal.h"
 
 namespace aovar::compile {
 namespace {
@@ -155,7 +156,7 @@ std::string front_tables(const CompiledSpace& c, const std::vector<PickFront>& f
                        it - c.space.variants.begin(), p.variant);
     }
     s += "};\n";
-    table += fmt::format("  {{\"{}\", {}, kFrontPoints_{}, {}}},\n", fronts[f].target,
+    table += fmt::format("  {{{}, {}, kFrontPoints_{}, {}}},\n", util::cpp_string_literal(fronts[f].target),
                          fronts[f].family ? "true" : "false", f, fronts[f].points.size());
   }
   return s + "const Front kFronts[] = {\n" + table + "};\n";
@@ -163,7 +164,7 @@ std::string front_tables(const CompiledSpace& c, const std::vector<PickFront>& f
 
 std::string device_tables() {
   std::string s = "struct FamilyRow { const char* name; const char* generation; };\nconst FamilyRow kFamilies[] = {";
-  for (const auto& f : kAmdFamilies) s += fmt::format("\n  {{\"{}\", \"{}\"}},", f.name, f.generation);
+  for (const auto& f : kAmdFamilies) s += fmt::format("\n  {{{}, {}}},", util::cpp_string_literal(f.name), util::cpp_string_literal(f.generation));
   s += "\n};\n// AMD PCI device IDs -> kFamilies, from the Linux amdgpu driver's list (aovar's compile/amd_devices.h).\n";
   s += "struct PciRow { std::uint16_t id; std::uint8_t family; };\nconst PciRow kPciIds[] = {";
   for (std::size_t i = 0; i < std::size(kAmdPciIds); ++i)

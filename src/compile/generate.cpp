@@ -113,7 +113,14 @@ void build_programs(CompiledSpace& c, const CompileOptions& options) {
   util::run_parallel(c.targets.size() * programs.size(), options.scope.jobs, [&](std::size_t i) {
     std::size_t t = i / programs.size(), p = i % programs.size();
     ProgramBuild& b = c.builds[t][p];
-    if (auto hit = cache.load(b.hash)) {
+    auto hit = cache.load(b.hash);
+    // Validated before use, as a fresh compile is: a cache never hands a driver SPIR-V spirv-val rejects.
+    if (hit)
+      if (const std::string errors = spirv_errors(hit->spirv, c.targets[t], &validated); !errors.empty()) {
+        cache.reject(b.hash, errors);
+        hit.reset();
+      }
+    if (hit) {
       b.output = std::move(*hit);
     } else {
       b.output = compile_program(b.source, programs[p].stage, c.targets[t], &validated);

@@ -174,6 +174,12 @@ void ValidationMemo::remember(const std::string& key, const std::string& errors)
   results_.emplace(key, errors);
 }
 
+std::string spirv_errors(const std::vector<std::uint32_t>& spirv, Target target, ValidationMemo* memo) {
+  if (target == Target::gles30) return spirv.empty() ? "" : "gles30 programs have no SPIR-V";
+  if (spirv.empty()) return "no SPIR-V";
+  return validate(spirv, target == Target::vulkan ? SPV_ENV_VULKAN_1_2 : SPV_ENV_OPENGL_4_5, memo);
+}
+
 CompileOutput compile_program(const std::string& source, StageKind stage, Target target, ValidationMemo* memo) {
   initialise_compiler();
   CompileOutput out;

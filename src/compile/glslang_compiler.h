@@ -55,6 +55,10 @@ class ValidationMemo {
 CompileOutput compile_program(const std::string& source, variants::StageKind stage, variants::Target target,
                               ValidationMemo* memo = nullptr);
 
+// spirv-val's messages for the SPIR-V a program of `target` compiled to ("" when valid, as compile_program
+// validated it; gles30 has none): what a compile-cache entry is checked with before it is used.
+std::string spirv_errors(const std::vector<std::uint32_t>& spirv, variants::Target target, ValidationMemo* memo = nullptr);
+
 // The GLSL ES source after glslang's preprocessor: macros expanded, #if resolved, comments gone, #line kept.
 // What the GL compilers' loop unroller reads (gpu/gl/unroll.h). Throws std::runtime_error with glslang's log.
 std::string preprocess_es(const std::string& source, variants::StageKind stage);

@@ -1,4 +1,5 @@
 #include "decide/fronts.h"
+#include "decide/target_names.h"
 
 #include <fmt/format.h>
 
@@ -98,6 +99,7 @@ bool has_pick(const SelectQuery& q) { return q.budget_ms || q.max_error || !q.bu
 
 TableKeep keep_from_table(const table::CostTable& table, const TableRequest& request,
                           const std::function<bool(const std::string&)>& is_family) {
+  check_row_targets(table, request.table_name);  // before a name is chosen by, or reaches generated code
   TableKeep keep;
   std::set<std::string> keys;
   for (const auto& [target, family] : checked_targets(table, request, is_family)) {

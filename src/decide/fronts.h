@@ -52,7 +52,7 @@ struct TableKeep {
 
 // Throws std::runtime_error, one line naming the table: a requested target the table has no rows for (with
 // the families and backends it has), or a pick that nothing satisfies on a target. `is_family` says which
-// names are GPU families (the caller knows the list; an unknown name is refused there).
+// names are GPU families. Every row's backend and GPU names are checked first (decide/target_names.h).
 TableKeep keep_from_table(const table::CostTable& table, const TableRequest& request,
                           const std::function<bool(const std::string&)>& is_family);
 

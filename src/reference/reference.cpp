@@ -43,7 +43,8 @@ void check_options(const ReferenceOptions& o) {
                                          o.size.height));
   if (!(o.radius > 0.0f) || !std::isfinite(o.radius))
     throw std::runtime_error(fmt::format("reference: radius {} must be a positive number of world units", o.radius));
-  if (o.rays < 1) throw std::runtime_error(fmt::format("reference: rays {} must be at least 1", o.rays));
+  if (o.rays < 1 || o.rays > kMaxRays)
+    throw std::runtime_error(fmt::format("reference: rays {} must be from 1 to {} per pixel", o.rays, kMaxRays));
   if (o.frame < 0) throw std::runtime_error(fmt::format("reference: frame {} must be 0 or more", o.frame));
   if (o.threads < 0) throw std::runtime_error(fmt::format("reference: threads {} must be 0 (all cores) or more", o.threads));
 }
@@ -66,6 +67,9 @@ image::FloatImage cached_depth(const fs::path& entry, const scene::Scene& scene,
   if (depth.width != o.size.width || depth.height != o.size.height)
     throw std::runtime_error(fmt::format("{}: error: cached depth is {}x{}, expected {}x{}", util::display_path(path),
                                          depth.width, depth.height, o.size.width, o.size.height));
+  for (float d : depth.pixels)  // a view depth is >= 0, +inf on background; NaN is damage
+    if (!(d >= 0.0f))
+      throw std::runtime_error(fmt::format("{}: error: cached depth holds {} (a depth is >= 0)", util::display_path(path), d));
   return depth;
 }
 
@@ -148,6 +152,19 @@ ReferenceImage load_reference(const fs::path& stem) {
 
 namespace {
 
+// A traced visibility is in [0, 1] and its standard error finite and >= 0 at every pixel: an entry of the
+// right size holding NaN, Inf or values outside that range is damaged (it would make every error NaN).
+void check_cached_values(const ReferenceImage& ref, const fs::path& file) {
+  for (std::size_t i = 0; i < ref.visibility.pixels.size(); ++i) {
+    const float v = ref.visibility.pixels[i];
+    const float e = i < ref.std_error.pixels.size() ? ref.std_error.pixels[i] : 0.0f;
+    if (!(v >= 0.0f && v <= 1.0f) || !(std::isfinite(e) && e >= 0.0f))
+      throw std::runtime_error(fmt::format("{}: error: pixel {} holds visibility {} and standard error {} (a traced "
+                                           "reference is finite, in [0, 1])",
+                                           util::display_path(file), i, v, e));
+  }
+}
+
 // The cached reference at `entry`, or nullopt when there is none or it is damaged (truncated, another
 // size, unreadable): a damaged entry is traced again and replaced, with a warning, as the compile cache
 // recompiles; the cache is a speed-up, never a reason to fail.
@@ -160,6 +177,7 @@ std::optional<ReferenceImage> cached_reference(const fs::path& entry, const scen
       throw std::runtime_error(fmt::format("{}: error: cached reference is {}x{}, expected {}x{}",
                                            util::display_path(with_suffix(entry, ".pfm")), ref.visibility.width,
                                            ref.visibility.height, o.size.width, o.size.height));
+    check_cached_values(ref, with_suffix(entry, ".pfm"));
     ref.depth = cached_depth(entry, scene, view, o);
     return ref;
   } catch (const std::exception& e) {

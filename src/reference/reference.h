@@ -21,6 +21,10 @@ enum class Mode {
 const char* mode_name(Mode m);                 // "occlusion", "obscurance"
 Mode parse_mode(const std::string& text);     // throws std::invalid_argument naming the allowed values
 
+// The most hemisphere rays per pixel a reference takes: 65,536 at 640x360 is 15 billion rays, hours of
+// tracing; 2^31 made the sample table a bare std::bad_alloc (issue 54).
+inline constexpr int kMaxRays = 65536;
+
 struct ReferenceOptions {
   render::Extent size{640, 360};
   float radius = 0.0f;       // world units, > 0 (callers resolve fractions of the diagonal first)

@@ -88,7 +88,8 @@ class Backend {
 
   // Replaces draw `draw`'s AOParams block (same number of floats as the plan gave it) without preparing
   // again: calibration renders one pipeline with many parameter values, and re-preparing would JIT every
-  // time. Takes effect from the next render(). Throws BackendError for a bad draw index or size.
+  // time. `draw` indexes the plan that runs at the prepared size (plan_for_size; render::draw_index_at_size finds
+  // a draw there by name). Takes effect from the next render(). Throws BackendError for a bad draw index or size.
   virtual void set_params(PreparedPipeline& pipeline, std::size_t draw, const std::vector<float>& params) = 0;
 
   // Trace builds (trace/trace.h): the storage-buffer words of every draw with trace_words > 0, in draw

@@ -425,6 +425,14 @@ PipelinePlan plan_for_size(const PipelinePlan& plan, Extent size) {
   return fit;
 }
 
+std::size_t draw_index_at_size(const PipelinePlan& plan, Extent size, std::string_view name) {
+  const PipelinePlan ran = plan_for_size(plan, size);
+  const auto it = std::find_if(ran.draws.begin(), ran.draws.end(), [&](const Draw& d) { return d.name == name; });
+  if (it == ran.draws.end())
+    throw std::runtime_error(fmt::format("{}: no {} draw at {}x{}", plan.variant, name, size.width, size.height));
+  return static_cast<std::size_t>(it - ran.draws.begin());
+}
+
 PipelinePlan plan_without_background_skip(const PipelinePlan& plan) {
   PipelinePlan all = plan;
   std::erase_if(all.draws, [](const Draw& d) { return d.depth == DepthUse::write_mask; });

@@ -143,6 +143,12 @@ void validate_plan(const PipelinePlan& plan, std::string_view backend);
 // on-screen taps choose levels below log2 of the AO target's diagonal. Backends prepare this, not the plan.
 PipelinePlan plan_for_size(const PipelinePlan& plan, Extent size);
 
+// The index of the first draw named `name` in the plan that runs at `size` (plan_for_size), which is what
+// Backend::render's times and Backend::set_params's `draw` index: the full plan's index is another draw
+// wherever plan_for_size dropped MIP draws before it (SAO at 8x8). Throws std::runtime_error naming the
+// variant when that plan has no such draw.
+std::size_t draw_index_at_size(const PipelinePlan& plan, Extent size, std::string_view name);
+
 // The plan without runtime skipping: no background mask, no depth-tested fullscreen draws, every background
 // pixel shaded (and sent through the shaders' early-out). Produces the same image; for measuring what the
 // skipping saves.

@@ -1,6 +1,7 @@
 #include "ship/fit.h"
 
 #include <filesystem>
+#include <iostream>
 
 #include <fmt/format.h>
 
@@ -8,6 +9,7 @@
 #include "ship/shards.h"
 #include "util/fs.h"
 #include "util/hash.h"
+#include "util/text.h"
 
 namespace aovar::ship {
 namespace fs = std::filesystem;
@@ -27,6 +29,19 @@ std::string fit_inputs(const ShipOptions& o, const scene::Scene& sc, const calib
   return h.hex();
 }
 
+// Whether OUT/calibration.json can be reused: whole, and within the manifest's ranges. A damaged one (a
+// truncated write, a bad join of an earlier version) is fitted again with a warning, as damaged profiles and
+// round tables are recomputed: it never blocks a resume.
+bool usable_fit(const fs::path& file, const variants::Manifest& manifest) {
+  try {
+    calibrate::load_calibration(file, manifest);
+    return true;
+  } catch (const std::exception& e) {
+    std::cerr << "aovar: warning: " << util::one_line(e.what()) << " (a damaged fit: fitting again)\n";
+    return false;
+  }
+}
+
 }  // namespace
 
 Fitted fit_methods(const ShipOptions& o, const scene::Scene& sc, const calibrate::ViewSplit& split,
@@ -35,9 +50,9 @@ Fitted fit_methods(const ShipOptions& o, const scene::Scene& sc, const calibrate
   const std::string inputs = fit_inputs(o, sc, split, normals);
   Fitted f;
   f.inputs = inputs;
-  f.reused = fs::exists(file) && recorded_input(o.out, "fit_inputs") == inputs;
+  f.reused = fs::exists(file) && recorded_input(o.out, "fit_inputs") == inputs && usable_fit(file, manifest);
   if (!f.reused && !o.join.empty()) {  // the shards fitted the same inputs: take theirs
-    adopt_shard_fit(o.join, inputs, o.out);
+    adopt_shard_fit(o.join, inputs, o.out, manifest);
     f.reused = true;
   }
   if (!f.reused) {

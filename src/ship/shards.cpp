@@ -1,10 +1,12 @@
 #include "ship/shards.h"
+#include "util/output_apart.h"
 
 #include <stdexcept>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "calibrate/file.h"
 #include "sweep/merge.h"
 #include "util/fs.h"
 
@@ -32,18 +34,35 @@ void record_input(const fs::path& out, const std::string& name, const std::strin
   util::write_atomic(out / "ship.json", state.dump(1) + "\n");
 }
 
-void adopt_shard_fit(const std::vector<fs::path>& shards, const std::string& fit_inputs, const fs::path& out) {
+void adopt_shard_fit(const std::vector<fs::path>& shards, const std::string& fit_inputs, const fs::path& out,
+                     const variants::Manifest& manifest) {
+  std::string refused;  // why the last shard with these inputs was passed over
   for (const auto& dir : shards) {
     const auto calibration = util::read_file(dir / "calibration.json");
     if (!calibration || recorded_input(dir, "fit_inputs") != fit_inputs) continue;
+    try {  // a shard's damaged or out-of-range fit is never copied: it would stick in every later join
+      calibrate::load_calibration(dir / "calibration.json", manifest);
+    } catch (const std::exception& e) {
+      refused = fmt::format(" ({})", e.what());
+      continue;
+    }
     util::write_atomic(out / "calibration.json", *calibration);
     record_input(out, "fit_inputs", fit_inputs);
     return;
   }
-  throw std::runtime_error(fmt::format("ship --join: no shard folder ({}) holds a fit of this run's inputs "
-                                       "(calibration.json and ship.json): run the shards to the end, with the "
+  throw std::runtime_error(fmt::format("ship --join: no shard folder ({}) holds a usable fit of this run's inputs "
+                                       "(calibration.json and ship.json){}: run the shards to the end, with the "
                                        "options of this join",
-                                       util::display_path(shards.front())));
+                                       util::display_path(shards.front()), refused));
+}
+
+void check_join_folders(const std::vector<fs::path>& shards, const fs::path& out) {
+  util::check_output_apart_from_inputs(out, shards, "ship --join");
+  for (const auto& dir : shards)
+    if (!fs::is_directory(dir) || !fs::is_regular_file(dir / "ship.json"))
+      throw std::runtime_error(fmt::format("ship --join: {} is not the folder of an `aovar ship --shard k/n` run (it "
+                                           "holds no ship.json): give the --out folders of the shards",
+                                           util::display_path(dir)));
 }
 
 JoinedScreen join_screens(const std::vector<fs::path>& shards, const std::string& screen_inputs,

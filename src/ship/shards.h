@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "table/table.h"
+#include "variants/manifest.h"
 
 namespace aovar::ship {
 
@@ -17,16 +18,21 @@ namespace aovar::ship {
 std::string recorded_input(const std::filesystem::path& out, const std::string& name);
 void record_input(const std::filesystem::path& out, const std::string& name, const std::string& hash);
 
-// Copies the calibration of the first shard folder whose fit has these inputs into `out` (with its record).
-// Throws std::runtime_error (one line naming the folders) when none has.
+// Copies the calibration of the first shard folder whose fit has these inputs and is whole and within the
+// manifest's ranges (calibrate::load_calibration) into `out` (with its record); a damaged one is passed over.
+// Throws std::runtime_error (one line naming the folders, and why the last candidate was refused) when none has.
 void adopt_shard_fit(const std::vector<std::filesystem::path>& shards, const std::string& fit_inputs,
-                     const std::filesystem::path& out);
+                     const std::filesystem::path& out, const variants::Manifest& manifest);
 
 struct JoinedScreen {
   table::CostTable table;
   int shards = 0;
   std::string balance;  // shard::balance_summary of the shards
 };
+
+// Before anything runs: the --join folders are folders of shard runs (each holds ship.json), and `out` is
+// none of them and lies in none of them (util/output_apart.h). Throws std::runtime_error, one line.
+void check_join_folders(const std::vector<std::filesystem::path>& shards, const std::filesystem::path& out);
 
 // The shards' screens merged into `screen_out`/cost_table.json. Throws std::runtime_error (one line naming the
 // shard) when one screened other inputs than `screen_inputs`, or when merge refuses the set (missing,

@@ -26,8 +26,11 @@
 #include "sweep/sweep.h"
 #include "util/clock.h"
 #include "util/fs.h"
+#include "util/glob.h"
 #include "util/hash.h"
+#include "util/text.h"
 #include "variants/manifest.h"
+#include "variants/space.h"
 
 namespace aovar::ship {
 using json = nlohmann::json;
@@ -283,6 +286,7 @@ void check_options(const ShipOptions& o) {
   check_query(o.query);
   if (o.shard.count > 1 && !o.join.empty())
     throw std::runtime_error("ship: --shard and --join exclude each other (the shards screen, the join decides)");
+  if (!o.join.empty()) check_join_folders(o.join, o.out);
   if (o.race_reps < 6) throw std::runtime_error("--race-reps must be at least 6 (fewer rounds give no 95 % interval)");
   if (o.batch != 0 && o.batch < 2) throw std::runtime_error("--batch must be at least 2 (the baseline and one candidate)");
   if (o.fit_evaluations < 1) throw std::runtime_error("--evaluations must be at least 1");
@@ -295,6 +299,25 @@ void check_options(const ShipOptions& o) {
   }
 }
 
+// --budget-of resolved before anything renders (issue 54: a key nobody has profiled, fitted, raced and timed
+// before it failed): one variant key, of this manifest's space after its rules, among --variants.
+void check_budget_of(const ShipOptions& o) {
+  const std::string& key = o.query.budget_of;
+  if (key.empty()) return;
+  if (key.find_first_of("*?[") != std::string::npos)
+    throw std::runtime_error(fmt::format("ship: --budget-of '{}' is a pattern: give one variant key (aovar list "
+                                         "prints them)", util::one_line(key)));
+  const variants::VariantSpace space = variants::build_space(o.scope.manifest.get(), {key});
+  if (std::none_of(space.variants.begin(), space.variants.end(), [&](const auto& v) { return v.key == key; }))
+    throw std::runtime_error(fmt::format("ship: --budget-of '{}' is no variant of {} after its rules: give a key "
+                                         "aovar list prints",
+                                         util::one_line(key), util::display_path(o.scope.manifest.path())));
+  if (!o.globs.empty() && !util::glob_any(o.globs, key))
+    throw std::runtime_error(fmt::format("ship: --budget-of '{}' is outside --variants: the race must time the "
+                                         "budget's variant; add it to --variants",
+                                         util::one_line(key)));
+}
+
 }  // namespace
 
 int batch_for(render::Extent size) {
@@ -305,6 +328,7 @@ int batch_for(render::Extent size) {
 ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
   const auto start = std::chrono::steady_clock::now();
   check_options(o);
+  check_budget_of(o);
   auto say = [&](const std::string& line) {
     if (progress) progress(line);
   };
@@ -312,7 +336,7 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
   scene::LoadOptions lo;
   lo.views_file = o.views_file;
   const scene::Scene sc = scene::load_scene(o.scene, lo);
-  const calibrate::ViewSplit split = calibrate::split_views({o.scene}, o.views_file, {}, o.holdout_views);
+  const calibrate::ViewSplit split = calibrate::split_views({o.scene}, o.views_file, {}, o.holdout_views, "ship");
   for (const auto& v : split.training) res.training.push_back(v.view);
   for (const auto& v : split.holdout) res.holdout.push_back(v.view);
   std::vector<std::string> views = res.training;

@@ -1,5 +1,6 @@
 // aovar merge: check the shard set, join the tables, refit the per-shard parts (merge.h).
 #include "sweep/merge.h"
+#include "util/output_apart.h"
 
 #include <set>
 #include <stdexcept>
@@ -47,6 +48,7 @@ json merged_gpu_meta(const std::vector<json>& metas) {
 }  // namespace
 
 MergeResult merge_shards(const std::vector<fs::path>& inputs, const fs::path& out) {
+  util::check_output_apart_from_inputs(out, inputs, "merge");
   std::vector<fs::path> dirs, tables;
   std::vector<std::pair<std::string, shard::ShardManifest>> shards;
   std::vector<std::string> plain;  // inputs without a manifest

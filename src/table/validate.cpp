@@ -2,9 +2,13 @@
 #include "table/validate.h"
 
 #include <cmath>
+#include <string_view>
 #include <unordered_map>
 
 #include <fmt/format.h>
+
+#include "table/detail.h"
+#include "util/text.h"
 
 namespace aovar::table {
 namespace {
@@ -15,7 +19,7 @@ struct RowCheck {
 
   [[noreturn]] void fail(const std::string& what) const {
     throw std::runtime_error(fmt::format("row {} ({}): {}: fix or remove the row (or measure again)", index,
-                                         row.key(), what));
+                                         util::one_line(row.key()), what));
   }
   // A time or ratio: finite and >= 0 (0: unknown, as the format writes it). A predicted row's time is the
   // cost model's linear extrapolation, which can fall below 0 for a variant far outside the measured ones:
@@ -57,6 +61,18 @@ void check_row(const CostRow& r, std::size_t index) {
   c.interval("rel_time_ci", r.rel_time_ci);
   c.count("threads", r.threads);
   if (r.error) {
+    // aovar writes an error field as null only where no pixel could be averaged: an image of NaN or Inf
+    // (its health counts them). Any other null or non-finite rmse, mae, ssim, bias or max is a damaged row,
+    // which select would otherwise rank as "rmse inf" or NaN. psnr is +inf (null) for a perfect match.
+    const bool broken_image = r.health.nan + r.health.inf > 0;
+    for (int i = 0; i < 6; ++i) {
+      metrics::ErrorStats e = *r.error;
+      const double v = detail::error_field(e, i);
+      if (!std::isfinite(v) && !broken_image && std::string_view(detail::kErrorFields[i]) != "psnr")
+        c.fail(fmt::format("error.{} is null or not finite ({}) though the image had no NaN or Inf pixel: a "
+                           "measured error is a finite number",
+                           detail::kErrorFields[i], v));
+    }
     c.magnitude("error.rmse", r.error->rmse);
     c.magnitude("error.mae", r.error->mae);
     c.magnitude("error.max", r.error->max);

@@ -1,5 +1,7 @@
 #include "trace/traffic_cache.h"
 
+#include <stdexcept>
+
 #include <nlohmann/json.hpp>
 
 #include "util/fs.h"
@@ -43,35 +45,36 @@ gpu::CacheSimResult from_json(const json& j) {
 }  // namespace
 
 TrafficCache::TrafficCache(fs::path dir, std::string view_context)
-    : dir_(dir.empty() ? fs::path() : dir / "traffic"), context_(std::move(view_context)) {}
+    : cache_(std::move(dir), "traffic"), context_(std::move(view_context)) {}
 
-fs::path TrafficCache::file(const std::string& draw_key, const std::string& family) const {
-  util::Hasher h;
+std::string TrafficCache::key(const std::string& draw_key, const std::string& family) const {
+  util::Hasher h;  // the parts length-prefixed, so no two keys run together
   h.add(build_hash()).add(context_).add(draw_key).add(family);
-  return dir_ / (h.hex() + ".json");
+  return "traffic " + h.hex() + " " + family + " " + draw_key;
 }
 
 std::optional<CachedTraffic> TrafficCache::find(const std::string& draw_key, const std::string& family) const {
-  if (dir_.empty()) return std::nullopt;
-  const auto text = util::read_file(file(draw_key, family));
+  const std::string k = key(draw_key, family);
+  const auto text = cache_.read(k);
   if (!text) return std::nullopt;
   const json j = json::parse(*text, nullptr, false);
   try {  // a damaged entry is a miss: the draw is simulated again and the entry rewritten
     CachedTraffic t;
     t.absent = j.at("absent").get<bool>();
     if (!t.absent) t.result = from_json(j.at("result"));
+    if (!t.absent && !(t.result.pixels > 0 && t.result.reads >= 0 && t.result.dram_bytes >= 0))
+      throw std::runtime_error("a result no simulation gives (pixels, reads or DRAM bytes out of range)");
     return t;
-  } catch (const json::exception&) {
+  } catch (const std::exception& e) {
+    cache_.reject(k, e.what());
     return std::nullopt;
   }
 }
 
 void TrafficCache::store(const std::string& draw_key, const std::string& family, const CachedTraffic& t) const {
-  if (dir_.empty()) return;
-  fs::create_directories(dir_);
   json j = {{"absent", t.absent}};
   if (!t.absent) j["result"] = to_json(t.result);
-  util::write_atomic(file(draw_key, family), j.dump() + "\n");
+  cache_.write(key(draw_key, family), j.dump() + "\n");
 }
 
 }  // namespace aovar::trace

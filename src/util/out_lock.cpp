@@ -82,6 +82,7 @@ OutputLock::OutputLock(const fs::path& folder, bool refuse_links)
     : folder_(folder.empty() ? fs::path(".") : folder), path_(folder_ / kLockFileName) {
   std::error_code ec;
   created_folder_ = !fs::exists(folder_, ec);
+  const bool lock_existed = fs::exists(fs::symlink_status(path_, ec));
   fs::create_directories(folder_, ec);
   for (int attempt = 0; fd_ < 0; ++attempt) {
     // O_CLOEXEC: programs aovar runs (a compiler, a browser) must not keep the folder locked after it exits.
@@ -115,10 +116,11 @@ OutputLock::OutputLock(const fs::path& folder, bool refuse_links)
   track(fd_);
   if (const fs::path link = refuse_links ? first_link_below(folder_) : fs::path();
       !link.empty()) {
+    // A refused folder keeps nothing of this run (issue 54: --out a link to /etc left /etc/.aovar.lock).
+    if (!lock_existed) fs::remove(path_, ec);
     untrack(fd_);
     ::close(fd_);
     fd_ = -1;
-    std::error_code ec;
     throw std::runtime_error(fmt::format(
         "{}: error: a symbolic link inside the output folder (to {}); aovar writes only below the folder it is "
         "given: remove the link, or give its target as the output folder",

@@ -206,6 +206,13 @@ TEST(CalibrateViews, DefaultSplitHoldsOutEveryThirdViewAndErrorsAreOneLine) {
   m = error_of([] { calibrate::split_views({"builtin:stairs"}, {}, {}, {"overview", "closeup", "background"}); });
   EXPECT_NE(m.find("has no training view left"), std::string::npos) << m;
   for (const auto& text : {m}) EXPECT_EQ(text.find('\n'), std::string::npos);
+  // Issue 54: ship's split names ship and only the options ship has (it has no --view).
+  m = error_of([] { calibrate::split_views({"builtin:stairs"}, {}, {}, {"overview", "closeup", "background"}, "ship"); });
+  EXPECT_EQ(m.rfind("ship: error: scene builtin:stairs has no training view left", 0), 0u) << m;
+  EXPECT_NE(m.find("hold out fewer with --holdout-view"), std::string::npos) << m;
+  EXPECT_EQ(m.find("--view)"), std::string::npos) << m;
+  m = error_of([] { calibrate::split_views({"builtin:stairs"}, {}, {}, {"nave"}, "ship"); });
+  EXPECT_EQ(m.rfind("ship: error: scene builtin:stairs has no view 'nave'", 0), 0u) << m;
 }
 
 // Auto-tune on one scene (here a built-in standing for the user's): the error falls on its training views

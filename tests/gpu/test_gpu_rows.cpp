@@ -109,12 +109,49 @@ TEST(GpuRows, ASecondEstimateReadsTheTrafficBackAndADamagedEntryIsSimulatedAgain
   EXPECT_EQ(estimates(second), estimates(first));
 
   std::vector<std::filesystem::path> entries;
-  for (const auto& e : std::filesystem::directory_iterator(dir / "cache" / "traffic")) entries.push_back(e.path());
-  ASSERT_FALSE(entries.empty());
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir / "cache" / "traffic"))
+    if (e.is_regular_file()) entries.push_back(e.path());
+  ASSERT_GE(entries.size(), 2u);
   util::write_atomic(entries.front(), "{\"absent\": 7}");
   const auto third = sweep("third");
   EXPECT_EQ(third.meta.gpu.at("trace").at("simulations").get<int>(), 1);
   EXPECT_EQ(estimates(third), estimates(first));
+  // Issue 54, reproduction 6: a parseable wrong entry ("pixels": 0, its checksum not matching) was used and
+  // changed which variants were eliminated; an entry that is a folder failed the run. Both are simulated
+  // again, and the estimates are the uncached ones.
+  std::string edited = *util::read_file(entries.front());
+  const auto pixels = edited.find("\"pixels\":");
+  const int edits = pixels != std::string::npos;  // an "absent" draw has no result to edit
+  if (edits) edited.replace(pixels, 9, "\"pixels\":0,\"x\":");
+  util::write_atomic(entries.front(), edited);
+  std::filesystem::remove(entries[1]);
+  std::filesystem::create_directories(entries[1] / "sub");
+  const auto fourth = sweep("fourth");
+  EXPECT_EQ(fourth.meta.gpu.at("trace").at("simulations").get<int>(), 1 + edits);
+  EXPECT_EQ(estimates(fourth), estimates(first));
+}
+
+// Issue 54, reproduction 6: a cache folder that cannot be written (a file where it goes) made `--gpu` exit 2
+// with "filesystem error: cannot create directories"; the run goes on uncached, with the same estimates.
+TEST(GpuRows, AnUnwritableCacheFolderGoesOnUncached) {
+  REQUIRE_RADV();
+  TempDir dir;
+  test::write_text(dir / "cache", "a file where the cache folder goes");
+  auto sweep = [&](const std::string& cache, const std::string& out) {
+    auto r = run_aovar("sweep --scene builtin:stairs --view overview --gpu navi21 --gpu-size 320x180 --size 64x36 "
+                       "--reps 2 --rays 16 --no-prune --variants 'alchemy-s04-p0-nrgb8-zdep-rst-d32-bsep-x1-hp' " +
+                       cache + " --out " + (dir / out).string());
+    EXPECT_EQ(r.status, 0) << r.output;
+    return r;
+  };
+  const auto unwritable = sweep("--cache-dir " + (dir / "cache").string(), "unwritable");
+  EXPECT_NE(unwritable.output.find("cannot be written"), std::string::npos) << unwritable.output;
+  sweep("--no-cache", "uncached");
+  const auto a = table::read_table(dir / "unwritable" / "cost_table.json");
+  const auto b = table::read_table(dir / "uncached" / "cost_table.json");
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  for (std::size_t i = 0; i < a.rows.size(); ++i)
+    EXPECT_EQ(a.rows[i].gpu.at("navi21").est_ms, b.rows[i].gpu.at("navi21").est_ms);
 }
 
 TEST(GpuRows, UnknownFamilyFailsBeforeMeasuring) {

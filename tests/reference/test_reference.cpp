@@ -229,6 +229,38 @@ TEST(Reference, DamagedCacheEntryIsTracedAgainAndReplaced) {
   }
 }
 
+// Issue 54, reproduction 4: an entry of the right size full of NaN gave "rmse nan" and exit 0. Images with
+// non-finite or out-of-range values are damaged like truncated ones: traced again with a warning, and the
+// answer is the traced one. The second member of the class: a visibility of 2, an Inf standard error, a NaN
+// depth.
+TEST(Reference, CacheEntryOfNonFiniteOrImpossibleValuesIsTracedAgain) {
+  TempDir dir;
+  const scene::View view = floor_view();
+  auto sc = quad_scene({kFloor, {{-20.0f, 0.0f, -2.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 0.5f, 0.0f}}}, view, 1.0f);
+  auto o = options({32, 18}, 1.0f, 16);
+  o.cache_dir = dir.path();
+  const auto first = reference::trace_reference(sc, view, o);
+  struct Damage { const char* suffix; float value; bool all; };
+  for (const Damage d : {Damage{".pfm", kNaN, true}, Damage{".pfm", 2.0f, false}, Damage{".stderr.pfm", kInf, false},
+                         Damage{".depth.pfm", kNaN, false}}) {
+    SCOPED_TRACE(std::string(d.suffix) + " " + std::to_string(d.value));
+    const fs::path file = dir / ("reference/" + first.key + d.suffix);
+    image::FloatImage img = image::read_pfm(file);
+    if (d.all) std::fill(img.pixels.begin(), img.pixels.end(), d.value);
+    else img.pixels[img.pixels.size() / 2] = d.value;
+    image::write_pfm(file, img);
+    const auto traces = reference::detail::trace_calls.load();
+    testing::internal::CaptureStderr();
+    const auto again = reference::trace_reference(sc, view, o);
+    const std::string warning = testing::internal::GetCapturedStderr();
+    EXPECT_NE(warning.find("tracing it again"), std::string::npos) << warning;
+    EXPECT_FALSE(again.from_cache);
+    EXPECT_EQ(reference::detail::trace_calls.load(), traces + 1);
+    EXPECT_EQ(again.visibility.pixels, first.visibility.pixels);
+    EXPECT_TRUE(reference::trace_reference(sc, view, o).from_cache) << "replaced";
+  }
+}
+
 TEST(Reference, CacheReturnsTheStoredImageBitIdenticalWithoutTracing) {
   TempDir dir;
   const scene::View view = floor_view();
@@ -373,7 +405,7 @@ TEST(Reference, CliBadInputGivesOneLineErrorAndExitTwo) {
            {"--scene builtin:spheres --view nope", "no view 'nope' (available: overview, closeup, background"},
            {"--scene builtin:spheres --radius abc", "--radius: radius 'abc': not a number"},
            {"--scene builtin:spheres --radius 1.5%x", "radius '1.5%x'"},
-           {"--scene builtin:spheres --rays 0", "--rays 0: need at least 1"},
+           {"--scene builtin:spheres --rays 0", "aovar reference: --rays: '0' is not a whole number from 1 to 65536"},
            {"--scene builtin:spheres --mode ambient", "--mode: unknown mode 'ambient' (use occlusion or obscurance)"},
            {"--scene " + (dir / "missing.obj").string(), "missing.obj"},
        }) {

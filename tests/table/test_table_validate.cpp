@@ -146,4 +146,35 @@ TEST(TableValidate, SelectDiffReportAndMergeRefuseANegativeTime) {
   EXPECT_NE(r.output.find("null_meta.json: \"meta\" is null, not an object"), std::string::npos) << r.output;
 }
 
+// Issue 54, reproduction 4: "rmse": null was read as +inf and select showed "rmse inf". A null or non-finite
+// rmse, mae, ssim, bias, max or time is refused naming the row; psnr null (a perfect match) is read, and so is
+// every null of a row whose image held NaN or Inf pixels (the only rows aovar writes without an error).
+TEST(TableValidate, NullOrNonFiniteErrorsAreRefusedUnlessTheImageWasBroken) {
+  test::TempDir dir;
+  for (const char* field : {"rmse", "mae", "ssim", "bias", "max"}) {
+    json doc = good_table();
+    doc["rows"][1]["error"][field] = nullptr;
+    const std::string e = read_error(doc, dir);
+    EXPECT_NE(e.find(std::string("row 1 (careful|")), std::string::npos) << field << ": " << e;
+    EXPECT_NE(e.find(std::string("error.") + field + " is null"), std::string::npos) << field << ": " << e;
+    doc["rows"][1]["health"]["nan"] = 12;  // a broken image: no error could be averaged
+    EXPECT_EQ(read_error(doc, dir), "") << field;
+  }
+  for (const char* time : {"/rows/0/time_ms/min", "/rows/0/time_ms/median", "/rows/0/rel_time"}) {
+    json doc = good_table();
+    doc[json::json_pointer(time)] = nullptr;
+    EXPECT_NE(read_error(doc, dir), "") << time;
+  }
+  json perfect = good_table();
+  perfect["rows"][0]["error"]["psnr"] = nullptr;
+  EXPECT_EQ(read_error(perfect, dir), "");
+  // A key holding a NUL no longer cuts the one-line error short: it reads '?' there.
+  json nul = good_table();
+  nul["rows"][1]["variant"] = std::string("care\0ful", 8);
+  nul["rows"][1]["error"]["rmse"] = nullptr;
+  const std::string e = read_error(nul, dir);
+  EXPECT_NE(e.find("care?ful|"), std::string::npos) << e;
+  EXPECT_NE(e.find("error.rmse is null"), std::string::npos) << e;
+}
+
 }  // namespace

@@ -150,4 +150,18 @@ TEST(OutputLock, LinksInsideTheOutputFolderAreRefusedNamingTheLink) {
   EXPECT_TRUE(fs::is_empty(elsewhere));
 }
 
+// Issue 54, reproduction 13: an --out that is a link to a folder holding links (/etc) was refused but left
+// its lock file there. A refused folder keeps nothing of the run; a lock file that was there stays.
+TEST(OutputLock, ARefusedFolderKeepsNoLockFileOfTheRun) {
+  TempDir dir;
+  fs::create_directories(dir / "target");
+  fs::create_symlink("/etc/hostname", dir / "target" / "a_link");
+  fs::create_directory_symlink(dir / "target", dir / "out");
+  EXPECT_THROW(util::OutputLock lock(dir / "out"), std::runtime_error);
+  EXPECT_FALSE(fs::exists(dir / "target" / ".aovar.lock"));
+  test::write_text(dir / "target" / ".aovar.lock", "");  // an earlier run's: not this run's to remove
+  EXPECT_THROW(util::OutputLock lock(dir / "out"), std::runtime_error);
+  EXPECT_TRUE(fs::exists(dir / "target" / ".aovar.lock"));
+}
+
 }  // namespace
