@@ -175,7 +175,7 @@ TEST(GlEstimate, EachTargetSaysItsValidationInOneLine) {
   EXPECT_NE(gpu::validation_line("a660").find("no validation"), std::string::npos);
   EXPECT_NE(gpu::validation_line("navi21").find("no validation"), std::string::npos);
   EXPECT_NE(gpu::validation_line("phoenix").find("no estimate"), std::string::npos);
-  for (const std::string line : {a320, gpu::validation_line("navi21")}) EXPECT_EQ(line.find('\n'), std::string::npos);
+  for (const std::string& line : {a320, gpu::validation_line("navi21")}) EXPECT_EQ(line.find('\n'), std::string::npos);
 }
 
 }  // namespace
