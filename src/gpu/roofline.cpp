@@ -50,16 +50,20 @@ table::GpuPassCost pass_statistics(const PassStats& p) {
   return c;
 }
 
-void apply_roofline(table::GpuPassCost& c, const PassLoad& load, const FamilySpec& spec, Frame frame) {
+double take_load(table::GpuPassCost& c, const PassLoad& load, Frame frame) {
   c.draws = load.draws;
   c.pixel_share = load.pixel_share;
   c.fetches = load.fetches;
   c.bytes_per_pixel = load.bytes_per_pixel;
-  const double pixels = double(frame.width) * frame.height * load.pixel_share * load.draws;
-  const double clock_hz = spec.clock_mhz * 1e6;
-  c.alu_ms = 1e3 * c.inverse_throughput * (pixels / 64.0) / (double(spec.cus) * spec.simds_per_cu * clock_hz);
-  c.texture_ms = 1e3 * load.fetches * pixels / (spec.tmus * clock_hz);
-  c.bandwidth_ms = 1e3 * load.bytes_per_pixel * pixels / (spec.bandwidth_gbs * 1e9);
+  return double(frame.width) * frame.height * load.pixel_share * load.draws;
+}
+
+void memory_times(table::GpuPassCost& c, const PassLoad& load, double pixels, double texels_per_s, double bandwidth_gbs) {
+  c.texture_ms = 1e3 * load.fetches * pixels / texels_per_s;
+  c.bandwidth_ms = 1e3 * load.bytes_per_pixel * pixels / (bandwidth_gbs * 1e9);
+}
+
+void take_slowest_bound(table::GpuPassCost& c) {
   if (std::isnan(c.alu_ms)) {
     c.est_ms = NAN;
     c.bound.clear();
@@ -67,6 +71,14 @@ void apply_roofline(table::GpuPassCost& c, const PassLoad& load, const FamilySpe
   }
   c.est_ms = std::max({c.alu_ms, c.texture_ms, c.bandwidth_ms});
   c.bound = c.est_ms == c.alu_ms ? "alu" : c.est_ms == c.texture_ms ? "texture" : "bandwidth";
+}
+
+void apply_roofline(table::GpuPassCost& c, const PassLoad& load, const FamilySpec& spec, Frame frame) {
+  const double pixels = take_load(c, load, frame);
+  const double clock_hz = spec.clock_mhz * 1e6;
+  c.alu_ms = 1e3 * c.inverse_throughput * (pixels / 64.0) / (double(spec.cus) * spec.simds_per_cu * clock_hz);
+  memory_times(c, load, pixels, spec.tmus * clock_hz, spec.bandwidth_gbs);
+  take_slowest_bound(c);
 }
 
 table::GpuCost estimate(const VariantStats& stats, const std::vector<PassLoad>& loads, const FamilySpec* spec,

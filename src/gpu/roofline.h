@@ -32,6 +32,13 @@ struct PassLoad {
 // pixels / bandwidth. A statistic this Mesa does not report makes alu_ms and est_ms NaN.
 void apply_roofline(table::GpuPassCost& cost, const PassLoad& load, const FamilySpec& spec, Frame frame);
 
+// The parts of a roofline every product shares: the pass's load on `cost` and the pixels it shades in `frame`;
+// the texture and bandwidth times (fetches x pixels / texel rate, bytes x pixels / bandwidth); and est_ms as the
+// slowest of the three bounds with the one it is (NaN and no bound while alu_ms is unknown).
+double take_load(table::GpuPassCost& cost, const PassLoad& load, Frame frame);  // returns the pixels
+void memory_times(table::GpuPassCost& cost, const PassLoad& load, double pixels, double texels_per_s, double bandwidth_gbs);
+void take_slowest_bound(table::GpuPassCost& cost);
+
 // The pass's statistics (the unrolled analysis copy; shipped instructions alongside) as the table's type.
 table::GpuPassCost pass_statistics(const PassStats& p);
 
