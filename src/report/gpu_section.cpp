@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "decide/cost_model.h"
+#include "gpu/family_specs.h"
 #include "report/grid.h"
 
 namespace aovar::report {
@@ -251,15 +252,16 @@ std::vector<Block> gpu_blocks(const CostTable& t) {
     }
     const GpuCost& any = *variants.begin()->second.cost;
     blocks.push_back({fmt::format("GPU estimate: {} ({})", family, any.product),
-                      fmt::format("Roofline estimate at {} from RADV's ISA statistics ({}): per pass the largest of the "
+                      fmt::format("Roofline estimate at {} from {}'s statistics ({}): per pass the largest of the "
                                   "ALU, texture-issue and bandwidth bounds (docs/gpu-cost.md){}; an estimate, not a "
-                                  "measurement. {}",
-                                  any.frame, any.mesa,
+                                  "measurement, validated: {}. {}",
+                                  any.frame, any.compiler.empty() || any.compiler == "radv" ? "RADV" : any.compiler,
+                                  any.mesa,
                                   any.view.empty() ? ""
                                                    : ", with each row's texel fetches traced on its view and replayed "
                                                      "through this GPU's caches (DRAM bytes per pixel, hit rates, the "
                                                      "bound that limits it: latency, a cache level or DRAM)",
-                                  pyramid_text(t, family)),
+                                  gpu::validation_line(family), pyramid_text(t, family)),
                       {}});
     std::vector<std::string> ranked;
     for (const auto& ranking : method_ranking(t, family)) {

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "gpu/family_specs.h"
 #include "report/bounds.h"
 #include "report/embed.h"
 #include "report/grid.h"
@@ -67,6 +68,8 @@ std::vector<Line> decision_lines(const ShipDecision& d) {
   if (d.baseline) lines.push_back({"replaces", baseline_text(*d.baseline), "baseline"});
   if (!s.runners_up.empty()) lines.push_back({"runners-up", variants_text(s.runners_up, 3), ""});
   lines.push_back({"why", s.reason, ""});
+  // How far the estimate that decided can be trusted: the paper table it was checked against (bench/gpu_seeds).
+  if (!d.target.empty()) lines.push_back({"estimate on", gpu::validation_line(d.target), "validation"});
   return lines;
 }
 

@@ -10,7 +10,9 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "gpu/family_specs.h"
 #include "radv_support.h"
+#include "report/grid.h"
 #include "test_support.h"
 #include "util/fs.h"
 
@@ -124,6 +126,9 @@ TEST(ShipReport, EstimatedOnAGpuTargetTheFirstScreenHoldsItsOwnDecision) {
   const CommandResult run = run_aovar(ship(dir / "target", dir / "cache", "--target navi21 --gpu-size 160x90"));
   ASSERT_EQ(run.status, 0) << run.output;
   expect_decision_first(dir / "target", run.output, false, dir);
+  // How far the estimate that decided can be trusted, in the decision itself (issue 56).
+  const std::string html = util::read_file(dir / "target" / "report.html").value();
+  EXPECT_NE(html.find("<td id=\"validation\">" + report::html_escape(gpu::validation_line("navi21"))), std::string::npos);
 }
 
 }  // namespace
