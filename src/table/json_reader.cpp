@@ -25,6 +25,7 @@
 #include "table/validate.h"
 #include "util/fs.h"
 #include "util/schema.h"
+#include "util/text.h"
 
 namespace aovar::table {
 namespace {
@@ -452,7 +453,8 @@ CostTable read_table(const std::filesystem::path& path) {
   } catch (const util::ReadError&) {
     throw;  // already names the file
   } catch (const std::exception& e) {
-    throw std::runtime_error(util::display_path(path) + ": " + e.what());
+    // One line whatever the file holds: a row or GPU name with a newline is quoted in these messages.
+    throw std::runtime_error(util::display_path(path) + ": " + util::one_line(e.what()));
   }
 }
 
