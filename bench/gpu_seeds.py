@@ -11,6 +11,8 @@ import re
 import statistics
 import sys
 
+from gpu_rank import average_ranks  # ranks with ties averaged, as bench/gpu ranks its methods
+
 LINE = re.compile(r"^(\S+) \| (\S+) \| (\S+) \| r \S+ \| est (\S+) ms \((\w*)\) \| pass (\S+) ms (.*?) \| DRAM")
 NOT_AO = {"gbuffer", "blur", "blur_keyed", "upsample"}  # what Sunet's "AO shader" time leaves out (§5.8, §5.9)
 
@@ -35,22 +37,8 @@ def effect(passes):  # the whole effect: everything after the G-buffer
     return sum(ms for p, ms in passes.items() if p != "gbuffer")
 
 
-def ranks(xs):
-    order = sorted(range(len(xs)), key=lambda i: xs[i])
-    r = [0.0] * len(xs)
-    i = 0
-    while i < len(order):
-        j = i
-        while j + 1 < len(order) and xs[order[j + 1]] == xs[order[i]]:
-            j += 1
-        for k in range(i, j + 1):
-            r[order[k]] = (i + j) / 2 + 1
-        i = j + 1
-    return r
-
-
 def spearman(a, b):
-    ra, rb = ranks(a), ranks(b)
+    ra, rb = average_ranks(a), average_ranks(b)
     ma, mb = statistics.mean(ra), statistics.mean(rb)
     num = sum((x - ma) * (y - mb) for x, y in zip(ra, rb))
     den = (sum((x - ma) ** 2 for x in ra) * sum((y - mb) ** 2 for y in rb)) ** 0.5

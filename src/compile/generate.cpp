@@ -104,10 +104,9 @@ CompiledSpace plan_space(const CompileOptions& options) {
   return c;
 }
 
-void build_programs(CompiledSpace& c, const CompileOptions& options) {
-  auto start = std::chrono::steady_clock::now();
+// Each program from the cache, or compiled (and stored) where the cache has no entry spirv-val accepts.
+static void compile_or_reuse_programs(CompiledSpace& c, const CompileOptions& options) {
   const auto& programs = c.space.programs;
-  const std::string manifest_display = c.manifest.error_prefix();
   CompileCache cache(options.scope.cache_dir);
   ValidationMemo validated;
   util::run_parallel(c.targets.size() * programs.size(), options.scope.jobs, [&](std::size_t i) {
@@ -129,6 +128,13 @@ void build_programs(CompiledSpace& c, const CompileOptions& options) {
     }
     b.ok = b.output.ok;
   });
+}
+
+void build_programs(CompiledSpace& c, const CompileOptions& options) {
+  auto start = std::chrono::steady_clock::now();
+  const auto& programs = c.space.programs;
+  const std::string manifest_display = c.manifest.error_prefix();
+  compile_or_reuse_programs(c, options);
 
   // Diagnostics, grouped so one template error shared by 400 programs reads as one line.
   std::map<std::string, GroupedDiagnostic> grouped;
