@@ -86,12 +86,8 @@ TEST(MediumpFp16, HighpModulesComeBackAsIsAndBadInputThrows) {
   Words broken = compile_glsl(probe_fragment("mediump"), variants::StageKind::fragment);
   broken.resize(broken.size() - 2);  // cuts the last instruction (OpFunctionEnd): invalid, decorations intact
   ASSERT_TRUE(compile::has_relaxed_precision(broken));
-  try {
-    compile::relaxed_precision_to_fp16(broken);
-    FAIL() << "expected std::runtime_error";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("mediump->fp16"), std::string::npos) << e.what();
-  }
+  const std::string m = thrown_message<std::runtime_error>([&] { compile::relaxed_precision_to_fp16(broken); });
+  EXPECT_NE(m.find("mediump->fp16"), std::string::npos) << m;
 }
 
 // One fullscreen draw of the probe into the r32f result, with AOParams.x = x.
@@ -237,12 +233,8 @@ TEST(MediumpFp16, HighpVariantIsUnchangedByTheFlag) {
 TEST(MediumpFp16, OsmesaRejectsTheFlag) {
   render::BackendOptions o;
   o.mediump_as_fp16 = true;
-  try {
-    render::make_osmesa_backend(o);
-    FAIL() << "expected BackendError";
-  } catch (const render::BackendError& e) {
-    EXPECT_NE(std::string(e.what()).find("lavapipe only"), std::string::npos) << e.what();
-  }
+  const std::string m = thrown_message<render::BackendError>([&] { render::make_osmesa_backend(o); });
+  EXPECT_NE(m.find("lavapipe only"), std::string::npos) << m;
 }
 
 }  // namespace

@@ -216,12 +216,8 @@ TEST(Measure, ARaceThatScoresItsStillsNeedsTheReference) {
   o.timing.auto_reps = AutoReps{};
   o.timing.race_scores_stills = true;
   o.truth.enabled = false;
-  try {
-    measure::run_measure(o);
-    FAIL() << "no error";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("needs --reference"), std::string::npos) << e.what();
-  }
+  const std::string m = thrown_message<std::runtime_error>([&] { measure::run_measure(o); });
+  EXPECT_NE(m.find("needs --reference"), std::string::npos) << m;
 }
 
 }  // namespace

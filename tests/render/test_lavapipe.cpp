@@ -123,28 +123,22 @@ TEST(Lavapipe, MissingDriverOrLayerGivesAOneLineHint) {
     ScopedEnv env;
     env.set("VK_ICD_FILENAMES", "/nonexistent/aovar_lvp_icd.json");
     env.set("VK_DRIVER_FILES", "/nonexistent/aovar_lvp_icd.json");
-    try {
+    const std::string m = thrown_message<render::BackendError>([&] {
       render::make_lavapipe_backend(backend_options(2, false));
-      FAIL() << "expected BackendError";
-    } catch (const render::BackendError& e) {
-      std::string m = e.what();
-      EXPECT_NE(m.find("mesa-vulkan-drivers"), std::string::npos) << m;
-      EXPECT_NE(m.find("scripts/deps"), std::string::npos) << m;
-      EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-    }
+    });
+    EXPECT_NE(m.find("mesa-vulkan-drivers"), std::string::npos) << m;
+    EXPECT_NE(m.find("scripts/deps"), std::string::npos) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
   }
   {
     ScopedEnv env;  // explicit layers are searched in VK_LAYER_PATH alone when it is set
     env.set("VK_LAYER_PATH", "/nonexistent/aovar_layers");
     env.set("VK_ADD_LAYER_PATH", "/nonexistent/aovar_layers");
-    try {
+    const std::string m = thrown_message<render::BackendError>([&] {
       render::make_lavapipe_backend(backend_options(2, true));
-      FAIL() << "expected BackendError";
-    } catch (const render::BackendError& e) {
-      std::string m = e.what();
-      EXPECT_NE(m.find("VK_LAYER_KHRONOS_validation"), std::string::npos) << m;
-      EXPECT_NE(m.find("vulkan-validationlayers"), std::string::npos) << m;
-    }
+    });
+    EXPECT_NE(m.find("VK_LAYER_KHRONOS_validation"), std::string::npos) << m;
+    EXPECT_NE(m.find("vulkan-validationlayers"), std::string::npos) << m;
   }
   // Restored: the driver and the layer are found again.
   EXPECT_NO_THROW(render::make_lavapipe_backend(backend_options(2, true)));

@@ -143,14 +143,9 @@ void main() {
 }
 
 TEST(Osmesa, FailedContextIsABackendError) {
-  try {
-    osmesa::make_backend_with_version({}, 9, 9);
-    FAIL() << "expected BackendError";
-  } catch (const BackendError& e) {
-    std::string what = e.what();
-    EXPECT_NE(what.find("4.5"), std::string::npos) << what;
-    EXPECT_NE(what.find("libosmesa6"), std::string::npos) << what;
-  }
+  const std::string what = test::thrown_message<BackendError>([&] { osmesa::make_backend_with_version({}, 9, 9); });
+  EXPECT_NE(what.find("4.5"), std::string::npos) << what;
+  EXPECT_NE(what.find("libosmesa6"), std::string::npos) << what;
   // llvmpipe's thread count is fixed by the first context of the process; another one is refused.
   auto first = make_osmesa_backend({});
   BackendOptions three;

@@ -70,16 +70,11 @@ TEST(GpuSelect, UnknownTargetNamesTheFamiliesTheTableHas) {
   SelectQuery q;
   q.max_error = 0.1;
   q.target = "vangogh";
-  try {
-    select(table_with_estimates(), q);
-    FAIL() << "expected an error";
-  } catch (const std::runtime_error& e) {
-    std::string m = e.what();
-    EXPECT_NE(m.find("'vangogh'"), std::string::npos) << m;
-    EXPECT_NE(m.find("navi21, polaris10"), std::string::npos) << m;
-    EXPECT_NE(m.find("--gpu vangogh"), std::string::npos) << m;
-    EXPECT_EQ(m.find('\n'), std::string::npos) << "one line";
-  }
+  const std::string m = test::thrown_message<std::runtime_error>([&] { select(table_with_estimates(), q); });
+  EXPECT_NE(m.find("'vangogh'"), std::string::npos) << m;
+  EXPECT_NE(m.find("navi21, polaris10"), std::string::npos) << m;
+  EXPECT_NE(m.find("--gpu vangogh"), std::string::npos) << m;
+  EXPECT_EQ(m.find('\n'), std::string::npos) << "one line";
 }
 
 TEST(GpuReport, RanksMethodsLikeForLikeAndAgreement) {

@@ -50,12 +50,12 @@ CommandResult run_aovar(const std::string& args);  // runs the built CLI
 CommandResult run_command(const std::string& command);  // a shell command line
 std::filesystem::path aovar_executable();             // the built CLI's path
 
-// The message of the std::exception that `f` throws ("" when it throws none).
-template <class F>
+// The message of the `E` that `f` throws ("" when it throws none; another type propagates and fails the test).
+template <class E = std::exception, class F>
 std::string thrown_message(F&& f) {
   try {
     f();
-  } catch (const std::exception& e) {
+  } catch (const E& e) {
     return e.what();
   }
   return "";

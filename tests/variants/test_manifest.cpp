@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "test_support.h"
 #include "variants/key.h"
 #include "variants/manifest.h"
 #include "variants/space.h"
@@ -54,16 +55,12 @@ std::string with(const std::string& from, const std::string& to) {
 
 // Expects a ManifestError whose message starts with "m.toml:<line>:<column>: error:" and contains `what`.
 void expect_error(const std::string& text, int line, int column, const std::string& what) {
-  try {
-    Manifest m = parse_manifest(text, "m.toml");
-    build_space(m);
-    FAIL() << "no error; expected " << what;
-  } catch (const ManifestError& e) {
-    std::string msg = e.what();
-    EXPECT_EQ(msg.rfind("m.toml:" + std::to_string(line) + ":" + std::to_string(column) + ": error: ", 0), 0u) << msg;
-    EXPECT_NE(msg.find(what), std::string::npos) << msg;
-    EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
-  }
+  const std::string msg = aovar::test::thrown_message<ManifestError>([&] {
+    Manifest m = parse_manifest(text, "m.toml"); build_space(m);
+  });
+  EXPECT_EQ(msg.rfind("m.toml:" + std::to_string(line) + ":" + std::to_string(column) + ": error: ", 0), 0u) << msg;
+  EXPECT_NE(msg.find(what), std::string::npos) << msg;
+  EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
 }
 
 TEST(Manifest, ParsesAxesRulesPassesAndParams) {
