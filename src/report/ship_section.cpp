@@ -95,18 +95,32 @@ std::string decision_html(const ShipDecision& d) {
   return h + "</section>";
 }
 
+namespace {
+
+// One GPU's row of the side-by-side table: the GPU, the variant (or why nothing fits), its estimate, its
+// held-out error and the estimate's validation; `fits` false leaves the time and error empty.
+struct ChoiceCells {
+  std::string gpu, variant, time, error, validation;
+  bool fits = false;
+};
+ChoiceCells choice_cells(const ShipDecision& d) {
+  const decide::Selection& s = d.selection;
+  if (!s.choice) return {d.target, "nothing fits: " + s.reason, "", "", gpu::validation_line(d.target), false};
+  return {d.target, s.choice->variant, time_text(s), error_text(*s.choice), gpu::validation_line(d.target), true};
+}
+
+}  // namespace
+
 // A search for several GPUs: one row per GPU, side by side, before the first GPU's decision in full.
 std::string choices_html(const std::vector<ShipDecision>& all) {
   if (all.size() < 2) return "";
   std::string h = "<section id=\"choices\"><h2>What to ship on each GPU</h2><table class=\"decision\"><tr><th>GPU</th>"
                   "<th>variant</th><th>time (estimate)</th><th>held-out error</th><th>estimate checked against</th></tr>";
   for (const ShipDecision& d : all) {
-    const decide::Selection& s = d.selection;
-    h += "<tr><td>" + html_escape(d.target) + "</td>";
-    h += s.choice ? fmt::format("<td><code>{}</code></td><td>{}</td><td>{}</td>", html_escape(s.choice->variant),
-                                html_escape(time_text(s)), html_escape(error_text(*s.choice)))
-                  : "<td colspan=\"3\">nothing fits: " + html_escape(s.reason) + "</td>";
-    h += "<td>" + html_escape(gpu::validation_line(d.target)) + "</td></tr>";
+    const ChoiceCells c = choice_cells(d);
+    h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>", html_escape(c.gpu),
+                     c.fits ? "<code>" + html_escape(c.variant) + "</code>" : html_escape(c.variant), html_escape(c.time),
+                     html_escape(c.error), html_escape(c.validation));
   }
   h += "</table>";
   if (!all.front().build_line.empty())
@@ -121,10 +135,9 @@ std::string choices_markdown(const std::vector<ShipDecision>& all) {
   std::string md = "## What to ship on each GPU\n\n| GPU | variant | time (estimate) | held-out error | estimate checked against |\n"
                    "|---|---|---|---|---|\n";
   for (const ShipDecision& d : all) {
-    const decide::Selection& s = d.selection;
-    md += s.choice ? fmt::format("| {} | `{}` | {} | {} | {} |\n", d.target, s.choice->variant, time_text(s),
-                                 error_text(*s.choice), gpu::validation_line(d.target))
-                   : fmt::format("| {} | nothing fits: {} | | | {} |\n", d.target, s.reason, gpu::validation_line(d.target));
+    const ChoiceCells c = choice_cells(d);
+    md += fmt::format("| {} | {} | {} | {} | {} |\n", c.gpu, c.fits ? "`" + c.variant + "`" : c.variant, c.time, c.error,
+                      c.validation);
   }
   return md + "\n";
 }

@@ -134,19 +134,14 @@ TEST_P(Method, OpenPlaneIsOpen) {
 
 TEST_P(Method, InnerCornerIsDarkerThanTheOpenFloor) {
   const auto& mv = method_variants(GetParam());
-  auto view = floor_view();
-  const float radius = 0.5f;
-  auto sc = quad_scene({kFloor, kWall}, view, radius);
-  glm::vec3 corner{0.0f, 0.0f, -2.0f + 0.1f * radius}, open{0.0f, 0.0f, -2.0f + 4.0f * radius};
-  render::Extent size{320, 180};
-  glm::ivec2 pc = project(view, size, corner), po = project(view, size, open);
+  const CornerProbe p = corner_probe();
   for (const auto& b : kBackends) {
     auto backend = render::make_backend(b, {});
-    backend->set_scene(sc);
+    backend->set_scene(p.scene);
     for (const auto& [kind, key] : mv.keys) {
-      auto img = render_plan(*backend, plan_for(mv, key, b), view, size, radius, 2);
-      EXPECT_GE(img.at(po.x, po.y), 0.9f) << b << " " << key;
-      EXPECT_LT(img.at(pc.x, pc.y), img.at(po.x, po.y) - 0.1f) << b << " " << key;
+      auto img = render_plan(*backend, plan_for(mv, key, b), p.view, p.size, p.radius, 2);
+      EXPECT_GE(img.at(p.open.x, p.open.y), 0.9f) << b << " " << key;
+      EXPECT_LT(img.at(p.corner.x, p.corner.y), img.at(p.open.x, p.open.y) - 0.1f) << b << " " << key;
     }
   }
 }

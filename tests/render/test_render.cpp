@@ -4,7 +4,9 @@
 
 #include "image/health.h"
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 
 #include <fmt/format.h>
@@ -84,43 +86,32 @@ TEST(Render, LavapipeAndOsmesaAgree) {
   }
 }
 
-TEST(Render, OpenPlaneIsOpenOnBothBackends) {
-  auto view = floor_view();
-  auto sc = quad_scene({kFloor}, view, 0.5f);
+// Each variety variant rendered on each backend: `check(backend, key, image)`.
+void for_each_variety_image(const scene::Scene& sc, const scene::View& view, render::Extent size, float radius,
+                            const std::function<void(const std::string&, const std::string&, const image::FloatImage&)>& check) {
   const auto& c = variety();
   for (const auto& b : kRenderBackends) {
     auto backend = render::make_backend(b, {});
     backend->set_scene(sc);
-    for (const auto& key : kVariety) {
-      auto plan = render::plan_pipeline(c, variant_index(c, key), target_of(b));
-      auto img = render_plan(*backend, plan, view, {160, 90}, sc.ao_radius, 3);
-      float lo = 1;
-      for (float v : img.pixels) lo = std::min(lo, v);
-      EXPECT_GE(lo, 0.95f) << b << " " << key;
-    }
+    for (const auto& key : kVariety)
+      check(b, key, render_plan(*backend, render::plan_pipeline(c, variant_index(c, key), target_of(b)), view, size, radius, 3));
   }
 }
 
-TEST(Render, InnerCornerIsDarkerThanTheOpenFloorNextToIt) {
+TEST(Render, OpenPlaneIsOpenOnBothBackends) {
   auto view = floor_view();
-  const float radius = 0.5f;
-  auto sc = quad_scene({kFloor, kWall}, view, radius);
-  glm::vec3 corner{0.0f, 0.0f, -2.0f + 0.1f * radius}, open{0.0f, 0.0f, -2.0f + 4.0f * radius};
-  render::Extent size{320, 180};
-  glm::ivec2 pc = project(view, size, corner), po = project(view, size, open);
-  ASSERT_TRUE(pc.x >= 0 && pc.x < size.width && pc.y >= 0 && pc.y < size.height);
-  ASSERT_TRUE(po.x >= 0 && po.x < size.width && po.y >= 0 && po.y < size.height);
-  const auto& c = variety();
-  for (const auto& b : kRenderBackends) {
-    auto backend = render::make_backend(b, {});
-    backend->set_scene(sc);
-    for (const auto& key : kVariety) {
-      auto plan = render::plan_pipeline(c, variant_index(c, key), target_of(b));
-      auto img = render_plan(*backend, plan, view, size, radius, 3);
-      EXPECT_GE(img.at(po.x, po.y), 0.95f) << b << " " << key;
-      EXPECT_LT(img.at(pc.x, pc.y), img.at(po.x, po.y) - 0.1f) << b << " " << key;
-    }
-  }
+  auto sc = quad_scene({kFloor}, view, 0.5f);
+  for_each_variety_image(sc, view, {160, 90}, sc.ao_radius, [](const std::string& b, const std::string& key, const auto& img) {
+    EXPECT_GE(*std::min_element(img.pixels.begin(), img.pixels.end()), 0.95f) << b << " " << key;
+  });
+}
+
+TEST(Render, InnerCornerIsDarkerThanTheOpenFloorNextToIt) {
+  const CornerProbe p = corner_probe();
+  for_each_variety_image(p.scene, p.view, p.size, p.radius, [&](const std::string& b, const std::string& key, const auto& img) {
+    EXPECT_GE(img.at(p.open.x, p.open.y), 0.95f) << b << " " << key;
+    EXPECT_LT(img.at(p.corner.x, p.corner.y), img.at(p.open.x, p.open.y) - 0.1f) << b << " " << key;
+  });
 }
 
 TEST(Render, ProgressiveHalvesAlternateAndAverageToTheFullKernel) {

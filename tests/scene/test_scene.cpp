@@ -31,12 +31,7 @@ fs::path scenes_dir() { return test::source_dir() / ".." / "shared" / "scenes"; 
 // The message of the SceneError that `f` throws ("" when it throws none).
 template <class F>
 std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const SceneError& e) {
-    return e.what();
-  }
-  return "";
+  return test::thrown_message<SceneError>(std::forward<F>(f));
 }
 
 std::string load_error(const fs::path& p, LoadOptions o = {}) {

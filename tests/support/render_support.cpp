@@ -207,6 +207,20 @@ glm::ivec2 project(const scene::View& view, render::Extent size, glm::vec3 world
           static_cast<int>(std::floor((ndc.y * 0.5f + 0.5f) * size.height))};
 }
 
+CornerProbe corner_probe(float radius, render::Extent size) {
+  CornerProbe p;
+  p.view = floor_view();
+  p.scene = quad_scene({kFloor, kWall}, p.view, radius);
+  p.size = size;
+  p.radius = radius;
+  p.corner = project(p.view, size, {0.0f, 0.0f, -2.0f + 0.1f * radius});
+  p.open = project(p.view, size, {0.0f, 0.0f, -2.0f + 4.0f * radius});
+  for (const glm::ivec2 at : {p.corner, p.open})
+    if (at.x < 0 || at.x >= size.width || at.y < 0 || at.y >= size.height)
+      throw std::runtime_error("corner_probe: a probe point is off screen");
+  return p;
+}
+
 ImageDiff compare(const image::FloatImage& a, const image::FloatImage& b) {
   if (a.width != b.width || a.height != b.height) throw std::runtime_error("image sizes differ");
   ImageDiff d;

@@ -100,6 +100,18 @@ image::FloatImage render_plan(render::Backend& backend, const render::PipelinePl
 // Pixel (x, y; row 0 = bottom) where a world point lands in `view` at `size`.
 glm::ivec2 project(const scene::View& view, render::Extent size, glm::vec3 world);
 
+// A floor meeting a wall (quad_scene {kFloor, kWall} seen from floor_view) at `size`: the pixels of a point in
+// their inner corner and of a point of open floor next to it (four radii out), both on screen. Every AO method
+// shades the corner darker than the open floor.
+struct CornerProbe {
+  scene::View view;
+  scene::Scene scene;
+  render::Extent size;
+  float radius = 0;
+  glm::ivec2 corner{0, 0}, open{0, 0};
+};
+CornerProbe corner_probe(float radius = 0.5f, render::Extent size = {320, 180});
+
 // A hand-written GLSL program of a plan (the GL backends' tests).
 render::Shader glsl_shader(const std::string& key, variants::StageKind stage, const std::string& glsl);
 
