@@ -121,6 +121,10 @@ int main(int argc, char** argv) {
                  "reference products: waves resident per CU (SM) whose taps interleave (default 1, as the estimate)");
   app.add_option("--guard", guard, "guard band in pixels on every side (rendered and traced, not counted as output)");
   app.add_option("--variants", globs)->required();
+  std::vector<std::string> params;
+  app.add_option("--param", params,
+                 "PASS.NAME=VALUE: a parameter every variant runs with (repeatable), e.g. blur.radius_px=3 for a blur "
+                 "kernel size");
   CLI11_PARSE(app, argc, argv);
   try {
     int w = 0, h = 0;
@@ -151,6 +155,11 @@ int main(int argc, char** argv) {
     const scene::View* view = &guarded;
     runner::RunnerOptions ro;
     ro.size = {w + 2 * guard, h + 2 * guard};
+    for (const std::string& p : params) {
+      const auto eq = p.find('=');
+      if (eq == std::string::npos) throw std::runtime_error("--param " + p + ": give PASS.NAME=VALUE");
+      for (const auto& v : compiled.space.variants) ro.calibration[v.key][p.substr(0, eq)] = std::stod(p.substr(eq + 1));
+    }
     runner::VariantRunner runner(compiled, ro);
     runner.use_scene(scene);
     std::vector<double> rs;
