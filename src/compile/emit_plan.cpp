@@ -21,19 +21,13 @@ constexpr const char* kPlanTypes = R"(// The pass plan (docs/template-contract.m
 // programs(variant, target, draw.pass), the frame's AOFrame block (FrameBlock) at binding 0, the draw's AOParams
 // block (block_values) at binding 1 and its inputs at their sampler bindings; draw into its outputs at its viewport
 // with its depth use. plan.result then holds the AO.
-enum class Format : std::uint8_t { r16f, r32f, rgba8, rg8, rgba32f };
-enum class DepthUse : std::uint8_t {
-  none,
-  geometry,         // clear to 1.0, test LESS, write (the G-buffer)
-  write_mask,       // clear to 0.0, test ALWAYS, write: the fullscreen triangle's 1.0 where the shader keeps going
-  skip_background,  // test NOT_EQUAL against the fullscreen triangle's 1.0, no write: pixels holding 1.0 are not shaded
-};
+// DepthUse: geometry = clear to 1.0, test LESS, write (the G-buffer); write_mask = clear to 0.0, test ALWAYS, write
+// the fullscreen triangle's 1.0 where the shader keeps going (the background mask); skip_background = test NOT_EQUAL
+// against the fullscreen triangle's 1.0, no write, so that pixels holding 1.0 are not shaded.
+)";
 
-// Clear components with these values stand for +frame.clip.y and -frame.clip.y (the background depth).
-inline constexpr float kClearBackgroundDepth = -12345.0f;
-inline constexpr float kClearNegBackgroundDepth = -54321.0f;
-
-struct Texture {
+// The rest of the plan's types, after the enums and constants plan_header_types spells from passplan.
+constexpr const char* kPlanStructs = R"(struct Texture {
   const char* name;
   Format format;
   bool full_resolution;  // extent: the frame's, else ao_extent(frame, plan.resolution)
@@ -218,7 +212,20 @@ std::string plan_ref(ArrayPool& pool, const CompiledSpace& c, int v, const varia
 
 std::string plan_header_types() {
   std::string h = kPlanTypes;
-  // The header's Format and DepthUse spell their values as passplan::format_name / depth_use_name do.
+  // Format, DepthUse (in declaration order: tests/test_embedded_plan.cpp casts between the two) and the clear
+  // placeholders as passplan has them; draw_init spells values with the same names.
+  h += "enum class Format : std::uint8_t {";
+  for (auto f : {passplan::Format::r16f, passplan::Format::r32f, passplan::Format::rgba8, passplan::Format::rg8,
+                 passplan::Format::rgba32f})
+    h += fmt::format("{} {}", f == passplan::Format::r16f ? "" : ",", passplan::format_name(f));
+  h += " };\nenum class DepthUse : std::uint8_t {";
+  for (auto u : {passplan::DepthUse::none, passplan::DepthUse::geometry, passplan::DepthUse::write_mask,
+                 passplan::DepthUse::skip_background})
+    h += fmt::format("{} {}", u == passplan::DepthUse::none ? "" : ",", passplan::depth_use_name(u));
+  h += fmt::format(" }};\n\n// Clear components with these values stand for +frame.clip.y and -frame.clip.y (the background depth).\n"
+                   "inline constexpr float kClearBackgroundDepth = {};\ninline constexpr float kClearNegBackgroundDepth = {};\n\n",
+                   util::cpp_float_literal(passplan::kClearFar), util::cpp_float_literal(passplan::kClearNegFar));
+  h += kPlanStructs;
   h += "inline constexpr int kFrameBinding = 0, kParamsBinding = 1;  // the two blocks; samplers follow\n";
   h += "// GLSL ES 3.00 has no binding qualifiers: it binds blocks and samplers by these names.\n";
   h += "inline const char* binding_name(int binding) {\n  switch (binding) {\n";
