@@ -1,4 +1,6 @@
 // aovar ship: from a scene to the variant to ship in one command (profile, fit, race, select on held-out views).
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include <iostream>
@@ -38,7 +40,9 @@ ExitCode run_ship(const ShipArgs& a) {
   const auto lock = lock_output(o.out);
   auto r = with_status([&](const auto& progress) { return ship::run_ship(o, progress); });
   std::cout << ship::to_text(r, o);
-  return r.selection.ok || !r.shard.empty() ? ExitCode::ok : ExitCode::check_failed;
+  const bool chosen = !r.choices.empty() && std::all_of(r.choices.begin(), r.choices.end(),
+                                                        [](const ship::ShipChoice& c) { return c.selection.ok; });
+  return chosen || !r.shard.empty() ? ExitCode::ok : ExitCode::check_failed;
 }
 
 }  // namespace
@@ -54,8 +58,11 @@ Command add_ship(CLI::App& app) {
   cmd->add_option("--views-file", a->views_file, "views side file (TOML or JSON) for the scene");
   cmd->add_option("--holdout-view", so.holdout_views,
                   "held-out view the choice is made on (repeatable; default: every third view of the scene)");
-  auto* target = cmd->add_option("--target", so.target,
-                                 "a GPU with an estimate (an AMD family or a GL chip): time is the traced estimate on it (one render per variant for the error)");
+  auto* target = cmd->add_option("--target", so.targets,
+                                 "GPUs with an estimate (AMD families or GL chips; comma-separated or repeated): time is "
+                                 "the traced estimate on each (one render per variant for the error); several: one "
+                                 "search, a choice per GPU, one build line")
+                     ->delimiter(',');
   cmd->add_option("--backend,-b", so.backend, "the measured backend (" + render::backend_list() + ")")->capture_default_str()->excludes(target);
   auto* budget = cmd->add_option("--budget-ms", so.query.budget_ms, "lowest error with time <= this")->check(finite_number(0, true));
   auto* budget_of = cmd->add_option("--budget-of", so.query.budget_of, "a variant key: no slower than it (beyond the noise)")

@@ -25,4 +25,9 @@ struct ChipMatch {
 std::optional<ChipMatch> gl_chip_for_device(std::uint32_t vendor_id, std::uint32_t device_id,
                                             std::string_view device_name);
 
+// The text of compile/gl_chip_rules.inc, the rules gl_chip_for_device applies: a library generated from a
+// cost table embeds it (emit_picks.cpp), so its run-time pick() resolves a device as aovar does. Defined in
+// a file CMake writes from the .inc (compile/gl_chip_rules_text.cpp.in).
+const char* gl_chip_rules_text();
+
 }  // namespace aovar::compile

@@ -7,6 +7,8 @@
 #include <stdexcept>
 
 #include "compile/amd_devices.h"
+#include "compile/device_chips.h"
+#include "compile/gpu_device_ids.h"
 #include "compile/generate.h"
 #include "compile/pick_table.h"
 #include "util/cpp_literal.h"
@@ -28,9 +30,15 @@ struct Front {
   std::size_t count;
 };
 
-// The device as Vulkan describes it: VkPhysicalDeviceProperties::vendorID and deviceID, and
-// VkPhysicalDeviceDriverProperties::driverName (may be null; "llvmpipe" on lavapipe).
-struct Device { std::uint32_t vendor_id; std::uint32_t device_id; const char* driver_name; };
+// The device as Vulkan describes it: VkPhysicalDeviceProperties::vendorID, deviceID and deviceName, and
+// VkPhysicalDeviceDriverProperties::driverName ("llvmpipe" on lavapipe). Names may be null; Adreno and Mali
+// publish no device IDs, so their chip is known by deviceName alone.
+struct Device {
+  std::uint32_t vendor_id;
+  std::uint32_t device_id;
+  const char* driver_name;
+  const char* device_name = nullptr;
+};
 
 struct Pick {
   const Front* front;  // null when the library has no front
@@ -44,9 +52,13 @@ std::size_t front_count();
 const Front* fronts();
 const Front* find_front(std::string_view target);  // nullptr when the library has none for it
 const char* amd_family(std::uint32_t device_id);   // Mesa's family name of an AMD PCI device ID, or nullptr
-// The device's front: its AMD family's; else the nearest family of the same generation (Mesa's gfx level)
-// in the library; else the measured backend (lavapipe for Mesa's CPU device, else the first backend); else
-// the first front.
+// The GL chip ("gf110", "a320", "t760", "byt") of an NVIDIA, Qualcomm, Arm or Intel device among those the
+// library has fronts for: its own, else the nearest of its vendor by aovar's rules (docs/install.md); nullptr
+// for another vendor or when the library has none of that vendor's chips.
+const char* gl_chip(const Device& device);
+// The device's front: its AMD family's, else the nearest family of the same generation (Mesa's gfx level)
+// in the library; its GL chip's (gl_chip); else the measured backend (lavapipe for Mesa's CPU device, else
+// the first backend); else the first front.
 const Front* front_for(const Device& device);
 Pick pick(const Device& device, double budget_ms);         // least error with time <= budget_ms
 Pick pick_level(const Device& device, std::size_t level);  // 0: fastest ... count - 1: least error (clamped)
@@ -94,7 +106,13 @@ const Front* nearest_in_generation(int self) {
   return best;
 }
 
+bool has_front(const char* target) { return find_front(target) != nullptr; }
+
 }  // namespace
+
+const char* gl_chip(const Device& device) {
+  return gl_chip_guess(device.vendor_id, device.device_id, device.device_name ? device.device_name : "", has_front).chip;
+}
 
 const Front* front_for(const Device& device) {
   constexpr std::uint32_t kAmd = 0x1002, kMesa = 0x10005;  // PCI vendor ID; VK_VENDOR_ID_MESA (lavapipe)
@@ -103,6 +121,7 @@ const Front* front_for(const Device& device) {
       if (const Front* own = find_front(family)) return own;
       if (const Front* nearby = nearest_in_generation(family_index(family))) return nearby;
     }
+  if (const char* chip = gl_chip(device)) return find_front(chip);
   const std::string_view driver = device.driver_name ? device.driver_name : "";
   const bool cpu = device.vendor_id == kMesa || driver.find("llvmpipe") != driver.npos ||
                    driver.find("lavapipe") != driver.npos;
@@ -162,6 +181,23 @@ std::string front_tables(const CompiledSpace& c, const std::vector<PickFront>& f
   return s + "const Front kFronts[] = {\n" + table + "};\n";
 }
 
+template <std::size_t N>
+std::string device_chip_table(const char* name, const DeviceChip (&table)[N]) {
+  std::string s = fmt::format("const DeviceChip {}[] = {{", name);
+  for (std::size_t i = 0; i < N; ++i)
+    s += fmt::format("{}{{0x{:04X}, {}}},", i % 6 ? " " : "\n  ", table[i].device_id, util::cpp_string_literal(table[i].chip));
+  return s + "\n};\n";
+}
+
+// NVIDIA's and Intel's device IDs of the GL chips, and the rules that resolve a device to one of them
+// (compile/gl_chip_rules.inc, the same text aovar compiles).
+std::string gl_device_tables() {
+  std::string s = "// NVIDIA and Intel PCI device IDs -> the GL chips, from pci.ids and Mesa (aovar's compile/gpu_device_ids.h).\n"
+                  "struct DeviceChip { std::uint16_t device_id; const char* chip; };\n";
+  s += device_chip_table("kNvidiaDeviceChips", kNvidiaDeviceChips) + device_chip_table("kIntelDeviceChips", kIntelDeviceChips);
+  return s + gl_chip_rules_text();
+}
+
 std::string device_tables() {
   std::string s = "struct FamilyRow { const char* name; const char* generation; };\nconst FamilyRow kFamilies[] = {";
   for (const auto& f : kAmdFamilies) s += fmt::format("\n  {{{}, {}}},", util::cpp_string_literal(f.name), util::cpp_string_literal(f.generation));
@@ -169,7 +205,8 @@ std::string device_tables() {
   s += "struct PciRow { std::uint16_t id; std::uint8_t family; };\nconst PciRow kPciIds[] = {";
   for (std::size_t i = 0; i < std::size(kAmdPciIds); ++i)
     s += fmt::format("{}{{0x{:04X}, {}}},", i % 8 ? " " : "\n  ", kAmdPciIds[i].device_id, kAmdPciIds[i].family);
-  return s + "\n};\n";
+  s += "\n};\n";
+  return s + gl_device_tables();
 }
 
 }  // namespace

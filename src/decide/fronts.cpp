@@ -1,5 +1,6 @@
 #include "decide/fronts.h"
 #include "decide/target_names.h"
+#include "table/on_views.h"
 
 #include <fmt/format.h>
 
@@ -104,12 +105,15 @@ TableKeep keep_from_table(const table::CostTable& table, const TableRequest& req
   std::set<std::string> keys;
   for (const auto& [target, family] : checked_targets(table, request, is_family)) {
     TargetFront front{target, family, {}};
+    // A ship table is decided on its held-out views, among what survived on the target: the build keeps
+    // what ship chose.
+    const table::CostTable decided = table::decided_rows(table, target);
     if (has_pick(request.pick)) {
-      const Selection s = select(table, query_for(target, family, request.pick));
+      const Selection s = select(decided, query_for(target, family, request.pick));
       if (!s.ok) throw std::runtime_error(fmt::format("{}: on {}: {}", request.table_name, target, s.reason));
       front.points.push_back({s.choice->variant, s.choice->time_ms, s.choice->rmse});
     } else {
-      front = budget_front(table, target, family);
+      front = budget_front(decided, target, family);
     }
     for (const auto& p : front.points) keys.insert(p.variant);
     keep.fronts.push_back(std::move(front));

@@ -259,10 +259,12 @@ std::string cost_models_markdown(const table::SweepMeta& m) {
 
 std::string markdown_with_front(const CostTable& t, const fs::path& images_rel) {
   std::ostringstream md;
-  const std::optional<ShipDecision> decision = ship_decision(t);
+  const std::vector<ShipDecision> decisions = ship_decisions(t);
+  const std::optional<ShipDecision> decision =
+      decisions.empty() ? std::nullopt : std::optional<ShipDecision>(decisions.front());
   md << "# " << page_title(t, decision) << "\n\n";
   if (decision)
-    md << decision_markdown(*decision) << decision_images_markdown(*decision, images_rel) << funnel_markdown(*decision)
+    md << choices_markdown(decisions) << decision_markdown(*decision) << decision_images_markdown(*decision, images_rel) << funnel_markdown(*decision)
        << "# The evidence\n\n";
   md << kTimeNote << "\n\n";
   if (auto pruned = table::pruned_summary(t); !pruned.empty()) md << "## Scene profiles\n\n" << pruned.substr(1) << "\n";
@@ -301,7 +303,9 @@ std::string markdown_with_front(const CostTable& t, const fs::path& images_rel) 
 // the stream and the table through a chain of functions. (Grew past 120 with issue 34's section bounds.)
 std::string html_with_front(const CostTable& t, const fs::path& dir, const Methods& methods) {
   std::ostringstream h;
-  const std::optional<ShipDecision> decision = ship_decision(t);
+  const std::vector<ShipDecision> decisions = ship_decisions(t);
+  const std::optional<ShipDecision> decision =
+      decisions.empty() ? std::nullopt : std::optional<ShipDecision>(decisions.front());
   const std::string title = escape(page_title(t, decision));
   h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>" << title << "</title><style>"
        "body{font-family:sans-serif;margin:24px;max-width:1200px}table{border-collapse:collapse}td,th{border:1px solid "
@@ -311,7 +315,7 @@ std::string html_with_front(const CostTable& t, const fs::path& dir, const Metho
        "pre{background:#f4f4f4;padding:6px;white-space:pre-wrap}.row{display:flex;flex-wrap:wrap;gap:4px}"
        "</style></head><body><h1>" << title << "</h1>";
   if (decision)
-    h << decision_html(*decision) << decision_images_html(*decision, dir) << funnel_html(*decision, t)
+    h << choices_html(decisions) << decision_html(*decision) << decision_images_html(*decision, dir) << funnel_html(*decision, t)
       << "<h1>The evidence</h1>";
   // What was measured, in words (the full header is in cost_table.json's meta).
   const table::SweepMeta& m = t.meta;

@@ -5,20 +5,14 @@
 
 #include <fmt/format.h>
 
+#include "table/on_views.h"
+
 namespace aovar::report {
 using nlohmann::json;
 using table::CostRow;
 using table::CostTable;
 
 namespace {
-
-CostTable on_holdout_views(const CostTable& t, const std::vector<std::string>& views) {
-  CostTable out;
-  out.meta = t.meta;
-  for (const CostRow& r : t.rows)
-    if (std::find(views.begin(), views.end(), r.view) != views.end()) out.rows.push_back(r);
-  return out;
-}
 
 std::optional<CostRow> row_of(const CostTable& held_out, const std::string& variant, const std::string& view) {
   for (const CostRow& r : held_out.rows)
@@ -101,27 +95,48 @@ std::string query_text(const decide::SelectQuery& q) {
   return "no criterion";
 }
 
-std::optional<ShipDecision> ship_decision(const CostTable& t) {
+namespace {
+
+// One choice of meta.ship: its target, and its query asked again of the rows it was decided on.
+ShipDecision decision_on(const CostTable& t, const json& ship, const std::string& target, const json& query) {
+  ShipDecision d;
+  d.scene = ship.value("scene", std::string());
+  d.target = target;
+  d.backend = ship.value("backend", std::string());
+  d.holdout_views = ship.value("holdout_views", std::vector<std::string>{});
+  d.build_line = ship.value("build_line", std::string());
+  d.funnel = funnel_of(ship);
+  const CostTable held_out = table::decided_rows(t, target);
+  d.selection = decide::select(held_out, decide::query_from_json(query));
+  if (d.selection.choice && !d.holdout_views.empty()) {
+    d.choice_row = row_of(held_out, d.selection.choice->variant, d.holdout_views.front());
+    if (d.choice_row) d.baseline = compare_with_baseline(held_out, d.selection, *d.choice_row);
+  }
+  return d;
+}
+
+}  // namespace
+
+std::vector<ShipDecision> ship_decisions(const CostTable& t) {
   const json& ship = t.meta.ship;
-  if (!ship.is_object() || !ship.contains("query")) return std::nullopt;
+  if (!ship.is_object()) return {};
   try {
-    ShipDecision d;
-    d.scene = ship.value("scene", std::string());
-    d.target = ship.value("target", std::string());
-    d.backend = ship.value("backend", std::string());
-    d.holdout_views = ship.value("holdout_views", std::vector<std::string>{});
-    d.build_line = ship.value("build_line", std::string());
-    d.funnel = funnel_of(ship);
-    const CostTable held_out = on_holdout_views(t, d.holdout_views);
-    d.selection = decide::select(held_out, decide::query_from_json(ship["query"]));
-    if (d.selection.choice && !d.holdout_views.empty()) {
-      d.choice_row = row_of(held_out, d.selection.choice->variant, d.holdout_views.front());
-      if (d.choice_row) d.baseline = compare_with_baseline(held_out, d.selection, *d.choice_row);
+    std::vector<ShipDecision> out;
+    if (ship.contains("choices")) {
+      for (const json& c : ship.at("choices")) out.push_back(decision_on(t, ship, c.at("target").get<std::string>(), c.at("query")));
+    } else if (ship.contains("query")) {  // a table written before ship searched for several targets
+      out.push_back(decision_on(t, ship, ship.value("target", std::string()), ship.at("query")));
     }
-    return d;
+    return out;
   } catch (const std::exception& e) {
     throw std::runtime_error(std::string("cost table meta.ship: ") + e.what());
   }
+}
+
+std::optional<ShipDecision> ship_decision(const CostTable& t) {
+  std::vector<ShipDecision> all = ship_decisions(t);
+  if (all.empty()) return std::nullopt;
+  return std::move(all.front());
 }
 
 }  // namespace aovar::report

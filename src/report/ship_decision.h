@@ -37,8 +37,12 @@ struct ShipDecision {
   std::vector<FunnelStage> funnel;
 };
 
-// nullopt for a table `aovar ship` did not write (a sweep, a merge) or one written before meta.ship held its
-// query. Throws std::runtime_error naming meta.ship when it is malformed.
+// Every choice of a table `aovar ship` wrote, in --target order (one for a measured backend or one target),
+// each asked again of the rows it was decided on (table::decided_rows); empty for a table ship did not
+// write (a sweep, a merge) or one written before meta.ship held its query. Throws std::runtime_error naming
+// meta.ship when it is malformed.
+std::vector<ShipDecision> ship_decisions(const table::CostTable& table);
+// The first of them: the one the page leads with.
 std::optional<ShipDecision> ship_decision(const table::CostTable& table);
 
 // "budget: 2.000 ms" / "budget: no slower than KEY" / "error target: RMSE at most 0.0500": what was asked.

@@ -95,6 +95,40 @@ std::string decision_html(const ShipDecision& d) {
   return h + "</section>";
 }
 
+// A search for several GPUs: one row per GPU, side by side, before the first GPU's decision in full.
+std::string choices_html(const std::vector<ShipDecision>& all) {
+  if (all.size() < 2) return "";
+  std::string h = "<section id=\"choices\"><h2>What to ship on each GPU</h2><table class=\"decision\"><tr><th>GPU</th>"
+                  "<th>variant</th><th>time (estimate)</th><th>held-out error</th><th>estimate checked against</th></tr>";
+  for (const ShipDecision& d : all) {
+    const decide::Selection& s = d.selection;
+    h += "<tr><td>" + html_escape(d.target) + "</td>";
+    h += s.choice ? fmt::format("<td><code>{}</code></td><td>{}</td><td>{}</td>", html_escape(s.choice->variant),
+                                html_escape(time_text(s)), html_escape(error_text(*s.choice)))
+                  : "<td colspan=\"3\">nothing fits: " + html_escape(s.reason) + "</td>";
+    h += "<td>" + html_escape(gpu::validation_line(d.target)) + "</td></tr>";
+  }
+  h += "</table>";
+  if (!all.front().build_line.empty())
+    h += "<p>One library serves each GPU its choice through <code>pick()</code>:</p><pre>" +
+         html_escape(all.front().build_line) + "</pre>";
+  return h + "<p>Each GPU's decision in full: <code>aovar select --table cost_table.json --target GPU</code> on the "
+             "held-out rows; the first follows.</p></section>";
+}
+
+std::string choices_markdown(const std::vector<ShipDecision>& all) {
+  if (all.size() < 2) return "";
+  std::string md = "## What to ship on each GPU\n\n| GPU | variant | time (estimate) | held-out error | estimate checked against |\n"
+                   "|---|---|---|---|---|\n";
+  for (const ShipDecision& d : all) {
+    const decide::Selection& s = d.selection;
+    md += s.choice ? fmt::format("| {} | `{}` | {} | {} | {} |\n", d.target, s.choice->variant, time_text(s),
+                                 error_text(*s.choice), gpu::validation_line(d.target))
+                   : fmt::format("| {} | nothing fits: {} | | | {} |\n", d.target, s.reason, gpu::validation_line(d.target));
+  }
+  return md + "\n";
+}
+
 std::string decision_markdown(const ShipDecision& d) {
   const decide::Selection& s = d.selection;
   std::string md = "## What to ship\n\n";

@@ -3,6 +3,7 @@
 // the held-out view, and the funnel of eliminations. The evidence (fronts, charts, pairs) follows it.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "report/ship_decision.h"
 #include "table/table.h"
@@ -13,6 +14,9 @@ namespace aovar::report {
 // runners-up and the `aovar generate` line. The elements a reader must see first carry ids (choice-key,
 // choice-time, choice-error, build-line) that the report's test finds on the first screen.
 std::string decision_html(const ShipDecision& d);
+// A search for several GPUs: their choices side by side ("" for one).
+std::string choices_html(const std::vector<ShipDecision>& all);
+std::string choices_markdown(const std::vector<ShipDecision>& all);
 std::string decision_markdown(const ShipDecision& d);
 
 // The chosen variant, the baseline and the reference on the first held-out view, then both error maps, each

@@ -23,11 +23,13 @@
 #include "ship/fit.h"
 #include "ship/profiled_space.h"
 #include "ship/shards.h"
+#include "table/on_views.h"
 #include "sweep/sweep.h"
 #include "util/clock.h"
 #include "util/fs.h"
 #include "util/glob.h"
 #include "util/hash.h"
+#include "util/shell.h"
 #include "util/text.h"
 #include "variants/manifest.h"
 #include "variants/space.h"
@@ -50,6 +52,13 @@ const char* round_name(bool target, bool final_round) { return !final_round ? "s
 
 int batch_of(const ShipOptions& o) { return o.batch > 0 ? o.batch : batch_for(o.size); }
 
+bool estimated(const ShipOptions& o) { return !o.targets.empty(); }
+
+// Where an elimination happened: the round, and with several targets the one it was eliminated on.
+std::string round_on(const std::string& round, const ShipOptions& o, const std::string& target) {
+  return o.targets.size() > 1 ? round + " on " + target : round;
+}
+
 // The race stops timing a candidate once another (of its batch, or of an earlier one) is faster beyond the
 // noise and more accurate (measure::Retire): no margin, since that decides only how long it is timed, not whether it stays. Under
 // --budget-of (the held-out views) the same holds for the budget's variant: select's test of a fit is "not
@@ -62,7 +71,7 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
                                   bool final_round) {
   sweep::SweepOptions s;
   s.scenes = {o.scene};
-  s.out = o.out / round_name(!o.target.empty(), final_round);
+  s.out = o.out / round_name(estimated(o), final_round);
   measure::MeasureOptions& m = s.measure;
   m.scope = o.scope;
   m.views_file = o.views_file;
@@ -78,12 +87,12 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   if (!o.query.budget_of.empty()) m.baseline = o.query.budget_of;
   s.prune_by_profile = false;  // ship pruned already (the skip list), with the profile of all views
   m.images = m.truth.temporal = final_round;
-  if (!o.target.empty()) {  // the time is the estimate: one render for the error
+  if (estimated(o)) {  // the time is the estimate: one render for the error
     m.timing.reps = 1;
     m.timing.warmup = 0;
     m.timing.still_only = !final_round;  // the front's rows keep one timed frame: its report draws time against error
     // The screen renders only: its candidates are estimated afterwards, in order of error (bounded_estimate.h).
-    if (final_round) s.gpu.families = {o.target};
+    if (final_round) s.gpu.families = o.targets;
     s.gpu.frame = o.gpu_frame;
     s.gpu.window = o.gpu_window;
   } else if (final_round) {
@@ -109,7 +118,7 @@ void render_stills_only(sweep::SweepOptions& so) {
 // scores the stills it retires by itself, before its warm-up and its rounds (TimingPlan::race_scores_stills):
 // no screen runs. Not for shards, whose screens a join merges.
 bool race_without_screen(const ShipOptions& o, int candidates) {
-  return o.target.empty() && o.shard.count <= 1 && o.join.empty() && candidates <= batch_of(o) - 1;
+  return !estimated(o) && o.shard.count <= 1 && o.join.empty() && candidates <= batch_of(o) - 1;
 }
 
 // What a screen depends on beyond the fit: a join takes only shards whose screens had the same.
@@ -150,15 +159,6 @@ table::CostTable round_rows(const ShipOptions& o, const Fitted& fit, const sweep
   return std::move(done.table);
 }
 
-// The rows of `t` on `views` only.
-table::CostTable on_views(const table::CostTable& t, const std::vector<std::string>& views) {
-  table::CostTable out;
-  out.meta = t.meta;
-  for (const auto& r : t.rows)
-    if (std::find(views.begin(), views.end(), r.view) != views.end()) out.rows.push_back(r);
-  return out;
-}
-
 // The screen's still error of each candidate on each view it rendered, for the race to retire the beaten.
 std::shared_ptr<const std::map<std::pair<std::string, std::string>, double>> still_errors(const table::CostTable& screen) {
   auto out = std::make_shared<std::map<std::pair<std::string, std::string>, double>>();
@@ -191,14 +191,15 @@ std::vector<std::string> variants_of(const table::CostTable& t) {
   return {keys.begin(), keys.end()};
 }
 
-// The race's rule on the training views of `rows`: what it eliminates goes into `out` and res.eliminated
-// (the budget's variant stays: select resolves the budget by it). A variant that runs the same code as an
-// eliminated one (its rows are copies, same_code_as: no candidate of their own) goes with it; left in, it
-// would be measured on its own in the next round.
-void eliminate_dominated(const table::CostTable& rows, const ShipOptions& o, const std::string& round,
-                         std::set<std::string>& out, ShipResult& res) {
+// The race's rule on the training views of `rows`, deciding by `target`'s estimate (empty: the measured
+// time): what it eliminates goes into `out` and res.eliminated (the budget's variant stays: select resolves
+// the budget by it). A variant that runs the same code as an eliminated one (its rows are copies,
+// same_code_as: no candidate of their own) goes with it; left in, it would be measured on its own in the next
+// round.
+void eliminate_dominated(const table::CostTable& rows, const ShipOptions& o, const std::string& target,
+                         const std::string& round, std::set<std::string>& out, ShipResult& res) {
   std::vector<Elimination> now;
-  for (auto& e : dominated_beyond_noise(on_views(rows, res.training), o.target, o.race_margin))
+  for (auto& e : dominated_beyond_noise(table::rows_on_views(rows, res.training), target, o.race_margin))
     if (e.variant != o.query.budget_of && out.insert(e.variant).second) now.push_back(std::move(e));
   for (auto& e : same_code_eliminations(rows, now))
     if (e.variant != o.query.budget_of && out.insert(e.variant).second) now.push_back(std::move(e));
@@ -218,7 +219,7 @@ table::CostTable race_then_holdout(const ShipOptions& o, const Fitted& fit, swee
   training.measure.views = res.training;
   table::CostTable last = round_rows(o, fit, training, true, res, r, say);
   candidates = variants_of(last);
-  eliminate_dominated(last, o, r.name, out, res);
+  eliminate_dominated(last, o, "", r.name, out, res);
   std::erase_if(last.rows, [&](const table::CostRow& row) { return out.count(row.variant) > 0; });
   so.measure.globs.clear();  // the survivors by key (the race's globs may be patterns: no screen named them)
   for (const auto& k : candidates)
@@ -242,10 +243,11 @@ table::CostTable race_then_holdout(const ShipOptions& o, const Fitted& fit, swee
   return last;
 }
 
-// The query the held-out views answer: the user's, on the target's estimate or the measured backend.
-decide::SelectQuery final_query(const ShipOptions& o) {
+// The query the held-out views answer: the user's, on the target's estimate or (target empty) the measured
+// backend.
+decide::SelectQuery final_query(const ShipOptions& o, const std::string& target) {
   decide::SelectQuery q = o.query;
-  q.target = o.target;
+  q.target = target;
   q.backend = o.backend;
   return q;
 }
@@ -261,12 +263,19 @@ json ship_meta(const ShipOptions& o, const ShipResult& r, const profile::ScenePr
     eliminated.push_back({{"variant", e.variant}, {"round", round}, {"by", e.by}, {"reason", e.reason}});
   json untimed = json::array();
   for (const auto& u : r.holdout_untimed) untimed.push_back({{"variant", u.variant}, {"rmse", u.rmse}, {"reason", u.reason}});
+  // Each target's question, and with several targets what survived on it (table::decided_rows reads both).
+  json choices = json::array();
+  for (const auto& c : r.choices) {
+    json choice = {{"target", c.target}, {"query", decide::to_json(final_query(o, c.target))}};
+    if (o.targets.size() > 1) choice["survivors"] = c.survivors;
+    choices.push_back(std::move(choice));
+  }
   return {{"scene", o.scene},
           {"training_views", r.training},
           {"holdout_views", r.holdout},
-          {"target", o.target},
+          {"targets", o.targets},
           {"backend", o.backend},
-          {"race_margin", margin_in_force(o.target, o.race_margin)},
+          {"race_margin", margin_in_force(o.targets.empty() ? "" : o.targets.front(), o.race_margin)},
           {"normals_lean", r.lean},
           {"normals_lean_evidence", r.lean_text},
           {"fit_normals", r.fit_normals},
@@ -276,7 +285,7 @@ json ship_meta(const ShipOptions& o, const ShipResult& r, const profile::ScenePr
           {"rounds", rounds},
           {"eliminated", eliminated},
           {"holdout_timing", {{"rule", r.holdout_rule}, {"timed", r.holdout_timed}, {"untimed", untimed}}},
-          {"query", decide::to_json(final_query(o))},
+          {"choices", choices},
           {"build_line", r.build_line}};
 }
 
@@ -290,12 +299,16 @@ void check_options(const ShipOptions& o) {
   if (o.race_reps < 6) throw std::runtime_error("--race-reps must be at least 6 (fewer rounds give no 95 % interval)");
   if (o.batch != 0 && o.batch < 2) throw std::runtime_error("--batch must be at least 2 (the baseline and one candidate)");
   if (o.fit_evaluations < 1) throw std::runtime_error("--evaluations must be at least 1");
-  if (o.target.find(',') != std::string::npos) throw std::runtime_error("--target takes one GPU");
+
   if (!(o.race_margin >= 1.0 && o.race_margin < 10.0))
     throw std::runtime_error("--race-margin must be a time ratio in [1, 10) (1 eliminates on any slowdown beyond the noise)");
-  if (!o.target.empty()) {
-    gpu::check_gpus({o.target});
-    if (!gpu::estimate_spec(o.target)) throw std::runtime_error("--target " + gpu::validation_line(o.target));
+  if (estimated(o)) {
+    gpu::check_gpus(o.targets);
+    for (const auto& t : o.targets) {
+      if (!gpu::estimate_spec(t)) throw std::runtime_error("--target " + gpu::validation_line(t));
+      if (std::count(o.targets.begin(), o.targets.end(), t) > 1)
+        throw std::runtime_error(fmt::format("ship: --target names {} twice", t));
+    }
   }
 }
 
@@ -316,6 +329,205 @@ void check_budget_of(const ShipOptions& o) {
     throw std::runtime_error(fmt::format("ship: --budget-of '{}' is outside --variants: the race must time the "
                                          "budget's variant; add it to --variants",
                                          util::one_line(key)));
+}
+
+// The measured backend's search: a screen of every candidate (unless one race batch holds them all), the
+// dominated eliminated, then the race over the survivors with the held-out views (race_then_holdout).
+table::CostTable measured_search(const ShipOptions& o, const Fitted& fit, const std::vector<std::string>& views,
+                                 std::vector<std::string> globs, const std::set<std::string>& skip, ShipResult& res,
+                                 const Progress& say) {
+  const bool no_screen = race_without_screen(o, res.selected - int(skip.size()));
+  table::CostTable last;
+  for (const bool final_round : {false, true}) {
+    if (!final_round && no_screen) continue;
+    Round r;
+    r.name = round_name(false, final_round);
+    const auto t0 = std::chrono::steady_clock::now();
+    // The screen decides on the training views only (its eliminations look at nothing else), so it renders
+    // nothing else; the survivors are measured on every view, the held-out one for the choice.
+    sweep::SweepOptions so = round_options(o, fit, final_round ? views : res.training, globs, skip, final_round);
+    // The race times a view's beaten candidates no longer than it must: one stops once a more accurate one of
+    // its batch (in the same rounds) or of an earlier batch (against the same reference) is faster beyond the
+    // noise. It is off the front then, whatever more rounds would show; whether it leaves the table is the
+    // elimination's call, with --race-margin, after the round. The screen's front is timed first (screen_ranks).
+    if (final_round) {
+      if (no_screen) {
+        so.measure.timing.race_scores_stills = true;
+      } else {
+        so.measure.timing.race_errors = still_errors(last);
+        so.measure.timing.race_order = screen_ranks(last);
+      }
+      so.measure.timing.race_margin = kRetireMargin;
+    }
+    r.timing = final_round ? measure::reps_words(so.measure) : fmt::format("{} reps", so.measure.timing.reps);
+    if (!final_round) r.timing += ", still error only";
+    if (no_screen) r.timing += "; no screen: one batch holds every candidate, the race scores their stills";
+    const std::string what = final_round && !no_screen ? fmt::format("{} survivors", globs.size())
+                             : o.globs.empty()         ? std::string("the whole pruned space")
+                                                       : std::string("the selection");
+    say(fmt::format("round {}: {} ({})", r.name, what, r.timing));
+    std::set<std::string> out;            // this round's eliminated
+    std::vector<std::string> candidates;  // this round's candidates
+    if (final_round && !res.holdout.empty())
+      last = race_then_holdout(o, fit, so, res, r, out, candidates, say);
+    else
+      last = round_rows(o, fit, so, final_round, res, r, say);
+    if (!res.shard.empty()) {  // a shard screens its share and stops: the join eliminates and selects
+      r.candidates = int(variants_of(last).size());
+      r.seconds = util::seconds_since(t0);
+      res.rounds.push_back(r);
+      return last;
+    }
+    if (candidates.empty()) candidates = variants_of(last);
+    eliminate_dominated(last, o, "", r.name, out, res);
+    r.candidates = int(candidates.size());
+    r.eliminated = int(out.size());
+    r.seconds = util::seconds_since(t0);
+    res.rounds.push_back(r);
+    globs.clear();
+    for (const auto& k : candidates)
+      if (!out.count(k)) globs.push_back(k);
+    std::erase_if(last.rows, [&](const table::CostRow& row) { return out.count(row.variant) > 0; });
+  }
+  res.choices.push_back({"", globs, {}});
+  return last;
+}
+
+// The GPU targets' screen: one render of every candidate's still (its error is the same on every GPU), then
+// per target the estimate in order of error (bounded_estimate.h) and the race's rule on it. res.choices gets
+// each target's survivors; returns the screen's rows.
+table::CostTable estimated_screen(const ShipOptions& o, const Fitted& fit, const std::vector<std::string>& views,
+                                  const std::vector<std::string>& globs, const std::set<std::string>& skip,
+                                  ShipResult& res, const Progress& say) {
+  Round r;
+  r.name = round_name(true, false);
+  const auto t0 = std::chrono::steady_clock::now();
+  sweep::SweepOptions so = round_options(o, fit, res.training, globs, skip, false);
+  r.timing = fmt::format("one render, estimate on {}, still error only", fmt::join(o.targets, ", "));
+  say(fmt::format("round {}: {} ({})", r.name, o.globs.empty() ? "the whole pruned space" : "the selection", r.timing));
+  const table::CostTable screen = round_rows(o, fit, so, false, res, r, say);
+  r.candidates = int(variants_of(screen).size());
+  if (res.shard.empty()) {  // a shard screens its share and stops: the join estimates, eliminates and selects
+    std::set<std::string> kept;  // what survived on some target
+    std::vector<std::string> traced;
+    for (const std::string& target : o.targets) {
+      sweep::SweepOptions estimated = round_options(o, fit, views, globs, skip, true);
+      estimated.gpu.families = {target};
+      table::CostTable rows = screen;
+      BoundedEstimate b = estimate_in_error_order(rows, res.training, measure::gpu_request(estimated.measure, estimated.gpu),
+                                                  o.query.budget_of, [&](const std::string& line) { say(r.name + ": " + line); });
+      for (auto& e : b.eliminated) res.eliminated.push_back({round_on(r.name, o, target), std::move(e)});
+      traced.push_back(o.targets.size() > 1 ? fmt::format("{} {}", target, b.traced) : std::to_string(b.traced));
+      std::set<std::string> out;
+      const std::vector<std::string> candidates = variants_of(rows);
+      eliminate_dominated(rows, o, target, round_on(r.name, o, target), out, res);
+      ShipChoice choice{target, {}, {}};
+      for (const auto& k : candidates)
+        if (!out.count(k)) choice.survivors.push_back(k), kept.insert(k);
+      res.choices.push_back(std::move(choice));
+    }
+    r.eliminated = r.candidates - int(kept.size());
+    r.timing += fmt::format(", {} traced in order of error", fmt::join(traced, ", "));
+  }
+  r.seconds = util::seconds_since(t0);
+  res.rounds.push_back(r);
+  return screen;
+}
+
+// The GPU targets' search: the screen (estimated_screen), then one front round that renders the union of the
+// targets' survivors on every view with every target's estimate, and per target the race's rule again among
+// its own survivors. With one target this is exactly the single-target search; with several, each target's
+// survivors are those its own search would keep.
+table::CostTable estimated_search(const ShipOptions& o, const Fitted& fit, const std::vector<std::string>& views,
+                                  const std::vector<std::string>& globs, const std::set<std::string>& skip,
+                                  ShipResult& res, const Progress& say) {
+  const table::CostTable screen = estimated_screen(o, fit, views, globs, skip, res, say);
+  if (!res.shard.empty()) return screen;
+  Round r;
+  r.name = round_name(true, true);
+  r.timing = "one render, estimate on " + fmt::format("{}", fmt::join(o.targets, ", "));
+  const auto t0 = std::chrono::steady_clock::now();
+  std::set<std::string> union_of;
+  for (const auto& c : res.choices) union_of.insert(c.survivors.begin(), c.survivors.end());
+  const std::vector<std::string> survivors(union_of.begin(), union_of.end());
+  say(fmt::format("round {}: {} survivors ({})", r.name, survivors.size(), r.timing));
+  table::CostTable last = round_rows(o, fit, round_options(o, fit, views, survivors, skip, true), true, res, r, say);
+  r.candidates = int(variants_of(last).size());
+  std::set<std::string> kept;
+  for (ShipChoice& c : res.choices) {
+    table::CostTable mine = last;
+    const std::set<std::string> own(c.survivors.begin(), c.survivors.end());
+    std::erase_if(mine.rows, [&](const table::CostRow& row) { return !own.count(row.variant); });
+    std::set<std::string> out;
+    const std::vector<std::string> candidates = variants_of(mine);
+    eliminate_dominated(mine, o, c.target, round_on(r.name, o, c.target), out, res);
+    c.survivors.clear();
+    for (const auto& k : candidates)
+      if (!out.count(k)) c.survivors.push_back(k), kept.insert(k);
+  }
+  r.eliminated = r.candidates - int(kept.size());
+  r.seconds = util::seconds_since(t0);
+  res.rounds.push_back(r);
+  std::erase_if(last.rows, [&](const table::CostRow& row) { return !kept.count(row.variant); });
+  return last;
+}
+
+// The choice on each target: select among its survivors on the held-out views, with table::decided_rows's
+// rule (the report and `generate --from-table` read the table back with it).
+void choose(const ShipOptions& o, ShipResult& res) {
+  const table::CostTable held_out = table::rows_on_views(res.table, res.holdout);
+  for (ShipChoice& c : res.choices) {
+    table::CostTable mine = held_out;
+    const std::set<std::string> own(c.survivors.begin(), c.survivors.end());
+    std::erase_if(mine.rows, [&](const table::CostRow& row) { return !own.count(row.variant); });
+    c.selection = decide::select(mine, final_query(o, c.target));
+  }
+}
+
+// The query as generate's options.
+std::string query_options(const decide::SelectQuery& q) {
+  if (!q.budget_of.empty()) return "--budget-of " + util::shell_quote(q.budget_of);
+  if (q.budget_ms) return fmt::format("--budget-ms {}", *q.budget_ms);
+  return fmt::format("--max-error {}", q.max_error.value_or(0));
+}
+
+// The line that builds what to ship, carrying the fit: the generated library holds the values the choice was
+// scored with. One choice: exactly that variant. Several GPUs: one library from this table whose pick()
+// serves each GPU its choice (generate --from-table keeps, per target, select's answer on the rows it was
+// decided on).
+std::string build_line_of(const ShipOptions& o, const Fitted& fit, const ShipResult& res) {
+  const std::string manifest = util::display_path(o.scope.manifest.path());
+  if (res.choices.size() > 1) {
+    for (const auto& c : res.choices)
+      if (!c.selection.choice) return "";
+    return fmt::format("aovar generate --manifest {} --from-table {} --for {} {} --out shaders", manifest,
+                       util::display_path(o.out / "cost_table.json"), fmt::join(o.targets, ","), query_options(o.query));
+  }
+  if (res.choices.empty() || !res.choices.front().selection.choice) return "";
+  return fmt::format("aovar generate --manifest {} --variants '{}'{} --out shaders", manifest,
+                     res.choices.front().selection.choice->variant,
+                     fit.calibration.file.empty() ? "" : " --calibration " + fit.calibration.file);
+}
+
+// Several targets' choices, a line each: the GPU, its choice, its estimate and held-out error.
+std::string choices_side_by_side(const std::vector<ShipChoice>& choices) {
+  std::size_t target_width = 6, key_width = 6;
+  for (const auto& c : choices) {
+    target_width = std::max(target_width, c.target.size());
+    if (c.selection.choice) key_width = std::max(key_width, c.selection.choice->variant.size());
+  }
+  std::string s = fmt::format("{:<{}}  {:<{}}  {:>10}  {:>9}  {}\n", "target", target_width, "choice", key_width, "estimate",
+                              "rmse", "survivors");
+  for (const auto& c : choices) {
+    if (!c.selection.choice) {
+      s += fmt::format("{:<{}}  nothing fits: {}\n", c.target, target_width, c.selection.reason);
+      continue;
+    }
+    const decide::Candidate& x = *c.selection.choice;
+    s += fmt::format("{:<{}}  {:<{}}  {:>7.3f} ms  {:>9.5f}  {}\n", c.target, target_width, x.variant, key_width, x.time_ms,
+                     x.rmse, c.survivors.size());
+  }
+  return s;
 }
 
 }  // namespace
@@ -346,94 +558,28 @@ ShipResult run_ship(const ShipOptions& o, const Progress& progress) {
   say("profiling " + o.scene);
   const variants::Manifest& manifest = o.scope.manifest.get();
   const ProfiledSpace profiled = profile_space(o, sc, views, manifest, res, say);
-  const profile::ScenePruning& pruning = profiled.pruning;
-  const std::set<std::string>& skip = profiled.skip;
 
   // 2. The methods fitted on the training views.
   say(fmt::format("fitting the methods on {} (normals: {})", fmt::join(res.training, ", "), res.fit_normals));
   const Fitted fit = fit_methods(o, sc, split, res.fit_normals, manifest, progress);
 
-  // 3. The race: a first round over the pruned space, the dominated eliminated, the survivors again.
-  std::vector<std::string> globs = o.globs.empty() ? std::vector<std::string>{"*"} : o.globs;
-  const bool no_screen = race_without_screen(o, res.selected - int(skip.size()));
-  table::CostTable last;
-  for (const bool final_round : {false, true}) {
-    if (!final_round && no_screen) continue;
-    Round r;
-    r.name = round_name(!o.target.empty(), final_round);
-    const auto t0 = std::chrono::steady_clock::now();
-    // The screen decides on the training views only (its eliminations look at nothing else), so it renders
-    // nothing else; the survivors are measured on every view, the held-out one for the choice.
-    sweep::SweepOptions so = round_options(o, fit, final_round ? views : res.training, globs, skip, final_round);
-    // The race times a view's beaten candidates no longer than it must: one stops once a more accurate one of
-    // its batch (in the same rounds) or of an earlier batch (against the same reference) is faster beyond the
-    // noise. It is off the front then, whatever more rounds would show; whether it leaves the table is the
-    // elimination's call, with --race-margin, after the round. The screen's front is timed first (screen_ranks).
-    if (final_round && o.target.empty()) {
-      if (no_screen) {
-        so.measure.timing.race_scores_stills = true;
-      } else {
-        so.measure.timing.race_errors = still_errors(last);
-        so.measure.timing.race_order = screen_ranks(last);
-      }
-      so.measure.timing.race_margin = kRetireMargin;
-    }
-    r.timing = !o.target.empty() ? "one render, estimate on " + o.target
-               : final_round     ? measure::reps_words(so.measure)
-                                 : fmt::format("{} reps", so.measure.timing.reps);
-    if (!final_round) r.timing += ", still error only";
-    if (no_screen) r.timing += "; no screen: one batch holds every candidate, the race scores their stills";
-    const std::string what = final_round && !no_screen ? fmt::format("{} survivors", globs.size())
-                             : o.globs.empty()         ? std::string("the whole pruned space")
-                                                       : std::string("the selection");
-    say(fmt::format("round {}: {} ({})", r.name, what, r.timing));
-    std::set<std::string> out;         // this round's eliminated
-    std::vector<std::string> candidates;  // this round's candidates
-    if (final_round && o.target.empty() && !res.holdout.empty())
-      last = race_then_holdout(o, fit, so, res, r, out, candidates, say);
-    else
-      last = round_rows(o, fit, so, final_round, res, r, say);
-    int untraced = 0;  // eliminated by their bound, before the race's rule
-    if (!final_round && !o.target.empty() && res.shard.empty()) {
-      const sweep::SweepOptions estimated = round_options(o, fit, views, globs, skip, true);
-      BoundedEstimate b = estimate_in_error_order(last, res.training, measure::gpu_request(estimated.measure, estimated.gpu),
-                                                  o.query.budget_of, [&](const std::string& line) { say(r.name + ": " + line); });
-      last.meta.gpu = b.gpu.to_json();
-      for (auto& e : b.eliminated) res.eliminated.push_back({r.name, std::move(e)});
-      untraced = int(b.eliminated.size());
-      r.timing += fmt::format(", {} traced in order of error", b.traced);
-    }
-    if (!res.shard.empty()) {  // a shard screens its share and stops: the join eliminates and selects
-      r.candidates = int(variants_of(last).size());
-      r.seconds = util::seconds_since(t0);
-      res.rounds.push_back(r);
-      res.wall_s = util::seconds_since(start);
-      return res;
-    }
-    if (candidates.empty()) candidates = variants_of(last);
-    eliminate_dominated(last, o, r.name, out, res);
-    r.candidates = int(candidates.size()) + untraced;
-    r.eliminated = int(out.size()) + untraced;
-    r.seconds = util::seconds_since(t0);
-    res.rounds.push_back(r);
-    globs.clear();
-    for (const auto& k : candidates)
-      if (!out.count(k)) globs.push_back(k);
-    std::erase_if(last.rows, [&](const table::CostRow& row) { return out.count(row.variant) > 0; });
+  // 3. The search over the pruned space: rounds, the dominated eliminated after each.
+  const std::vector<std::string> globs = o.globs.empty() ? std::vector<std::string>{"*"} : o.globs;
+  table::CostTable last = estimated(o) ? estimated_search(o, fit, views, globs, profiled.skip, res, say)
+                                       : measured_search(o, fit, views, globs, profiled.skip, res, say);
+  if (!res.shard.empty()) {
+    res.wall_s = util::seconds_since(start);
+    return res;
   }
 
   // 4. Select among the survivors on the held-out views.
   decide::mark_pareto(last);
   res.table = std::move(last);
-  res.selection = decide::select(on_views(res.table, res.holdout), final_query(o));
-  // The line carries the fit: the generated library holds the values the choice was scored with.
-  if (res.selection.choice)
-    res.build_line = fmt::format("aovar generate --manifest {} --variants '{}'{} --out shaders",
-                                 util::display_path(o.scope.manifest.path()), res.selection.choice->variant,
-                                 fit.calibration.file.empty() ? "" : " --calibration " + fit.calibration.file);
-  res.table.meta.ship = ship_meta(o, res, pruning);
+  choose(o, res);
+  res.build_line = build_line_of(o, fit, res);
+  res.table.meta.ship = ship_meta(o, res, profiled.pruning);
   table::write_table_files(res.table, o.out);
-  report::write_reports(res.table, o.out, o.out / round_name(!o.target.empty(), true), manifest.algorithms);
+  report::write_reports(res.table, o.out, o.out / round_name(estimated(o), true), manifest.algorithms);
   res.wall_s = util::seconds_since(start);
   return res;
 }
@@ -444,7 +590,7 @@ std::string to_text(const ShipResult& r, const ShipOptions& o) {
   s += fmt::format("normals: {}; {} -> search {}normals, fit with normals = {}\n", r.lean_text,
                    r.lean ? "a lean" : "no lean", r.lean ? "depth " : "every source of ", r.fit_normals);
   s += fmt::format("space: {} selected, {} dropped by the profile, {} by the lean\n", r.selected, r.pruned, r.lean_dropped);
-  if (o.target.empty())
+  if (!estimated(o))
     s += fmt::format("race margin: eliminated only when slower beyond {:.2f}x (the 95 % interval's low end; --race-margin)\n",
                      o.race_margin);
   for (const auto& x : r.rounds)
@@ -460,8 +606,12 @@ std::string to_text(const ShipResult& r, const ShipOptions& o) {
                            r.shard, r.shard_balance, util::display_path(o.out));
   if (!r.shard_balance.empty()) s += "shards joined: " + r.shard_balance + "\n";
   s += "\nWhat to ship (selected on the held-out view" + std::string(r.holdout.size() > 1 ? "s" : "") + "):\n";
-  s += r.selection.text;
-  if (!o.target.empty()) s += "estimate on " + gpu::validation_line(o.target) + "\n";
+  if (r.choices.size() > 1) s += choices_side_by_side(r.choices) + "\n";
+  for (const auto& c : r.choices) {
+    if (r.choices.size() > 1) s += "on " + c.target + ":\n";
+    s += c.selection.text;
+    if (!c.target.empty()) s += "estimate on " + gpu::validation_line(c.target) + "\n";
+  }
   if (!r.build_line.empty()) s += "build it: " + r.build_line + "\n";
   s += fmt::format("cost table and report: {}/cost_table.json, {}/report.html ({:.0f} s)\n", util::display_path(o.out),
                    util::display_path(o.out), r.wall_s);

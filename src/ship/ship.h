@@ -39,8 +39,10 @@ struct ShipOptions {
   std::filesystem::path views_file;
   std::vector<std::string> holdout_views;  // empty: calibrate::split_views' default (every third view)
   std::vector<std::string> globs;          // the space searched (empty: every variant of the manifest)
-  std::string target;                      // AMD family: time is its traced estimate (no timing rounds)
-  std::string backend = render::default_backend();        // the measured backend (and, with a target, the one tracing)
+  // GPUs with an estimate (AMD families, GL chips): time is each one's traced estimate (no timing rounds).
+  // Several: one search (one profile, fit and screen of errors), a choice per GPU. Empty: measured on `backend`.
+  std::vector<std::string> targets;
+  std::string backend = render::default_backend();        // the measured backend (and, with targets, the one tracing)
   decide::SelectQuery query;                // budget_of, budget_ms or max_error; ship sets the filters
   render::Extent size{640, 360};
   render::Extent fit_size{320, 180};       // calibration renders (calibrate's default)
@@ -68,6 +70,15 @@ struct Round {
   double seconds = 0;
 };
 
+// What to ship on one target: a GPU of --target, or the measured backend (target empty).
+struct ShipChoice {
+  std::string target;
+  // The variants that survived the search on this target (several targets: each has its own eliminations;
+  // the table holds the union). The choice is made among them on the held-out views.
+  std::vector<std::string> survivors;
+  decide::Selection selection;
+};
+
 struct ShipResult {
   std::vector<std::string> training, holdout;  // views
   bool lean = false;                           // buffered normals lean on some view
@@ -80,8 +91,10 @@ struct ShipResult {
   std::string holdout_rule;                    // which survivors the held-out views timed (holdout.h)
   std::vector<HoldoutSkip> holdout_untimed;    // the survivors they did not, each with its held-out rmse
   int holdout_timed = 0;
-  decide::Selection selection;                  // on the held-out views, among the survivors
-  std::string build_line;                      // `aovar generate` of exactly the chosen variant
+  std::vector<ShipChoice> choices;             // one per target, in --target order; one for a measured backend
+  // `aovar generate` of exactly the chosen variant; for several GPUs, of one library whose pick() serves each
+  // GPU its choice (--from-table this table --for the targets, with the query).
+  std::string build_line;
   std::string shard;                           // "2/4" when this run was one shard: its screen only, no selection
   std::string shard_balance;                   // a shard: its share of the plan; a join: the shards' balance
   double wall_s = 0;

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -293,6 +295,74 @@ TEST(ShipCli, AMeasuredRaceTimesTheHeldOutViewOnlyForWhatTheQueryCouldChoose) {
     for (auto it = batch_ranks.begin(); std::next(it) != batch_ranks.end(); ++it)
       EXPECT_LE(it->second.second, std::next(it)->second.first) << view << ": batch " << it->first;
   }
+}
+
+}  // namespace
+}  // namespace aovar::test
+
+namespace aovar::test {
+namespace {
+
+// The "choice: " lines of a run's output, in order (one per target).
+std::vector<std::string> choice_lines(const std::string& output) {
+  std::vector<std::string> out;
+  for (auto at = output.find("choice: "); at != std::string::npos; at = output.find("choice: ", at + 1))
+    out.push_back(output.substr(at, output.find('\n', at) - at));
+  return out;
+}
+
+// One search for two GPUs (issue 56) profiles, fits and screens once, and chooses on each GPU what a search
+// for that GPU alone chooses; its one build line generates a library whose pick() serves each GPU its choice
+// by its PCI ID.
+TEST(ShipCli, OneSearchForTwoGpusChoosesOnEachAsItsOwnSearchAndOneLibraryServesBoth) {
+  REQUIRE_RADV();
+  TempDir dir;
+  const std::vector<std::string> targets = {"navi21", "polaris10"};
+  std::vector<std::string> alone;
+  for (const auto& t : targets) {
+    const CommandResult r = run_aovar(ship_args("builtin:atrium", dir / t, dir / "cache", "64x36", kBaseline,
+                                                "--target " + t + " --gpu-size 160x90"));
+    ASSERT_EQ(r.status, 0) << r.output;
+    ASSERT_EQ(choice_lines(r.output).size(), 1u) << r.output;
+    alone.push_back(choice_lines(r.output).front());
+  }
+  const CommandResult both = run_aovar(ship_args("builtin:atrium", dir / "both", dir / "cache", "64x36", kBaseline,
+                                                 "--target navi21,polaris10 --gpu-size 160x90"));
+  ASSERT_EQ(both.status, 0) << both.output;
+  EXPECT_EQ(choice_lines(both.output), alone) << both.output;
+  EXPECT_NE(both.output.find("target"), std::string::npos) << both.output;  // the side-by-side summary
+  // Profiled, fitted and screened once: one screen and one front round.
+  const json ship = table_of(dir / "both").at("meta").at("ship");
+  ASSERT_EQ(ship.at("rounds").size(), 2u) << ship.dump();
+  ASSERT_EQ(ship.at("choices").size(), 2u) << ship.dump();
+  // The report leads with both choices side by side.
+  const std::string report = util::read_file(dir / "both" / "report.md").value_or("");
+  EXPECT_NE(report.find("## What to ship on each GPU"), std::string::npos);
+
+  // The build line: one library from the table, whose pick() gives each GPU its choice.
+  std::string line = build_line(both.output);
+  ASSERT_NE(line.find("--from-table"), std::string::npos) << line;
+  const auto out_at = line.find("--out shaders");
+  ASSERT_NE(out_at, std::string::npos) << line;
+  line.replace(out_at, std::string("--out shaders").size(),
+               "--targets vulkan --emit cpp --namespace both --out " + (dir / "lib").string());
+  const CommandResult generated = run_command("cd " + source_dir().string() + " && " + aovar_executable().string() + " " + line);
+  ASSERT_EQ(generated.status, 0) << generated.output;
+  // An RX 6800 XT (navi21) and an RX 480 (polaris10), by PCI ID.
+  util::write_atomic(dir / "probe.cpp",
+                     "#include <cstdio>\n#include \"both.h\"\nint main() {\n"
+                     "  for (unsigned id : {0x73BFu, 0x67DFu}) {\n"
+                     "    both::Device d{0x1002u, id, nullptr, nullptr};\n"
+                     "    std::printf(\"%s\\n\", both::pick(d, 1e9).variant()->key);\n  }\n}\n");
+  const CommandResult built = run_command(fmt::format("{} -std=c++17 -I{} {} {} -o {} 2>&1", AOVAR_CXX, (dir / "lib").string(),
+                                                      (dir / "lib" / "both.cpp").string(), (dir / "probe.cpp").string(),
+                                                      (dir / "probe").string()));
+  ASSERT_EQ(built.status, 0) << built.output;
+  const CommandResult picked = run_command((dir / "probe").string());
+  ASSERT_EQ(picked.status, 0) << picked.output;
+  std::string keys;
+  for (const auto& line_alone : alone) keys += line_alone.substr(8, line_alone.find(' ', 8) - 8) + "\n";
+  EXPECT_EQ(picked.output, keys);
 }
 
 }  // namespace
