@@ -1,4 +1,5 @@
-// Looks a variant up by key (or by axes) and prints the size of its AO pass programs.
+// Looks a variant up by key (or by axes), prints the size of its AO pass programs and its pass plan: the draws in
+// execution order, each with the textures it writes and its per-draw uniforms.
 #include <cstdio>
 #include <cstring>
 
@@ -33,5 +34,15 @@ int main(int argc, char** argv) {
   std::printf("%s\n  vulkan %s: %zu bytes of SPIR-V\n  gles30 %s: %zu bytes of GLSL\n", v->key,
               ao_vk.fragment->key, ao_vk.fragment->spirv_words * 4, ao_es.fragment->key,
               std::strlen(ao_es.fragment->glsl));
+  const Plan& plan = *v->plan;
+  std::printf("  plan: %zu draws at resolution %g\n", plan.draw_count, plan.resolution);
+  for (std::size_t i = 0; i < plan.draw_count; ++i) {
+    const Draw& d = plan.draws[i];
+    std::printf("    %s ->", d.name);
+    for (std::size_t o = 0; o < d.output_count; ++o)
+      if (d.outputs[o].texture >= 0) std::printf(" %s", plan.textures[d.outputs[o].texture].name);
+    for (std::size_t u = 0; u < d.uniform_count; ++u) std::printf(" (%s %g)", d.uniforms[u].name, d.uniforms[u].value);
+    std::printf("\n");
+  }
   return 0;
 }

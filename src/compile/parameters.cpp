@@ -1,5 +1,10 @@
 #include "compile/parameters.h"
 
+#include <algorithm>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
 namespace aovar::compile {
 
 const variants::ParamValues* calibrated_for(const CompiledSpace& c, int variant, const variants::CalibratedValues& values) {
@@ -25,6 +30,32 @@ std::vector<VariantParam> variant_params(const CompiledSpace& c, int variant, co
         out.push_back(std::move(p));
       }
     }
+  return out;
+}
+
+std::vector<float> block_values(const CompiledSpace& c, int t, int program, const std::string& pass,
+                                const variants::ParamValues& values, const std::vector<passplan::Uniform>& uniforms,
+                                std::set<std::string>* used) {
+  const ProgramBuild& b = c.builds.at(t).at(program);
+  const variants::ProgramSpec& spec = c.space.programs.at(program);
+  std::vector<float> out;
+  for (const auto& member : b.output.params_block) {
+    auto param = std::find_if(spec.params.begin(), spec.params.end(),
+                              [&](const variants::Param& p) { return p.name == member.name; });
+    if (param != spec.params.end()) {
+      std::string key = pass + "." + member.name;
+      auto v = values.find(key);
+      out.push_back(static_cast<float>(v != values.end() ? v->second : param->value));
+      if (used) used->insert(std::move(key));
+    } else if (auto u = std::find_if(uniforms.begin(), uniforms.end(),
+                                     [&](const passplan::Uniform& x) { return x.name == member.name; });
+               u != uniforms.end()) {
+      out.push_back(u->value);
+    } else {
+      throw std::runtime_error(fmt::format("{}: AOParams member '{}' is neither a manifest parameter of pass "
+                                           "'{}' nor set by the renderer", spec.key, member.name, pass));
+    }
+  }
   return out;
 }
 

@@ -9,20 +9,20 @@
 namespace aovar::compile {
 namespace {
 
-constexpr std::uint32_t kSpirvMagic = 0x07230203, kHeaderWords = 5;
+constexpr std::uint32_t kSpirvMagic = 0x07230203, kRelaxedHeaderWords = 5;  // unity builds: a name of its own
 constexpr std::uint32_t kOpDecorate = 71, kOpMemberDecorate = 72, kOpFunction = 54, kRelaxedPrecision = 0;
 constexpr spv_target_env kEnv = SPV_ENV_VULKAN_1_2;  // what compile_program emits for the vulkan target
 
 void check_header(const std::vector<std::uint32_t>& spirv) {
-  if (spirv.size() < kHeaderWords || spirv[0] != kSpirvMagic)
+  if (spirv.size() < kRelaxedHeaderWords || spirv[0] != kSpirvMagic)
     throw std::runtime_error("mediump->fp16: the input is not a SPIR-V module (no SPIR-V header)");
 }
 
 }  // namespace
 
 bool has_relaxed_precision(const std::vector<std::uint32_t>& spirv) {
-  if (spirv.size() < kHeaderWords || spirv[0] != kSpirvMagic) return false;
-  for (std::size_t i = kHeaderWords; i < spirv.size();) {
+  if (spirv.size() < kRelaxedHeaderWords || spirv[0] != kSpirvMagic) return false;
+  for (std::size_t i = kRelaxedHeaderWords; i < spirv.size();) {
     std::uint32_t words = spirv[i] >> 16, op = spirv[i] & 0xffff;
     if (words == 0 || i + words > spirv.size() || op == kOpFunction) break;  // decorations precede functions
     if ((op == kOpDecorate && words >= 3 && spirv[i + 2] == kRelaxedPrecision) ||

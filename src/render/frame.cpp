@@ -7,11 +7,6 @@
 
 namespace aovar::render {
 
-Extent ao_extent(Extent full, double resolution) {
-  auto scale = [&](int n) { return std::max(1, static_cast<int>(std::ceil(n * resolution - 1e-9))); };
-  return {scale(full.width), scale(full.height)};
-}
-
 float background_depth(float far_plane) {
   return far_plane < kMaxBackgroundDepth ? far_plane : kMaxBackgroundDepth;  // inf (and NaN): the cap
 }

@@ -4,14 +4,13 @@
 
 #include <glm/glm.hpp>
 
+#include "passplan/extent.h"
 #include "scene/scene.h"
 
 namespace aovar::render {
 
-struct Extent {
-  int width = 0, height = 0;
-  friend bool operator==(const Extent&, const Extent&) = default;
-};
+using passplan::ao_extent;  // size of the AO pass for a resolution factor
+using passplan::Extent;
 
 // Clip-space depth range of the API: Vulkan [0, 1], OpenGL [-1, 1]. Both backends use the same y direction
 // (NDC y = -1 is render-target row 0), so uv (0, 0) is texel (0, 0) everywhere, uv_to_ndc is the same and
@@ -56,8 +55,5 @@ float background_depth(float far_plane);
 // far plane may be +inf: the projection is then the limit far -> inf of the finite one (infinite
 // perspective) in either clip convention, and clip.y is background_depth(inf), the finite cap.
 FrameBlock make_frame_block(const FrameSetup& setup, Extent full, Extent ao, ClipDepth clip_depth);
-
-// Size of the AO pass for a resolution factor (1, 0.5, 0.25): rounded up, at least 1.
-Extent ao_extent(Extent full, double resolution);
 
 }  // namespace aovar::render

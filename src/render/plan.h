@@ -1,64 +1,30 @@
 #pragma once
-// A variant's AO pipeline as a small render graph that every backend executes the same way: textures
-// (formats, sizes, clears) and an ordered list of draws (programs, parameter blocks, inputs, outputs).
-// All the knowledge of what a variant's axes mean for rendering lives here, not in the backends.
-//
-//   gbuffer (scene geometry, depth test) -> depth [+ normal] [+ position]        full resolution
-//   prefilter   method-specific inputs of the AO pass, read at binding::kPrefilter: AO resolution
-//                 unsharp: depth Gaussian, 2 draws (axis 0, 1) -> depth_blur (r32f)
-//                 sao: camera-space z pyramid, one draw per MIP level -> zmip (r32f, kZmipLevels levels)
-//                 depth_mip = on (the methods whose [algorithms.*] reads name it): the same pyramid (pass depth_mip)
-//   ao          fullscreen -> ao_half[parity]                                    AO resolution
-//   progressive fullscreen: ao_half[parity] + ao_half[1 - parity] -> ao_avg       AO resolution
-//   blur        separable: 2 draws (axis 0, 1) via blur_tmp; bilateral: 1 draw   AO resolution
-//               (pass blur_keyed for methods whose AO output packs the depth key: rgba8 AO chain)
-//   upsample    fullscreen -> ao_full (depth-aware)                               full resolution
-//
-// The last draw's output is the result; it is R32F so NaN and Inf survive to the read-back.
-//
-// Background pixels skip the fragment shader (runtime skipping): the fullscreen draws whose shaders write a
-// constant 1 on background (ao, progressive, the unkeyed blurs, upsample) are depth-tested so that the
-// rasteriser rejects background pixels before shading; their outputs are cleared to 1 first, which is
-// exactly what the shaders' own early-out writes there. The test reads a depth buffer that says
-// "background" with the value 1.0:
-//   full resolution: the G-buffer's depth buffer (cleared to 1.0; only pixels no triangle covered keep it);
-//   AO resolution:   a mask drawn by the manifest's `background_mask` pass, which writes 1.0 where the
-//                    depth texel the AO pass reads holds the background (without that pass: no skipping at
-//                    reduced resolution, the shaders' early-out still applies).
-// Fullscreen triangles lie at depth 1.0 and pass where the stored depth is NOT_EQUAL to it.
-#include <array>
-#include <map>
+// A variant's AO pipeline as the backends execute it: the pass plan (passplan/plan.h: textures, depth buffers,
+// draws in order with inputs, outputs, viewports and depth use, from the variant's axes alone) with the compiled
+// shaders of one target and each draw's AOParams contents. What an axis means for rendering is decided there,
+// below compile, so the generated library carries the same plan (compile/emit_plan.cpp).
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "compile/generate.h"
+#include "passplan/plan.h"
 #include "render/frame.h"
 #include "shadergen/bindings.h"
 
 namespace aovar::render {
 
-enum class Format { r16f, r32f, rgba8, rg8, rgba32f };
-const char* format_name(Format f);
-int format_bytes(Format f);
-
-struct Texture {
-  std::string name;
-  Format format = Format::r16f;
-  bool full_resolution = true;      // else the AO pass extent
-  bool double_buffered = false;     // ao_half: frame parity p writes copy p; inputs may read the other
-  bool cleared = false;             // cleared to `clear` at the start of each frame (G-buffer targets)
-  std::array<float, 4> clear{0, 0, 0, 0};  // may use kClearFar (replaced by background_depth(far), frame.h)
-  int levels = 1;                   // MIP levels; level l is max(1, extent >> l)
-};
-inline constexpr float kClearFar = -12345.0f;   // placeholder: +background_depth(far), finite for far = inf
-inline constexpr float kClearNegFar = -54321.0f;  // placeholder: -background_depth(far)
-
-struct TextureRef {
-  int texture = -1;
-  bool previous = false;  // double-buffered texture: the copy written in the previous frame
-  int level = -1;         // input: -1 = every level, l = level l alone (read as level 0); output: -1 = level 0
-};
+using passplan::DepthBuffer;
+using passplan::DepthUse;
+using passplan::depth_use_name;
+using passplan::Format;
+using passplan::format_bytes;
+using passplan::format_name;
+using passplan::kClearFar;
+using passplan::kClearNegFar;
+using passplan::kZmipLevels;
+using passplan::Texture;
+using passplan::TextureRef;
 
 struct Shader {
   std::string program_key;          // e.g. "alchemy-s08-p0-nrg8-zdep-rst-hp.frag"
@@ -67,49 +33,18 @@ struct Shader {
   std::string glsl;                  // GLSL source (the GL targets' backends)
 };
 
-// Depth buffers (D32F) draws test against; never sampled.
-struct DepthBuffer {
-  std::string name;               // "zbuffer" (the G-buffer's), "background_mask"
-  bool full_resolution = true;    // else the AO pass extent
-};
-
-enum class DepthUse {
-  none,
-  geometry,         // clear to 1.0, test LESS, write (the G-buffer)
-  write_mask,       // clear to 0.0, test ALWAYS, write: the fullscreen triangle's 1.0 where the shader keeps going
-  skip_background,  // test NOT_EQUAL against the triangle's 1.0, no write: pixels holding 1.0 are not shaded
-};
-const char* depth_use_name(DepthUse u);
-
-struct Draw {
-  std::string name;   // "gbuffer", "ao", "progressive", "blur.h", "blur.v", "blur", "upsample"
-  std::string pass;   // timing group: the manifest pass name ("blur" for both separable draws)
-  bool geometry = false;  // draw the scene's triangles with a depth test; else a fullscreen triangle
+// A pass-plan draw with its shaders and parameter block.
+struct Draw : passplan::DrawIo {
   int vertex = -1, fragment = -1;   // indices into PipelinePlan::shaders
   std::vector<float> params;        // AOParams contents (std140: consecutive floats), empty = no block
-  std::vector<std::pair<int, TextureRef>> inputs;  // (sampler binding, texture): shadergen/bindings.h
-  std::vector<TextureRef> outputs;  // colour attachment per location (texture -1 = location unused)
-  bool full_resolution = true;      // viewport: full output or AO extent
-  int level = 0;                    // MIP level every output is written at (viewport shrinks with it)
-  DepthUse depth = DepthUse::none;
-  int depth_buffer = -1;            // index into PipelinePlan::depth_buffers (with depth != none)
   // Trace builds only (trace/trace.h): 32-bit words of the storage buffer bound at binding::kTrace for this
   // draw, 0 = not traced. Word 0 counts pixels whose reads overflowed; the reads follow. Vulkan only.
   std::int64_t trace_words = 0;
 };
 
-inline constexpr int kZmipLevels = 6;  // SAO's z pyramid: levels 0..5 (McGuire et al. 2012, §3: MAX_MIP_LEVEL 5)
-
-struct PipelinePlan {
-  std::string variant;  // key
-  std::map<std::string, std::string> axes;  // axis name -> value (collapsed axes get the manifest's first)
-  double resolution = 1.0;
-  bool progressive = false;
+struct PipelinePlan : passplan::PlanResources {
   std::vector<Shader> shaders;
-  std::vector<Texture> textures;
   std::vector<Draw> draws;
-  std::vector<DepthBuffer> depth_buffers;
-  int result = -1;  // texture holding the final AO (full resolution, R32F)
 
   std::vector<std::string> passes() const;  // timing groups in draw order, unique
 };
@@ -118,9 +53,11 @@ struct PipelinePlan {
 using ParamOverrides = variants::ParamValues;
 
 // Builds the plan of variant `variant` (index into compiled.space.variants) for `target` (vulkan: SPIR-V,
-// gl45: GLSL source). `compiled` must hold successful builds for that target. Throws std::runtime_error
-// for a renderer-set block member the renderer does not know, and (when `strict`) for an override naming
-// no parameter of this variant; callers planning many variants check overrides with parameter_keys().
+// gl45: GLSL source): passplan::plan_passes with each draw's shaders and AOParams block (compile::block_values:
+// the overrides, else the manifest's values, and the draw's uniforms). `compiled` must hold successful builds
+// for that target. Throws std::runtime_error for a block member that is neither a parameter nor one of the
+// draw's uniforms, and (when `strict`) for an override naming no parameter of this variant; callers planning
+// many variants check overrides with parameter_keys().
 PipelinePlan plan_pipeline(const compile::CompiledSpace& compiled, int variant, variants::Target target,
                            const ParamOverrides& overrides = {}, bool strict = true);
 
@@ -138,9 +75,9 @@ PipelinePlan plan_prefix(const PipelinePlan& plan, const std::string& last_draw)
 void validate_plan(const PipelinePlan& plan, std::string_view backend);
 
 // The plan at one frame size: a MIP chain cannot have more levels than its texture's extent allows
-// (floor(log2(max(w, h))) + 1; SAO's 6-level z pyramid at 24x14, quarter resolution of 96x54, has 5), so
-// each texture keeps at most that many and the draws into the missing levels go. Shaders never read them:
-// on-screen taps choose levels below log2 of the AO target's diagonal. Backends prepare this, not the plan.
+// (passplan::mip_levels_at; SAO's 6-level z pyramid at 24x14, quarter resolution of 96x54, has 5), so each
+// texture keeps at most that many and the draws into the missing levels go (passplan::draw_runs_at, the rule
+// the generated library states too). Backends prepare this, not the plan.
 PipelinePlan plan_for_size(const PipelinePlan& plan, Extent size);
 
 // The index of the first draw named `name` in the plan that runs at `size` (plan_for_size), which is what

@@ -1,5 +1,7 @@
 #include "util/cpp_literal.h"
 
+#include <fmt/format.h>
+
 namespace aovar::util {
 
 std::string cpp_string_literal(std::string_view bytes) {
@@ -29,6 +31,12 @@ std::string cpp_string_literal(std::string_view bytes) {
   }
   out += '"';
   return out;
+}
+
+std::string cpp_float_literal(double v) {
+  std::string s = fmt::format("{:.9g}", v);
+  if (s.find_first_of(".e") == std::string::npos) s += ".0";
+  return s + "f";
 }
 
 }  // namespace aovar::util

@@ -12,4 +12,8 @@ namespace aovar::util {
 // Printable ASCII names come out unchanged between the quotes, so plain names give byte-identical output.
 std::string cpp_string_literal(std::string_view bytes);
 
+// A float literal that reads back as the same float: nine significant digits, always with a `.` or an exponent,
+// and the `f` suffix ("2.0f", "0.000759999978f").
+std::string cpp_float_literal(double v);
+
 }  // namespace aovar::util
