@@ -41,6 +41,51 @@ function(_aovar_check_target_name target)
   endif()
 endfunction()
 
+# The aovar program a configure step can run: AOVAR_EXECUTABLE, or an imported aovar::aovar's file; empty for
+# aovar built in this same build (FetchContent), which does not exist before the build.
+function(_aovar_configure_time_tool tool out_var)
+  set(program "")
+  if(EXISTS "${tool}")
+    set(program "${tool}")
+  elseif(TARGET aovar::aovar)
+    get_target_property(imported aovar::aovar IMPORTED)
+    if(imported)
+      get_target_property(program aovar::aovar IMPORTED_LOCATION)
+      if(NOT program)
+        get_target_property(configs aovar::aovar IMPORTED_CONFIGURATIONS)
+        foreach(config IN LISTS configs)
+          get_target_property(program aovar::aovar IMPORTED_LOCATION_${config})
+          if(program)
+            break()
+          endif()
+        endforeach()
+      endif()
+    endif()
+  endif()
+  if(NOT program OR NOT EXISTS "${program}")
+    set(program "")
+  endif()
+  set(${out_var} "${program}" PARENT_SCOPE)
+endfunction()
+
+# FROM_TABLE's table is checked when the project is configured, not first at build time: its manifest, its
+# names, the targets and pick asked for, and the calibration it was scored with (found, with the scored
+# bytes). A refusal fails the configure with aovar's one line. The table is a configure dependency, so a new
+# table is checked again. With aovar built in the same build the check waits for the build's own run.
+function(_aovar_check_table_at_configure target tool table)
+  _aovar_configure_time_tool("${tool}" program)
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${table}")
+  if(NOT program)
+    return()
+  endif()
+  execute_process(COMMAND "${program}" ${ARGN} --check-table RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    string(STRIP "${err}" err)
+    string(REGEX REPLACE ".*\n" "" err "${err}")  # aovar's one-line refusal is its last line
+    message(FATAL_ERROR "aovar_add_shader_variants(${target}): ${err}")
+  endif()
+endfunction()
+
 function(aovar_add_shader_variants target)
   cmake_parse_arguments(PARSE_ARGV 1 arg "WERROR" "MANIFEST;OUTPUT_DIR;FROM_TABLE;BUDGET_MS;BUDGET_OF;MAX_ERROR"
                         "TARGETS;VARIANTS;FOR")
@@ -125,6 +170,9 @@ function(aovar_add_shader_variants target)
     endforeach()
   elseif(arg_FOR OR DEFINED arg_BUDGET_MS OR DEFINED arg_BUDGET_OF OR DEFINED arg_MAX_ERROR)
     message(FATAL_ERROR "aovar_add_shader_variants(${target}): FOR, BUDGET_MS, BUDGET_OF and MAX_ERROR need FROM_TABLE")
+  endif()
+  if(DEFINED arg_FROM_TABLE)
+    _aovar_check_table_at_configure(${target} "${tool}" "${table}" ${args})
   endif()
 
   # OUTPUT is a stamp touched on every run; the sources are BYPRODUCTS, so Ninja's restat sees that an

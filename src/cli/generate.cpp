@@ -26,6 +26,7 @@ struct GenerateArgs {
   std::string out_dir, depfile, depfile_target, stamp, emit = "index,source,spirv,cpp", shard;
   TableRequestArgs table;  // --from-table: the selection and the pick table come from a cost table
   std::string calibration;  // --calibration: the fitted values the variants embed
+  bool check_table = false;  // --check-table: the table's checks only, nothing compiled or written
 };
 
 // "index,source,spirv,cpp" -> compile::Emit bits; throws std::runtime_error naming an unknown item.
@@ -110,12 +111,14 @@ ExitCode run_generate(GenerateArgs& a) {
     a.table.manifest = a.common.manifest;
     TableChoice choice = choose_from_table(a.table);
     std::cerr << choice.summary;
+    if (a.check_table) return ExitCode::ok;  // every refusal of the table has been made: CMake's configure step
     a.common.globs = std::move(choice.keys);  // exact keys: the glob path's outputs, depfile and no-op check
     a.out.pick_fronts = std::move(choice.fronts);
     a.out.parameters = std::move(choice.parameters);
     if (!choice.calibration.empty()) a.out.depends.push_back(choice.calibration);
-  } else if (!a.table.targets.empty() || a.table.budget_ms || a.table.max_error || !a.table.budget_of.empty()) {
-    throw std::runtime_error("generate: --for, --budget-ms, --budget-of and --max-error need --from-table");
+  } else if (!a.table.targets.empty() || a.table.budget_ms || a.table.max_error || !a.table.budget_of.empty() ||
+             a.check_table) {
+    throw std::runtime_error("generate: --for, --budget-ms, --budget-of, --max-error and --check-table need --from-table");
   }
   if (!a.calibration.empty()) {
     if (!a.table.table.empty())
@@ -160,6 +163,10 @@ Command add_generate(CLI::App& app) {
                   "calibration.json (aovar calibrate, ship's OUT/calibration.json): embed its fitted values as each "
                   "variant's params, beside the manifest's (default: the manifest's values; --from-table: the table's)");
   cmd->add_flag("--check", a->out.check, "write nothing; exit 1 when any output would change (CI staleness check)");
+  cmd->add_flag("--check-table", a->check_table,
+                "with --from-table: make every check of the table (its manifest, names, targets and pick, the "
+                "calibration it was scored with) and stop: nothing is compiled or written (CMake's FROM_TABLE runs it "
+                "at configure)");
   return {cmd, runs(a, run_generate)};
 }
 
