@@ -33,6 +33,9 @@ class VerifiedCache {
   void reject(std::string_view key, std::string_view why) const;
 
   std::filesystem::path entry_path(std::string_view key) const;
+  // The full key an entry file's bytes name, or nullopt when they are no entry (for tests and tools that
+  // look inside a cache without knowing how its owner builds keys).
+  static std::optional<std::string> key_of(std::string_view entry_bytes);
 
  private:
   void warn_damaged(const std::filesystem::path& entry, std::string_view why) const;
