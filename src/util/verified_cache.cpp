@@ -3,6 +3,7 @@
 #include <charconv>
 #include <iostream>
 #include <mutex>
+#include <set>
 
 #include "util/fs.h"
 #include "util/hash.h"
@@ -62,6 +63,15 @@ std::string_view verified_content(std::string_view bytes, std::string_view kind,
   return rest;
 }
 
+// Whether this is the first time this process finds `dir` unwritable: its warning is given once, however many
+// cache objects of the kind a run makes (one per compile, per view, per chip).
+bool first_unwritable_warning(const fs::path& dir) {
+  static std::mutex mutex;
+  static std::set<fs::path> warned;
+  const std::lock_guard lock(mutex);
+  return warned.insert(dir).second;
+}
+
 }  // namespace
 
 VerifiedCache::VerifiedCache(fs::path dir, std::string kind)
@@ -112,7 +122,7 @@ void VerifiedCache::write(std::string_view key, std::string_view content) const 
     if (fs::is_directory(entry, ec)) fs::remove_all(entry, ec);  // a folder where the entry goes: replaced
     write_atomic(entry, bytes, Durability::replaceable);
   } catch (const std::exception& e) {
-    if (!warned_unwritable_.exchange(true))
+    if (first_unwritable_warning(dir_))
       std::cerr << "aovar: warning: the " << kind_ << " cache cannot be written (" << one_line(e.what())
                 << "): going on without caching\n";
   }
