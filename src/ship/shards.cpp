@@ -45,8 +45,10 @@ std::string fit_problem(const fs::path& dir, const std::string& fit_inputs) {
   const auto text = util::read_file(dir / "calibration.json");
   if (!text) return "no calibration.json";
   if (recorded_input(dir, "fit_inputs") != fit_inputs) return "a fit of other inputs";
-  if (util::hash_hex(*text) != recorded_input(dir, "fit_checksum"))
-    return util::display_path(dir / "calibration.json") + ": content that does not match the checksum ship.json records";
+  const std::string recorded = recorded_input(dir, "fit_checksum");
+  const std::string file = util::display_path(dir / "calibration.json");
+  if (recorded.empty()) return file + ": ship.json records no checksum of it (a fit of an earlier aovar)";
+  if (util::hash_hex(*text) != recorded) return file + ": content that does not match the checksum ship.json records";
   return "";
 }
 
@@ -54,8 +56,9 @@ void adopt_shard_fit(const std::vector<fs::path>& shards, const std::string& fit
                      const variants::Manifest& manifest) {
   std::string refused;  // why the last shard with these inputs was passed over
   for (const auto& dir : shards) {
+    if (!fs::exists(dir / "calibration.json") || recorded_input(dir, "fit_inputs") != fit_inputs) continue;
     if (const std::string why = fit_problem(dir, fit_inputs); !why.empty()) {
-      if (why.find("checksum") != std::string::npos) refused = " (" + why + ")";
+      refused = " (" + why + ")";
       continue;
     }
     const auto calibration = util::read_file(dir / "calibration.json");
