@@ -65,6 +65,7 @@ std::optional<Profile> read_stored_profile(const fs::path& file, const std::stri
     if (j.value("inputs_hash", "") != inputs) return std::nullopt;  // another run's inputs: profiled again, quietly
     const std::string checksum = j.value("checksum", "");
     j.erase("checksum");
+    if (checksum.empty()) throw std::runtime_error("no checksum (a profile of an earlier aovar)");
     if (checksum != profile_checksum(j)) throw std::runtime_error("content that does not match its checksum");
     return profile_from_json(j);
   } catch (const util::NewerSchema&) {
