@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iostream>
 #include <map>
 #include <optional>
 
@@ -14,6 +15,7 @@
 #include "util/glob.h"
 #include "util/hash.h"
 #include "util/schema.h"
+#include "util/text.h"
 
 namespace aovar::profile {
 namespace fs = std::filesystem;
@@ -45,6 +47,44 @@ std::string ScenePruning::summary(const std::vector<std::string>& globs) const {
   return fmt::format("{} keeps {} of {} selected variants; drops {}{}", scene, c.kept, c.selected, c.dropped,
                      rules.empty() ? std::string() : " (" + rules + ")");
 }
+
+namespace {
+
+// OUT/profile.json is read back by a resumed run as a cache entry would be (issue 54): it names its inputs
+// (the key) and carries a checksum of its text, so a hand-edited, truncated or older profile is profiled again
+// with one warning instead of pruning on numbers no profile gave. The checksum is the hash of the record's
+// JSON text without it (nlohmann's dump is canonical: sorted keys, shortest round-trip numbers).
+std::string profile_checksum(const json& record) { return util::hash_hex(record.dump()); }
+
+std::optional<Profile> read_stored_profile(const fs::path& file, const std::string& inputs) {
+  const auto text = util::read_file(file);
+  if (!text) return std::nullopt;
+  try {
+    json j = json::parse(*text);
+    util::check_schema(j, file);
+    if (j.value("inputs_hash", "") != inputs) return std::nullopt;  // another run's inputs: profiled again, quietly
+    const std::string checksum = j.value("checksum", "");
+    j.erase("checksum");
+    if (checksum.empty()) throw std::runtime_error("no checksum (a profile of an earlier aovar)");
+    if (checksum != profile_checksum(j)) throw std::runtime_error("content that does not match its checksum");
+    return profile_from_json(j);
+  } catch (const util::NewerSchema&) {
+    throw;  // a newer aovar's file: not ours to overwrite
+  } catch (const std::exception& e) {
+    std::cerr << "aovar: warning: " << util::display_path(file) << ": " << util::one_line(e.what())
+              << " (a damaged profile: profiling again)\n";
+    return std::nullopt;
+  }
+}
+
+void store_profile(const fs::path& file, const Profile& p, const std::string& inputs) {
+  json j = to_json(p);
+  j["inputs_hash"] = inputs;
+  j["checksum"] = profile_checksum(j);
+  util::write_atomic(file, j.dump(1) + "\n");
+}
+
+}  // namespace
 
 ScenePruning prune_scene(const PruneOptions& o, const scene::Scene& sc, const std::vector<const scene::View*>& views,
                          const std::vector<std::string>& globs, const Progress& progress) {
@@ -88,27 +128,13 @@ ScenePruning prune_scene(const PruneOptions& o, const scene::Scene& sc, const st
   std::optional<Profile> p;
   const fs::path file = o.store_dir.empty() ? fs::path() : o.store_dir / "profile.json";
   if (!file.empty()) out.profile_file = "profile.json";
-  if (auto text = !file.empty() && o.reuse ? util::read_file(file) : std::nullopt) {
-    try {
-      json j = json::parse(*text);
-      util::check_schema(j, file);
-      if (j.value("inputs_hash", "") == inputs) p = profile_from_json(j);
-    } catch (const util::NewerSchema&) {
-      throw;  // a newer aovar's file: not ours to overwrite
-    } catch (const std::exception&) {
-      p.reset();  // an older or damaged file: profile again
-    }
-  }
+  if (!file.empty() && o.reuse) p = read_stored_profile(file, inputs);
   out.reused = p.has_value();
   if (!p) {
     p = profile_scene(po, sc, manifest, space, [&](const std::string& line) {
       if (progress) progress("profiling " + o.profile.scene + ": " + line);
     });
-    if (!file.empty()) {
-      json j = to_json(*p);
-      j["inputs_hash"] = inputs;
-      util::write_atomic(file, j.dump(1) + "\n");
-    }
+    if (!file.empty()) store_profile(file, *p, inputs);
   }
 
   auto pruned = prune(manifest, space, *p, globs);

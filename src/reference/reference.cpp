@@ -3,13 +3,13 @@
 
 #include <cmath>
 #include <cstring>
-#include <iostream>
 #include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "image/image.h"
+#include "reference/cache.h"
 #include "reference/detail.h"
 #include "util/fs.h"
 #include "util/hash.h"
@@ -47,30 +47,6 @@ void check_options(const ReferenceOptions& o) {
     throw std::runtime_error(fmt::format("reference: rays {} must be from 1 to {} per pixel", o.rays, kMaxRays));
   if (o.frame < 0) throw std::runtime_error(fmt::format("reference: frame {} must be 0 or more", o.frame));
   if (o.threads < 0) throw std::runtime_error(fmt::format("reference: threads {} must be 0 (all cores) or more", o.threads));
-}
-
-// The depth of a cache entry: <entry>.depth.pfm, or for an entry written before depth was cached, one
-// primary ray per pixel (trace_depth: the same rays the reference traced), stored for the next run.
-image::FloatImage cached_depth(const fs::path& entry, const scene::Scene& scene, const scene::View& view,
-                               const ReferenceOptions& o) {
-  const fs::path path = with_suffix(entry, ".depth.pfm");
-  if (!fs::exists(path)) {
-    image::FloatImage depth = trace_depth(scene, view, o.size, o.frame, o.threads).depth;
-    try {
-      image::write_pfm(path, depth);
-    } catch (const std::exception&) {
-      // As for the image: an unwritable cache costs the next run a trace, nothing else.
-    }
-    return depth;
-  }
-  image::FloatImage depth = image::read_pfm(path);
-  if (depth.width != o.size.width || depth.height != o.size.height)
-    throw std::runtime_error(fmt::format("{}: error: cached depth is {}x{}, expected {}x{}", util::display_path(path),
-                                         depth.width, depth.height, o.size.width, o.size.height));
-  for (float d : depth.pixels)  // a view depth is >= 0, +inf on background; NaN is damage
-    if (!(d >= 0.0f))
-      throw std::runtime_error(fmt::format("{}: error: cached depth holds {} (a depth is >= 0)", util::display_path(path), d));
-  return depth;
 }
 
 }  // namespace
@@ -150,69 +126,21 @@ ReferenceImage load_reference(const fs::path& stem) {
   return ref;
 }
 
-namespace {
-
-// A traced visibility is in [0, 1] and its standard error finite and >= 0 at every pixel: an entry of the
-// right size holding NaN, Inf or values outside that range is damaged (it would make every error NaN).
-void check_cached_values(const ReferenceImage& ref, const fs::path& file) {
-  for (std::size_t i = 0; i < ref.visibility.pixels.size(); ++i) {
-    const float v = ref.visibility.pixels[i];
-    const float e = i < ref.std_error.pixels.size() ? ref.std_error.pixels[i] : 0.0f;
-    if (!(v >= 0.0f && v <= 1.0f) || !(std::isfinite(e) && e >= 0.0f))
-      throw std::runtime_error(fmt::format("{}: error: pixel {} holds visibility {} and standard error {} (a traced "
-                                           "reference is finite, in [0, 1])",
-                                           util::display_path(file), i, v, e));
-  }
-}
-
-// The cached reference at `entry`, or nullopt when there is none or it is damaged (truncated, another
-// size, unreadable): a damaged entry is traced again and replaced, with a warning, as the compile cache
-// recompiles; the cache is a speed-up, never a reason to fail.
-std::optional<ReferenceImage> cached_reference(const fs::path& entry, const scene::Scene& scene,
-                                               const scene::View& view, const ReferenceOptions& o) {
-  if (!fs::exists(with_suffix(entry, ".pfm"))) return std::nullopt;
-  try {
-    ReferenceImage ref = load_reference(entry);
-    if (ref.visibility.width != o.size.width || ref.visibility.height != o.size.height)
-      throw std::runtime_error(fmt::format("{}: error: cached reference is {}x{}, expected {}x{}",
-                                           util::display_path(with_suffix(entry, ".pfm")), ref.visibility.width,
-                                           ref.visibility.height, o.size.width, o.size.height));
-    check_cached_values(ref, with_suffix(entry, ".pfm"));
-    ref.depth = cached_depth(entry, scene, view, o);
-    return ref;
-  } catch (const std::exception& e) {
-    std::cerr << "aovar: warning: " << e.what() << " (a damaged reference cache entry: tracing it again)\n";
-    return std::nullopt;
-  }
-}
-
-}  // namespace
-
 ReferenceImage trace_reference(const scene::Scene& scene, const scene::View& view, const ReferenceOptions& options,
                                const Progress& progress) {
   check_options(options);
   if (scene.triangle_count() == 0) throw std::runtime_error(scene.name + ": error: the scene has no triangles to trace");
   const std::string key = cache_key(scene, view, options);
-  fs::path entry;
-  if (!options.cache_dir.empty()) {
-    entry = options.cache_dir / "reference" / key;
-    if (std::optional<ReferenceImage> cached = cached_reference(entry, scene, view, options)) {
-      cached->key = key;
-      cached->from_cache = true;
-      if (progress) progress(1.0, 0.0);
-      return std::move(*cached);
-    }
+  const detail::ReferenceCache cache(options.cache_dir);
+  if (std::optional<ReferenceImage> cached = cache.find(key, options.size)) {
+    cached->key = key;
+    cached->from_cache = true;
+    if (progress) progress(1.0, 0.0);
+    return std::move(*cached);
   }
   ReferenceImage ref = detail::trace(scene, view, options, progress);
   ref.key = key;
-  if (!entry.empty()) {
-    try {
-      image::write_pfm(with_suffix(entry, ".depth.pfm"), ref.depth);  // before the image, which marks a complete entry
-      write_reference(entry, ref);
-    } catch (const std::exception&) {
-      // A cache that cannot be written only costs the next run a trace; the result is still good.
-    }
-  }
+  cache.store(key, ref);
   return ref;
 }
 

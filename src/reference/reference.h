@@ -40,8 +40,8 @@ struct ReferenceImage {
   image::FloatImage std_error;   // per-pixel standard error of `visibility`; background pixels are 0
   std::vector<std::uint8_t> background;  // 1 where the primary ray hits nothing (row 0 = bottom, as images)
   // Linear view depth of the primary hit (trace_depth's, from the same rays), +inf on background: where the
-  // error lies in depth (metrics::error_breakdown). Cached next to the image (<key>.depth.pfm); an entry
-  // written before it gets it from one trace_depth, stored then. Not in write_reference's files.
+  // error lies in depth (metrics::error_breakdown). Cached with the image (reference/cache.h). Not in
+  // write_reference's files.
   image::FloatImage depth;
   std::string key;               // cache key (scene hash, view, size, radius, rays, mode, frame, version)
   bool from_cache = false;
@@ -52,8 +52,9 @@ struct ReferenceImage {
 // Progress: fraction done in [0, 1] and seconds elapsed; called from the calling thread only.
 using Progress = std::function<void(double fraction, double elapsed_s)>;
 
-// Traces (or loads from the cache) the reference of one view. Throws std::runtime_error with a one-line
-// message (bad options, Embree failure, unreadable cache entry names its file).
+// Traces (or loads from the cache, reference/cache.h) the reference of one view. Throws std::runtime_error with
+// a one-line message (bad options, Embree failure); a damaged cache entry is traced again with a warning, an
+// unwritable cache makes it go on uncached: the cache never fails a run.
 ReferenceImage trace_reference(const scene::Scene& scene, const scene::View& view, const ReferenceOptions& options,
                                const Progress& progress = {});
 

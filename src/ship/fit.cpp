@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -29,11 +30,15 @@ std::string fit_inputs(const ShipOptions& o, const scene::Scene& sc, const calib
   return h.hex();
 }
 
-// Whether OUT/calibration.json can be reused: whole, and within the manifest's ranges. A damaged one (a
-// truncated write, a bad join of an earlier version) is fitted again with a warning, as damaged profiles and
-// round tables are recomputed: it never blocks a resume.
-bool usable_fit(const fs::path& file, const variants::Manifest& manifest) {
+// Whether OUT/calibration.json can be reused: the fit of these inputs, its text the one ship.json's checksum
+// records (shards.h, fit_problem), and within the manifest's ranges. A damaged one (edited, a truncated write, a
+// bad join of an earlier version) is fitted again with a warning, as damaged profiles and round tables are
+// recomputed: it never blocks a resume and never changes an answer. A fit of other inputs is refitted quietly.
+bool usable_fit(const fs::path& out, const std::string& inputs, const variants::Manifest& manifest) {
+  const fs::path file = out / "calibration.json";
+  if (!fs::exists(file) || recorded_input(out, "fit_inputs") != inputs) return false;
   try {
+    if (const std::string why = fit_problem(out, inputs); !why.empty()) throw std::runtime_error(why);
     calibrate::load_calibration(file, manifest);
     return true;
   } catch (const std::exception& e) {
@@ -50,7 +55,7 @@ Fitted fit_methods(const ShipOptions& o, const scene::Scene& sc, const calibrate
   const std::string inputs = fit_inputs(o, sc, split, normals);
   Fitted f;
   f.inputs = inputs;
-  f.reused = fs::exists(file) && recorded_input(o.out, "fit_inputs") == inputs && usable_fit(file, manifest);
+  f.reused = usable_fit(o.out, inputs, manifest);
   if (!f.reused && !o.join.empty()) {  // the shards fitted the same inputs: take theirs
     adopt_shard_fit(o.join, inputs, o.out, manifest);
     f.reused = true;
@@ -68,7 +73,7 @@ Fitted fit_methods(const ShipOptions& o, const scene::Scene& sc, const calibrate
     calibrate::write_calibration(file, calibrate::calibrate(co, [&](const std::string& line) {
                                    if (progress) progress("fit: " + line);
                                  }));
-    record_input(o.out, "fit_inputs", inputs);
+    record_fit(o.out, inputs);
   }
   f.calibration = calibrate::read_calibration(file, manifest);
   return f;

@@ -9,6 +9,7 @@
 #include "calibrate/file.h"
 #include "sweep/merge.h"
 #include "util/fs.h"
+#include "util/hash.h"
 
 namespace aovar::ship {
 namespace fs = std::filesystem;
@@ -34,12 +35,33 @@ void record_input(const fs::path& out, const std::string& name, const std::strin
   util::write_atomic(out / "ship.json", state.dump(1) + "\n");
 }
 
+void record_fit(const fs::path& out, const std::string& fit_inputs) {
+  const auto text = util::read_file(out / "calibration.json");
+  record_input(out, "fit_checksum", text ? util::hash_hex(*text) : std::string());
+  record_input(out, "fit_inputs", fit_inputs);
+}
+
+std::string fit_problem(const fs::path& dir, const std::string& fit_inputs) {
+  const auto text = util::read_file(dir / "calibration.json");
+  if (!text) return "no calibration.json";
+  if (recorded_input(dir, "fit_inputs") != fit_inputs) return "a fit of other inputs";
+  const std::string recorded = recorded_input(dir, "fit_checksum");
+  const std::string file = util::display_path(dir / "calibration.json");
+  if (recorded.empty()) return file + ": ship.json records no checksum of it (a fit of an earlier aovar)";
+  if (util::hash_hex(*text) != recorded) return file + ": content that does not match the checksum ship.json records";
+  return "";
+}
+
 void adopt_shard_fit(const std::vector<fs::path>& shards, const std::string& fit_inputs, const fs::path& out,
                      const variants::Manifest& manifest) {
   std::string refused;  // why the last shard with these inputs was passed over
   for (const auto& dir : shards) {
+    if (!fs::exists(dir / "calibration.json") || recorded_input(dir, "fit_inputs") != fit_inputs) continue;
+    if (const std::string why = fit_problem(dir, fit_inputs); !why.empty()) {
+      refused = " (" + why + ")";
+      continue;
+    }
     const auto calibration = util::read_file(dir / "calibration.json");
-    if (!calibration || recorded_input(dir, "fit_inputs") != fit_inputs) continue;
     try {  // a shard's damaged or out-of-range fit is never copied: it would stick in every later join
       calibrate::load_calibration(dir / "calibration.json", manifest);
     } catch (const std::exception& e) {
@@ -47,7 +69,7 @@ void adopt_shard_fit(const std::vector<fs::path>& shards, const std::string& fit
       continue;
     }
     util::write_atomic(out / "calibration.json", *calibration);
-    record_input(out, "fit_inputs", fit_inputs);
+    record_fit(out, fit_inputs);
     return;
   }
   throw std::runtime_error(fmt::format("ship --join: no shard folder ({}) holds a usable fit of this run's inputs "

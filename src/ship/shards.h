@@ -18,8 +18,16 @@ namespace aovar::ship {
 std::string recorded_input(const std::filesystem::path& out, const std::string& name);
 void record_input(const std::filesystem::path& out, const std::string& name, const std::string& hash);
 
+// OUT/calibration.json is checked as a cache entry would be (issue 54): ship.json records the fit's inputs (its
+// key) and the hash of the file's text (its checksum). record_fit writes both for the file as it is now;
+// fit_problem says why DIR's fit is not to be reused ("" when its recorded checksum matches; a missing file,
+// another run's inputs, or a file edited, truncated or written by an earlier version without a checksum).
+void record_fit(const std::filesystem::path& out, const std::string& fit_inputs);
+std::string fit_problem(const std::filesystem::path& dir, const std::string& fit_inputs);
+
 // Copies the calibration of the first shard folder whose fit has these inputs and is whole and within the
-// manifest's ranges (calibrate::load_calibration) into `out` (with its record); a damaged one is passed over.
+// manifest's ranges (calibrate::load_calibration) into `out` (with its record); a damaged one (fit_problem, or
+// out of range) is passed over.
 // Throws std::runtime_error (one line naming the folders, and why the last candidate was refused) when none has.
 void adopt_shard_fit(const std::vector<std::filesystem::path>& shards, const std::string& fit_inputs,
                      const std::filesystem::path& out, const variants::Manifest& manifest);

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <iostream>
 #include <mutex>
+#include <set>
 
 #include "util/fs.h"
 #include "util/hash.h"
@@ -31,6 +32,17 @@ std::optional<std::size_t> parse_size(std::string_view text) {
   return v;
 }
 
+// The length-prefixed key at the front of `rest` (it may hold any byte, newlines included), moved past; nullopt
+// when cut short.
+std::optional<std::string_view> take_key(std::string_view& rest) {
+  const auto space = rest.find(' ');
+  const auto key_size = space == rest.npos ? std::nullopt : parse_size(rest.substr(0, space));
+  if (!key_size || rest.size() < space + 1 + *key_size) return std::nullopt;
+  const auto key = rest.substr(space + 1, *key_size);
+  rest.remove_prefix(space + 1 + *key_size);
+  return key;
+}
+
 // The content of a well-formed entry for exactly `key`, or the reason it is not.
 std::string_view verified_content(std::string_view bytes, std::string_view kind, std::string_view key,
                                   std::string& why) {
@@ -38,12 +50,9 @@ std::string_view verified_content(std::string_view bytes, std::string_view kind,
   std::string_view rest = bytes.substr(kEntryMagic.size());
   const auto kind_line = take_line(rest);
   if (!kind_line || *kind_line != kind) return why = "an entry of another cache", "";
-  // The key is length-prefixed: it may hold any byte, newlines included.
-  const auto space = rest.find(' ');
-  const auto key_size = space == rest.npos ? std::nullopt : parse_size(rest.substr(0, space));
-  if (!key_size || rest.size() < space + 1 + *key_size + 1) return why = "a truncated key", "";
-  if (rest.substr(space + 1, *key_size) != key) return why = "the entry of another key (moved or swapped)", "";
-  rest.remove_prefix(space + 1 + *key_size);
+  const auto entry_key = take_key(rest);
+  if (!entry_key) return why = "a truncated key", "";
+  if (*entry_key != key) return why = "the entry of another key (moved or swapped)", "";
   if (rest.empty() || rest.front() != '\n') return why = "a damaged key line", "";
   rest.remove_prefix(1);
   const auto sum_line = take_line(rest);
@@ -52,6 +61,15 @@ std::string_view verified_content(std::string_view bytes, std::string_view kind,
   if (!size || *size != rest.size()) return why = "content of another length than it records (truncated?)", "";
   if (sum_line->substr(0, sum_space) != hash_hex(rest)) return why = "content that does not match its checksum", "";
   return rest;
+}
+
+// Whether this is the first time this process finds `dir` unwritable: its warning is given once, however many
+// cache objects of the kind a run makes (one per compile, per view, per chip).
+bool first_unwritable_warning(const fs::path& dir) {
+  static std::mutex mutex;
+  static std::set<fs::path> warned;
+  const std::lock_guard lock(mutex);
+  return warned.insert(dir).second;
 }
 
 }  // namespace
@@ -104,10 +122,18 @@ void VerifiedCache::write(std::string_view key, std::string_view content) const 
     if (fs::is_directory(entry, ec)) fs::remove_all(entry, ec);  // a folder where the entry goes: replaced
     write_atomic(entry, bytes, Durability::replaceable);
   } catch (const std::exception& e) {
-    if (!warned_unwritable_.exchange(true))
+    if (first_unwritable_warning(dir_))
       std::cerr << "aovar: warning: the " << kind_ << " cache cannot be written (" << one_line(e.what())
                 << "): going on without caching\n";
   }
+}
+
+std::optional<std::string> VerifiedCache::key_of(std::string_view bytes) {
+  if (bytes.substr(0, kEntryMagic.size()) != kEntryMagic) return std::nullopt;
+  std::string_view rest = bytes.substr(kEntryMagic.size());
+  if (!take_line(rest)) return std::nullopt;  // the kind
+  const auto key = take_key(rest);
+  return key ? std::optional<std::string>(*key) : std::nullopt;
 }
 
 void VerifiedCache::reject(std::string_view key, std::string_view why) const { warn_damaged(entry_path(key), why); }

@@ -3,12 +3,12 @@
 // content matches the checksum it carries, so a damaged, truncated, swapped or foreign entry is never
 // trusted; a cache never fails a run (an unreadable entry is a miss, an unwritable folder makes the run go
 // on uncached) and never changes an answer (what an entry's content means is checked by its owner on top:
-// SPIR-V validated, images finite). Warnings are one line on stderr, each at most once per cache object.
+// SPIR-V validated, images finite). Warnings are one line on stderr: one per damaged entry, and one per
+// process for a cache folder that cannot be written (a run makes many cache objects of one kind).
 //
 // An entry is one file DIR/<kind>/<h[0:2]>/<h>.entry, h the hash of the key, holding
 //   "aovar-verified-cache 1\n" <kind> "\n" <key length> " " <key> "\n" <content hash> " " <content length> "\n" <content>
 // written atomically (util::write_atomic, replaceable: an entry is rebuilt from its inputs when lost).
-#include <atomic>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -33,12 +33,14 @@ class VerifiedCache {
   void reject(std::string_view key, std::string_view why) const;
 
   std::filesystem::path entry_path(std::string_view key) const;
+  // The full key an entry file's bytes name, or nullopt when they are no entry (for tests and tools that
+  // look inside a cache without knowing how its owner builds keys).
+  static std::optional<std::string> key_of(std::string_view entry_bytes);
 
  private:
   void warn_damaged(const std::filesystem::path& entry, std::string_view why) const;
   std::filesystem::path dir_;
   std::string kind_;
-  mutable std::atomic<bool> warned_unwritable_{false};
 };
 
 }  // namespace aovar::util

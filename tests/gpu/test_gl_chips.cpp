@@ -15,6 +15,8 @@
 #include "gpu/gl/vendor.h"
 #include "render_support.h"
 #include "test_support.h"
+#include "util/fs.h"
+#include "util/verified_cache.h"
 
 namespace aovar {
 namespace {
@@ -154,18 +156,28 @@ TEST(GlChips, TheCacheIsUsedWhenWholeAndRecomputedWhenDamaged) {
   const auto warm = gpu::analyze_gl_chips(c, one, {"gf110"}, tmp.path());
   EXPECT_EQ(warm.chips[0].cached, static_cast<int>(warm.chips[0].pipelines.size()));
   EXPECT_EQ(warm.chips[0].variants[0].total(true).instructions, cold.chips[0].variants[0].total(true).instructions);
-  // Damage every entry three ways: garbage, another entry's key, a line the parser cannot read.
-  int n = 0;
-  for (const auto& e : fs::recursive_directory_iterator(tmp.path() / "gl-stats")) {
-    if (!e.is_regular_file()) continue;
-    const std::string damaged[] = {"{not json", R"({"key":"0000","renderer":"x","version":"y","messages":["type: 4, inst: 1"]})",
-                                   "{\"key\":\"" + e.path().stem().string() + "\",\"renderer\":\"x\",\"version\":\"y\",\"messages\":[\"nothing\"]}"};
-    std::ofstream(e.path()) << damaged[n++ % 3];
-  }
-  ASSERT_GT(n, 0);
+  // Damage every entry three ways: garbage, another entry moved over it, and (its checksum right, written through
+  // the cache layer) a line the parser cannot read. Each is compiled again with a warning, to the same answer.
+  std::vector<fs::path> entries;
+  for (const auto& e : fs::recursive_directory_iterator(tmp.path() / "gl-stats"))
+    if (e.is_regular_file()) entries.push_back(e.path());
+  ASSERT_GE(entries.size(), 3u);
+  const util::VerifiedCache cache(tmp.path(), "gl-stats");
+  util::write_atomic(entries[0], "{not json");
+  util::write_atomic(entries[1], util::read_file(entries[2]).value());
+  const std::string key = util::VerifiedCache::key_of(util::read_file(entries[2]).value()).value();
+  cache.write(key, R"({"renderer":"x","version":"y","messages":["nothing"]})");
+  ASSERT_EQ(cache.entry_path(key), entries[2]);
+  testing::internal::CaptureStderr();
   const auto again = gpu::analyze_gl_chips(c, one, {"gf110"}, tmp.path());
-  EXPECT_EQ(again.chips[0].cached, 0);
+  const std::string said = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(again.chips[0].cached, static_cast<int>(entries.size()) - 3);
+  EXPECT_TRUE(test::has_text(said, "not an entry of this cache format")) << said;
+  EXPECT_TRUE(test::has_text(said, "the entry of another key")) << said;
+  EXPECT_TRUE(test::has_text(said, "no statistics line the nouveau parser reads")) << said;
   EXPECT_EQ(again.chips[0].variants[0].total(true).instructions, cold.chips[0].variants[0].total(true).instructions);
+  EXPECT_EQ(gpu::analyze_gl_chips(c, one, {"gf110"}, tmp.path()).chips[0].cached, static_cast<int>(entries.size()))
+      << "stored again, whole";
 }
 
 TEST(GlChips, ACacheThatCannotBeWrittenDoesNotFailTheRun) {

@@ -9,7 +9,10 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "ship/shards.h"
 #include "test_support.h"
+#include "util/schema.h"
+#include "variants/manifest.h"
 #include "util/fs.h"
 
 namespace aovar::test {
@@ -98,8 +101,9 @@ namespace aovar::test {
 namespace {
 
 // Issue 54, reproduction 10: a truncated OUT/calibration.json blocked the resume of a run, while damaged
-// profiles and round tables are recomputed. Now it is fitted again with a warning, as they are; the second
-// member: a fit whose values lie outside the manifest's ranges.
+// profiles and round tables are recomputed. Now it is fitted again with a warning, as they are; the other
+// members: a fit whose values lie outside the manifest's ranges, one edited within them (ship.json records its
+// checksum), and an edited profile.json (it carries its own).
 TEST(ShipFit, ADamagedFitIsFittedAgainOnResume) {
   TempDir dir;
   const std::string args = fmt::format(
@@ -111,15 +115,69 @@ TEST(ShipFit, ADamagedFitIsFittedAgainOnResume) {
   ASSERT_EQ(first.status, 0) << first.output;
   const fs::path fit = dir / "out" / "calibration.json";
   const std::string whole = *util::read_file(fit);
-  nlohmann::json out_of_range = nlohmann::json::parse(whole);
+  nlohmann::json out_of_range = nlohmann::json::parse(whole), in_range = out_of_range;
   out_of_range["algorithms"]["alchemy"]["params"]["ao.intensity"] = 1e9;
-  for (const std::string& damaged : {whole.substr(0, whole.size() / 2), out_of_range.dump()}) {
+  // Issue 54, one verified layer: an edit that keeps the fit in range and parseable was trusted and changed
+  // the answer. ship.json records the fit's checksum: it is fitted again, to the fit of the first run.
+  in_range["algorithms"]["alchemy"]["params"]["ao.intensity"] =
+      in_range["algorithms"]["alchemy"]["params"]["ao.intensity"].get<double>() * 0.99;
+  for (const std::string& damaged : {whole.substr(0, whole.size() / 2), out_of_range.dump(), in_range.dump(1) + "\n"}) {
     util::write_atomic(fit, damaged);
     const auto again = run_aovar(args);
     EXPECT_EQ(again.status, 0) << again.output;
     EXPECT_TRUE(has_text(again.output, "(a damaged fit: fitting again)")) << again.output;
-    EXPECT_NE(*util::read_file(fit), damaged);
+    EXPECT_EQ(*util::read_file(fit), whole) << "the fit is deterministic: fitted again, the first run's";
   }
+  // OUT/profile/profile.json likewise carries a checksum: a changed number is profiled again, to the same profile.
+  const fs::path profile = dir / "out" / "profile" / "profile.json";
+  const std::string profiled = *util::read_file(profile);
+  nlohmann::json edited = nlohmann::json::parse(profiled);
+  edited["radius"] = edited["radius"].get<double>() * 2;
+  nlohmann::json earlier = nlohmann::json::parse(profiled);
+  earlier.erase("checksum");  // as an earlier aovar wrote it
+  const std::pair<nlohmann::json, std::string> profiles[] = {{edited, "content that does not match its checksum"},
+                                                              {earlier, "no checksum (a profile of an earlier aovar)"}};
+  for (const auto& [damaged, why] : profiles) {
+    util::write_atomic(profile, damaged.dump(1) + "\n");
+    const auto again = run_aovar(args);
+    EXPECT_EQ(again.status, 0) << again.output;
+    EXPECT_TRUE(has_text(again.output, "profile.json: " + why + " (a damaged profile: profiling again)")) << again.output;
+    EXPECT_EQ(*util::read_file(profile), profiled);
+  }
+}
+
+// Issue 54, reproduction 10's first half: a join copied a shard's out-of-range calibration into its own --out,
+// where it stuck. A join adopts only a shard fit that is whole (its text the one the shard's ship.json records)
+// and within the manifest's ranges; the second member: a shard fit edited after the shard ran.
+TEST(ShipFit, AJoinAdoptsOnlyAWholeInRangeShardFit) {
+  TempDir dir;
+  const auto manifest = variants::load_manifest(source_dir() / "shader_src" / "aovar.toml");
+  auto fit_text = [](double intensity) {
+    return fmt::format(R"({{"schema_version": {}, "algorithms": {{"alchemy": {{"params": {{"ao.intensity": {}}}}}}}}})",
+                       util::kSchemaVersion, intensity) + "\n";
+  };
+  const std::string inputs = "the fit inputs";
+  auto shard = [&](const std::string& name, const std::string& text) {
+    write_text(dir / name / "calibration.json", text);
+    ship::record_fit(dir / name, inputs);
+    return dir / name;
+  };
+  const fs::path out_of_range = shard("s1", fit_text(1e9));
+  const fs::path edited = shard("s2", fit_text(0.5));
+  write_text(edited / "calibration.json", fit_text(0.6));
+  fs::create_directories(dir / "out");
+  const std::string refused =
+      thrown_message([&] { ship::adopt_shard_fit({out_of_range, edited}, inputs, dir / "out", manifest); });
+  EXPECT_TRUE(has_text(refused, "holds a usable fit of this run's inputs")) << refused;
+  EXPECT_TRUE(is_one_line(refused)) << refused;
+  EXPECT_FALSE(fs::exists(dir / "out" / "calibration.json")) << "nothing adopted";
+  EXPECT_TRUE(has_text(ship::fit_problem(edited, inputs), "does not match the checksum"));
+
+  const fs::path whole = shard("s3", fit_text(0.5));
+  ship::adopt_shard_fit({out_of_range, edited, whole}, inputs, dir / "out", manifest);
+  EXPECT_EQ(util::read_file(dir / "out" / "calibration.json"), fit_text(0.5));
+  EXPECT_EQ(ship::fit_problem(dir / "out", inputs), "") << "adopted with its record";
+  EXPECT_EQ(ship::fit_problem(dir / "out", "other inputs"), "a fit of other inputs");
 }
 
 }  // namespace

@@ -71,7 +71,8 @@ TEST(VerifiedCache, EveryKindOfDamagedOrForeignEntryIsAMissWithOneWarning) {
 }
 
 // Issue 54, reproduction 6's first member: a cache folder that cannot be written (here a file where the
-// folder goes; as root a read-only folder is still writable) warns once and the run goes on.
+// folder goes; as root a read-only folder is still writable) warns once, however many cache objects of the kind
+// a run makes, and the run goes on.
 TEST(VerifiedCache, AnUnwritableCacheWarnsOnceAndNeverThrows) {
   TempDir dir;
   write_text(dir / "cache", "a file, not a folder");
@@ -79,6 +80,7 @@ TEST(VerifiedCache, AnUnwritableCacheWarnsOnceAndNeverThrows) {
   testing::internal::CaptureStderr();
   EXPECT_NO_THROW(c.write("k1", "x"));
   EXPECT_NO_THROW(c.write("k2", "y"));
+  EXPECT_NO_THROW(util::VerifiedCache(dir / "cache", "unit").write("k3", "z"));  // once per process, not per object
   EXPECT_EQ(c.read("k1"), std::nullopt);
   const std::string said = testing::internal::GetCapturedStderr();
   EXPECT_TRUE(has_text(said, "the unit cache cannot be written")) << said;

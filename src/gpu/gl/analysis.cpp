@@ -12,9 +12,9 @@
 #include "gpu/gl/compiler.h"
 #include "gpu/gl/unroll.h"
 #include "render/plan.h"
-#include "util/fs.h"
 #include "util/hash.h"
 #include "util/parallel.h"
+#include "util/verified_cache.h"
 
 namespace aovar::gpu {
 namespace fs = std::filesystem;
@@ -86,35 +86,33 @@ struct Cached {
   ShaderStats stats;
 };
 
-fs::path entry_path(const fs::path& dir, const std::string& key) { return dir / key.substr(0, 2) / (key + ".json"); }
+// The cache of GL statistics, on the verified layer (util/verified_cache.h): an entry names its full key and
+// carries a checksum of its content. `key` is gl_cache_key's hash of everything the statistics depend on.
+std::string gl_entry_key(const std::string& chip, const std::string& key) { return "gl-stats " + chip + " " + key; }
 
-// An entry is used only when it is whole, names this key and the vendor's parser reads a fragment line in it.
-std::optional<Cached> read_entry(const fs::path& dir, const std::string& key, const GlVendor& vendor) {
-  if (dir.empty()) return std::nullopt;
-  const auto text = util::read_file(entry_path(dir, key), 1 << 20);
+// An entry is used only when the layer verifies it and the vendor's parser reads a fragment line in it;
+// anything else is compiled again with one warning, and the entry rewritten.
+std::optional<Cached> read_entry(const util::VerifiedCache& cache, const std::string& entry_key, const GlVendor& vendor) {
+  const auto text = cache.read(entry_key);
   if (!text) return std::nullopt;
   try {
     const nlohmann::json j = nlohmann::json::parse(*text);
-    if (j.at("key").get<std::string>() != key) return std::nullopt;
     auto stats = vendor.fragment_stats(j.at("messages").get<std::vector<std::string>>());
-    if (!stats) return std::nullopt;
+    if (!stats) throw std::runtime_error("no statistics line the " + vendor.name + " parser reads");
     return Cached{j.at("renderer").get<std::string>(), j.at("version").get<std::string>(), std::move(*stats)};
-  } catch (const std::exception&) {
-    return std::nullopt;  // damaged: compiled again, and the entry rewritten
+  } catch (const std::exception& e) {
+    cache.reject(entry_key, e.what());
+    return std::nullopt;
   }
 }
 
-// A cache that cannot be written never fails the run: the statistics are right without it, the next run
-// compiles again.
-void write_entry(const fs::path& dir, const std::string& key, const GlBatch& batch, const ShaderStats& stats) {
-  if (dir.empty()) return;
-  const nlohmann::json j = {{"key", key}, {"renderer", batch.renderer}, {"version", batch.version},
+// A cache that cannot be written never fails the run (the layer warns once): the statistics are right
+// without it, the next run compiles again.
+void write_entry(const util::VerifiedCache& cache, const std::string& entry_key, const GlBatch& batch,
+                 const ShaderStats& stats) {
+  const nlohmann::json j = {{"renderer", batch.renderer}, {"version", batch.version},
                             {"messages", std::vector<std::string>{stats.raw}}};
-  try {
-    fs::create_directories(entry_path(dir, key).parent_path());
-    util::write_atomic(entry_path(dir, key), j.dump());
-  } catch (const std::exception&) {
-  }
+  cache.write(entry_key, j.dump());
 }
 
 std::string driver_of(const std::string& gl_version) {  // "OpenGL ES 3.1 Mesa 25.0.7-2~bpo12+1" -> "Mesa 25.0.7-..."
@@ -122,7 +120,8 @@ std::string driver_of(const std::string& gl_version) {  // "OpenGL ES 3.1 Mesa 2
   return at == std::string::npos ? gl_version : gl_version.substr(at);
 }
 
-FamilyStats analyze_chip(const Plan& plan, const FamilySpec& chip, const GlInstall& install, const fs::path& cache) {
+FamilyStats analyze_chip(const Plan& plan, const FamilySpec& chip, const GlInstall& install,
+                         const util::VerifiedCache& cache) {
   const GlVendor& vendor = *gl_vendor(chip.compiler->driver);
   FamilyStats f;
   f.family = chip.family;
@@ -133,7 +132,8 @@ FamilyStats analyze_chip(const Plan& plan, const FamilySpec& chip, const GlInsta
   std::vector<std::size_t> todo_index;
   for (std::size_t i = 0; i < plan.pairs.size(); ++i) {
     const Pair& p = plan.pairs[i];
-    keys.push_back(gl_cache_key(chip.family, chip.compiler->chip, install.mesa, p.program.vertex, p.program.fragment));
+    keys.push_back(gl_entry_key(chip.family, gl_cache_key(chip.family, chip.compiler->chip, install.mesa,
+                                                          p.program.vertex, p.program.fragment)));
     if (auto hit = read_entry(cache, keys.back(), vendor)) {
       f.device = hit->renderer;
       f.driver = driver_of(hit->version);
@@ -202,7 +202,7 @@ GlChipsAnalysis analyze_gl_chips(const compile::CompiledSpace& compiled, const s
   const Plan plan = plan_pairs(compiled, variants);
   GlChipsAnalysis a;
   a.programs = static_cast<int>(plan.pairs.size());
-  const fs::path cache = cache_dir.empty() ? fs::path() : cache_dir / "gl-stats";
+  const util::VerifiedCache cache(cache_dir, "gl-stats");
   // One runner process per chip, as many at once as there are cores (each is single-threaded).
   a.chips.resize(specs.size());
   util::run_parallel(specs.size(), 0, [&](std::size_t i) { a.chips[i] = analyze_chip(plan, *specs[i], install, cache); });

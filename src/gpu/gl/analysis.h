@@ -2,8 +2,9 @@
 // Compiler statistics of variants on the chips Mesa's GL drivers compile for (NVIDIA, Adreno, Mali, Intel:
 // families.json's products with a "compiler"). Per variant, each pass's gles30 vertex + fragment program is
 // preprocessed and its loops unrolled (gpu/gl/unroll.h) once, then compiled per chip in one batch
-// (gpu/gl/compiler.h). Results are cached per program pair, chip and Mesa version, and every cache entry is
-// checked (its key, its shape, and that the vendor's parser reads it) before it is used.
+// (gpu/gl/compiler.h). Results are cached per program pair, chip and Mesa version in the verified cache layer
+// (CACHE/gl-stats, util/verified_cache.h: its full key and a checksum), and the vendor's parser must read an
+// entry before it is used; anything else is compiled again with a warning.
 #include <filesystem>
 #include <string>
 #include <vector>
