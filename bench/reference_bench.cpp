@@ -24,19 +24,6 @@ render::Extent parse_size(const std::string& s) {
   return e;
 }
 
-// RMSE over pixels that are surface in both images.
-double rmse(const reference::ReferenceImage& a, const reference::ReferenceImage& truth) {
-  double sum = 0;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < a.visibility.pixels.size(); ++i) {
-    if (a.background[i] || truth.background[i]) continue;
-    double d = double(a.visibility.pixels[i]) - double(truth.visibility.pixels[i]);
-    sum += d * d;
-    ++n;
-  }
-  return n ? std::sqrt(sum / double(n)) : 0.0;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -104,7 +91,7 @@ int main(int argc, char** argv) {
       for (int n : error_rays) {
         e.rays = n;
         auto r = reference::detail::trace(sc, view, e, {});
-        double err = rmse(r, truth);
+        double err = reference::surface_rmse(r, truth);
         auto stats = reference::reference_stats(r);
         std::cout << fmt::format("{:>6} {:>10.5f} {:>14.5f}\n", n, err, stats.mean_std_error);
         double x = std::log(double(n)), y = std::log(err);

@@ -85,6 +85,18 @@ float resolve_radius(const std::string& text, const scene::Scene& scene) {
   return static_cast<float>(value);
 }
 
+double surface_rmse(const ReferenceImage& a, const ReferenceImage& b) {
+  double sum = 0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < a.visibility.pixels.size(); ++i) {
+    if (a.background[i] || b.background[i]) continue;
+    const double d = double(a.visibility.pixels[i]) - double(b.visibility.pixels[i]);
+    sum += d * d;
+    ++n;
+  }
+  return n ? std::sqrt(sum / double(n)) : 0.0;
+}
+
 std::string cache_key(const scene::Scene& scene, const scene::View& view, const ReferenceOptions& o) {
   util::Hasher h;
   h.add(kCacheVersion).add(scene.content_hash);

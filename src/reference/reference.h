@@ -84,6 +84,10 @@ ReferenceImage load_reference(const std::filesystem::path& stem);
 // The cache key of trace_reference (32 hex digits).
 std::string cache_key(const scene::Scene& scene, const scene::View& view, const ReferenceOptions& options);
 
+// RMSE of `a`'s visibility against `b`'s over the pixels that are surface in both (0 when none are): how far
+// a reference is from a converged one of the same view (fewer rays against more, another ray API).
+double surface_rmse(const ReferenceImage& a, const ReferenceImage& b);
+
 // Summary over the non-background pixels (means are 1 and 0 when every pixel is background).
 struct ReferenceStats {
   double mean_visibility = 1.0;

@@ -67,16 +67,6 @@ reference::ReferenceOptions options(render::Extent size, float radius, int rays)
 // Cosine-weighted visibility of a point on an infinite floor at distance d = a R from an infinite wall.
 double wall_visibility(double a) { return 1.0 - (std::acos(a) - a * std::sqrt(1.0 - a * a)) / std::numbers::pi; }
 
-double rmse(const reference::ReferenceImage& a, const reference::ReferenceImage& b) {
-  double sum = 0;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < a.visibility.pixels.size(); ++i) {
-    if (a.background[i] || b.background[i]) continue;
-    double d = double(a.visibility.pixels[i]) - double(b.visibility.pixels[i]);
-    sum += d * d, ++n;
-  }
-  return std::sqrt(sum / double(std::max<std::size_t>(n, 1)));
-}
 
 TEST(Reference, SobolPrefixIsStratifiedInEveryElementaryInterval) {
   // 16 points: every box of area 1/16 with power-of-two sides (1x16, 2x8, 4x4, 8x2, 16x1) holds one.
@@ -166,7 +156,7 @@ TEST(Reference, ErrorFallsAtLeastAsFastAsOneOverSqrtRays) {
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   for (int n : counts) {
     o.rays = n;
-    double e = rmse(reference::trace_reference(sc, view, o), truth);
+    double e = reference::surface_rmse(reference::trace_reference(sc, view, o), truth);
     ASSERT_GT(e, 0.0);
     std::printf("  %4d rays: rmse %.5f against 4096 rays\n", n, e);
     double x = std::log(double(n)), y = std::log(e);
