@@ -54,7 +54,8 @@ void write_translation_unit(const std::string& decls, const std::string& source,
   if (!dir) return;
   const std::string text =
       "// A pick table aovar emitted for a fuzz corpus table (tests/fuzz/table_cpp.cpp).\n"
-      "#include <cstddef>\n#include <cstdint>\n#include <string_view>\nnamespace fuzz_emit {\n"
+      // The generated header's includes and the source's own (<cstring>: the GL chip rules' name matching).
+      "#include <cstddef>\n#include <cstdint>\n#include <cstring>\n#include <string_view>\nnamespace fuzz_emit {\n"
       "struct Variant { const char* key; };\nconst Variant kVariants[" + std::to_string(std::max<std::size_t>(variants, 1)) +
       "] = {};\n" + decls + source + "}  // namespace fuzz_emit\n";
   std::ofstream(std::string(dir) + "/" + util::hash_hex(text) + ".cpp", std::ios::binary) << text;
