@@ -64,6 +64,20 @@ reference::ReferenceOptions options(render::Extent size, float radius, int rays)
   return o;
 }
 
+// The cache tests' case: the floor with a low wall (half a unit high) across it (radius 1), seen from floor_view, traced at
+// `size` with `rays` into the cache at `dir`.
+struct LowWallCase {
+  scene::View view;
+  scene::Scene scene;
+  reference::ReferenceOptions options;
+};
+LowWallCase cached_low_wall(const TempDir& dir, render::Extent size, int rays) {
+  LowWallCase c{floor_view(), {}, options(size, 1.0f, rays)};
+  c.scene = quad_scene({kFloor, {{-20.0f, 0.0f, -2.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 0.5f, 0.0f}}}, c.view, 1.0f);
+  c.options.cache_dir = dir.path();
+  return c;
+}
+
 // Cosine-weighted visibility of a point on an infinite floor at distance d = a R from an infinite wall.
 double wall_visibility(double a) { return 1.0 - (std::acos(a) - a * std::sqrt(1.0 - a * a)) / std::numbers::pi; }
 
@@ -172,10 +186,7 @@ TEST(Reference, ErrorFallsAtLeastAsFastAsOneOverSqrtRays) {
 // keeps it with the image, bit for bit, without tracing again.
 TEST(Reference, DepthIsTraceDepthsAndTheCacheKeepsIt) {
   TempDir dir;
-  const scene::View view = floor_view();
-  auto sc = quad_scene({kFloor, {{-20.0f, 0.0f, -2.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 0.5f, 0.0f}}}, view, 1.0f);
-  auto o = options({32, 18}, 1.0f, 16);
-  o.cache_dir = dir.path();
+  auto [view, sc, o] = cached_low_wall(dir, {32, 18}, 16);
   const auto traced = reference::trace_reference(sc, view, o);
   const auto depth = reference::trace_depth(sc, view, o.size).depth;
   ASSERT_EQ(traced.depth.pixels.size(), depth.pixels.size());
@@ -215,10 +226,7 @@ void expect_traced_again(const scene::Scene& sc, const scene::View& view, const 
 // cache is a speed-up, never a reason for a run to fail, never a different answer.
 TEST(Reference, DamagedCacheEntryIsTracedAgainAndReplaced) {
   TempDir dir;
-  const scene::View view = floor_view();
-  auto sc = quad_scene({kFloor, {{-20.0f, 0.0f, -2.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 0.5f, 0.0f}}}, view, 1.0f);
-  auto o = options({32, 18}, 1.0f, 16);
-  o.cache_dir = dir.path();
+  auto [view, sc, o] = cached_low_wall(dir, {32, 18}, 16);
   const auto first = reference::trace_reference(sc, view, o);
   auto other_o = o;
   other_o.rays = 8;
@@ -250,10 +258,7 @@ TEST(Reference, DamagedCacheEntryIsTracedAgainAndReplaced) {
 // of the class: a visibility of 2, an Inf standard error, a NaN depth, an image of another size.
 TEST(Reference, CacheEntryOfNonFiniteOrImpossibleValuesIsTracedAgain) {
   TempDir dir;
-  const scene::View view = floor_view();
-  auto sc = quad_scene({kFloor, {{-20.0f, 0.0f, -2.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 0.5f, 0.0f}}}, view, 1.0f);
-  auto o = options({32, 18}, 1.0f, 16);
-  o.cache_dir = dir.path();
+  auto [view, sc, o] = cached_low_wall(dir, {32, 18}, 16);
   const auto first = reference::trace_reference(sc, view, o);
   const reference::detail::ReferenceCache cache(dir.path());
   struct Damage {
@@ -299,11 +304,8 @@ TEST(Reference, AnUnwritableCacheGoesOnUncached) {
 
 TEST(Reference, CacheReturnsTheStoredImageBitIdenticalWithoutTracing) {
   TempDir dir;
-  const scene::View view = floor_view();
   // A low wall: occlusion in front of it, and the background above the floor's far edge behind it.
-  auto sc = quad_scene({kFloor, {{-20.0f, 0.0f, -2.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 0.5f, 0.0f}}}, view, 1.0f);
-  auto o = options({64, 36}, 1.0f, 64);
-  o.cache_dir = dir.path();
+  auto [view, sc, o] = cached_low_wall(dir, {64, 36}, 64);
   auto first = reference::trace_reference(sc, view, o);
   EXPECT_FALSE(first.from_cache);
   EXPECT_GT(first.rays_traced, 0u);
