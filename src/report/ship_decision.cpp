@@ -133,10 +133,4 @@ std::vector<ShipDecision> ship_decisions(const CostTable& t) {
   }
 }
 
-std::optional<ShipDecision> ship_decision(const CostTable& t) {
-  std::vector<ShipDecision> all = ship_decisions(t);
-  if (all.empty()) return std::nullopt;
-  return std::move(all.front());
-}
-
 }  // namespace aovar::report

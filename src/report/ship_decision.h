@@ -42,8 +42,6 @@ struct ShipDecision {
 // write (a sweep, a merge) or one written before meta.ship held its query. Throws std::runtime_error naming
 // meta.ship when it is malformed.
 std::vector<ShipDecision> ship_decisions(const table::CostTable& table);
-// The first of them: the one the page leads with.
-std::optional<ShipDecision> ship_decision(const table::CostTable& table);
 
 // "budget: 2.000 ms" / "budget: no slower than KEY" / "error target: RMSE at most 0.0500": what was asked.
 std::string query_text(const decide::SelectQuery& q);
