@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numeric>
 #include <optional>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -49,12 +50,34 @@ RoundRobinResult warm_up(render::Backend& backend, const std::vector<render::Pre
   return r;
 }
 
+namespace {
+
+// Draws each shared G-buffer (render/gbuffer_share.h) the active pipelines read, once, timed: every pipeline
+// of a G-buffer then reads that draw this round and reports its time, so a row's frame is its format's
+// G-buffer of this round plus its own passes, and rows of one format carry the same G-buffer sample (the
+// scene's raster cancels from the sign of their per-round comparison). The order rotates like the frames'.
+void draw_gbuffers(render::Backend& backend, const std::vector<render::PreparedPipeline*>& pipelines,
+                   const std::vector<std::size_t>& active, int round, const scene::View& view,
+                   const TimingOptions& o, const RoundRobinResult& r) {
+  std::vector<std::size_t> firsts;  // the first active pipeline of each shared G-buffer
+  std::set<const void*> seen;
+  for (std::size_t i : active)
+    if (const void* g = backend.shared_gbuffer(*pipelines[i]); g && seen.insert(g).second) firsts.push_back(i);
+  for (std::size_t k = 0; k < firsts.size(); ++k) {
+    const std::size_t i = firsts[(k + static_cast<std::size_t>(round)) % firsts.size()];
+    backend.render_gbuffer(*pipelines[i], setup(view, r.pipelines[i].frames, o));
+  }
+}
+
+}  // namespace
+
 void time_rounds(render::Backend& backend, const std::vector<render::PreparedPipeline*>& pipelines,
                  const scene::View& view, const TimingOptions& o, RoundRobinResult& r, const Progress& progress) {
   auto start = std::chrono::steady_clock::now();
   std::vector<std::size_t> active(pipelines.size());
   std::iota(active.begin(), active.end(), std::size_t{0});
   for (int round = 0; !active.empty() && (o.adaptive || round < o.reps); ++round) {
+    draw_gbuffers(backend, pipelines, active, round, view, o, r);
     for (std::size_t k = 0; k < active.size(); ++k) {
       std::size_t i = active[(k + static_cast<std::size_t>(round)) % active.size()];  // rotate the order every round
       PipelineTiming& t = r.pipelines[i];

@@ -72,14 +72,15 @@ struct PipelineTiming {
 struct RoundRobinResult {
   std::vector<PipelineTiming> pipelines;
   double wall_timed_s = 0;  // wall time of the timed rounds (rendering, uploads, waits, read-outs)
-  double sum_timed_s = 0;   // the summed draw times those rounds reported
+  double sum_timed_s = 0;   // the summed frame times those rounds reported (a shared G-buffer in each frame reading it)
   double wall_warmup_s = 0; // first frames and warm-up
 };
 
 using Progress = std::function<void(const std::string&)>;
 
 // Times every pipeline in `pipelines` (all prepared on `backend` for `view`) round-robin: warm_up, then
-// time_rounds.
+// time_rounds. Each round first draws every shared G-buffer its pipelines read once (render/gbuffer_share.h);
+// each pipeline's frame then reports that draw's time in its G-buffer draw's place.
 RoundRobinResult time_round_robin(render::Backend& backend, const std::vector<render::PreparedPipeline*>& pipelines,
                                   const scene::View& view, const TimingOptions& options,
                                   const Progress& progress = {});

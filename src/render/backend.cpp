@@ -92,6 +92,12 @@ std::vector<Backend::TracedDraw> Backend::read_traces(PreparedPipeline&) {
                                  info().backend, backend_for(variants::Target::vulkan)));
 }
 
+const void* Backend::shared_gbuffer(PreparedPipeline&) { return nullptr; }
+
+double Backend::render_gbuffer(PreparedPipeline&, const FrameSetup&) {
+  throw BackendError(fmt::format("{}: render_gbuffer() of a pipeline that draws its own G-buffer", info().backend));
+}
+
 std::unique_ptr<Backend> make_backend(std::string_view name, const BackendOptions& options) {
   return backend_info(name).make(options);
 }

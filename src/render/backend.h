@@ -38,6 +38,10 @@ struct BackendOptions {
   // empty = the CPU device; a number = its index in vkEnumeratePhysicalDevices order; otherwise a
   // case-insensitive substring of its name ("llvmpipe", "radeon"). The GL backends ignore it.
   std::string device;
+  // Pipelines prepared at one size share one G-buffer per format (render/gbuffer_share.h), drawn only when a
+  // frame needs other content than it holds. Off: every pipeline draws its own, as a renderer without sharing
+  // would; the images are bit-identical either way (tests/render/test_gbuffer_share.cpp).
+  bool share_gbuffer = true;
 };
 
 struct DeviceInfo {
@@ -80,8 +84,20 @@ class Backend {
 
   // Renders one frame and waits for it. Returns the time of each draw in ms, in plan.draws order:
   // Vulkan from timestamp queries (a wall clock per frame where the device has none: DeviceInfo::timing),
-  // GL from a wall clock around each draw plus glFinish.
+  // GL from a wall clock around each draw plus glFinish. A shared G-buffer is drawn only when it holds other
+  // content than this frame needs; its draw's time is that of its latest draw, which this frame reads.
   virtual std::vector<double> render(PreparedPipeline& pipeline, const FrameSetup& frame) = 0;
+
+  // The shared G-buffer `pipeline` reads (render/gbuffer_share.h) as an identity: pipelines with the same one
+  // share it. nullptr when the pipeline draws its own (BackendOptions::share_gbuffer off, or a plan that
+  // cannot share).
+  virtual const void* shared_gbuffer(PreparedPipeline& pipeline);
+  // Draws that shared G-buffer for `frame` now, whatever it holds, and returns its time in ms; every render()
+  // of a pipeline sharing it reports this time until it is drawn again. The timed rounds draw each G-buffer
+  // once a round (measure/timing.h). Throws BackendError for a pipeline without one.
+  virtual double render_gbuffer(PreparedPipeline& pipeline, const FrameSetup& frame);
+  // How many G-buffers (geometry draws) this backend has drawn, shared or not: what sharing saves, counted.
+  virtual std::size_t gbuffer_draws() const { return 0; }
 
   // The result texture of the last rendered frame, as floats, row 0 = bottom of the view.
   virtual image::FloatImage read_result(PreparedPipeline& pipeline) = 0;

@@ -152,6 +152,13 @@ void validate_plan(const PipelinePlan& plan, std::string_view backend) {
     throw BackendError(fmt::format("{}: plan of {} is malformed: {}", backend, plan.variant, what));
   };
   if (plan.draws.empty()) bad("no draws");
+  // A shared G-buffer's plan (render/gbuffer_share.h) is its geometry draw alone, with no result: the
+  // variants sample it, nothing reads it back.
+  const bool gbuffer_only = plan.result == -1 && plan.draws.size() == 1 && plan.draws[0].geometry;
+  if (gbuffer_only) {
+    validate_draw(plan, plan.draws[0], bad);
+    return;
+  }
   if (plan.result < 0 || plan.result >= static_cast<int>(plan.textures.size())) bad("no result texture");
   // Full resolution normally; a plan_prefix cut may end at AO resolution (read back at that size).
   if (plan.textures[plan.result].format != Format::r32f) bad("the result is not an r32f texture");

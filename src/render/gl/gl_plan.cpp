@@ -7,11 +7,13 @@
 #include <array>
 #include <chrono>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "render/gbuffer_share.h"
 #include "render/gl/gl_context.h"
 #include "shadergen/bindings.h"
 
@@ -66,6 +68,7 @@ struct Unit {
 struct GlDraw {
   std::string name;
   bool geometry = false;
+  bool shared = false;  // the shared G-buffer's draw: render() draws that pipeline instead (gbuffer_share.h)
   DepthUse depth = DepthUse::none;
   Extent viewport;
   GLuint program = 0;
@@ -109,7 +112,11 @@ class GlPipeline final : public PreparedPipeline {
   Extent size_, ao_;
   GlNames names_;
   std::vector<GLuint> live_shaders_;        // shader objects not yet deleted (prepare failed midway)
+  // The shared G-buffer this pipeline reads, or null when it draws its own. Its textures and depth buffer are
+  // lent: they are in tex_ and depth_buffers_ but not in names_, so this pipeline never deletes them.
+  std::shared_ptr<SharedGbuffer> gbuffer_;
   std::vector<std::array<GLuint, 2>> tex_;  // per plan texture: copy by parity (equal when single)
+  std::vector<GLuint> depth_buffers_;       // per plan depth buffer
   std::vector<Extent> tex_size_;
   std::vector<Format> tex_format_;
   GLuint frame_ubo_ = 0;
@@ -136,7 +143,7 @@ void with_scratch_framebuffer(Functions& gl, GLuint texture, F&& use) {
 
 class GlBackend final : public Backend {
  public:
-  explicit GlBackend(std::shared_ptr<Context> c) : c_(std::move(c)) {
+  explicit GlBackend(std::shared_ptr<Context> c) : c_(std::move(c)), share_gbuffer_(c_->setup.share_gbuffer) {
     Functions& gl = c_->gl;
     info_ = describe(*c_);
     float_targets_ = !c_->setup.float_targets_need_extension || c_->has_extension("GL_EXT_color_buffer_float");
@@ -171,6 +178,9 @@ class GlBackend final : public Backend {
   void set_scene(const scene::Scene& scene) override;
   std::unique_ptr<PreparedPipeline> prepare(const PipelinePlan& plan, Extent size) override;
   std::vector<double> render(PreparedPipeline& pipeline, const FrameSetup& frame) override;
+  const void* shared_gbuffer(PreparedPipeline& pipeline) override { return own(pipeline).gbuffer_.get(); }
+  double render_gbuffer(PreparedPipeline& pipeline, const FrameSetup& frame) override;
+  std::size_t gbuffer_draws() const override { return gbuffer_draws_; }
   image::FloatImage read_result(PreparedPipeline& pipeline) override;
   void set_params(PreparedPipeline& pipeline, std::size_t draw, const std::vector<float>& params) override;
 
@@ -205,12 +215,16 @@ class GlBackend final : public Backend {
     std::map<std::pair<int, int>, GLuint> linked;
   };
 
+  // prepare() of the plan at its size; with `split`, the G-buffer is the pool's.
+  std::unique_ptr<GlPipeline> prepare_at_size(const PipelinePlan& plan, Extent size, const GbufferSplit* split);
+  // Draws p's shared G-buffer for `frame` when stale (always with `force`); returns its time.
+  double ensure_gbuffer(GlPipeline& p, const FrameSetup& frame, bool force);
   // The steps of prepare(), in order; the GL objects go into the pipeline's names as they are created.
   void check_formats(const PipelinePlan& plan);
-  void create_textures(const PipelinePlan& plan, GlPipeline& p);
-  std::vector<GLuint> create_depth_buffers(const PipelinePlan& plan, GlPipeline& p);
+  void create_textures(const PipelinePlan& plan, const GbufferSplit* split, GlPipeline& p);
+  void create_depth_buffers(const PipelinePlan& plan, const GbufferSplit* split, GlPipeline& p);
   GlDraw gl_draw(const PipelinePlan& plan, const Draw& d, GlPipeline& p, Programs& programs,
-                 const std::vector<GLuint>& depth_buffers, std::vector<bool>& written);
+                 std::vector<bool>& written);
   GLuint program(const PipelinePlan& plan, const Draw& d, GlPipeline& p, Programs& programs);
   void bind_by_name(GLuint prog);
   GLuint compile(GlPipeline& p, const Shader& s);
@@ -228,6 +242,10 @@ class GlBackend final : public Backend {
   std::array<GLuint, 3> scene_buffers_{};  // positions, normals, indices
   GLsizei index_count_ = 0;
   bool has_scene_ = false;
+  std::uint64_t scene_generation_ = 0;  // of the uploaded scene (next_scene_generation)
+  bool share_gbuffer_ = true;
+  GbufferPool gbuffers_;
+  std::size_t gbuffer_draws_ = 0;
 };
 
 void GlBackend::set_scene(const scene::Scene& scene) {
@@ -266,12 +284,19 @@ void GlBackend::set_scene(const scene::Scene& scene) {
   gl.BindBuffer(GL_ARRAY_BUFFER, 0);
   index_count_ = GLsizei(scene.indices.size());
   has_scene_ = true;
+  scene_generation_ = next_scene_generation();
   c_->check("uploading scene {}", scene.name);
 }
 
 std::unique_ptr<PreparedPipeline> GlBackend::prepare(const PipelinePlan& full_plan, Extent size) {
-  auto start = std::chrono::steady_clock::now();
   const PipelinePlan plan = plan_for_size(full_plan, size);
+  const auto split = share_gbuffer_ ? split_gbuffer(plan, size) : std::nullopt;
+  return prepare_at_size(plan, size, split ? &*split : nullptr);
+}
+
+std::unique_ptr<GlPipeline> GlBackend::prepare_at_size(const PipelinePlan& plan, Extent size,
+                                                       const GbufferSplit* split) {
+  auto start = std::chrono::steady_clock::now();
   c_->make_current();
   Functions& gl = c_->gl;
   c_->check("before prepare");
@@ -288,9 +313,11 @@ std::unique_ptr<PreparedPipeline> GlBackend::prepare(const PipelinePlan& full_pl
   p->size_ = size;
   p->ao_ = ao_extent(size, plan.resolution);
   p->result_ = plan.result;
+  if (split)  // the pool's G-buffer, prepared on first use; its textures and depth buffer are lent below
+    p->gbuffer_ = gbuffers_.get(*split, size, [&](const PipelinePlan& g) { return prepare_at_size(g, size, nullptr); });
 
-  create_textures(plan, *p);
-  const std::vector<GLuint> depth_buffers = create_depth_buffers(plan, *p);
+  create_textures(plan, split, *p);
+  create_depth_buffers(plan, split, *p);
   // AOFrame, filled by render.
   gl.GenBuffers(1, &p->frame_ubo_);
   p->names_.buffers.push_back(p->frame_ubo_);
@@ -298,7 +325,18 @@ std::unique_ptr<PreparedPipeline> GlBackend::prepare(const PipelinePlan& full_pl
   gl.BufferData(GL_UNIFORM_BUFFER, sizeof(FrameBlock), nullptr, GL_DYNAMIC_DRAW);
   Programs programs;
   std::vector<bool> written(plan.textures.size(), false);  // by a draw before this one
-  for (const Draw& d : plan.draws) p->draws_.push_back(gl_draw(plan, d, *p, programs, depth_buffers, written));
+  for (std::size_t i = 0; i < plan.draws.size(); ++i) {
+    if (split && i == split->draw) {  // drawn by the shared G-buffer's own pipeline
+      GlDraw shared;
+      shared.name = plan.draws[i].name;
+      shared.geometry = shared.shared = true;
+      for (const TextureRef& o : plan.draws[i].outputs)
+        if (o.texture >= 0) written[o.texture] = true;
+      p->draws_.push_back(std::move(shared));
+      continue;
+    }
+    p->draws_.push_back(gl_draw(plan, plan.draws[i], *p, programs, written));
+  }
 
   // Shaders are owned by their programs once linked.
   for (GLuint s : p->live_shaders_) gl.DeleteShader(s);
@@ -320,11 +358,19 @@ void GlBackend::check_formats(const PipelinePlan& plan) {
           c_->setup.install));
 }
 
-// Textures: double-buffered ones start open (1.0) so that frame 0 reads a defined history.
-void GlBackend::create_textures(const PipelinePlan& plan, GlPipeline& p) {
+// Textures: double-buffered ones start open (1.0) so that frame 0 reads a defined history. Those of a shared
+// G-buffer are its pipeline's.
+void GlBackend::create_textures(const PipelinePlan& plan, const GbufferSplit* split, GlPipeline& p) {
   Functions& gl = c_->gl;
-  for (const Texture& t : plan.textures) {
+  for (std::size_t i = 0; i < plan.textures.size(); ++i) {
+    const Texture& t = plan.textures[i];
     Extent e = t.full_resolution ? p.size_ : p.ao_;
+    if (split && split->texture[i] >= 0) {
+      p.tex_.push_back(static_cast<const GlPipeline&>(*p.gbuffer_->pipeline).tex_.at(split->texture[i]));
+      p.tex_size_.push_back(e);
+      p.tex_format_.push_back(t.format);
+      continue;
+    }
     std::array<GLuint, 2> copies{};
     int n = t.double_buffered ? 2 : 1;
     gl.GenTextures(n, copies.data());
@@ -350,11 +396,16 @@ void GlBackend::create_textures(const PipelinePlan& plan, GlPipeline& p) {
   }
 }
 
-// Depth buffers: the G-buffer's, the background mask (plan.h).
-std::vector<GLuint> GlBackend::create_depth_buffers(const PipelinePlan& plan, GlPipeline& p) {
+// Depth buffers: the G-buffer's (a shared G-buffer's is its pipeline's), the background mask (plan.h).
+void GlBackend::create_depth_buffers(const PipelinePlan& plan, const GbufferSplit* split, GlPipeline& p) {
   Functions& gl = c_->gl;
-  std::vector<GLuint> buffers;
-  for (const DepthBuffer& b : plan.depth_buffers) {
+  std::vector<GLuint>& buffers = p.depth_buffers_;
+  for (std::size_t i = 0; i < plan.depth_buffers.size(); ++i) {
+    const DepthBuffer& b = plan.depth_buffers[i];
+    if (split && split->depth_buffer == static_cast<int>(i)) {
+      buffers.push_back(static_cast<const GlPipeline&>(*p.gbuffer_->pipeline).depth_buffers_.at(0));
+      continue;
+    }
     GLuint rb = 0;
     gl.GenRenderbuffers(1, &rb);
     p.names_.renderbuffers.push_back(rb);
@@ -364,13 +415,12 @@ std::vector<GLuint> GlBackend::create_depth_buffers(const PipelinePlan& plan, Gl
     buffers.push_back(rb);
   }
   gl.BindRenderbuffer(GL_RENDERBUFFER, 0);
-  return buffers;
 }
 
 // Draw `d` with every GL name it needs. `written` marks the textures earlier draws wrote: the first draw
 // to write a texture clears it when the texture asks for a clear.
 GlDraw GlBackend::gl_draw(const PipelinePlan& plan, const Draw& d, GlPipeline& p, Programs& programs,
-                          const std::vector<GLuint>& depth_buffers, std::vector<bool>& written) {
+                          std::vector<bool>& written) {
   GlDraw g;
   g.name = d.name;
   g.geometry = d.geometry;
@@ -381,7 +431,7 @@ GlDraw GlBackend::gl_draw(const PipelinePlan& plan, const Draw& d, GlPipeline& p
   g.program = program(plan, d, p, programs);
   upload_params(d, p, g);
   bind_inputs(plan, d, p, g);
-  create_framebuffers(plan, d, depth_buffers, p, g);
+  create_framebuffers(plan, d, p.depth_buffers_, p, g);
   for (std::size_t loc = 0; loc < d.outputs.size(); ++loc) {
     int t = d.outputs[loc].texture;
     if (t < 0 || written[t]) continue;
@@ -573,6 +623,7 @@ std::vector<double> GlBackend::render(PreparedPipeline& pipeline, const FrameSet
   if (!frame.view) throw BackendError(name() + ": render without a view");
   bool geometry = std::any_of(p.draws_.begin(), p.draws_.end(), [](const GlDraw& d) { return d.geometry; });
   if (geometry && !has_scene_) throw BackendError(name() + ": render before set_scene");
+  if (p.gbuffer_) ensure_gbuffer(p, frame, false);
 
   FrameBlock block = make_frame_block(frame, p.size_, p.ao_, ClipDepth::minus_one_to_one);
   gl.BindBuffer(GL_UNIFORM_BUFFER, p.frame_ubo_);
@@ -588,6 +639,11 @@ std::vector<double> GlBackend::render(PreparedPipeline& pipeline, const FrameSet
 
   for (std::size_t i = 0; i < p.draws_.size(); ++i) {
     const GlDraw& d = p.draws_[i];
+    if (d.shared) {  // drawn above when stale: the time of the draw this frame reads
+      times[i] = p.gbuffer_->last_ms;
+      continue;
+    }
+    if (d.geometry) ++gbuffer_draws_;
     auto t0 = std::chrono::steady_clock::now();
     gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, d.fbo[parity]);
     gl.Viewport(0, 0, d.viewport.width, d.viewport.height);
@@ -613,6 +669,20 @@ std::vector<double> GlBackend::render(PreparedPipeline& pipeline, const FrameSet
   return times;
 }
 
+double GlBackend::ensure_gbuffer(GlPipeline& p, const FrameSetup& frame, bool force) {
+  const FrameBlock block = make_frame_block(frame, p.size_, p.ao_, ClipDepth::minus_one_to_one);
+  return gbuffers_.ensure(*p.gbuffer_, gbuffer_content(block, scene_generation_), force,
+                          [&](PreparedPipeline& g) { return render(g, frame); });
+}
+
+double GlBackend::render_gbuffer(PreparedPipeline& pipeline, const FrameSetup& frame) {
+  GlPipeline& p = own(pipeline);
+  if (!p.gbuffer_) return Backend::render_gbuffer(pipeline, frame);
+  if (!frame.view) throw BackendError(name() + ": render_gbuffer without a view");
+  if (!has_scene_) throw BackendError(name() + ": render_gbuffer before set_scene");
+  return ensure_gbuffer(p, frame, true);
+}
+
 void GlBackend::set_params(PreparedPipeline& pipeline, std::size_t draw, const std::vector<float>& params) {
   GlPipeline& p = own(pipeline);
   if (draw >= p.draws_.size() || params.size() != p.draws_[draw].param_count)
@@ -632,6 +702,7 @@ image::FloatImage GlBackend::read_result(PreparedPipeline& pipeline) {
   c_->make_current();
   Functions& gl = c_->gl;
   if (p.last_parity_ < 0) throw BackendError(name() + ": read_result before render");
+  if (p.result_ < 0) throw BackendError(name() + ": read_result of a G-buffer, which has no result");
   const GLuint tex = p.tex_[p.result_][p.last_parity_];
   const Extent e = p.tex_size_[p.result_];
   const bool fixed_point = !is_float(p.tex_format_[p.result_]);

@@ -26,6 +26,7 @@ struct Setup {
   std::string install;     // what to do when the driver lacks something ("install libosmesa6 via scripts/deps")
   std::string glsl_target; // the target whose GLSL the backend runs ("gl45" / "gles30"), for error messages
   int threads = 0;
+  bool share_gbuffer = true;  // BackendOptions::share_gbuffer
   // OpenGL ES: float colour attachments (r16f, r32f, rgba32f) are renderable only with this extension
   // (ES 3.0 section 4.4.4 lists no float format as colour-renderable).
   bool float_targets_need_extension = false;

@@ -138,6 +138,7 @@ std::unique_ptr<Backend> make_backend_with(const BackendOptions& options, const 
   setup.install = kInstall;
   setup.glsl_target = "gles30";
   setup.threads = options.threads;
+  setup.share_gbuffer = options.share_gbuffer;
   setup.float_targets_need_extension = true;
   setup.probe_mediump = true;
   setup.hidden_extensions = request.hidden_extensions;

@@ -59,6 +59,7 @@ std::unique_ptr<Backend> make_backend_with_version(const BackendOptions& options
   setup.install = kInstall;
   setup.glsl_target = "gl45";
   setup.threads = options.threads;
+  setup.share_gbuffer = options.share_gbuffer;
   return gl::make_backend(std::make_unique<OsmesaPlatform>(major, minor), setup);
 }
 

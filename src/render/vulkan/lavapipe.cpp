@@ -7,16 +7,17 @@
 // timestamp query pool and command buffers recorded once per parity (re-recorded only when the clear values
 // or the scene change). Between draws every texture rests in SHADER_READ_ONLY_OPTIMAL.
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "compile/relaxed_fp16.h"
 #include "render/backend.h"
+#include "render/gbuffer_share.h"
 #include "render/vulkan/lavapipe.h"
 #include "render/vulkan/lavapipe_device.h"
 #include "render/vulkan/vk_pipeline.h"
@@ -31,11 +32,6 @@ using namespace lvp;
 using vk::kDepthFormat;
 
 VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize a) { return a > 1 ? (v + a - 1) / a * a : v; }
-
-std::uint64_t next_scene_generation() {
-  static std::atomic<std::uint64_t> counter{0};  // unique across backends: a recorded frame names its scene
-  return ++counter;
-}
 
 struct SceneBuffers {
   Buffer positions, normals, indices;
@@ -68,6 +64,12 @@ class LavapipePipeline final : public PreparedPipeline {
   int result = -1;
   int parities = 1;        // 2 when some texture is double-buffered
   bool has_geometry = false;
+  // The shared G-buffer this pipeline reads (render/gbuffer_share.h), or null when it draws its own. Its
+  // textures and depth buffer are lent: `borrowed` marks them, and this pipeline never destroys them.
+  std::shared_ptr<SharedGbuffer> gbuffer;
+  std::size_t gbuffer_draw = 0;  // with `gbuffer`: the draw it stands for, which this pipeline does not record
+  std::vector<char> borrowed;    // per texture
+  int borrowed_depth = -1;       // the depth buffer that is the G-buffer's
 
   std::vector<TextureImages> images;
   std::vector<Image> depth_buffers;  // per plan depth buffer (D32F)
@@ -124,9 +126,11 @@ LavapipePipeline::~LavapipePipeline() {
     if (s.pipeline) vkDestroyPipeline(d, s.pipeline, nullptr);
     dev->destroy(s.trace);
   }
-  for (TextureImages& t : images)
-    for (Image& i : t.copies) dev->destroy(i);
-  for (Image& i : depth_buffers) dev->destroy(i);
+  for (std::size_t t = 0; t < images.size(); ++t)
+    if (t >= borrowed.size() || !borrowed[t])
+      for (Image& i : images[t].copies) dev->destroy(i);
+  for (std::size_t b = 0; b < depth_buffers.size(); ++b)
+    if (static_cast<int>(b) != borrowed_depth) dev->destroy(depth_buffers[b]);
   dev->destroy(frame_ubo);
   dev->destroy(params_ubo);
   dev->destroy(readback);
@@ -217,6 +221,11 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
     // run: there the start stamp waits for all earlier work (Device::start_stamp_stage), so the draws' times
     // sum to the frame's without counting an overlap twice. Not measured on a GPU here (none was lent).
     if (queries) vkCmdWriteTimestamp2(cmd, dev->start_stamp_stage, queries, static_cast<uint32_t>(2 * i));
+    if (gbuffer && i == gbuffer_draw) {  // the shared G-buffer's draw: render() draws it when stale
+      if (queries)
+        vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT, queries, static_cast<uint32_t>(2 * i + 1));
+      continue;
+    }
 
     barriers.clear();
     attachments.clear();
@@ -268,7 +277,8 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
 
 class LavapipeBackend final : public Backend {
  public:
-  explicit LavapipeBackend(const BackendOptions& options) : dev_(std::make_shared<Device>(options)) {}
+  explicit LavapipeBackend(const BackendOptions& options)
+      : dev_(std::make_shared<Device>(options)), share_gbuffer_(options.share_gbuffer) {}
   ~LavapipeBackend() override {
     vkDeviceWaitIdle(dev_->device);
     release_scene();
@@ -280,6 +290,9 @@ class LavapipeBackend final : public Backend {
   void set_scene(const scene::Scene& scene) override;
   std::unique_ptr<PreparedPipeline> prepare(const PipelinePlan& plan, Extent size) override;
   std::vector<double> render(PreparedPipeline& pipeline, const FrameSetup& frame) override;
+  const void* shared_gbuffer(PreparedPipeline& pipeline) override { return ours(pipeline).gbuffer.get(); }
+  double render_gbuffer(PreparedPipeline& pipeline, const FrameSetup& frame) override;
+  std::size_t gbuffer_draws() const override { return gbuffer_draws_; }
   image::FloatImage read_result(PreparedPipeline& pipeline) override;
   std::vector<TracedDraw> read_traces(PreparedPipeline& pipeline) override;
   void set_params(PreparedPipeline& pipeline, std::size_t draw, const std::vector<float>& params) override;
@@ -296,7 +309,12 @@ class LavapipeBackend final : public Backend {
     dev_->destroy(scene_.indices);
     scene_ = SceneBuffers{};
   }
+  // prepare() of the plan at its size; with `split`, the G-buffer is the pool's.
+  std::unique_ptr<LavapipePipeline> prepare_at_size(const PipelinePlan& plan, Extent size, const GbufferSplit* split);
+  // Draws pp's shared G-buffer for `frame` when stale (always with `force`); returns its time.
+  double ensure_gbuffer(LavapipePipeline& pp, const FrameSetup& frame, bool force);
   // The steps of prepare(), in order.
+  void lend_gbuffer(const GbufferSplit& split, LavapipePipeline& pp);
   void create_images(const PipelinePlan& plan, LavapipePipeline& pp);
   void read_draw_times(LavapipePipeline& pp) const;
   void create_uniform_buffers(const PipelinePlan& plan, LavapipePipeline& pp);
@@ -311,6 +329,9 @@ class LavapipeBackend final : public Backend {
 
   std::shared_ptr<Device> dev_;
   SceneBuffers scene_;
+  bool share_gbuffer_ = true;
+  GbufferPool gbuffers_;  // after dev_: destroyed first, while the device lives
+  std::size_t gbuffer_draws_ = 0;
 };
 
 void LavapipeBackend::set_scene(const scene::Scene& scene) {
@@ -382,6 +403,7 @@ void LavapipeBackend::create_pipelines(const PipelinePlan& plan, LavapipePipelin
   }
   for (std::size_t i = 0; i < plan.draws.size(); ++i) {
     const Draw& dr = plan.draws[i];
+    if (pp.gbuffer && i == pp.gbuffer_draw) continue;  // the shared G-buffer's own pipeline draws it
     pp.states[i].pipeline = create_pipeline(plan, dr, pp.states[i].extent, shaders.modules);  // pp destroys it
     dev_->check_validation(fmt::format("pipeline creation of draw {} ({} + {})", dr.name,
                                        plan.shaders[dr.vertex].program_key, plan.shaders[dr.fragment].program_key));
@@ -417,15 +439,18 @@ void LavapipeBackend::init_textures(LavapipePipeline& pp) {
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
   std::vector<VkImageMemoryBarrier2> barriers;
-  for (const TextureImages& t : pp.images)
-    for (int c = 0; c < t.count; ++c)
-      barriers.push_back(image_barrier(t.copies[c].image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+  std::vector<std::size_t> own;  // the shared G-buffer's textures hold its content: left alone
+  for (std::size_t i = 0; i < pp.images.size(); ++i)
+    if (!pp.borrowed[i]) own.push_back(i);
+  for (std::size_t i : own)
+    for (int c = 0; c < pp.images[i].count; ++c)
+      barriers.push_back(image_barrier(pp.images[i].copies[c].image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                                        VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_NONE,
                                        VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_CLEAR_BIT,
                                        VK_ACCESS_2_TRANSFER_WRITE_BIT));
   pipeline_barrier(cmd, barriers.data(), static_cast<uint32_t>(barriers.size()));
   VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, VK_REMAINING_MIP_LEVELS, 0, 1};
-  for (std::size_t i = 0; i < pp.images.size(); ++i) {
+  for (std::size_t i : own) {
     float v = pp.textures[i].double_buffered ? 1.0f : 0.0f;
     VkClearColorValue value{{v, v, v, v}};
     for (int c = 0; c < pp.images[i].count; ++c)
@@ -446,8 +471,14 @@ void LavapipeBackend::init_textures(LavapipePipeline& pp) {
 }
 
 std::unique_ptr<PreparedPipeline> LavapipeBackend::prepare(const PipelinePlan& full_plan, Extent size) {
-  auto start = std::chrono::steady_clock::now();
   const PipelinePlan plan = plan_for_size(full_plan, size);
+  const auto split = share_gbuffer_ ? split_gbuffer(plan, size) : std::nullopt;
+  return prepare_at_size(plan, size, split ? &*split : nullptr);
+}
+
+std::unique_ptr<LavapipePipeline> LavapipeBackend::prepare_at_size(const PipelinePlan& plan, Extent size,
+                                                                   const GbufferSplit* split) {
+  auto start = std::chrono::steady_clock::now();
   validate_plan(plan, "lavapipe");
   uint32_t max_dim = dev_->properties.limits.maxImageDimension2D;
   if (size.width <= 0 || size.height <= 0 || uint32_t(size.width) > max_dim || uint32_t(size.height) > max_dim)
@@ -462,7 +493,9 @@ std::unique_ptr<PreparedPipeline> LavapipeBackend::prepare(const PipelinePlan& f
   for (const Texture& t : plan.textures)
     if (t.double_buffered) pp->parities = 2;
   for (const Draw& dr : plan.draws) pp->has_geometry |= dr.geometry;
+  pp->borrowed.assign(plan.textures.size(), 0);
 
+  if (split) lend_gbuffer(*split, *pp);
   create_images(plan, *pp);
   create_uniform_buffers(plan, *pp);
   create_descriptor_sets(plan, *pp);
@@ -474,13 +507,29 @@ std::unique_ptr<PreparedPipeline> LavapipeBackend::prepare(const PipelinePlan& f
   return pp;
 }
 
-// Every plan texture (two images when double-buffered) and depth buffer.
+// The pool's G-buffer for `split` (prepared on first use), its images lent to pp's G-buffer textures and depth
+// buffer (create_images leaves those alone).
+void LavapipeBackend::lend_gbuffer(const GbufferSplit& split, LavapipePipeline& pp) {
+  pp.gbuffer = gbuffers_.get(split, pp.size, [&](const PipelinePlan& g) { return prepare_at_size(g, pp.size, nullptr); });
+  pp.gbuffer_draw = split.draw;
+  const auto& g = static_cast<const LavapipePipeline&>(*pp.gbuffer->pipeline);
+  pp.images.resize(pp.textures.size());
+  for (std::size_t i = 0; i < split.texture.size(); ++i)
+    if (split.texture[i] >= 0) {
+      pp.images[i] = g.images[split.texture[i]];
+      pp.borrowed[i] = 1;
+    }
+  pp.borrowed_depth = split.depth_buffer;
+}
+
+// Every plan texture (two images when double-buffered) and depth buffer, but those lent by a shared G-buffer.
 void LavapipeBackend::create_images(const PipelinePlan& plan, LavapipePipeline& pp) {
   const VkFormatFeatureFlags needed = VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT;
   const VkImageUsageFlags usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
                                   VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
   pp.images.resize(plan.textures.size());
   for (std::size_t i = 0; i < plan.textures.size(); ++i) {
+    if (pp.borrowed[i]) continue;
     const Texture& t = plan.textures[i];
     VkFormat f = vk::format_of(t.format);
     VkFormatProperties fp;
@@ -493,10 +542,12 @@ void LavapipeBackend::create_images(const PipelinePlan& plan, LavapipePipeline& 
       pp.images[i].copies[c] = dev_->create_image(pp.extent_of(t.full_resolution), f, usage, VK_IMAGE_ASPECT_COLOR_BIT,
                                                   static_cast<uint32_t>(std::max(t.levels, 1)));
   }
-  for (const DepthBuffer& b : plan.depth_buffers)
-    pp.depth_buffers.push_back(dev_->create_image(pp.extent_of(b.full_resolution), kDepthFormat,
-                                                  VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-                                                  VK_IMAGE_ASPECT_DEPTH_BIT));
+  for (std::size_t b = 0; b < plan.depth_buffers.size(); ++b)
+    pp.depth_buffers.push_back(
+        static_cast<int>(b) == pp.borrowed_depth
+            ? static_cast<const LavapipePipeline&>(*pp.gbuffer->pipeline).depth_buffers.at(0)
+            : dev_->create_image(pp.extent_of(plan.depth_buffers[b].full_resolution), kDepthFormat,
+                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT));
 }
 
 // AOFrame (rewritten each frame) and every draw's AOParams at aligned offsets of one buffer; also each
@@ -618,9 +669,11 @@ void LavapipeBackend::create_frame_objects(const PipelinePlan& plan, LavapipePip
   pp.readback_cmd = cmds[pp.parities];
   VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   check(vkCreateFence(d, &fci, nullptr, &pp.fence), "vkCreateFence");
-  VkExtent2D result_extent = pp.extent_of(plan.textures[plan.result].full_resolution);
-  pp.readback = dev_->create_buffer(VkDeviceSize(result_extent.width) * result_extent.height * sizeof(float),
-                                    VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+  if (plan.result >= 0) {  // a G-buffer's plan has no result (gbuffer_share.h)
+    VkExtent2D result_extent = pp.extent_of(plan.textures[plan.result].full_resolution);
+    pp.readback = dev_->create_buffer(VkDeviceSize(result_extent.width) * result_extent.height * sizeof(float),
+                                      VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+  }
   pp.stamps.resize(2 * plan.draws.size());
   pp.times.resize(plan.draws.size());
 }
@@ -642,8 +695,10 @@ std::vector<double> LavapipeBackend::render(PreparedPipeline& pipeline, const Fr
   LavapipePipeline& pp = ours(pipeline);
   if (!frame.view) throw BackendError("lavapipe: render() needs a view");
   if (pp.has_geometry && scene_.generation == 0) throw BackendError("lavapipe: render() before set_scene()");
+  if (pp.gbuffer) ensure_gbuffer(pp, frame, false);
   FrameBlock block = make_frame_block(frame, pp.size, pp.ao, ClipDepth::zero_to_one);
   std::memcpy(pp.frame_ubo.mapped, &block, sizeof block);  // the previous frame finished: fence waited
+  if (pp.has_geometry && !pp.gbuffer) ++gbuffer_draws_;
 
   int p = pp.parities == 2 ? (frame.frame & 1) : 0;
   // Linear depth clears to the finite background depth (frame.h), never to an infinite far plane.
@@ -662,13 +717,28 @@ std::vector<double> LavapipeBackend::render(PreparedPipeline& pipeline, const Fr
     const double frame_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - submitted).count();
     std::fill(pp.times.begin(), pp.times.end(), frame_ms / static_cast<double>(std::max<std::size_t>(1, pp.times.size())));
   }
+  if (pp.gbuffer) pp.times[pp.gbuffer_draw] = pp.gbuffer->last_ms;
   if (dev_->validation_failed()) dev_->check_validation(fmt::format("frame {}", frame.frame));
   return pp.times;
+}
+
+double LavapipeBackend::ensure_gbuffer(LavapipePipeline& pp, const FrameSetup& frame, bool force) {
+  const FrameBlock block = make_frame_block(frame, pp.size, pp.ao, ClipDepth::zero_to_one);
+  return gbuffers_.ensure(*pp.gbuffer, gbuffer_content(block, scene_.generation), force,
+                          [&](PreparedPipeline& g) { return render(g, frame); });
+}
+
+double LavapipeBackend::render_gbuffer(PreparedPipeline& pipeline, const FrameSetup& frame) {
+  LavapipePipeline& pp = ours(pipeline);
+  if (!pp.gbuffer) return Backend::render_gbuffer(pipeline, frame);
+  if (!frame.view) throw BackendError("lavapipe: render_gbuffer() needs a view");
+  return ensure_gbuffer(pp, frame, true);
 }
 
 image::FloatImage LavapipeBackend::read_result(PreparedPipeline& pipeline) {
   LavapipePipeline& pp = ours(pipeline);
   if (pp.last_parity < 0) throw BackendError("lavapipe: read_result() before render()");
+  if (pp.result < 0) throw BackendError("lavapipe: read_result() of a G-buffer, which has no result");
   const Image& img = pp.image(TextureRef{pp.result, false}, pp.last_parity);
 
   VkCommandBuffer cmd = pp.readback_cmd;
