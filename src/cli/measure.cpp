@@ -15,6 +15,7 @@
 #include "measure/measure.h"
 #include "measure/text.h"
 #include "reference/reference.h"
+#include "util/parse_number.h"
 
 namespace aovar::cli {
 namespace {
@@ -34,17 +35,11 @@ struct MeasureArgs {
 render::ParamOverrides parse_params(const std::vector<std::string>& items) {
   render::ParamOverrides out;
   for (const auto& item : items) {
-    auto eq = item.find('=');
-    std::size_t used = 0;
-    double value = 0;
-    try {
-      if (eq != std::string::npos) value = std::stod(item.substr(eq + 1), &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (eq == std::string::npos || item.find('.') > eq || used == 0 || used != item.size() - eq - 1)
+    const auto eq = item.find('=');
+    const auto value = eq == std::string::npos ? std::nullopt : util::whole_double(item.substr(eq + 1));
+    if (!value || item.find('.') > eq)
       throw std::runtime_error("--param: expected PASS.NAME=NUMBER such as ao.intensity=1.5, got '" + item + "'");
-    out[item.substr(0, eq)] = value;
+    out[item.substr(0, eq)] = *value;
   }
   return out;
 }
