@@ -41,15 +41,25 @@ CostRow timed(const std::string& variant, std::vector<double> ratios, double rms
   return test::timed_row(variant, std::move(ratios), rmse, batch, baseline_ms);
 }
 
+// Rows of one batch, each {variant, ratio to the baseline, rmse}, with noisy rounds drawn in row order from one
+// generator seeded with `seed`: the same table in every standard library.
+struct NoisyRow {
+  std::string variant;
+  double ratio, rmse;
+};
+CostTable noisy_table(unsigned seed, const std::vector<NoisyRow>& rows) {
+  std::mt19937 gen(seed);
+  CostTable t;
+  for (const NoisyRow& r : rows) t.rows.push_back(timed(r.variant, noisy_ratios(r.ratio, gen), r.rmse));
+  return t;
+}
+
 std::string interval_ms(const util::Interval& ci) { return fmt::format("[{:.3f}, {:.3f}]", ci.lo, ci.hi); }
 
 TEST(SelectTies, BudgetOfAVariantAdmitsItsTiesAndNothingSlower) {
-  std::mt19937 gen(21);
-  CostTable t;
   // "now" is what ships today; "tied" is 1 % slower by point (within the noise) with less error; "slow" is
   // 25 % slower with the least error.
-  t.rows = {timed("now", noisy_ratios(1.00, gen), 0.05), timed("tied", noisy_ratios(1.01, gen), 0.04),
-            timed("slow", noisy_ratios(1.25, gen), 0.01)};
+  const CostTable t = noisy_table(21, {{"now", 1.00, 0.05}, {"tied", 1.01, 0.04}, {"slow", 1.25, 0.01}});
   ASSERT_TRUE(compare_time(t.rows[1], t.rows[0]).tied());
   SelectQuery q;
   q.budget_of = "now";
@@ -89,9 +99,7 @@ TEST(SelectTies, SlowerThanSomethingOverTheBudgetIsOverTheBudget) {
 }
 
 TEST(SelectTies, WithinTheNoiseTheErrorDecides) {
-  std::mt19937 gen(18);
-  CostTable t;
-  t.rows = {timed("quick", noisy_ratios(1.000, gen), 0.05), timed("careful", noisy_ratios(1.005, gen), 0.03)};
+  const CostTable t = noisy_table(18, {{"quick", 1.000, 0.05}, {"careful", 1.005, 0.03}});
   // The premise: by point "quick" is the faster one, and the two are tied beyond it.
   ASSERT_LT(t.rows[0].time_ms.paired, t.rows[1].time_ms.paired);
   ASSERT_TRUE(compare_time(t.rows[0], t.rows[1]).tied()) << ratio_text(compare_time(t.rows[0], t.rows[1]));
@@ -116,9 +124,7 @@ TEST(SelectTies, WithinTheNoiseTheErrorDecides) {
 }
 
 TEST(SelectTies, AClearDifferenceIsNotATie) {
-  std::mt19937 gen(18);
-  CostTable t;
-  t.rows = {timed("quick", noisy_ratios(1.0, gen), 0.05), timed("careful", noisy_ratios(1.2, gen), 0.03)};
+  const CostTable t = noisy_table(18, {{"quick", 1.0, 0.05}, {"careful", 1.2, 0.03}});
   SelectQuery q;
   q.max_error = 0.1;
   auto s = select(t, q);
@@ -133,9 +139,7 @@ TEST(SelectTies, AClearDifferenceIsNotATie) {
 }
 
 TEST(SelectTies, TiesChooseByStaticCostWhenTheErrorIsEqual) {
-  std::mt19937 gen(7);
-  CostTable t;
-  t.rows = {timed("heavy", noisy_ratios(0.998, gen), 0.04), timed("light", noisy_ratios(1.002, gen), 0.04)};
+  CostTable t = noisy_table(7, {{"heavy", 0.998, 0.04}, {"light", 1.002, 0.04}});
   StaticCost heavy, light;
   heavy.work_per_pixel = 300;
   light.work_per_pixel = 120;
@@ -151,10 +155,7 @@ TEST(SelectTies, TiesChooseByStaticCostWhenTheErrorIsEqual) {
 }
 
 TEST(SelectTies, BudgetSaysWhenTheIntervalCrossesIt) {
-  std::mt19937 gen(5);
-  CostTable t;
-  t.rows = {timed("good", noisy_ratios(1.0, gen), 0.02), timed("rough", noisy_ratios(1.003, gen), 0.06),
-            timed("slow", noisy_ratios(1.5, gen), 0.01)};
+  const CostTable t = noisy_table(5, {{"good", 1.0, 0.02}, {"rough", 1.003, 0.06}, {"slow", 1.5, 0.01}});
   const CostRow& good = t.rows[0];
   ASSERT_TRUE(good.time_ms.paired_ci.known());
   ASSERT_GT(good.time_ms.paired_ci.hi, good.time_ms.paired);
@@ -178,12 +179,9 @@ TEST(SelectTies, BudgetSaysWhenTheIntervalCrossesIt) {
 }
 
 TEST(SelectTies, ConsiderNeedsFasterBeyondTheNoise) {
-  std::mt19937 gen(11);
-  CostTable t;
   // Budget: "best" has the lowest error; "near" is 1 % faster by point (within the noise), "cheap" 30 %
   // faster, both within 2 % of its error.
-  t.rows = {timed("best", noisy_ratios(1.0, gen), 0.0500), timed("near", noisy_ratios(0.99, gen), 0.0505),
-            timed("cheap", noisy_ratios(0.7, gen), 0.0508)};
+  CostTable t = noisy_table(11, {{"best", 1.0, 0.0500}, {"near", 0.99, 0.0505}, {"cheap", 0.7, 0.0508}});
   ASSERT_TRUE(compare_time(t.rows[1], t.rows[0]).tied());
   SelectQuery q;
   q.budget_ms = 20;
