@@ -14,6 +14,7 @@
 #include "decide/select.h"
 #include "decide/time_compare.h"
 #include "table/table.h"
+#include "selection.h"
 
 namespace {
 using namespace aovar;
@@ -64,8 +65,7 @@ TEST(SelectTies, BudgetOfAVariantAdmitsItsTiesAndNothingSlower) {
   SelectQuery q;
   q.budget_of = "now";
   Selection s = select(t, q);
-  ASSERT_TRUE(s.ok) << s.text;
-  EXPECT_EQ(s.choice->variant, "tied") << s.text;
+  ASSERT_TRUE(test::chose(s, "tied"));
   EXPECT_NE(s.text.find("budget: the time of now"), std::string::npos) << s.text;
   q.budget_of = "missing";
   EXPECT_THROW(select(t, q), std::runtime_error);
@@ -91,8 +91,7 @@ TEST(SelectTies, SlowerThanSomethingOverTheBudgetIsOverTheBudget) {
   SelectQuery q;
   q.budget_of = "now";
   const Selection s = select(t, q);
-  ASSERT_TRUE(s.ok) << s.text;
-  EXPECT_EQ(s.choice->variant, "fits") << s.text;
+  ASSERT_TRUE(test::chose(s, "fits"));
 
   t.rows.erase(t.rows.begin() + 1);  // without "over", nothing shows "wide" over the budget: its tie stands
   EXPECT_EQ(select(t, q).choice->variant, "wide");
@@ -106,8 +105,7 @@ TEST(SelectTies, WithinTheNoiseTheErrorDecides) {
   SelectQuery q;
   q.max_error = 0.1;
   auto s = select(t, q);
-  ASSERT_TRUE(s.ok) << s.text;
-  EXPECT_EQ(s.choice->variant, "careful") << s.text;
+  ASSERT_TRUE(test::chose(s, "careful"));
   ASSERT_EQ(s.tied.size(), 1u) << s.text;
   EXPECT_EQ(s.tied[0].variant, "quick");
   EXPECT_NE(s.text.find("tied on time with 1 other (intervals overlap): quick"), std::string::npos) << s.text;
@@ -128,8 +126,7 @@ TEST(SelectTies, AClearDifferenceIsNotATie) {
   SelectQuery q;
   q.max_error = 0.1;
   auto s = select(t, q);
-  ASSERT_TRUE(s.ok) << s.text;
-  EXPECT_EQ(s.choice->variant, "quick") << s.text;
+  ASSERT_TRUE(test::chose(s, "quick"));
   EXPECT_TRUE(s.tied.empty()) << s.text;
   EXPECT_EQ(s.text.find("tied on time"), std::string::npos) << s.text;
   ASSERT_TRUE(s.margin);
@@ -162,8 +159,7 @@ TEST(SelectTies, BudgetSaysWhenTheIntervalCrossesIt) {
   SelectQuery q;
   q.budget_ms = (good.time_ms.paired + good.time_ms.paired_ci.hi) / 2;  // the point fits, the interval does not
   auto s = select(t, q);
-  ASSERT_TRUE(s.ok) << s.text;
-  EXPECT_EQ(s.choice->variant, "good") << s.text;
+  ASSERT_TRUE(test::chose(s, "good"));
   EXPECT_TRUE(s.may_exceed_budget);
   EXPECT_NE(s.text.find(fmt::format("may exceed the budget: its 95 % interval reaches {:.3f} ms",
                                     good.time_ms.paired_ci.hi)),
