@@ -9,23 +9,18 @@
 #include "compile/generate.h"
 #include "profile/profile.h"
 #include "render/backend.h"
+#include "render_support.h"
 #include "scene/scene.h"
 #include "test_support.h"
 
-namespace {
-const std::filesystem::path kManifest = std::filesystem::path(AOVAR_SOURCE_DIR) / "shader_src" / "aovar.toml";
-}
 namespace aovar::test {
 namespace {
 
 // Runtime skipping: background pixels are not shaded, so the AO pass time falls as the sky grows. Three views of the atrium from one eye, about 10 %, 50 % and 90 % sky, timed interleaved (median of
 // 15 rounds); the gaps are several times the noise of this host.
 TEST(Profile, AoPassTimeFallsAsTheSkyGrows) {
-  compile::CompileOptions co;
-  co.scope.targets = {variants::Target::vulkan};
-  co.globs = {"alchemy-s16-p0-nrgb8-zdep-rst-d32-bno-x1-hp"};
-  auto c = compile::compile_space(aovar::test::on_manifest(co, kManifest));
-  ASSERT_TRUE(c.ok() && c.space.variants.size() == 1u);
+  const auto c = compile_variants({"alchemy-s16-p0-nrgb8-zdep-rst-d32-bno-x1-hp"}, {variants::Target::vulkan});
+  ASSERT_EQ(c.space.variants.size(), 1u);
   const auto sc = scene::load_scene("builtin:atrium");
   const render::Extent size{320, 180};
   auto sweep = profile::sky_sweep(sc, sc.views.front(), 12, size);

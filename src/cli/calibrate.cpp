@@ -72,7 +72,7 @@ Command add_calibrate(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--backend,-b", cal.backend, render::backend_list(", ", " or "))->capture_default_str();
   cmd->add_option("--size", a->size, "render and reference size WxH")->capture_default_str();
-  cmd->add_option("--rays", cal.rays, "reference rays per pixel")->check(whole_number(1, reference::kMaxRays))->capture_default_str();
+  add_rays(cmd, cal.rays, "reference rays per pixel");
   cmd->add_option("--mode", a->mode, "reference mode: occlusion or obscurance")->capture_default_str();
   cmd->add_option("--evaluations", cal.budget.max_evaluations, "objective evaluations per fit (NLopt BOBYQA; COBYLA for one parameter)")
       ->check(whole_number(1, kMaxEvaluations))

@@ -15,6 +15,7 @@
 #include "measure/measure.h"
 #include "measure/text.h"
 #include "reference/reference.h"
+#include "util/parse_number.h"
 
 namespace aovar::cli {
 namespace {
@@ -34,17 +35,11 @@ struct MeasureArgs {
 render::ParamOverrides parse_params(const std::vector<std::string>& items) {
   render::ParamOverrides out;
   for (const auto& item : items) {
-    auto eq = item.find('=');
-    std::size_t used = 0;
-    double value = 0;
-    try {
-      if (eq != std::string::npos) value = std::stod(item.substr(eq + 1), &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (eq == std::string::npos || item.find('.') > eq || used == 0 || used != item.size() - eq - 1)
+    const auto eq = item.find('=');
+    const auto value = eq == std::string::npos ? std::nullopt : util::whole_double(item.substr(eq + 1));
+    if (!value || item.find('.') > eq)
       throw std::runtime_error("--param: expected PASS.NAME=NUMBER such as ao.intensity=1.5, got '" + item + "'");
-    out[item.substr(0, eq)] = value;
+    out[item.substr(0, eq)] = *value;
   }
   return out;
 }
@@ -85,13 +80,12 @@ Command add_measure(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--views-file", a->views_file, "views side file (TOML or JSON) for the scene");
   cmd->add_option("--view", mo.views, "view name (repeatable; default: the scene's first view)");
-  cmd->add_option("--backend,-b", mo.backends, render::backend_list() + " (repeatable or comma-separated)")
-      ->delimiter(',')->capture_default_str();
+  add_backends(cmd, mo.backends);
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
   add_reps(cmd, a->reps);
   cmd->add_option("--warmup", mo.timing.warmup, "discarded frames after the first (JIT) frame")->check(whole_number(0, kMaxWarmup))->capture_default_str();
   add_threads(cmd, a->common);
-  cmd->add_option("--device", mo.device, "the Vulkan backend: device by name substring or index (default: the CPU device)");
+  add_device(cmd, mo.device);
   cmd->add_option("--batch", mo.timing.batch, "pipelines prepared and interleaved at once")->check(whole_number(1, kMaxBatch))->capture_default_str();
   add_gpu(cmd, a->gpu);
   cmd->add_option("--baseline", mo.baseline, "variant timed in every round (rel_time = 1)")->capture_default_str();
@@ -106,7 +100,7 @@ Command add_measure(CLI::App& app) {
                 "measure every selected variant (default: drop, before compiling, those the scene's profile drops)");
   cmd->add_flag("--reference", mo.truth.enabled,
                 "score every row against a ray-traced reference of its view (error: rmse, mae, psnr, ssim, bias, max)");
-  cmd->add_option("--rays", mo.truth.rays, "reference rays per pixel (with --reference)")->check(whole_number(1, reference::kMaxRays))->capture_default_str();
+  add_rays(cmd, mo.truth.rays, "reference rays per pixel (with --reference)");
   cmd->add_option("--reference-mode", a->reference_mode, "occlusion or obscurance (with --reference)")
       ->capture_default_str();
   add_calibration(cmd, a->calibration,

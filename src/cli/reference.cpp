@@ -71,7 +71,7 @@ Command add_reference(CLI::App& app) {
   cmd->add_option("--view", ro.views, "view name (repeatable; default: the scene's first view)");
   cmd->add_option("--radius", ro.radius,
                   "AO radius: world units (0.5) or a percentage of the bounding-box diagonal (1.5%); default: the scene's");
-  cmd->add_option("--rays", ro.reference.rays, "hemisphere rays per pixel")->check(whole_number(1, reference::kMaxRays))->capture_default_str();
+  add_rays(cmd, ro.reference.rays, "hemisphere rays per pixel");
   cmd->add_option("--mode", a->mode, "occlusion (hit or not) or obscurance (a hit at t occludes 1 - t/radius)")
       ->capture_default_str();
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();

@@ -8,6 +8,9 @@
 #include "calibrate/file.h"
 #include "scene/scene.h"
 #include "gpu/families.h"
+#include "reference/reference.h"
+#include "render/backend.h"
+#include "util/parse_number.h"
 #include "variants/manifest.h"
 
 namespace aovar::cli {
@@ -82,17 +85,24 @@ void RepsOption::apply(measure::MeasureOptions& o) const {
     o.timing.auto_reps = measure::AutoReps{ci_target_pct / 100, cap_s};
     return;  // o.timing.reps: the least number of rounds (the fixed default)
   }
-  std::size_t used = 0;
-  int n = 0;
-  try {
-    n = std::stoi(reps, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != reps.size() || n < 1 || n > kMaxRounds)
+  const auto n = util::whole_int(reps);
+  if (!n || *n < 1 || *n > kMaxRounds)
     throw std::runtime_error(fmt::format("--reps: expected a number of rounds (1 to {}) or auto, got '{}'", kMaxRounds, reps));
-  o.timing.reps = n;
+  o.timing.reps = *n;
   o.timing.auto_reps.reset();
+}
+
+void add_backends(CLI::App* cmd, std::vector<std::string>& backends) {
+  cmd->add_option("--backend,-b", backends, render::backend_list() + " (repeatable or comma-separated)")
+      ->delimiter(',')->capture_default_str();
+}
+
+void add_device(CLI::App* cmd, std::string& device) {
+  cmd->add_option("--device", device, "the Vulkan backend: device by name substring or index (default: the CPU device)");
+}
+
+void add_rays(CLI::App* cmd, int& rays, const std::string& help) {
+  cmd->add_option("--rays", rays, help)->check(whole_number(1, reference::kMaxRays))->capture_default_str();
 }
 
 void add_reps(CLI::App* cmd, RepsOption& o) {

@@ -63,6 +63,14 @@ struct RepsOption {
 };
 void add_reps(CLI::App* cmd, RepsOption& o);
 
+// --backend,-b: the backends to render on, repeatable or comma-separated (measure, sweep, stress); the list
+// in the help is the registry's.
+void add_backends(CLI::App* cmd, std::vector<std::string>& backends);
+// --device: which device the Vulkan backend opens (measure, sweep).
+void add_device(CLI::App* cmd, std::string& device);
+// --rays: reference rays per pixel, from 1 to reference::kMaxRays; `help` says what they are for this command.
+void add_rays(CLI::App* cmd, int& rays, const std::string& help);
+
 // WxH with each side from 1 to kMaxSide and at most kMaxFramePixels pixels (cli/limits.h); throws
 // std::runtime_error naming `option` ("--fit-size: ...", not --size).
 render::Extent parse_size(const std::string& text, const std::string& option = "--size");

@@ -11,7 +11,6 @@
 #include "cli/options.h"
 #include "cli/render_options.h"
 #include "cli/subcommand.h"
-#include "reference/reference.h"
 #include "ship/ship.h"
 
 namespace aovar::cli {
@@ -90,7 +89,7 @@ Command add_ship(CLI::App& app) {
   cmd->add_option("--reps-cap-s", so.final_reps.cap_s, "the last round: seconds of timed frames per pipeline at most")
       ->check(finite_range(0, 1e6, true))
       ->capture_default_str();
-  cmd->add_option("--rays", so.rays, "reference rays per pixel")->check(whole_number(1, reference::kMaxRays))->capture_default_str();
+  add_rays(cmd, so.rays, "reference rays per pixel");
   add_threads(cmd, a->common);
   cmd->add_option("--gpu-size", a->gpu.frame, "with --target: the frame the estimate is for")->capture_default_str();
   cmd->add_option("--gpu-window", a->gpu.window, "with --target: share of each draw traced (centred window)")

@@ -118,8 +118,7 @@ Command add_stress(CLI::App& app) {
       "and formats; exit 1 when a shipped variant has NaN, Inf or out-of-range AO");
   auto& so = a->options;
   add_common(cmd, a->common);
-  cmd->add_option("--backend,-b", so.backends, render::backend_list() + " (repeatable or comma-separated)")
-      ->delimiter(',')->capture_default_str();
+  add_backends(cmd, so.backends);
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
   add_threads(cmd, a->common);
   cmd->add_flag("--shipped", so.shipped_only, "only the variants the manifest's [ship] list names");

@@ -13,7 +13,6 @@
 #include "cli/render_options.h"
 #include "cli/subcommand.h"
 #include "cli/whole_space.h"
-#include "reference/reference.h"
 #include "sweep/sweep.h"
 #include "sweep/text.h"
 #include "table/table.h"
@@ -70,13 +69,12 @@ Command add_sweep(CLI::App& app) {
   cmd->add_option("--scene,-s", so.scenes, scene_help("scenes (repeatable)"))
       ->capture_default_str();
   cmd->add_option("--view", so.measure.views, "view name (repeatable; default: every view of each scene)");
-  cmd->add_option("--backend,-b", so.measure.backends, render::backend_list() + " (repeatable or comma-separated)")
-      ->delimiter(',')->capture_default_str();
+  add_backends(cmd, so.measure.backends);
   cmd->add_option("--size", a->size, "output size WxH")->capture_default_str();
   add_reps(cmd, a->reps);
   add_threads(cmd, a->common);
-  cmd->add_option("--device", so.measure.device, "the Vulkan backend: device by name substring or index (default: the CPU device)");
-  cmd->add_option("--rays", so.measure.truth.rays, "reference rays per pixel")->check(whole_number(1, reference::kMaxRays))->capture_default_str();
+  add_device(cmd, so.measure.device);
+  add_rays(cmd, so.measure.truth.rays, "reference rays per pixel");
   cmd->add_option("--batch", so.measure.timing.batch, "pipelines prepared and interleaved at once (rows are saved per batch)")
       ->check(whole_number(1, kMaxBatch))
       ->capture_default_str();

@@ -1,5 +1,6 @@
 // `aovar diff --json`: the typed TableDiff the text is written from, as JSON (NaN and infinities: null).
 #include "decide/diff.h"
+#include "decide/time_compare.h"
 #include "util/schema.h"
 
 namespace aovar::decide {
@@ -12,7 +13,7 @@ json delta_json(const Delta& d) {
           {"a", d.a},
           {"b", d.b},
           {"pct", d.pct},
-          {"pct_ci", d.pct_ci.known() ? json{{"lo", d.pct_ci.lo}, {"hi", d.pct_ci.hi}} : json(nullptr)},
+          {"pct_ci", interval_json(d.pct_ci)},
           {"verdict", d.verdict},
           {"by_threshold", d.by_threshold}};
 }

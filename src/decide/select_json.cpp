@@ -11,8 +11,6 @@ namespace aovar::decide {
 namespace {
 using nlohmann::json;
 
-json interval_json(const util::Interval& ci) { return ci.known() ? json{{"lo", ci.lo}, {"hi", ci.hi}} : json(nullptr); }
-
 json candidate_json(const Candidate& c) {
   return {{"variant", c.variant},
           {"backend", c.backend},

@@ -94,5 +94,8 @@ std::string ratio_text(const TimeComparison& c) {
   return fmt::format("{:.3f}x [{:.3f}, {:.3f}]", c.ratio, c.ci.lo, c.ci.hi);
 }
 
+nlohmann::json interval_json(const util::Interval& ci) {
+  return ci.known() ? nlohmann::json{{"lo", ci.lo}, {"hi", ci.hi}} : nlohmann::json(nullptr);
+}
 
 }  // namespace aovar::decide

@@ -31,4 +31,8 @@ TimeComparison compare_time(const table::CostRow& a, const table::CostRow& b);
 // "1.042x [1.013, 1.071]" or "1.042x" when the interval is unknown.
 std::string ratio_text(const TimeComparison& c);
 
+// An interval in the decisions' --json documents (select, diff): {"lo": .., "hi": ..}, null when unknown. A cost
+// table writes its intervals as [lo, hi] pairs instead (table::to_json).
+nlohmann::json interval_json(const util::Interval& ci);
+
 }  // namespace aovar::decide

@@ -13,6 +13,7 @@
 #include "reference/detail.h"
 #include "util/fs.h"
 #include "util/hash.h"
+#include "util/parse_number.h"
 
 namespace aovar::reference {
 
@@ -68,15 +69,9 @@ float resolve_radius(const std::string& text, const scene::Scene& scene) {
   std::string number = text;
   bool percent = !number.empty() && number.back() == '%';
   if (percent) number.pop_back();
-  double value = 0;
-  std::size_t used = 0;
-  try {
-    value = std::stod(number, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != number.size() || number.find_first_of(" \t") != std::string::npos)
-    throw bad("not a number");
+  const auto whole = util::whole_double(number);
+  if (!whole || number.find_first_of(" \t") != std::string::npos) throw bad("not a number");
+  double value = *whole;
   if (!std::isfinite(value) || value <= 0) throw bad("must be positive");
   if (percent) {
     if (scene.bounds.empty() || scene.bounds.diagonal() <= 0) throw bad("the scene has no extent to take a percentage of");

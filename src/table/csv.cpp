@@ -8,6 +8,7 @@
 
 #include "table/detail.h"
 #include "table/table.h"
+#include "util/parse_number.h"
 
 namespace aovar::table {
 namespace {
@@ -25,15 +26,9 @@ double parse_double(const std::string& s, const std::string& column) {
   if (s == "inf") return std::numeric_limits<double>::infinity();
   if (s == "-inf") return -std::numeric_limits<double>::infinity();
   if (s == "nan") return std::numeric_limits<double>::quiet_NaN();
-  std::size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(s, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != s.size()) throw std::runtime_error("column '" + column + "': not a number: '" + s + "'");
-  return v;
+  const auto v = util::whole_double(s);
+  if (!v) throw std::runtime_error("column '" + column + "': not a number: '" + s + "'");
+  return *v;
 }
 
 }  // namespace

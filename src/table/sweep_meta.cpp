@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <stdexcept>
+#include <type_traits>
 
 namespace aovar::table {
 
@@ -47,6 +48,16 @@ std::optional<T> take(json& rest, const char* key) {
   return take(rest, key, [](const json& v) { return v.get<T>(); });
 }
 
+// The array under `key` read item by item with `read` (a list of records); nothing when absent.
+template <class Read>
+auto take_each(json& rest, const char* key, Read read) {
+  return take(rest, key, [&](const json& v) {
+    std::vector<std::invoke_result_t<Read, const json&>> out;
+    for (const auto& item : v) out.push_back(read(item));
+    return out;
+  });
+}
+
 json take_section(json& rest, const char* key) {
   return take(rest, key, [](const json& v) { return v; }).value_or(json(nullptr));
 }
@@ -54,6 +65,14 @@ json take_section(json& rest, const char* key) {
 template <class T>
 void put(json& j, const char* key, const std::optional<T>& v) {
   if (v) j[key] = *v;
+}
+
+// A list of records as the array of their to_json; nothing when the header has none.
+template <class T>
+void put_each(json& j, const char* key, const std::optional<std::vector<T>>& list) {
+  if (!list) return;
+  j[key] = json::array();
+  for (const auto& item : *list) j[key].push_back(to_json(item));
 }
 
 }  // namespace
@@ -70,10 +89,7 @@ json to_json(const SweepMeta& m) {
   put(j, "tool", m.tool);
   put(j, "manifest", m.manifest);
   put(j, "manifest_hash", m.manifest_hash);
-  if (m.scenes) {
-    j["scenes"] = json::array();
-    for (const auto& s : *m.scenes) j["scenes"].push_back(to_json(s));
-  }
+  put_each(j, "scenes", m.scenes);
   put(j, "backends", m.backends);
   put(j, "size", m.size);
   put(j, "reps", m.reps);
@@ -86,10 +102,7 @@ json to_json(const SweepMeta& m) {
   }
   put(j, "shard", m.shard);
   put(j, "profile_prune", m.profile_prune);
-  if (m.pruned) {
-    j["pruned"] = json::array();
-    for (const auto& p : *m.pruned) j["pruned"].push_back(to_json(p));
-  }
+  put_each(j, "pruned", m.pruned);
   put(j, "merged_from", m.merged_from);
   put(j, "shards", m.shards);
   if (m.cost_models) j["cost_models"] = to_json(*m.cost_models);
@@ -107,11 +120,7 @@ SweepMeta sweep_meta_from_json(const json& meta) {
   m.tool = take<std::string>(rest, "tool");
   m.manifest = take<std::string>(rest, "manifest");
   m.manifest_hash = take<std::string>(rest, "manifest_hash");
-  m.scenes = take(rest, "scenes", [](const json& v) {
-    std::vector<MeasuredScene> out;
-    for (const auto& s : v) out.push_back(scene_from_json(s));
-    return out;
-  });
+  m.scenes = take_each(rest, "scenes", scene_from_json);
   m.backends = take<std::vector<std::string>>(rest, "backends");
   m.size = take<std::string>(rest, "size");
   m.reps = take<int>(rest, "reps");
@@ -124,11 +133,7 @@ SweepMeta sweep_meta_from_json(const json& meta) {
   });
   m.shard = take<std::string>(rest, "shard");
   m.profile_prune = take<bool>(rest, "profile_prune");
-  m.pruned = take(rest, "pruned", [](const json& v) {
-    std::vector<PrunedByProfile> out;
-    for (const auto& p : v) out.push_back(pruned_from_json(p));
-    return out;
-  });
+  m.pruned = take_each(rest, "pruned", pruned_from_json);
   m.merged_from = take<std::vector<std::string>>(rest, "merged_from");
   m.shards = take<int>(rest, "shards");
   m.reps_auto = take<json>(rest, "reps_auto");

@@ -6,6 +6,7 @@
 
 #include "compile/generate.h"
 #include "render/plan.h"
+#include "render_support.h"
 #include "test_support.h"
 #include "util/cpp_literal.h"
 
@@ -20,11 +21,7 @@ std::string block_array_text(const std::vector<float>& values) {
 }
 
 TEST(EmitPlan, BlocksCarryTheFittedValuesTheRendererUploads) {
-  compile::CompileOptions co;
-  co.scope.targets = {variants::Target::vulkan};
-  co.globs = {"alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp"};
-  const auto c = compile::compile_space(on_manifest(co, source_dir() / "shader_src" / "aovar.toml"));
-  ASSERT_TRUE(c.ok());
+  const auto c = compile_variants({"alchemy-s08-p0-nrg8-zdep-rst-d16-bsep-x1-hp"}, {variants::Target::vulkan});
   const variants::CalibratedValues fitted = {{"alchemy", {{"ao.intensity", 0.625}, {"ao.contrast", 1.25}}}};
   const std::string with_fit = compile::cpp_embedding(c, "fitted_shaders", {}, fitted).second;
   const std::string without = compile::cpp_embedding(c, "plain_shaders").second;

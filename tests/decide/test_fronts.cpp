@@ -53,24 +53,19 @@ std::vector<std::string> staircase(const std::vector<decide::Candidate>& all) {
   return out;
 }
 
-std::vector<std::string> keys_of(const decide::TargetFront& f) {
-  std::vector<std::string> out;
-  for (const auto& p : f.points) out.push_back(p.variant);
-  return out;
-}
-
 TEST(TableFronts, EachTargetsFrontIsTheParetoStaircaseOfItsOwnTimes) {
   const auto t = two_target_table();
   for (const auto& [target, family] : std::vector<std::pair<std::string, bool>>{{"lavapipe", false}, {"navi21", true}}) {
     decide::SelectQuery q = decide::query_for(target, family);
     const decide::TargetFront front = decide::budget_front(t, target, family);
-    EXPECT_EQ(keys_of(front), staircase(decide::candidates(t, q))) << target;
+    EXPECT_EQ(test::variants_of(front.points), staircase(decide::candidates(t, q))) << target;
     for (std::size_t i = 1; i < front.points.size(); ++i) {
       EXPECT_LT(front.points[i - 1].time_ms, front.points[i].time_ms) << target;
       EXPECT_GT(front.points[i - 1].rmse, front.points[i].rmse) << target;
     }
   }
-  EXPECT_NE(keys_of(decide::budget_front(t, "lavapipe", false)), keys_of(decide::budget_front(t, "navi21", true)));
+  EXPECT_NE(test::variants_of(decide::budget_front(t, "lavapipe", false).points),
+            test::variants_of(decide::budget_front(t, "navi21", true).points));
 }
 
 TEST(TableFronts, TheLastPointWithinABudgetIsSelectsAnswer) {
@@ -99,8 +94,8 @@ TEST(TableFronts, KeepsTheUnionOfTheRequestedFrontsOrSelectsPicks) {
   ASSERT_EQ(all.fronts.size(), 2u);
   EXPECT_EQ(all.fronts[0].target, "navi21");  // families first, then backends
   EXPECT_EQ(all.fronts[1].target, "lavapipe");
-  std::vector<std::string> expected = keys_of(all.fronts[0]);
-  for (const auto& k : keys_of(all.fronts[1])) expected.push_back(k);
+  std::vector<std::string> expected = test::variants_of(all.fronts[0].points);
+  for (const auto& k : test::variants_of(all.fronts[1].points)) expected.push_back(k);
   std::sort(expected.begin(), expected.end());
   expected.erase(std::unique(expected.begin(), expected.end()), expected.end());
   EXPECT_EQ(all.keys, expected);

@@ -4,6 +4,7 @@
 #include "cost_rows.h"
 #include "decide/select.h"
 #include "table/table.h"
+#include "selection.h"
 #include "test_support.h"
 #include "util/fs.h"
 
@@ -22,12 +23,8 @@ TEST(Select, BudgetPicksLowestErrorWithin) {
   SelectQuery q;
   q.budget_ms = 3.0;
   auto s = select(select_table(), q);
-  ASSERT_TRUE(s.ok);
-  EXPECT_EQ(s.choice->variant, "good");
-  ASSERT_EQ(s.runners_up.size(), 3u);
-  EXPECT_EQ(s.runners_up[0].variant, "mid");
-  EXPECT_EQ(s.runners_up[1].variant, "meh");
-  EXPECT_EQ(s.runners_up[2].variant, "fast");
+  ASSERT_TRUE(test::chose(s, "good"));
+  EXPECT_EQ(test::variants_of(s.runners_up), (std::vector<std::string>{"mid", "meh", "fast"}));
   EXPECT_NE(s.text.find("choice: good"), std::string::npos) << s.text;
   EXPECT_NE(s.text.find("within 3.000 ms"), std::string::npos) << s.text;
   EXPECT_NE(s.text.find("rmse +0.05000 (+100.0%) at -1.000 ms (-33.3%)"), std::string::npos) << s.text;
@@ -37,8 +34,7 @@ TEST(Select, MaxErrorPicksCheapestMeetingIt) {
   SelectQuery q;
   q.max_error = 0.1;
   auto s = select(select_table(), q);
-  ASSERT_TRUE(s.ok);
-  EXPECT_EQ(s.choice->variant, "mid");
+  ASSERT_TRUE(test::chose(s, "mid"));
   ASSERT_EQ(s.runners_up.size(), 2u);
   EXPECT_EQ(s.runners_up[0].variant, "good");
   EXPECT_NE(s.text.find("costs +1.000 ms (+50.0%)"), std::string::npos) << s.text;
@@ -51,8 +47,7 @@ TEST(Select, NamesANearTieThatIsMuchCheaperOrMuchBetter) {
   SelectQuery q;
   q.budget_ms = 3.0;
   auto s = select(t, q);
-  ASSERT_TRUE(s.ok);
-  EXPECT_EQ(s.choice->variant, "good");
+  ASSERT_TRUE(test::chose(s, "good"));
   ASSERT_TRUE(s.consider);
   EXPECT_EQ(s.consider->variant, "cheap_tie");
   EXPECT_NE(s.text.find("consider: cheap_tie [lavapipe] is -33.3% in time with +1.0% rmse"), std::string::npos) << s.text;
@@ -95,8 +90,7 @@ TEST(Select, UsesTheWorstViewUnlessAViewIsGiven) {
   SelectQuery q;
   q.budget_ms = 2.0;
   auto s = select(t, q);
-  ASSERT_TRUE(s.ok);
-  EXPECT_EQ(s.choice->variant, "steady");
+  ASSERT_TRUE(test::chose(s, "steady"));
   EXPECT_EQ(s.choice->time_ms, 1.5);
   EXPECT_EQ(s.choice->rmse, 0.06);
   q.view = "a";

@@ -14,6 +14,7 @@
 #include "decide/select.h"
 #include "decide/time_compare.h"
 #include "table/table.h"
+#include "selection.h"
 
 namespace {
 using namespace aovar;
@@ -41,21 +42,30 @@ CostRow timed(const std::string& variant, std::vector<double> ratios, double rms
   return test::timed_row(variant, std::move(ratios), rmse, batch, baseline_ms);
 }
 
+// Rows of one batch, each {variant, ratio to the baseline, rmse}, with noisy rounds drawn in row order from one
+// generator seeded with `seed`: the same table in every standard library.
+struct NoisyRow {
+  std::string variant;
+  double ratio, rmse;
+};
+CostTable noisy_table(unsigned seed, const std::vector<NoisyRow>& rows) {
+  std::mt19937 gen(seed);
+  CostTable t;
+  for (const NoisyRow& r : rows) t.rows.push_back(timed(r.variant, noisy_ratios(r.ratio, gen), r.rmse));
+  return t;
+}
+
 std::string interval_ms(const util::Interval& ci) { return fmt::format("[{:.3f}, {:.3f}]", ci.lo, ci.hi); }
 
 TEST(SelectTies, BudgetOfAVariantAdmitsItsTiesAndNothingSlower) {
-  std::mt19937 gen(21);
-  CostTable t;
   // "now" is what ships today; "tied" is 1 % slower by point (within the noise) with less error; "slow" is
   // 25 % slower with the least error.
-  t.rows = {timed("now", noisy_ratios(1.00, gen), 0.05), timed("tied", noisy_ratios(1.01, gen), 0.04),
-            timed("slow", noisy_ratios(1.25, gen), 0.01)};
+  const CostTable t = noisy_table(21, {{"now", 1.00, 0.05}, {"tied", 1.01, 0.04}, {"slow", 1.25, 0.01}});
   ASSERT_TRUE(compare_time(t.rows[1], t.rows[0]).tied());
   SelectQuery q;
   q.budget_of = "now";
   Selection s = select(t, q);
-  ASSERT_TRUE(s.ok) << s.text;
-  EXPECT_EQ(s.choice->variant, "tied") << s.text;
+  ASSERT_TRUE(test::chose(s, "tied"));
   EXPECT_NE(s.text.find("budget: the time of now"), std::string::npos) << s.text;
   q.budget_of = "missing";
   EXPECT_THROW(select(t, q), std::runtime_error);
@@ -81,25 +91,21 @@ TEST(SelectTies, SlowerThanSomethingOverTheBudgetIsOverTheBudget) {
   SelectQuery q;
   q.budget_of = "now";
   const Selection s = select(t, q);
-  ASSERT_TRUE(s.ok) << s.text;
-  EXPECT_EQ(s.choice->variant, "fits") << s.text;
+  ASSERT_TRUE(test::chose(s, "fits"));
 
   t.rows.erase(t.rows.begin() + 1);  // without "over", nothing shows "wide" over the budget: its tie stands
   EXPECT_EQ(select(t, q).choice->variant, "wide");
 }
 
 TEST(SelectTies, WithinTheNoiseTheErrorDecides) {
-  std::mt19937 gen(18);
-  CostTable t;
-  t.rows = {timed("quick", noisy_ratios(1.000, gen), 0.05), timed("careful", noisy_ratios(1.005, gen), 0.03)};
+  const CostTable t = noisy_table(18, {{"quick", 1.000, 0.05}, {"careful", 1.005, 0.03}});
   // The premise: by point "quick" is the faster one, and the two are tied beyond it.
   ASSERT_LT(t.rows[0].time_ms.paired, t.rows[1].time_ms.paired);
   ASSERT_TRUE(compare_time(t.rows[0], t.rows[1]).tied()) << ratio_text(compare_time(t.rows[0], t.rows[1]));
   SelectQuery q;
   q.max_error = 0.1;
   auto s = select(t, q);
-  ASSERT_TRUE(s.ok) << s.text;
-  EXPECT_EQ(s.choice->variant, "careful") << s.text;
+  ASSERT_TRUE(test::chose(s, "careful"));
   ASSERT_EQ(s.tied.size(), 1u) << s.text;
   EXPECT_EQ(s.tied[0].variant, "quick");
   EXPECT_NE(s.text.find("tied on time with 1 other (intervals overlap): quick"), std::string::npos) << s.text;
@@ -116,14 +122,11 @@ TEST(SelectTies, WithinTheNoiseTheErrorDecides) {
 }
 
 TEST(SelectTies, AClearDifferenceIsNotATie) {
-  std::mt19937 gen(18);
-  CostTable t;
-  t.rows = {timed("quick", noisy_ratios(1.0, gen), 0.05), timed("careful", noisy_ratios(1.2, gen), 0.03)};
+  const CostTable t = noisy_table(18, {{"quick", 1.0, 0.05}, {"careful", 1.2, 0.03}});
   SelectQuery q;
   q.max_error = 0.1;
   auto s = select(t, q);
-  ASSERT_TRUE(s.ok) << s.text;
-  EXPECT_EQ(s.choice->variant, "quick") << s.text;
+  ASSERT_TRUE(test::chose(s, "quick"));
   EXPECT_TRUE(s.tied.empty()) << s.text;
   EXPECT_EQ(s.text.find("tied on time"), std::string::npos) << s.text;
   ASSERT_TRUE(s.margin);
@@ -133,9 +136,7 @@ TEST(SelectTies, AClearDifferenceIsNotATie) {
 }
 
 TEST(SelectTies, TiesChooseByStaticCostWhenTheErrorIsEqual) {
-  std::mt19937 gen(7);
-  CostTable t;
-  t.rows = {timed("heavy", noisy_ratios(0.998, gen), 0.04), timed("light", noisy_ratios(1.002, gen), 0.04)};
+  CostTable t = noisy_table(7, {{"heavy", 0.998, 0.04}, {"light", 1.002, 0.04}});
   StaticCost heavy, light;
   heavy.work_per_pixel = 300;
   light.work_per_pixel = 120;
@@ -151,18 +152,14 @@ TEST(SelectTies, TiesChooseByStaticCostWhenTheErrorIsEqual) {
 }
 
 TEST(SelectTies, BudgetSaysWhenTheIntervalCrossesIt) {
-  std::mt19937 gen(5);
-  CostTable t;
-  t.rows = {timed("good", noisy_ratios(1.0, gen), 0.02), timed("rough", noisy_ratios(1.003, gen), 0.06),
-            timed("slow", noisy_ratios(1.5, gen), 0.01)};
+  const CostTable t = noisy_table(5, {{"good", 1.0, 0.02}, {"rough", 1.003, 0.06}, {"slow", 1.5, 0.01}});
   const CostRow& good = t.rows[0];
   ASSERT_TRUE(good.time_ms.paired_ci.known());
   ASSERT_GT(good.time_ms.paired_ci.hi, good.time_ms.paired);
   SelectQuery q;
   q.budget_ms = (good.time_ms.paired + good.time_ms.paired_ci.hi) / 2;  // the point fits, the interval does not
   auto s = select(t, q);
-  ASSERT_TRUE(s.ok) << s.text;
-  EXPECT_EQ(s.choice->variant, "good") << s.text;
+  ASSERT_TRUE(test::chose(s, "good"));
   EXPECT_TRUE(s.may_exceed_budget);
   EXPECT_NE(s.text.find(fmt::format("may exceed the budget: its 95 % interval reaches {:.3f} ms",
                                     good.time_ms.paired_ci.hi)),
@@ -178,12 +175,9 @@ TEST(SelectTies, BudgetSaysWhenTheIntervalCrossesIt) {
 }
 
 TEST(SelectTies, ConsiderNeedsFasterBeyondTheNoise) {
-  std::mt19937 gen(11);
-  CostTable t;
   // Budget: "best" has the lowest error; "near" is 1 % faster by point (within the noise), "cheap" 30 %
   // faster, both within 2 % of its error.
-  t.rows = {timed("best", noisy_ratios(1.0, gen), 0.0500), timed("near", noisy_ratios(0.99, gen), 0.0505),
-            timed("cheap", noisy_ratios(0.7, gen), 0.0508)};
+  CostTable t = noisy_table(11, {{"best", 1.0, 0.0500}, {"near", 0.99, 0.0505}, {"cheap", 0.7, 0.0508}});
   ASSERT_TRUE(compare_time(t.rows[1], t.rows[0]).tied());
   SelectQuery q;
   q.budget_ms = 20;

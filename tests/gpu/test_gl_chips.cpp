@@ -53,6 +53,46 @@ double gl_ao_instructions(const gpu::FamilyStats& f, const std::string& key) {
   return 0;
 }
 
+// Each vendor's parser on a statistics line as its compiler prints it (the forms in gpu/gl/vendors/*.cpp), with no
+// driver: the line kept as raw, `inst` as instructions, the vendor's own fields, and the last line of several.
+TEST(GlVendorParsers, EachReadsItsOwnStatisticsLine) {
+  const auto stats = [](const std::string& vendor, const std::vector<std::string>& messages) {
+    return gpu::gl_vendor(vendor)->fragment_stats(messages);
+  };
+  const std::string fd = "FRAG shader: 826 inst, 340 nops, 0 half, 8 full, 16 cat5, 3 cat6, 12 waves, 0 loops";
+  const auto a = stats("freedreno", {"VERT shader: 10 inst", "FRAG shader: 1 inst", fd});
+  ASSERT_TRUE(a);
+  EXPECT_EQ(a->raw, fd);
+  EXPECT_EQ(a->instructions, 826);
+  EXPECT_EQ(a->texture, 16);
+  EXPECT_EQ(a->registers, 8);
+  EXPECT_EQ(a->occupancy, 12);
+  EXPECT_EQ(gpu::gl_vendor("freedreno")->alu_lane_cycles(*a), 826);
+
+  const auto nv = stats("nouveau", {"type: 4, local: 0, shared: 0, gpr: 29, inst: 451, bytes: 3608, cached: 77"});
+  ASSERT_TRUE(nv);
+  EXPECT_EQ(nv->instructions, 451);
+  EXPECT_EQ(nv->registers, 29);
+  EXPECT_EQ(nv->values.count("type") + nv->values.count("cached"), 0u);
+
+  const auto mali = stats("panfrost", {"MESA_SHADER_FRAGMENT shader: 349 inst, 176 bundles, 301 quadwords, "
+                                       "8 registers, 2 threads, 0 loops, 0:0 spills:fills"});
+  ASSERT_TRUE(mali);
+  EXPECT_EQ(mali->instructions, 349);
+  EXPECT_EQ(mali->registers, 8);
+  EXPECT_EQ(mali->spills, 0);
+  EXPECT_EQ(gpu::gl_vendor("panfrost")->alu_lane_cycles(*mali), 176);  // Midgard: the bundles
+
+  const auto brw = stats("intel", {"FS SIMD16 shader: 470 inst, 0 loops, 9000 cycles, 0:0 spills:fills, 12 sends",
+                                   "FS SIMD8 shader: 465 inst, 0 loops, 11046 cycles, 0:0 spills:fills, 11 sends"});
+  ASSERT_TRUE(brw);
+  EXPECT_EQ(brw->instructions, 470);  // the widest width compiled
+  EXPECT_EQ(brw->memory, 12);
+  EXPECT_EQ(brw->values.at("simd"), 16);
+
+  for (const gpu::GlVendor* v : gpu::gl_vendors()) EXPECT_FALSE(v->fragment_stats({"no statistics here"})) << v->name;
+}
+
 class GlVendorRunner : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
 
 TEST_P(GlVendorRunner, CompilesATinyShaderAndReadsItsFragmentLine) {

@@ -28,6 +28,18 @@ FloatImage two_depths() {
   return d;
 }
 
+// All of the error in the part `hit` (`pixel_share` of the compared pixels, each off by `off`), none in `clean`,
+// which holds the other pixels; `what` names the split in a failure.
+void expect_all_error_in(const metrics::ErrorPart& hit, const metrics::ErrorPart& clean, double pixel_share, double off,
+                         const char* what) {
+  EXPECT_DOUBLE_EQ(hit.pixel_share, pixel_share) << what;
+  EXPECT_DOUBLE_EQ(clean.pixel_share, 1 - pixel_share) << what;
+  EXPECT_DOUBLE_EQ(hit.error_share, 1.0) << what;
+  EXPECT_DOUBLE_EQ(clean.error_share, 0.0) << what;
+  EXPECT_NEAR(hit.rmse, off, 1e-6) << what;
+  EXPECT_DOUBLE_EQ(clean.rmse, 0.0) << what;
+}
+
 TEST(Breakdown, ErrorOnlyInTheEdgeBand) {
   // Band 1 px on a 10 x 10 image: the outer ring, 100 - 8 * 8 = 36 pixels, off by +0.2.
   const FloatImage ref = filled_image(10, 10, 0.5f);
@@ -37,12 +49,7 @@ TEST(Breakdown, ErrorOnlyInTheEdgeBand) {
       if (std::min({x, y, 9 - x, 9 - y}) < 1) img.at(x, y) = 0.7f;
   const auto b = metrics::error_breakdown(img, ref, {}, two_depths(), 1.0);
   EXPECT_DOUBLE_EQ(b.edge_band_px, 1.0);
-  EXPECT_DOUBLE_EQ(b.edge.pixel_share, 0.36);
-  EXPECT_DOUBLE_EQ(b.interior.pixel_share, 0.64);
-  EXPECT_DOUBLE_EQ(b.edge.error_share, 1.0);
-  EXPECT_DOUBLE_EQ(b.interior.error_share, 0.0);
-  EXPECT_NEAR(b.edge.rmse, 0.2, 1e-6);
-  EXPECT_DOUBLE_EQ(b.interior.rmse, 0.0);
+  expect_all_error_in(b.edge, b.interior, 0.36, 0.2, "edge / interior");
   EXPECT_NEAR(b.edge.mean_error, 0.2, 1e-6);
   // A band of 1.4 px still holds one ring (the second ring's centres are 1.5 px in), 2 holds two, 0 none.
   EXPECT_DOUBLE_EQ(metrics::error_breakdown(img, ref, {}, two_depths(), 1.4).edge.pixel_share, 0.36);
@@ -64,12 +71,7 @@ TEST(Breakdown, ErrorOnlyInTheFarHalfAndTooLight) {
     for (int x = 5; x < 10; ++x) img.at(x, y) = 0.8f;  // the far half, lighter by 0.3
   const auto b = metrics::error_breakdown(img, ref, {}, depth, 0.0);
   EXPECT_EQ(b.split_depth, 1.0);
-  EXPECT_DOUBLE_EQ(b.near.pixel_share, 0.5);
-  EXPECT_DOUBLE_EQ(b.far.pixel_share, 0.5);
-  EXPECT_DOUBLE_EQ(b.far.error_share, 1.0);
-  EXPECT_DOUBLE_EQ(b.near.error_share, 0.0);
-  EXPECT_NEAR(b.far.rmse, 0.3, 1e-6);
-  EXPECT_DOUBLE_EQ(b.near.rmse, 0.0);
+  expect_all_error_in(b.far, b.near, 0.5, 0.3, "far / near");
   // Too light everywhere it is wrong: all of the error, the far pixels' +0.3 as its mean; nothing too dark.
   EXPECT_DOUBLE_EQ(b.light.error_share, 1.0);
   EXPECT_DOUBLE_EQ(b.light.pixel_share, 0.5);

@@ -73,34 +73,36 @@ double direct_ssim(const FloatImage& a, const FloatImage& b, const std::vector<s
     std::size_t i = static_cast<std::size_t>(y) * a.width + x;
     return (background.empty() || background[i] == 0) && std::isfinite(a.pixels[i]) && std::isfinite(b.pixels[i]);
   };
+  // tap(xx, yy, g) for each compared finite pixel of the 11x11 window at (x, y), with its Gaussian weight: both
+  // passes visit the same taps in the same order.
+  auto each_tap = [&](int x, int y, auto&& tap) {
+    for (int dy = -5; dy <= 5; ++dy)
+      for (int dx = -5; dx <= 5; ++dx) {
+        const int xx = x + dx, yy = y + dy;
+        if (xx < 0 || yy < 0 || xx >= a.width || yy >= a.height || !valid(xx, yy)) continue;
+        tap(xx, yy, std::exp(-(dx * dx + dy * dy) / (2 * 1.5 * 1.5)));
+      }
+  };
   double total = 0;
   long count = 0;
   for (int y = 0; y < a.height; ++y)
     for (int x = 0; x < a.width; ++x) {
       if (!valid(x, y)) continue;
       double wsum = 0, mx = 0, my = 0;
-      for (int dy = -5; dy <= 5; ++dy)
-        for (int dx = -5; dx <= 5; ++dx) {
-          int xx = x + dx, yy = y + dy;
-          if (xx < 0 || yy < 0 || xx >= a.width || yy >= a.height || !valid(xx, yy)) continue;
-          double g = std::exp(-(dx * dx + dy * dy) / (2 * 1.5 * 1.5));
-          wsum += g;
-          mx += g * a.at(xx, yy);
-          my += g * b.at(xx, yy);
-        }
+      each_tap(x, y, [&](int xx, int yy, double g) {
+        wsum += g;
+        mx += g * a.at(xx, yy);
+        my += g * b.at(xx, yy);
+      });
       mx /= wsum;
       my /= wsum;
       double vx = 0, vy = 0, cxy = 0;
-      for (int dy = -5; dy <= 5; ++dy)
-        for (int dx = -5; dx <= 5; ++dx) {
-          int xx = x + dx, yy = y + dy;
-          if (xx < 0 || yy < 0 || xx >= a.width || yy >= a.height || !valid(xx, yy)) continue;
-          double g = std::exp(-(dx * dx + dy * dy) / (2 * 1.5 * 1.5));
-          double da = a.at(xx, yy) - mx, db = b.at(xx, yy) - my;
-          vx += g * da * da;
-          vy += g * db * db;
-          cxy += g * da * db;
-        }
+      each_tap(x, y, [&](int xx, int yy, double g) {
+        const double da = a.at(xx, yy) - mx, db = b.at(xx, yy) - my;
+        vx += g * da * da;
+        vy += g * db * db;
+        cxy += g * da * db;
+      });
       vx /= wsum;
       vy /= wsum;
       cxy /= wsum;

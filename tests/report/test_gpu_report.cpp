@@ -9,6 +9,7 @@
 #include "decide/select.h"
 #include "report/gpu_section.h"
 #include "report/report.h"
+#include "selection.h"
 #include "test_support.h"
 
 namespace {
@@ -48,12 +49,10 @@ TEST(GpuSelect, TargetDecidesByTheEstimate) {
   SelectQuery q;
   q.max_error = 0.06;
   auto here = select(table_with_estimates(), q);
-  ASSERT_TRUE(here.ok);
-  EXPECT_EQ(here.choice->variant, "no_estimate");  // cheapest measured here
+  ASSERT_TRUE(test::chose(here, "no_estimate"));  // cheapest measured here
   q.target = "navi21";
   auto navi = select(table_with_estimates(), q);
-  ASSERT_TRUE(navi.ok) << navi.text;
-  EXPECT_EQ(navi.choice->variant, "slow_here");  // cheapest estimated; rows without an estimate are not candidates
+  ASSERT_TRUE(test::chose(navi, "slow_here"));  // cheapest estimated; rows without an estimate are not candidates
   EXPECT_DOUBLE_EQ(navi.choice->time_ms, 0.3);
   EXPECT_NE(navi.text.find("est. on navi21"), std::string::npos) << navi.text;
   EXPECT_NE(navi.text.find("time: the estimate on navi21 (gpu.navi21.est_ms)"), std::string::npos) << navi.text;
@@ -62,8 +61,7 @@ TEST(GpuSelect, TargetDecidesByTheEstimate) {
   budget.budget_ms = 0.7;
   budget.target = "navi21";
   auto b = select(table_with_estimates(), budget);
-  ASSERT_TRUE(b.ok);
-  EXPECT_EQ(b.choice->variant, "slow_here");  // lowest error within 0.7 ms estimated (mid_here 0.04 > 0.03)
+  ASSERT_TRUE(test::chose(b, "slow_here"));  // lowest error within 0.7 ms estimated (mid_here 0.04 > 0.03)
 }
 
 TEST(GpuSelect, UnknownTargetNamesTheFamiliesTheTableHas) {

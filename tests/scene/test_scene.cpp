@@ -474,9 +474,7 @@ TEST(ObjScenes, BrokenFilesGiveOneLineErrorsWithFileAndLine) {
         Case{"empty.obj", "", "empty.obj:1: error: "},
         Case{"points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "points.obj:3: error: "}}) {
     test::write_text(dir / c.name, c.text);
-    std::string e = load_error(dir / c.name);
-    EXPECT_TRUE(test::is_one_line(e)) << e;
-    EXPECT_TRUE(contains(e, c.want)) << e;
+    EXPECT_TRUE(test::one_line_error_with(load_error(dir / c.name), c.want));
   }
   EXPECT_TRUE(contains(load_error(dir / "range.obj"), "out of range")) << load_error(dir / "range.obj");
   EXPECT_TRUE(contains(load_error(dir / "empty.obj"), "no triangles")) << load_error(dir / "empty.obj");
@@ -870,9 +868,7 @@ TEST(Views, BadSideFilesNameTheLine) {
            Case{head + "eye = [0, 0]\ntarget = [0, 0, 0]\n", "v.toml:3:1: error: 'eye' must be a list of 3 numbers"},
            Case{head + "eye = [0, 0, 1\n", "v.toml:3:"},
        }) {
-    std::string e = toml_error(c.text);
-    EXPECT_TRUE(test::is_one_line(e)) << e;
-    EXPECT_TRUE(contains(e, c.want)) << "got: " << e << "\nwant: " << c.want;
+    EXPECT_TRUE(test::one_line_error_with(toml_error(c.text), c.want));
   }
 
   auto json_error = [&](const std::string& text) {
@@ -892,9 +888,7 @@ TEST(Views, BadSideFilesNameTheLine) {
            // Found by scripts/fuzz: the JSON parser stops at a NUL, and what followed reached the key scanner.
            Case{std::string("{\"views\": []}\n\0{\"views\": [[\"a\": 1]]}", 33), "v.json:2:1: error: a NUL byte"},
        }) {
-    std::string e = json_error(c.text);
-    EXPECT_TRUE(test::is_one_line(e)) << e;
-    EXPECT_TRUE(contains(e, c.want)) << "got: " << e << "\nwant: " << c.want;
+    EXPECT_TRUE(test::one_line_error_with(json_error(c.text), c.want));
   }
 }
 

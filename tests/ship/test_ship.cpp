@@ -188,12 +188,6 @@ table::CostTable stills(const std::map<std::string, std::array<double, 2>>& rmse
   return t;
 }
 
-std::vector<std::string> untimed_keys(const ship::HoldoutPlan& p) {
-  std::vector<std::string> out;
-  for (const auto& u : p.untimed) out.push_back(u.variant);
-  return out;
-}
-
 // The race's order: per view, how many screen rows are both more accurate and faster (rel_time_median);
 // the front first. A row without an error or a time is not ranked.
 TEST(ShipRace, TheScreensFrontIsRankedFirstOnEachView) {
@@ -237,7 +231,7 @@ TEST(ShipHoldout, BudgetOfTimesOnlyWhatIsAtMostTheBudgetsErrorPlusTheTolerance) 
   EXPECT_EQ(p.timed, (std::vector<std::string>{"accurate", "base", "no-still", "within-tol"}));
   EXPECT_EQ(p.by_error, (std::vector<std::string>{"base", "accurate", "within-tol", "no-still"}))
       << "the budget first, then by error, the unrendered last";
-  EXPECT_EQ(untimed_keys(p), std::vector<std::string>{"better"});
+  EXPECT_EQ(test::variants_of(p.untimed), std::vector<std::string>{"better"});
   EXPECT_DOUBLE_EQ(p.untimed[0].rmse, 0.070);
   EXPECT_NE(p.rule.find("base"), std::string::npos) << p.rule;
 }
@@ -250,7 +244,7 @@ TEST(ShipHoldout, MaxErrorTimesWhatFitsOrElseTheNearest) {
   q.max_error = 0.01;  // nothing fits: the lowest error is timed, for select's nearest
   const ship::HoldoutPlan none = ship::plan_holdout_timing(t, {"a", "b", "c"}, q);
   EXPECT_EQ(none.timed, std::vector<std::string>{"a"});
-  EXPECT_EQ(untimed_keys(none), (std::vector<std::string>{"b", "c"}));
+  EXPECT_EQ(test::variants_of(none.untimed), (std::vector<std::string>{"b", "c"}));
 }
 
 // Staged in order of error: the choice among the most accurate ones timed is the choice among all once every

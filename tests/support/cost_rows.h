@@ -138,4 +138,13 @@ inline bool on_front(const std::vector<table::CostRow>& rows, const std::string&
   return false;
 }
 
+// The `variant` of each item (rows, select's candidates, a front's points, a plan's entries), in order: what a
+// decision kept, compared in one assertion that prints the whole list when it fails.
+template <class Items>
+std::vector<std::string> variants_of(const Items& items) {
+  std::vector<std::string> out;
+  for (const auto& item : items) out.push_back(item.variant);
+  return out;
+}
+
 }  // namespace aovar::test

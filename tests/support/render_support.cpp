@@ -59,9 +59,14 @@ measure::MeasureOptions tiny_measure(const std::filesystem::path& dir, std::vect
 }
 
 compile::CompiledSpace compile_variants(const std::vector<std::string>& keys, bool with_gles) {
+  std::vector<variants::Target> targets = {variants::Target::vulkan, variants::Target::gl45};
+  if (with_gles) targets.push_back(variants::Target::gles30);
+  return compile_variants(keys, std::move(targets));
+}
+
+compile::CompiledSpace compile_variants(const std::vector<std::string>& keys, std::vector<variants::Target> targets) {
   compile::CompileOptions o;
-  o.scope.targets = {variants::Target::vulkan, variants::Target::gl45};
-  if (with_gles) o.scope.targets.push_back(variants::Target::gles30);
+  o.scope.targets = std::move(targets);
   o.globs = keys;
   auto c = compile::compile_space(aovar::test::on_manifest(o, source_dir() / "shader_src" / "aovar.toml"));
   if (!c.ok()) throw std::runtime_error("compile failed: " + (c.diagnostics.empty() ? "" : c.diagnostics[0]));

@@ -16,6 +16,8 @@ namespace aovar::test {
 // The default manifest compiled for vulkan and gl45 (and gles30 for the gles backend, `with_gles`: the ES
 // programs add compile time most tests do not need), restricted to `keys` (exact keys or globs).
 compile::CompiledSpace compile_variants(const std::vector<std::string>& keys, bool with_gles = false);
+// The same for `targets` only (a test of one target's plans or embedding); throws when a program fails.
+compile::CompiledSpace compile_variants(const std::vector<std::string>& keys, std::vector<variants::Target> targets);
 
 // Tiny and fast measure options: builtin:stairs at 64x36, one timed round, no warm-up, compile and
 // reference caches in `dir`, output in dir/m; `globs` selected, `baseline` timed in every round.

@@ -61,6 +61,11 @@ nlohmann::json read_json(const fs::path& file) {
 
 std::filesystem::path aovar_executable() { return AOVAR_EXE; }
 
+::testing::AssertionResult one_line_error_with(const std::string& error, const std::string& want) {
+  if (is_one_line(error) && has_text(error, want)) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "got: " << error << "\nwant one line with: " << want;
+}
+
 CommandResult run_aovar(const std::string& args) { return run_command(std::string(AOVAR_EXE) + " " + args); }
 
 CommandResult run_command(const std::string& command) {

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <nlohmann/json_fwd.hpp>
 
 namespace aovar::test {
@@ -64,6 +65,8 @@ std::string thrown_message(F&& f) {
 inline bool has_text(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 // A non-empty message of one line (what every error a user meets must be).
 inline bool is_one_line(const std::string& s) { return !s.empty() && s.find('\n') == std::string::npos; }
+// Success when `error` is such a message and holds `want`; the failure shows both.
+::testing::AssertionResult one_line_error_with(const std::string& error, const std::string& want);
 
 // Sets environment variables for a scope and restores what they were (set or unset) when it ends.
 class ScopedEnv {

@@ -46,4 +46,16 @@ const std::string* last_line_with(const std::vector<std::string>& messages, cons
 double field(const std::map<std::string, double>& values, const std::string& name);
 double field_sum(const std::map<std::string, double>& values, const std::vector<std::string>& names);
 
+// One shader-db line's statistics: its fields `values`, the line itself and its `inst`, the instruction count
+// every vendor's line holds. The vendor reads its other fields.
+ShaderStats line_stats(std::map<std::string, double> values, const std::string& line);
+
+// The last message holding `tag` (last_line_with) read as "<tag> <counted fields>", the form most vendors print;
+// nothing when no message holds it.
+std::optional<ShaderStats> tagged_line_stats(const std::vector<std::string>& messages, const std::string& tag);
+
+// The ALU term (GlVendor::alu_lane_cycles) of a vendor whose every counted instruction takes one issue slot per
+// thread: the instruction count. Each vendor's file says why that holds for its hardware.
+double instructions_issued(const ShaderStats& stats);
+
 }  // namespace aovar::gpu

@@ -63,4 +63,20 @@ double field_sum(const std::map<std::string, double>& values, const std::vector<
   return total;
 }
 
+ShaderStats line_stats(std::map<std::string, double> values, const std::string& line) {
+  ShaderStats s;
+  s.values = std::move(values);
+  s.raw = line;
+  s.instructions = field(s.values, "inst");
+  return s;
+}
+
+std::optional<ShaderStats> tagged_line_stats(const std::vector<std::string>& messages, const std::string& tag) {
+  const std::string* line = last_line_with(messages, tag);
+  if (!line) return std::nullopt;
+  return line_stats(counted_fields(line->substr(line->find(tag) + tag.size())), *line);
+}
+
+double instructions_issued(const ShaderStats& stats) { return stats.instructions; }
+
 }  // namespace aovar::gpu

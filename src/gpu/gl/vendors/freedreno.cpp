@@ -7,34 +7,28 @@
 namespace aovar::gpu {
 namespace {
 
+// `instructions` is ir3's `inst`, nops included: ir3 issues them as delay slots.
 std::optional<ShaderStats> freedreno_fragment_stats(const std::vector<std::string>& messages) {
-  const std::string tag = "FRAG shader:";
-  const std::string* line = last_line_with(messages, tag);
-  if (!line) return std::nullopt;
-  ShaderStats s;
-  s.values = counted_fields(line->substr(line->find(tag) + tag.size()));
-  s.raw = *line;
-  s.instructions = field(s.values, "inst");  // nops included: ir3 issues them as delay slots
-  s.alu = field_sum(s.values, {"cat1", "cat2", "cat3", "cat4"});
-  s.texture = field(s.values, "cat5");
-  s.memory = field(s.values, "cat6");
+  auto s = tagged_line_stats(messages, "FRAG shader:");
+  if (!s) return s;
+  s->alu = field_sum(s->values, {"cat1", "cat2", "cat3", "cat4"});
+  s->texture = field(s->values, "cat5");
+  s->memory = field(s->values, "cat6");
   // A half register is half a full one in the register file (ir3: two halves share a full register).
-  s.registers = field(s.values, "full") + 0.5 * field(s.values, "half");
-  s.occupancy = field(s.values, "waves");
-  s.loops = field(s.values, "loops");
+  s->registers = field(s->values, "full") + 0.5 * field(s->values, "half");
+  s->occupancy = field(s->values, "waves");
+  s->loops = field(s->values, "loops");
   return s;
 }
 
-// ir3 is a scalar ISA issued in order; `inst` counts the nops ir3 schedules as delay slots, which occupy the
-// issue slot as any instruction does (the hardware has no interlock for ALU results).
-double freedreno_alu_lane_cycles(const ShaderStats& s) { return s.instructions; }
-
 }  // namespace
 
+// ALU term: instructions_issued. ir3 is a scalar ISA issued in order; `inst` counts the nops ir3 schedules as
+// delay slots, which occupy the issue slot as any instruction does (the hardware has no interlock for ALU results).
 const GlVendor& freedreno_vendor() {
   static const GlVendor v{"freedreno", "Qualcomm Adreno (freedreno)", "arm64", "libfreedreno_noop_drm_shim.so",
                           "FD_GPU_ID", {{"FD_MESA_DEBUG", "shaderdb"}}, freedreno_fragment_stats,
-                          freedreno_alu_lane_cycles};
+                          instructions_issued};
   return v;
 }
 

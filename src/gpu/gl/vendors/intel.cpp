@@ -20,11 +20,9 @@ std::optional<ShaderStats> intel_fragment_stats(const std::vector<std::string>& 
     if (!std::regex_search(line, m, head)) continue;
     const double width = std::stod(m[1]);
     if (widest && widest->values["simd"] >= width) continue;
-    ShaderStats s;
-    s.values = counted_fields(m[2]);
-    s.values["simd"] = width;
-    s.raw = line;
-    s.instructions = field(s.values, "inst");
+    auto values = counted_fields(m[2]);
+    values["simd"] = width;
+    ShaderStats s = line_stats(std::move(values), line);
     s.memory = field(s.values, "sends");  // every message: sampler, data port and render-target writes
     s.spills = field(s.values, "spills");
     s.loops = field(s.values, "loops");
@@ -34,17 +32,14 @@ std::optional<ShaderStats> intel_fragment_stats(const std::vector<std::string>& 
   return widest;
 }
 
-// brw's instructions of the widest dispatch compiled: a SIMD-N instruction takes N / 8 clocks on an EU's eight fp32
-// lanes (two SIMD-4 FPUs, Gen7.5 white paper), one lane-cycle per pixel. `cycles` is brw's latency estimate of
-// one thread alone, which the EU's other threads hide: not a throughput.
-double intel_alu_lane_cycles(const ShaderStats& s) { return s.instructions; }
-
 }  // namespace
 
+// ALU term: instructions_issued, brw's instructions of the widest dispatch compiled: a SIMD-N instruction takes
+// N / 8 clocks on an EU's eight fp32 lanes (two SIMD-4 FPUs, Gen7.5 white paper), one lane-cycle per pixel.
+// `cycles` is brw's latency estimate of one thread alone, which the EU's other threads hide: not a throughput.
 const GlVendor& intel_vendor() {
   static const GlVendor v{"intel", "Intel (crocus, iris)", "amd64", "libintel_noop_drm_shim.so",
-                          "INTEL_STUB_GPU_PLATFORM", {}, intel_fragment_stats,
-                          intel_alu_lane_cycles};
+                          "INTEL_STUB_GPU_PLATFORM", {}, intel_fragment_stats, instructions_issued};
   return v;
 }
 

@@ -13,27 +13,25 @@ std::optional<ShaderStats> nouveau_fragment_stats(const std::vector<std::string>
   static const std::regex pair(R"(([a-z_]+):\s*(-?[0-9]+))");
   const std::string* line = last_line_with(messages, "type: 4,");
   if (!line) return std::nullopt;
-  ShaderStats s;
+  std::map<std::string, double> values;
   for (auto it = std::sregex_iterator(line->begin(), line->end(), pair); it != std::sregex_iterator(); ++it)
-    s.values[(*it)[1]] = std::stod((*it)[2]);
-  s.values.erase("type");
-  s.values.erase("cached");  // a pointer-ish cache key, not a statistic
-  s.raw = *line;
-  s.instructions = field(s.values, "inst");
+    values[(*it)[1]] = std::stod((*it)[2]);
+  values.erase("type");
+  values.erase("cached");  // a pointer-ish cache key, not a statistic
+  ShaderStats s = line_stats(std::move(values), *line);
   s.registers = field(s.values, "gpr");
   s.loops = field(s.values, "loops");
   return s;
 }
 
-// nv50 ir issues one instruction per thread per clock on a CUDA core (a warp of 32 over the SM's cores); the
-// texture and memory instructions take an issue slot too. No ALU split is reported, so every instruction counts.
-double nouveau_alu_lane_cycles(const ShaderStats& s) { return s.instructions; }
-
 }  // namespace
 
+// ALU term: instructions_issued. nv50 ir issues one instruction per thread per clock on a CUDA core (a warp of 32
+// over the SM's cores); the texture and memory instructions take an issue slot too. No ALU split is reported, so
+// every instruction counts.
 const GlVendor& nouveau_vendor() {
   static const GlVendor v{"nouveau", "NVIDIA (nouveau)", "amd64", "libnouveau_noop_drm_shim.so", "NOUVEAU_CHIPSET",
-                          {}, nouveau_fragment_stats, nouveau_alu_lane_cycles};
+                          {}, nouveau_fragment_stats, instructions_issued};
   return v;
 }
 

@@ -10,18 +10,13 @@ namespace aovar::gpu {
 namespace {
 
 std::optional<ShaderStats> panfrost_fragment_stats(const std::vector<std::string>& messages) {
-  const std::string tag = "MESA_SHADER_FRAGMENT shader:";
-  const std::string* line = last_line_with(messages, tag);
-  if (!line) return std::nullopt;
-  ShaderStats s;
-  s.values = counted_fields(line->substr(line->find(tag) + tag.size()));
-  s.raw = *line;
-  s.instructions = field(s.values, "inst");
-  s.registers = field(s.values, "registers");
-  s.occupancy = field(s.values, "threads");
-  s.spills = field(s.values, "spills");
-  s.loops = field(s.values, "loops");
-  s.cycles = field(s.values, "cycles");  // Bifrost and Valhall only: the bound of arith, texture, ldst, varying
+  auto s = tagged_line_stats(messages, "MESA_SHADER_FRAGMENT shader:");
+  if (!s) return s;
+  s->registers = field(s->values, "registers");
+  s->occupancy = field(s->values, "threads");
+  s->spills = field(s->values, "spills");
+  s->loops = field(s->values, "loops");
+  s->cycles = field(s->values, "cycles");  // Bifrost and Valhall only: the bound of arith, texture, ldst, varying
   return s;
 }
 
