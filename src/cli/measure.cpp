@@ -95,6 +95,8 @@ Command add_measure(CLI::App& app) {
   cmd->add_flag("--camera-path", mo.timing.camera_path,
                 "frames walk each view's camera path (default: its first pose; the image is the last frame)");
   cmd->add_flag("!--no-images", mo.images, "write no PFM/PNG images");
+  cmd->add_flag("!--own-gbuffers", mo.share_gbuffer,
+                "every variant draws its own G-buffer (default: one per format, shared; the images are identical)");
   cmd->add_flag("!--no-reuse", mo.reuse, "measure everything again even when OUT/measure.json has the row");
   cmd->add_flag("--no-prune", a->no_prune,
                 "measure every selected variant (default: drop, before compiling, those the scene's profile drops)");

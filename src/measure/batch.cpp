@@ -193,6 +193,7 @@ void BatchMeasurer::measure_all(const std::vector<const scene::View*>& views, co
     ro.backend = backend_name;
     ro.device.threads = o_.scope.threads;
     ro.device.device = o_.device;
+    ro.device.share_gbuffer = o_.share_gbuffer;
     ro.size = o_.size;
     ro.calibration = o_.calibration.values;
     runner::VariantRunner runner(c_, ro);

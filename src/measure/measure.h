@@ -98,6 +98,7 @@ struct MeasureOptions {
   // How it is rendered.
   render::Extent size{640, 360};
   std::string device;                      // the Vulkan backend: --device NAME|INDEX (render::BackendOptions::device)
+  bool share_gbuffer = true;               // one G-buffer per format (render::BackendOptions::share_gbuffer)
   float radius = 0;                        // world units; 0 = the scene's default
   render::ParamOverrides params;           // "<pass>.<name>" -> value
   // Calibrated parameter values (aovar calibrate), where they came from and what measure.json and the cost

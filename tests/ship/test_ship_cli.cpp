@@ -257,14 +257,14 @@ TEST(ShipCli, AMeasuredRaceTimesTheHeldOutViewOnlyForWhatTheQueryCouldChoose) {
       << r.output;
   const CommandResult small = run_aovar(measured_ship_args(dir / "batched", dir / "cache", budget) + " --batch 4");
   ASSERT_EQ(small.status, 0) << small.output;
-  for (const auto& row : table_of(dir / "batched" / "screen").at("rows"))
+  const json screened = table_of(dir / "batched" / "screen");  // named: a range-for keeps no temporary alive (C++20)
+  for (const auto& row : screened.at("rows"))
     EXPECT_GE(row.at("time_ms").at("n").get<int>(), 6) << row.dump();
 
   // In batches the race times the screen's front first (ship::screen_ranks): on a training view, no row of a
   // batch ranks later than a row of the next one. A row's rank: how many of the race's candidates the screen
   // showed both more accurate and faster on that view.
   const json batched = table_of(dir / "batched");
-  const json screened = table_of(dir / "batched" / "screen");
   const json race = json::parse(
       util::read_file(dir / "batched" / "race" / "measure" / "builtin_atrium" / "measure.json").value_or("{}"));
   for (const auto& view : batched.at("meta").at("ship").at("training_views")) {
