@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <numeric>
 #include <set>
 
 #include <fmt/format.h>
 
 #include "image/image.h"
 #include "measure/same_code.h"
+#include "render/gbuffer_share.h"
 #include "shadergen/expand.h"
 #include "util/clock.h"
 #include "util/hash.h"
@@ -42,6 +45,27 @@ void order_for_race(std::vector<Candidate>& todo, const TimingPlan& timing, cons
     return it == timing.race_order->end() ? std::numeric_limits<int>::max() : it->second;
   };
   std::stable_sort(todo.begin(), todo.end(), [&](const Candidate& a, const Candidate& b) { return rank(a) < rank(b); });
+}
+
+// Without a race order: the candidates that read one G-buffer (render/gbuffer_share.h) next to each other, groups
+// in order of first appearance. Each round draws every G-buffer its batch reads once (measure/timing.h), so a
+// batch of few formats rasterises the scene few times, whatever its size.
+template <typename Candidate>
+void order_by_gbuffer(std::vector<Candidate>& todo, const TimingPlan& timing, render::Extent size) {
+  if (timing.race_order) return;
+  std::map<std::string, std::size_t> group;  // G-buffer key -> order of first appearance
+  std::vector<std::size_t> group_of;
+  for (const Candidate& c : todo) {
+    const auto split = render::split_gbuffer(render::plan_for_size(c.plan, size), size);
+    group_of.push_back(group.emplace(split ? split->key : c.plan.variant, group.size()).first->second);
+  }
+  std::vector<std::size_t> order(todo.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return group_of[a] < group_of[b]; });
+  std::vector<Candidate> sorted;
+  sorted.reserve(todo.size());
+  for (std::size_t i : order) sorted.push_back(std::move(todo[i]));
+  todo = std::move(sorted);
 }
 
 // What a timed batch leaves for the later ones to retire against (Retire::earlier): each pipeline but the
@@ -218,6 +242,7 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
     if (!reuse(cand, device, view.name)) todo.push_back(std::move(cand));
   }
   order_for_race(todo, o_.timing, view.name);
+  order_by_gbuffer(todo, o_.timing, o_.size);
   Candidate ref = candidate(runner, sel_.baseline, ctx);
   if (todo.empty() && reuse(ref, device, view.name)) {
     add_twin_rows(twin, device, view.name);

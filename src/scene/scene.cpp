@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "scene/detail.h"
+#include "scene/tessellate.h"
 #include "util/fs.h"
 #include "util/hash.h"
 #include "util/text.h"
@@ -292,16 +293,50 @@ fs::path side_file_for(const fs::path& scene_path) {
   return has_toml ? toml : has_json ? json : fs::path();
 }
 
-std::pair<std::string, float> split_scale(const std::string& spec) {
-  const std::size_t at = spec.rfind(kScaleSuffix);
-  if (at == std::string::npos) return {spec, 1.0f};
-  const std::string base = spec.substr(0, at), text = spec.substr(at + kScaleSuffix.size());
+// A spec's trailing suffixes: SPEC[@scale=F][@tessellate=N], in either order, each at most once.
+struct SpecSuffixes {
+  std::string base;
+  float scale = 1.0f;
+  int tessellate = 0;  // levels; 0 = as loaded
+};
+
+// The number after a suffix, within [lo, hi]; fails naming the spec and the suffix otherwise.
+struct SuffixRange {
+  double lo, hi;
+  std::string lo_text, hi_text, example;
+};
+double suffix_number(const std::string& spec, std::string_view suffix, const std::string& text, const SuffixRange& r) {
   char* end = nullptr;
-  const double f = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || !(f >= 1e-6 && f <= 1e6))
-    fail(fmt::format("{}: error: scale '{}' must be a number from 1e-6 to 1e6 (e.g. {}0.01)", spec, text,
-                     kScaleSuffix));
-  return {base, static_cast<float>(f)};
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !(v >= r.lo && v <= r.hi))
+    fail(fmt::format("{}: error: {} '{}' must be a number from {} to {} (e.g. {}{})", spec,
+                     suffix.substr(1, suffix.size() - 2), text, r.lo_text, r.hi_text, suffix, r.example));
+  return v;
+}
+
+SpecSuffixes split_suffixes(const std::string& spec) {
+  SpecSuffixes out{spec};
+  bool scaled = false, tessellated = false;
+  for (std::size_t at; (at = out.base.rfind('@')) != std::string::npos;) {
+    const std::string tail = out.base.substr(at);
+    const bool is_scale = tail.starts_with(kScaleSuffix), is_tessellate = tail.starts_with(kTessellateSuffix);
+    if (!is_scale && !is_tessellate) break;
+    if ((is_scale && scaled) || (is_tessellate && tessellated))
+      fail(fmt::format("{}: error: {} is given twice (give it once)", spec, is_scale ? kScaleSuffix : kTessellateSuffix));
+    if (is_scale) {
+      out.scale = static_cast<float>(
+          suffix_number(spec, kScaleSuffix, tail.substr(kScaleSuffix.size()), {1e-6, 1e6, "1e-6", "1e6", "0.01"}));
+      scaled = true;
+    } else {
+      const double n = suffix_number(spec, kTessellateSuffix, tail.substr(kTessellateSuffix.size()),
+                                     {1, kMaxTessellateLevels, "1", std::to_string(kMaxTessellateLevels), "2"});
+      if (n != std::floor(n)) fail(fmt::format("{}: error: tessellate '{:g}' must be a whole number", spec, n));
+      out.tessellate = static_cast<int>(n);
+      tessellated = true;
+    }
+    out.base.resize(at);
+  }
+  return out;
 }
 
 // Every length of the scene times f: geometry, the built-in radius and views. The views a side file gives
@@ -317,13 +352,14 @@ void scale_scene(Scene& scene, float f) {
 
 Scene load_scene(const std::string& full_spec, const LoadOptions& options) {
   constexpr std::string_view kPrefix = "builtin:";
-  const auto [spec, scale] = split_scale(full_spec);
+  const auto [spec, scale, levels] = split_suffixes(full_spec);
   Scene scene;
   fs::path views_file = options.views_file;
   if (spec.starts_with(kPrefix)) {
     const std::string_view name = std::string_view(spec).substr(kPrefix.size());
     scene = make_builtin(name);
     scale_scene(scene, scale);
+    tessellate(scene, levels, full_spec);
     scene.name = full_spec;
     scene.source = "builtin";
     finalize(scene, spec, builtin_keeps_normals(name));
@@ -344,6 +380,7 @@ Scene load_scene(const std::string& full_spec, const LoadOptions& options) {
                        util::file_type_name(st.st_mode)));
     scene = ext == ".obj" ? load_obj(path, display, options) : load_gltf(path, display, options, ext == ".glb");
     scale_scene(scene, scale);
+    tessellate(scene, levels, display);
     scene.name = full_spec;
     scene.source = display;
     finalize(scene, display);

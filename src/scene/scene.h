@@ -82,8 +82,11 @@ struct LoadOptions {
 // "SPEC@scale=F" loads SPEC with every length times F (geometry, views, the built-in radius): the same
 // scene in other units, which every result must survive (docs/scale.md).
 inline constexpr std::string_view kScaleSuffix = "@scale=";
+// "SPEC@tessellate=N" (N from 1 to 4) splits every triangle into 4^N (scene/tessellate.h): the same surface with
+// more triangles, for measuring what geometry costs. Both suffixes may follow SPEC, in either order.
+inline constexpr std::string_view kTessellateSuffix = "@tessellate=";
 
-// "builtin:<name>" or a path to .obj/.gltf/.glb, optionally with kScaleSuffix. Throws SceneError (one line, naming the file, the line
+// "builtin:<name>" or a path to .obj/.gltf/.glb, optionally with kScaleSuffix and kTessellateSuffix. Throws SceneError (one line, naming the file, the line
 // or byte offset, and what to do) for unknown names, missing, broken, empty or too-large files.
 Scene load_scene(const std::string& spec, const LoadOptions& options = {});
 
