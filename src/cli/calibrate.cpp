@@ -70,7 +70,7 @@ Command add_calibrate(CLI::App& app) {
                   "normals of the variant each method is fitted with: buffer (RGB8 where read) or depth")
       ->check(CLI::IsMember({"buffer", "depth"}))
       ->capture_default_str();
-  cmd->add_option("--backend,-b", cal.backend, render::backend_list(", ", " or "))->capture_default_str();
+  cmd->add_option("--backend,-b", cal.backend, render::backend_list(", ", " or "))->check(registered_backend())->capture_default_str();
   cmd->add_option("--size", a->size, "render and reference size WxH")->capture_default_str();
   add_rays(cmd, cal.rays, "reference rays per pixel");
   cmd->add_option("--mode", a->mode, "reference mode: occlusion or obscurance")->capture_default_str();

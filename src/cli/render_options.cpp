@@ -92,9 +92,22 @@ void RepsOption::apply(measure::MeasureOptions& o) const {
   o.timing.auto_reps.reset();
 }
 
+CLI::Validator registered_backend() {
+  return CLI::Validator(
+      [](std::string& name) -> std::string {
+        try {
+          (void)render::backend_info(name);
+          return "";
+        } catch (const render::BackendError& e) {
+          return e.what();
+        }
+      },
+      "NAME");
+}
+
 void add_backends(CLI::App* cmd, std::vector<std::string>& backends) {
   cmd->add_option("--backend,-b", backends, render::backend_list() + " (repeatable or comma-separated)")
-      ->delimiter(',')->capture_default_str();
+      ->delimiter(',')->check(registered_backend())->capture_default_str();
 }
 
 void add_device(CLI::App* cmd, std::string& device) {

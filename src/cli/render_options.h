@@ -65,6 +65,9 @@ void add_reps(CLI::App* cmd, RepsOption& o);
 
 // --backend,-b: the backends to render on, repeatable or comma-separated (measure, sweep, stress); the list
 // in the help is the registry's.
+// A --backend value must name a registered backend: checked as it is parsed, so every command refuses an
+// unknown name before it profiles or renders anything.
+CLI::Validator registered_backend();
 void add_backends(CLI::App* cmd, std::vector<std::string>& backends);
 // --device: which device the Vulkan backend opens (measure, sweep).
 void add_device(CLI::App* cmd, std::string& device);

@@ -62,7 +62,7 @@ Command add_ship(CLI::App& app) {
                                  "the traced estimate on each (one render per variant for the error); several: one "
                                  "search, a choice per GPU, one build line")
                      ->delimiter(',');
-  cmd->add_option("--backend,-b", so.backend, "the measured backend (" + render::backend_list() + ")")->capture_default_str()->excludes(target);
+  cmd->add_option("--backend,-b", so.backend, "the measured backend (" + render::backend_list() + ")")->check(registered_backend())->capture_default_str()->excludes(target);
   auto* budget = cmd->add_option("--budget-ms", so.query.budget_ms, "lowest error with time <= this")->check(finite_number(0, true));
   auto* budget_of = cmd->add_option("--budget-of", so.query.budget_of, "a variant key: no slower than it (beyond the noise)")
                         ->excludes(budget);

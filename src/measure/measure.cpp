@@ -35,6 +35,9 @@ using util::seconds_since;
 namespace {
 
 void check_options(const MeasureOptions& o) {
+  // An unknown --backend fails here, before the scene's profile renders (the sanitized suite, slow enough to
+  // show it, caught the error arriving after a profile's progress line).
+  (void)render::targets_of(o.backends);
   if (o.timing.reps < 1) throw std::runtime_error("--reps must be at least 1");
   if (o.timing.auto_reps && !(o.timing.auto_reps->ci_target > 0 && o.timing.auto_reps->cap_s > 0))
     throw std::runtime_error("--reps auto needs --ci-target and --reps-cap-s above 0");

@@ -59,6 +59,27 @@ TEST(OptionLimits, NumbersNobodyCouldMeanAreOneLineUsageErrorsBeforeAnythingRend
   }
 }
 
+// An unknown --backend is refused as the options are parsed, by every command that renders: the sanitized
+// suite, slow enough to show it, saw measure profile the scene first, and ship wrote OUT/profile/ before failing.
+TEST(OptionLimits, AnUnknownBackendIsRefusedBeforeAnythingIsWritten) {
+  TempDir dir;
+  const std::string out = (dir / "out").string();
+  const std::vector<OptionRefusal> cases = {
+      {"measure --scene builtin:stairs --backend metal --out " + out, "measure", "--backend"},
+      {"sweep --scene builtin:stairs --backend lavapipe,metal --out " + out, "sweep", "--backend"},
+      {"ship --scene builtin:stairs --budget-ms 5 --backend metal --out " + out, "ship", "--backend"},
+      {"calibrate --backend metal --out " + out + "/c.json", "calibrate", "--backend"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.args);
+    const auto r = run_aovar(c.args);
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_EQ(r.output.rfind("aovar " + c.command + ": " + c.option + ": unknown backend", 0), 0u) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out)) << "wrote before refusing";
+  }
+}
+
 // The stated maxima themselves are accepted where the option is read (the limits are not off by one).
 TEST(OptionLimits, TheStatedMaximaThemselvesPassTheChecks) {
   TempDir dir;

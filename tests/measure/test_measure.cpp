@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "image/image.h"
@@ -94,15 +95,20 @@ TEST(MeasureCli, BadInputGetsOneLineErrors) {
   }
 }
 
-// A bad --param fails before the scene is profiled (seconds on a large scene): no profile.json is written.
+// A bad --param or --backend fails before the scene is profiled (seconds on a large scene): no profile.json is
+// written.
 TEST(MeasureCli, BadParamFailsBeforeTheProfile) {
   TempDir dir;
-  const auto out = dir / "out";
-  auto r = run_aovar("measure --param ao.nonsense=2 --variants 'alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp' --out " +
-                     out.string());
-  EXPECT_NE(r.status, 0);
-  EXPECT_NE(r.output.find("ao.nonsense"), std::string::npos) << r.output;
-  EXPECT_FALSE(std::filesystem::exists(out / "profile.json")) << "profiled before the options were checked";
+  int run = 0;
+  for (const auto& [option, named] : {std::pair{"--param ao.nonsense=2", "ao.nonsense"},
+                                      std::pair{"--backend metal", "unknown backend 'metal'"}}) {
+    const auto out = dir / fmt::format("out{}", run++);
+    auto r = run_aovar(fmt::format("measure {} --variants 'alchemy-s04-p0-nrg8-zdep-rst-d16-bno-x1-hp' --out {}",
+                                   option, out.string()));
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.output.find(named), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out / "profile.json")) << option << ": profiled before the options were checked";
+  }
 }
 
 // --reference on a progressive variant: the converged error (halves averaged), the error of one frame
