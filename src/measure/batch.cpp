@@ -56,7 +56,7 @@ void order_by_gbuffer(std::vector<Candidate>& todo, const TimingPlan& timing, re
   std::map<std::string, std::size_t> group;  // G-buffer key -> order of first appearance
   std::vector<std::size_t> group_of;
   for (const Candidate& c : todo) {
-    const auto split = render::split_gbuffer(render::plan_for_size(c.plan, size), size);
+    const auto split = render::split_gbuffer(c.plan, size);  // a G-buffer has one level: no plan_for_size copy
     group_of.push_back(group.emplace(split ? split->key : c.plan.variant, group.size()).first->second);
   }
   std::vector<std::size_t> order(todo.size());

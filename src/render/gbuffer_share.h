@@ -1,8 +1,7 @@
 #pragma once
 // One G-buffer per frame size and format, shared by every prepared pipeline that draws it alike, as a render
 // graph shares a resource by its description (Unreal's RDG, Unity's render graph): variants differ in their AO
-// passes, not in the scene's raster, which on a large scene is nearly all of a frame (Sponza 66k triangles:
-// G-buffer 9.6 of 23.1 ms; an 871k-triangle scan: 135 of 137 ms). A backend prepares the G-buffer draw once
+// passes, not in the scene's raster, which on a large scene is nearly all of a frame (bench/scene_scale). A backend prepares the G-buffer draw once
 // per key (GbufferSplit::key: programs, formats, clears, size), lends its textures and depth buffer to the
 // pipelines, and draws it only when a frame needs other content than it holds (GbufferContent). Both backends
 // use this file; the images and names they lend are their own.
