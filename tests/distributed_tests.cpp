@@ -133,26 +133,6 @@ TEST(Distributed, SlurmArrayOfFourMergesToTheRowsOfOneProcess) {
   EXPECT_EQ(merged.output.find("not embedded"), std::string::npos) << "the report finds the shards' images: " << merged.output;
 }
 
-// Starts `aovar ARGS` and kills it with SIGKILL as soon as `file` exists (a checkpoint is written).
-// Returns true when it was killed; false when it ended first.
-bool kill_after_checkpoint(const std::string& args, const fs::path& file, const fs::path& log) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    execl("/bin/sh", "sh", "-c", ("exec " + std::string(AOVAR_EXE) + " " + args + " > " + log.string() + " 2>&1").c_str(),
-          nullptr);
-    _exit(127);
-  }
-  int status = 0;
-  for (;;) {
-    if (waitpid(pid, &status, WNOHANG) == pid) return false;
-    if (fs::exists(file)) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  kill(pid, SIGKILL);  // sh execs the one command, so this pid is aovar itself
-  waitpid(pid, &status, 0);
-  return WIFSIGNALED(status);
-}
-
 TEST(Distributed, AKilledShardIsRefusedThenResumesAndMerges) {
   TempDir dir;
   const fs::path cache = dir / "cache";

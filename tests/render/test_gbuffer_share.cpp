@@ -148,8 +148,9 @@ TEST(GbufferSplit, OnlyAGbufferNoOtherDrawWritesIsShared) {
   EXPECT_EQ(split->gbuffer.draws.size(), 1u);
   EXPECT_TRUE(split->gbuffer.draws[0].geometry);
   EXPECT_EQ(split->gbuffer.result, -1);
-  for (std::size_t t = 0; t < plan.textures.size(); ++t)
+  for (std::size_t t = 0; t < plan.textures.size(); ++t) {
     if (split->texture[t] >= 0) EXPECT_EQ(plan.textures[t].name, split->gbuffer.textures[split->texture[t]].name);
+  }
 
   render::PipelinePlan rewritten = plan;
   rewritten.draws.back().outputs.push_back(plan.draws[split->draw].outputs.at(0));  // a last draw writes depth too

@@ -4,7 +4,6 @@
 // With --target the time is the deterministic estimate, so the fronts of two runs can be compared exactly.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -66,16 +65,14 @@ std::string build_line(const std::string& output) {
 TEST(ShipCli, AResumedRunAndJoinedShardsReachTheSameFrontAndTheBuildLineGeneratesExactlyTheChoice) {
   REQUIRE_RADV();
   TempDir dir;
-  const auto t0 = std::chrono::steady_clock::now();
   const CommandResult whole = run_aovar(ship_args("builtin:atrium", dir / "whole", dir / "cache"));
   ASSERT_EQ(whole.status, 0) << whole.output;
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  // Killed about half way (its compile cache warm, as a re-run's would be), then run to the end.
-  const CommandResult killed = run_command(fmt::format("timeout -s KILL {:.1f} {} {}", std::max(1.0, seconds / 2),
-                                                       aovar_executable().string(),
-                                                       ship_args("builtin:atrium", dir / "resumed", dir / "cache")));
-  EXPECT_NE(killed.status, 0) << "the run was meant to be killed: " << killed.output;
+  // Killed once its fit is checkpointed, mid-run (its compile cache warm, as a re-run's would be), then run to
+  // the end.
+  EXPECT_TRUE(kill_after_checkpoint(ship_args("builtin:atrium", dir / "resumed", dir / "cache"),
+                                    dir / "resumed" / "calibration.json", dir / "killed.log"))
+      << "the run ended before its fit was written";
   const CommandResult resumed = run_aovar(ship_args("builtin:atrium", dir / "resumed", dir / "cache"));
   ASSERT_EQ(resumed.status, 0) << resumed.output;
   EXPECT_EQ(outcome(dir / "resumed", resumed.output), outcome(dir / "whole", whole.output));

@@ -50,6 +50,10 @@ struct CommandResult {
 CommandResult run_aovar(const std::string& args);  // runs the built CLI
 CommandResult run_command(const std::string& command);  // a shell command line
 std::filesystem::path aovar_executable();             // the built CLI's path
+// Starts `aovar ARGS` (its output to `log`) and kills it with SIGKILL as soon as `checkpoint` exists.
+// True when it was killed; false when it ended first. A file, not a clock, so a loaded machine cannot move it.
+bool kill_after_checkpoint(const std::string& args, const std::filesystem::path& checkpoint,
+                           const std::filesystem::path& log);
 
 // The message of the `E` that `f` throws ("" when it throws none; another type propagates and fails the test).
 template <class E = std::exception, class F>
