@@ -318,6 +318,7 @@ Calibration calibrate(const CalibrateOptions& o, const Progress& progress) {
   runner::RunnerOptions ro;
   ro.backend = o.backend;
   ro.device.threads = o.scope.threads;
+  ro.device.gbuffer_cache = o.scope.cache_dir;
   ro.size = o.size;
   Calibration out;
   out.backend = o.backend;

@@ -218,6 +218,7 @@ void BatchMeasurer::measure_all(const std::vector<const scene::View*>& views, co
     ro.device.threads = o_.scope.threads;
     ro.device.device = o_.device;
     ro.device.share_gbuffer = o_.share_gbuffer;
+    ro.device.gbuffer_cache = o_.scope.cache_dir;  // stills upload a stored G-buffer (render::GbufferStore)
     ro.size = o_.size;
     ro.calibration = o_.calibration.values;
     runner::VariantRunner runner(c_, ro);

@@ -34,6 +34,7 @@ render::GbufferImage export_gbuffer(const GbufferRequest& r) {
   ro.size = r.size;
   ro.device.threads = r.scope.threads;
   ro.device.device = r.device;
+  ro.device.gbuffer_cache = r.scope.cache_dir;  // the file is the stored entry's planes when there is one
   runner::VariantRunner run(c, ro);
   run.use_scene(scene);
   const render::PipelinePlan plan = run.plan(variant);

@@ -4,6 +4,7 @@
 // prepares a variant's PipelinePlan, renders frames with a time per draw, and reads the result back as floats.
 // Which backends exist is the registry's (render/registry.cpp): names, targets, factories and availability
 // checks are read from it by help text, errors, --backend checks and stress.
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -43,6 +44,9 @@ struct BackendOptions {
   // frame needs other content than it holds. Off: every pipeline draws its own, as a renderer without sharing
   // would; the images are bit-identical either way (tests/render/test_gbuffer_share.cpp).
   bool share_gbuffer = true;
+  // The Vulkan backend: the cache root that keeps shared G-buffers across runs (render::GbufferStore, kind
+  // "gbuffer"); empty keeps none. A still uploads a stored G-buffer instead of drawing it.
+  std::filesystem::path gbuffer_cache;
 };
 
 struct DeviceInfo {

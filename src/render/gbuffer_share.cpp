@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstring>
 
 #include <fmt/format.h>
@@ -103,18 +104,103 @@ std::shared_ptr<SharedGbuffer> GbufferPool::get(const GbufferSplit& split, Exten
   if (auto alive = by_key_[split.key].lock()) return alive;
   auto shared = std::make_shared<SharedGbuffer>();
   shared->pipeline = prepare(split.gbuffer);
+  shared->key = split.key;
+  shared->plan = split.gbuffer;
+  shared->size = size;
   by_key_[split.key] = shared;
   kept_.push_back(shared);
   return shared;
 }
 
-double GbufferPool::ensure(SharedGbuffer& g, const GbufferContent& content, bool force, const Draw& draw) {
+double GbufferPool::ensure(SharedGbuffer& g, const GbufferContent& content, const FrameBlock& frame, bool force,
+                           const GbufferOps& ops, const GbufferStore* store) {
   if (!force && g.holds && *g.holds == content) return g.last_ms;
-  g.holds.reset();  // a draw that throws leaves it holding nothing known
-  const std::vector<double> ms = draw(*g.pipeline);
+  g.holds.reset();  // a draw or upload that throws leaves it holding nothing known
+  const bool stores = store && store->enabled() && ops.read && ops.upload;
+  const std::string key = stores ? store->key(g, content) : "";
+  if (stores && !force) {
+    if (auto planes = store->load(key, g)) {
+      ops.upload(*g.pipeline, *planes);
+      ++loads_;
+      g.holds = content;
+      return g.last_ms;
+    }
+  }
+  const std::vector<double> ms = ops.draw(*g.pipeline);
   g.last_ms = ms.empty() ? 0.0 : ms.front();
   g.holds = content;
+  if (stores && !force) store->save(key, g, frame, ops.read(*g.pipeline));  // a still's first draw: keep it
   return g.last_ms;
+}
+
+GbufferStore::GbufferStore(std::filesystem::path cache_dir, std::string device)
+    : cache_(std::move(cache_dir), "gbuffer"), device_(std::move(device)) {}
+
+void GbufferStore::set_scene(std::uint64_t generation, std::string content_hash) {
+  scenes_[generation] = std::move(content_hash);
+}
+
+std::string GbufferStore::key(const SharedGbuffer& g, const GbufferContent& c) const {
+  const auto scene = scenes_.find(c.scene);
+  // A scene this store was not told about has no content to key by: a key no entry has, so nothing is shared.
+  const std::string scene_hash = scene == scenes_.end() ? fmt::format("generation {}", c.scene) : scene->second;
+  auto bytes = [](const auto& v) { return std::string_view(reinterpret_cast<const char*>(&v), sizeof v); };
+  util::Hasher h;
+  h.add(device_).add(scene_hash).add(g.key).add(bytes(c.view)).add(bytes(c.proj)).add(bytes(c.clip));
+  return fmt::format("gbuffer 1 {}", h.hex());
+}
+
+namespace {
+
+// Why stored planes cannot stand for G-buffer `g` ("" when they can): the planes its plan's draw writes and its
+// depth buffer, in that order, with their formats, at its size, every float finite (the draw writes no other).
+std::string unfit(const std::vector<GbufferPlane>& planes, const SharedGbuffer& g, Extent size) {
+  std::vector<std::pair<std::string, std::string>> want;
+  for (const TextureRef& o : g.plan.draws.front().outputs)
+    if (o.texture >= 0) want.emplace_back(g.plan.textures[o.texture].name, format_name(g.plan.textures[o.texture].format));
+  want.emplace_back("zbuffer", "d32f");
+  if (planes.size() != want.size()) return fmt::format("{} planes, not {}", planes.size(), want.size());
+  if (size.width != g.size.width || size.height != g.size.height) return "another frame size";
+  for (std::size_t i = 0; i < planes.size(); ++i) {
+    const GbufferPlane& p = planes[i];
+    if (p.name != want[i].first || p.format != want[i].second) return fmt::format("plane {} is not {}", i, want[i].first);
+    if (p.format == "rgba8" || p.format == "rg8") continue;
+    for (std::size_t at = 0; at < p.texels.size(); at += p.format == "r16f" ? 2 : 4) {
+      if (p.format == "r16f") {
+        const unsigned hi = static_cast<unsigned char>(p.texels[at + 1]);
+        if ((hi & 0x7c) == 0x7c) return fmt::format("plane {} holds a non-finite half", p.name);  // exponent all ones
+        continue;
+      }
+      float v;
+      std::memcpy(&v, p.texels.data() + at, sizeof v);
+      if (!std::isfinite(v)) return fmt::format("plane {} holds a non-finite float", p.name);
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+std::optional<std::vector<GbufferPlane>> GbufferStore::load(const std::string& key, const SharedGbuffer& g) const {
+  const std::optional<std::string> bytes = cache_.read(key);
+  if (!bytes) return std::nullopt;
+  try {
+    GbufferImage image = decode_gbuffer(*bytes, "the entry");
+    if (const std::string why = unfit(image.planes, g, image.size); !why.empty()) {
+      cache_.reject(key, why);
+      return std::nullopt;
+    }
+    return std::move(image.planes);
+  } catch (const std::runtime_error& e) {
+    cache_.reject(key, e.what());
+    return std::nullopt;
+  }
+}
+
+void GbufferStore::save(const std::string& key, const SharedGbuffer& g, const FrameBlock& frame,
+                        std::vector<GbufferPlane> planes) const {
+  if (!cache_.enabled()) return;
+  cache_.write(key, encode_gbuffer(GbufferImage{g.size, frame, std::move(planes)}));
 }
 
 }  // namespace aovar::render

@@ -18,7 +18,9 @@
 
 #include "render/backend.h"
 #include "render/frame.h"
+#include "render/gbuffer_file.h"
 #include "render/plan.h"
+#include "util/verified_cache.h"
 
 namespace aovar::render {
 
@@ -53,8 +55,41 @@ std::optional<GbufferSplit> split_gbuffer(const PipelinePlan& plan, Extent size)
 // A prepared G-buffer and what it holds now.
 struct SharedGbuffer {
   std::unique_ptr<PreparedPipeline> pipeline;  // prepared from GbufferSplit::gbuffer
+  std::string key;                             // GbufferSplit::key
+  PipelinePlan plan;                           // GbufferSplit::gbuffer: what a stored copy must hold
+  Extent size;
   std::optional<GbufferContent> holds;         // nothing before its first draw
-  double last_ms = 0;                          // its draw's time when last drawn
+  double last_ms = 0;                          // its draw's time when last drawn (0: never drawn, only loaded)
+};
+
+// G-buffers kept across runs in the verified cache (kind "gbuffer", util/verified_cache.h), as the reference is:
+// an entry is a G-buffer file (gbuffer_file.h) keyed by the backend's device, the scene's content, the camera
+// (view, proj, clip.xy) and the split's key (programs, formats, clears, size). A still of a later run on the
+// same inputs uploads it instead of rasterising the scene; an entry whose planes do not fit the G-buffer (names,
+// formats, size) or hold non-finite floats is recomputed with a warning. Timed rounds always draw.
+class GbufferStore {
+ public:
+  GbufferStore(std::filesystem::path cache_dir, std::string device);
+  bool enabled() const { return cache_.enabled(); }
+  // The scene an upload generation stands for, by its content hash (scene::Scene::content_hash).
+  void set_scene(std::uint64_t generation, std::string content_hash);
+  std::string key(const SharedGbuffer& g, const GbufferContent& content) const;
+  std::optional<std::vector<GbufferPlane>> load(const std::string& key, const SharedGbuffer& g) const;
+  void save(const std::string& key, const SharedGbuffer& g, const FrameBlock& frame,
+            std::vector<GbufferPlane> planes) const;
+
+ private:
+  util::VerifiedCache cache_;
+  std::string device_;
+  std::map<std::uint64_t, std::string> scenes_;
+};
+
+// What a backend does to a shared G-buffer: draw it (its time per draw), and with a store read it back and upload
+// a stored copy (null where the backend cannot: the GL backends draw every time).
+struct GbufferOps {
+  std::function<std::vector<double>(PreparedPipeline&)> draw;
+  std::function<std::vector<GbufferPlane>(PreparedPipeline&)> read;
+  std::function<void(PreparedPipeline&, const std::vector<GbufferPlane>&)> upload;
 };
 
 // The shared G-buffers of one backend. Keeps those of the latest frame size alive between batches, so a run
@@ -62,18 +97,22 @@ struct SharedGbuffer {
 class GbufferPool {
  public:
   using Prepare = std::function<std::unique_ptr<PreparedPipeline>(const PipelinePlan&)>;
-  using Draw = std::function<std::vector<double>(PreparedPipeline&)>;
 
   // The G-buffer for `split`, prepared with `prepare` the first time its key is asked for at this size.
   std::shared_ptr<SharedGbuffer> get(const GbufferSplit& split, Extent size, const Prepare& prepare);
 
-  // Draws `g` with `draw` when it holds other content than `content` (always with `force`); returns its time.
-  double ensure(SharedGbuffer& g, const GbufferContent& content, bool force, const Draw& draw);
+  // Makes `g` hold `content` when it holds other content (always with `force`): uploads the store's copy when
+  // there is one and nothing forces a draw, else draws it (and stores what it drew). `frame` is the frame block
+  // a stored file carries. Returns its draw's time (last_ms).
+  double ensure(SharedGbuffer& g, const GbufferContent& content, const FrameBlock& frame, bool force,
+                const GbufferOps& ops, const GbufferStore* store = nullptr);
+  std::size_t loads() const { return loads_; }  // G-buffers uploaded from the store instead of drawn
 
  private:
   std::map<std::string, std::weak_ptr<SharedGbuffer>> by_key_;
   std::vector<std::shared_ptr<SharedGbuffer>> kept_;  // those of kept_size_
   Extent kept_size_{};
+  std::size_t loads_ = 0;
 };
 
 }  // namespace aovar::render

@@ -671,8 +671,9 @@ std::vector<double> GlBackend::render(PreparedPipeline& pipeline, const FrameSet
 
 double GlBackend::ensure_gbuffer(GlPipeline& p, const FrameSetup& frame, bool force) {
   const FrameBlock block = make_frame_block(frame, p.size_, p.ao_, ClipDepth::minus_one_to_one);
-  return gbuffers_.ensure(*p.gbuffer_, gbuffer_content(block, scene_generation_), force,
-                          [&](PreparedPipeline& g) { return render(g, frame); });
+  // No store: a GL G-buffer is drawn every time it is stale (render/gbuffer_share.h keeps Vulkan's only).
+  const GbufferOps ops{[&](PreparedPipeline& g) { return render(g, frame); }, nullptr, nullptr};
+  return gbuffers_.ensure(*p.gbuffer_, gbuffer_content(block, scene_generation_), block, force, ops);
 }
 
 double GlBackend::render_gbuffer(PreparedPipeline& pipeline, const FrameSetup& frame) {

@@ -279,7 +279,8 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
 class LavapipeBackend final : public Backend {
  public:
   explicit LavapipeBackend(const BackendOptions& options)
-      : dev_(std::make_shared<Device>(options)), share_gbuffer_(options.share_gbuffer) {}
+      : dev_(std::make_shared<Device>(options)), share_gbuffer_(options.share_gbuffer),
+        store_(options.gbuffer_cache, "lavapipe " + dev_->info.device + " " + dev_->info.driver) {}
   ~LavapipeBackend() override {
     vkDeviceWaitIdle(dev_->device);
     release_scene();
@@ -315,6 +316,7 @@ class LavapipeBackend final : public Backend {
   std::unique_ptr<LavapipePipeline> prepare_at_size(const PipelinePlan& plan, Extent size, const GbufferSplit* split);
   // Draws pp's shared G-buffer for `frame` when stale (always with `force`); returns its time.
   double ensure_gbuffer(LavapipePipeline& pp, const FrameSetup& frame, bool force);
+  void upload_gbuffer(LavapipePipeline& gp, const std::vector<GbufferPlane>& planes);
   // The steps of prepare(), in order.
   void lend_gbuffer(const GbufferSplit& split, LavapipePipeline& pp);
   void create_images(const PipelinePlan& plan, LavapipePipeline& pp);
@@ -334,6 +336,7 @@ class LavapipeBackend final : public Backend {
   std::shared_ptr<Device> dev_;
   SceneBuffers scene_;
   bool share_gbuffer_ = true;
+  GbufferStore store_;
   GbufferPool gbuffers_;  // after dev_: destroyed first, while the device lives
   std::size_t gbuffer_draws_ = 0;
 };
@@ -365,6 +368,7 @@ void LavapipeBackend::set_scene(const scene::Scene& scene) {
                           VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
   scene_.index_count = static_cast<std::uint32_t>(scene.indices.size());
   scene_.generation = next_scene_generation();
+  store_.set_scene(scene_.generation, scene.content_hash);
 }
 
 // Shader modules by plan shader index, destroyed when the pipelines are built (they keep what they need).
@@ -551,7 +555,8 @@ void LavapipeBackend::create_images(const PipelinePlan& plan, LavapipePipeline& 
         static_cast<int>(b) == pp.borrowed_depth
             ? static_cast<const LavapipePipeline&>(*pp.gbuffer->pipeline).depth_buffers.at(0)
             : dev_->create_image(pp.extent_of(plan.depth_buffers[b].full_resolution), kDepthFormat,
-                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                     VK_IMAGE_USAGE_TRANSFER_DST_BIT,
                                  VK_IMAGE_ASPECT_DEPTH_BIT));
 }
 
@@ -729,8 +734,66 @@ std::vector<double> LavapipeBackend::render(PreparedPipeline& pipeline, const Fr
 
 double LavapipeBackend::ensure_gbuffer(LavapipePipeline& pp, const FrameSetup& frame, bool force) {
   const FrameBlock block = make_frame_block(frame, pp.size, pp.ao, ClipDepth::zero_to_one);
-  return gbuffers_.ensure(*pp.gbuffer, gbuffer_content(block, scene_.generation), force,
-                          [&](PreparedPipeline& g) { return render(g, frame); });
+  const FrameBlock file_block = make_frame_block(frame, pp.size, pp.size, ClipDepth::zero_to_one);  // gbuffer_file.h
+  const GbufferOps ops{[&](PreparedPipeline& g) { return render(g, frame); },
+                       [&](PreparedPipeline& g) { return read_gbuffer(g); },
+                       [&](PreparedPipeline& g, const std::vector<GbufferPlane>& planes) { upload_gbuffer(ours(g), planes); }};
+  return gbuffers_.ensure(*pp.gbuffer, gbuffer_content(block, scene_.generation), file_block, force, ops, &store_);
+}
+
+// A stored G-buffer into G-buffer pipeline `gp`'s images: the planes of its one draw's outputs, then its depth
+// buffer (GbufferStore checked names, formats and size), left as a draw leaves them.
+void LavapipeBackend::upload_gbuffer(LavapipePipeline& gp, const std::vector<GbufferPlane>& planes) {
+  const Draw& d = gp.draws.front();
+  struct Target {
+    const Image* image;
+    VkImageAspectFlags aspect;
+    VkImageLayout rest;
+  };
+  std::vector<Target> targets;
+  for (const TextureRef& o : d.outputs)
+    if (o.texture >= 0)
+      targets.push_back({&gp.image(TextureRef{o.texture, false}, 0), VK_IMAGE_ASPECT_COLOR_BIT,
+                         VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL});
+  targets.push_back({&gp.depth_buffers.at(d.depth_buffer), VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL});
+  if (targets.size() != planes.size())
+    throw BackendError(fmt::format("lavapipe: a stored G-buffer of {} planes for {} targets", planes.size(), targets.size()));
+  std::vector<VkDeviceSize> offsets;
+  VkDeviceSize total = 0;
+  for (const GbufferPlane& p : planes) {
+    offsets.push_back(total);
+    total = align_up(total + p.texels.size(), 16);
+  }
+  Buffer staging = dev_->create_buffer(std::max<VkDeviceSize>(total, 16), VK_BUFFER_USAGE_TRANSFER_SRC_BIT);
+  for (std::size_t i = 0; i < planes.size(); ++i)
+    std::memcpy(static_cast<char*>(staging.mapped) + offsets[i], planes[i].texels.data(), planes[i].texels.size());
+
+  VkCommandBuffer cmd = gp.readback_cmd;
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
+  const VkPipelineStageFlags2 users = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT |
+                                      VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    const Target& t = targets[i];
+    // UNDEFINED: every texel is replaced, whatever the image held.
+    auto to_dst = image_barrier(t.image->image, t.aspect, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                                users, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    pipeline_barrier(cmd, &to_dst, 1);
+    VkBufferImageCopy copy{};
+    copy.bufferOffset = offsets[i];
+    copy.imageSubresource = {t.aspect, 0, 0, 1};
+    copy.imageExtent = {t.image->extent.width, t.image->extent.height, 1};
+    vkCmdCopyBufferToImage(cmd, staging.buffer, t.image->image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+    auto to_rest = image_barrier(t.image->image, t.aspect, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, t.rest,
+                                 VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, users,
+                                 VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
+    pipeline_barrier(cmd, &to_rest, 1);
+  }
+  check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+  dev_->submit_and_wait(cmd, gp.fence);
+  dev_->destroy(staging);
+  dev_->check_validation("G-buffer upload");
 }
 
 double LavapipeBackend::render_gbuffer(PreparedPipeline& pipeline, const FrameSetup& frame) {
