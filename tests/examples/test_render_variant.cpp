@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <map>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -21,22 +20,15 @@
 #include <nlohmann/json.hpp>
 
 #include "image/image.h"
+#include "lavapipe_support.h"
 #include "metrics/metrics.h"
 #include "reference/reference.h"
-#include "render/backend.h"
 #include "test_support.h"
 
 namespace aovar::test {
 namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
-
-// The Vulkan backend's availability check (the registry's): the example needs the same device.
-#define REQUIRE_LAVAPIPE()                                                                             \
-  do {                                                                                                 \
-    const std::string why = render::backend_info(render::backend_for(variants::Target::vulkan)).unavailable(); \
-    if (!why.empty()) GTEST_SKIP() << "no Vulkan CPU device: " << why;                                 \
-  } while (0)
 
 const char* kScene = "builtin:atrium";
 const char* kSize = "64x36";
@@ -75,23 +67,27 @@ std::string first_key(const std::string& glob) {
 }
 
 // One variant of each method (the first s08 separable full-resolution key per algorithm, so a new method is
-// covered without an edit), SAO among them with its pyramid, the separable blur at half resolution, a progressive one.
+// covered without an edit), SAO among them with its pyramid; the separable blur at half resolution, a progressive
+// one, one reading the depth MIP pyramid, the bilateral blur at quarter resolution.
 std::vector<std::string> shapes() {
   std::vector<std::string> keys;
   std::set<std::string> methods;
   std::istringstream lines(run_aovar("list --variants '*-s08-p0-*-bsep-x1-hp'").output);
   for (std::string key; std::getline(lines, key);)
     if (!key.empty() && key[0] != '#' && methods.insert(key.substr(0, key.find('-'))).second) keys.push_back(key);
-  for (const char* glob : {"*-s08-p0-*-bsep-x2-hp", "*-s08-p1-*-bsep-x1-hp"}) keys.push_back(first_key(glob));
+  for (const char* glob : {"*-s08-p0-*-bsep-x2-hp", "*-s08-p1-*-bsep-x1-hp", "*-s08-p0-*-bsep-x1-hp-zmip",
+                           "*-s08-p0-*-bbil-x4-hp"})
+    keys.push_back(first_key(glob));
   return keys;
 }
 
 // The printed build line with its output folder moved to `out`, `more` variants added, and only what the
 // example needs emitted.
-std::string generate_args(std::string line, const fs::path& out, const std::vector<std::string>& more) {
+std::string generate_args(std::string line, const fs::path& out, const std::vector<std::string>& more,
+                          const fs::path& cache) {
   line = std::regex_replace(line, std::regex(" --out \\S+"), "");
   for (const std::string& key : more) line += fmt::format(" --variants '{}'", key);
-  return line + fmt::format(" --targets vulkan --emit cpp --out {}", out.string());
+  return line + fmt::format(" --targets vulkan --emit cpp --cache-dir {} --out {}", cache.string(), out.string());
 }
 
 // The example configured and built against the generated library in `shaders`; its executable.
@@ -144,8 +140,9 @@ void expect_reproduced(const fs::path& example, const fs::path& dir, const std::
   SCOPED_TRACE(key);
   ASSERT_FALSE(scored.image.empty()) << "aovar wrote no image of " << key;
   const fs::path gbuffer = dir / (key + ".gbuffer"), ours = dir / (key + ".pfm");
-  const CommandResult g = run_aovar(fmt::format("gbuffer --scene {} --view {} --variant {} --size {} --radius {} --out {}",
-                                                kScene, kHeldOut, key, kSize, radius, gbuffer.string()));
+  const CommandResult g = run_aovar(fmt::format("gbuffer --scene {} --view {} --variant {} --size {} --radius {} "
+                                                "--cache-dir {} --out {}", kScene, kHeldOut, key, kSize, radius,
+                                                (dir / "cache").string(), gbuffer.string()));
   ASSERT_EQ(g.status, 0) << g.output;
   const CommandResult r = run_command(fmt::format("{} {} {} {}", example.string(), key, gbuffer.string(), ours.string()));
   ASSERT_EQ(r.status, 0) << r.output;
@@ -156,6 +153,26 @@ void expect_reproduced(const fs::path& example, const fs::path& dir, const std::
   const reference::ReferenceImage truth = reference::load_reference(scored.reference);
   EXPECT_EQ(fmt::format("{:.4f}", metrics::compare(a, truth.visibility, truth.background).rmse),
             fmt::format("{:.4f}", scored.rmse));
+}
+
+// A bad input is refused in one line naming it, with exit status 2.
+void expect_refused(const fs::path& example, const std::string& args, const std::string& names) {
+  const CommandResult r = run_command(example.string() + " " + args);
+  EXPECT_EQ(r.status, 2) << r.output;
+  const std::string line = r.output.substr(0, r.output.find_last_not_of('\n') + 1);
+  EXPECT_TRUE(one_line_error_with(line, names)) << args;
+}
+
+void expect_bad_inputs_refused(const fs::path& example, const fs::path& dir, const std::string& key) {
+  const fs::path gbuffer = dir / (key + ".gbuffer"), out = dir / "refused.pfm";
+  write_text(dir / "foreign.gbuffer", "P5\n64 36\n255\n");
+  expect_refused(example, fmt::format("{} {} {}", key, (dir / "missing.gbuffer").string(), out.string()), "missing.gbuffer");
+  expect_refused(example, fmt::format("{} {} {}", key, (dir / "foreign.gbuffer").string(), out.string()), "foreign.gbuffer");
+  expect_refused(example, fmt::format("no-such-variant {} {}", gbuffer.string(), out.string()), "no-such-variant");
+  expect_refused(example, fmt::format("{} {} {} --device no-such-device", key, gbuffer.string(), out.string()),
+                 "--device no-such-device");
+  expect_refused(example, key, "usage: render_variant KEY GBUFFER_FILE OUT.pfm");
+  EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(RenderVariantExample, RendersWhatAovarScoredFromTheGeneratedLibraryAlone) {
@@ -171,7 +188,7 @@ TEST(RenderVariantExample, RendersWhatAovarScoredFromTheGeneratedLibraryAlone) {
   std::vector<std::string> others = shapes();
   std::erase(others, chosen);
   ASSERT_GE(others.size(), 3u);
-  const CommandResult generated = run_aovar(generate_args(line, dir / "shaders", others));
+  const CommandResult generated = run_aovar(generate_args(line, dir / "shaders", others, cache));
   ASSERT_EQ(generated.status, 0) << generated.output;
   const fs::path example = build_example(dir / "shaders", dir / "build");
   ASSERT_TRUE(fs::exists(example));
@@ -197,6 +214,7 @@ TEST(RenderVariantExample, RendersWhatAovarScoredFromTheGeneratedLibraryAlone) {
     expect_reproduced(example, dir.path(), key, radius,
                       {aovar_image(dir / "measure", kHeldOut, key), dir / "measure" / "images" / "reference" / kHeldOut,
                        row_rmse(rows, key, kHeldOut)});
+  expect_bad_inputs_refused(example, dir.path(), chosen);
 }
 
 }  // namespace
