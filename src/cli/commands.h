@@ -28,5 +28,6 @@ Command add_report(CLI::App& app);
 Command add_stress(CLI::App& app);
 Command add_sweep(CLI::App& app);
 Command add_ship(CLI::App& app);
+Command add_gbuffer(CLI::App& app);
 
 }  // namespace aovar::cli

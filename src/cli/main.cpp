@@ -22,7 +22,8 @@ int main(int argc, char** argv) {
   const std::vector<Command> commands = {
       add_list(app),      add_profile(app), add_generate(app), add_measure(app), add_calibrate(app),
       add_reference(app), add_analyze(app), add_select(app),   add_diff(app),    add_merge(app),
-      add_report(app),    add_stress(app),  add_sweep(app),    add_ship(app)};
+      add_report(app),    add_stress(app),  add_sweep(app),    add_ship(app),
+      add_gbuffer(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -38,6 +38,9 @@ ExitCode run_list_scene(const ListArgs&) { throw std::runtime_error(without_rend
 Command add_profile(CLI::App& app) { return unavailable(app, "profile", "what a scene needs and what it lets you drop"); }
 Command add_measure(CLI::App& app) { return unavailable(app, "measure", "render and time variants on a scene"); }
 Command add_calibrate(CLI::App& app) { return unavailable(app, "calibrate", "fit each method's parameters to references"); }
+Command add_gbuffer(CLI::App& app) {
+  return unavailable(app, "gbuffer", "write the G-buffer file of a variant for one view");
+}
 Command add_reference(CLI::App& app) { return unavailable(app, "reference", "ray-trace the ground-truth AO of a scene"); }
 Command add_select(CLI::App& app) { return unavailable(app, "select", "pick the variant to ship from a cost table"); }
 Command add_diff(CLI::App& app) { return unavailable(app, "diff", "per-variant deltas between two cost tables"); }

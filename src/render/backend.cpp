@@ -92,6 +92,11 @@ std::vector<Backend::TracedDraw> Backend::read_traces(PreparedPipeline&) {
                                  info().backend, backend_for(variants::Target::vulkan)));
 }
 
+std::vector<GbufferPlane> Backend::read_gbuffer(PreparedPipeline&) {
+  throw BackendError(fmt::format("{}: G-buffer files are read back on {} only", info().backend,
+                                 backend_for(variants::Target::vulkan)));
+}
+
 const void* Backend::shared_gbuffer(PreparedPipeline&) { return nullptr; }
 
 double Backend::render_gbuffer(PreparedPipeline&, const FrameSetup&) {

@@ -14,6 +14,7 @@
 
 #include "image/image.h"
 #include "render/frame.h"
+#include "render/gbuffer_file.h"
 #include "render/plan.h"
 #include "scene/scene.h"
 
@@ -101,6 +102,10 @@ class Backend {
 
   // The result texture of the last rendered frame, as floats, row 0 = bottom of the view.
   virtual image::FloatImage read_result(PreparedPipeline& pipeline) = 0;
+  // The G-buffer the last rendered frame read: the textures its geometry draw writes, then its depth buffer
+  // ("zbuffer"), texels as the images hold them (render/gbuffer_file.h). Only the Vulkan backend reads them;
+  // the others throw BackendError, as they do before render().
+  virtual std::vector<GbufferPlane> read_gbuffer(PreparedPipeline& pipeline);
 
   // Replaces draw `draw`'s AOParams block (same number of floats as the plan gave it) without preparing
   // again: calibration renders one pipeline with many parameter values, and re-preparing would JIT every

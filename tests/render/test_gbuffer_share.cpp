@@ -149,7 +149,9 @@ TEST(GbufferSplit, OnlyAGbufferNoOtherDrawWritesIsShared) {
   EXPECT_TRUE(split->gbuffer.draws[0].geometry);
   EXPECT_EQ(split->gbuffer.result, -1);
   for (std::size_t t = 0; t < plan.textures.size(); ++t) {
-    if (split->texture[t] >= 0) EXPECT_EQ(plan.textures[t].name, split->gbuffer.textures[split->texture[t]].name);
+    if (split->texture[t] >= 0) {
+      EXPECT_EQ(plan.textures[t].name, split->gbuffer.textures[split->texture[t]].name);
+    }
   }
 
   render::PipelinePlan rewritten = plan;

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <fmt/format.h>
@@ -294,6 +295,7 @@ class LavapipeBackend final : public Backend {
   double render_gbuffer(PreparedPipeline& pipeline, const FrameSetup& frame) override;
   std::size_t gbuffer_draws() const override { return gbuffer_draws_; }
   image::FloatImage read_result(PreparedPipeline& pipeline) override;
+  std::vector<GbufferPlane> read_gbuffer(PreparedPipeline& pipeline) override;
   std::vector<TracedDraw> read_traces(PreparedPipeline& pipeline) override;
   void set_params(PreparedPipeline& pipeline, std::size_t draw, const std::vector<float>& params) override;
 
@@ -317,6 +319,8 @@ class LavapipeBackend final : public Backend {
   void lend_gbuffer(const GbufferSplit& split, LavapipePipeline& pp);
   void create_images(const PipelinePlan& plan, LavapipePipeline& pp);
   void read_draw_times(LavapipePipeline& pp) const;
+  std::string read_image(LavapipePipeline& pp, const Image& img, VkImageAspectFlags aspect, VkImageLayout rest,
+                         std::uint32_t texel_bytes);
   void create_uniform_buffers(const PipelinePlan& plan, LavapipePipeline& pp);
   void create_descriptor_sets(const PipelinePlan& plan, LavapipePipeline& pp);
   void write_descriptor_set(const Draw& draw, LavapipePipeline& pp, DrawState& s, int parity);
@@ -547,7 +551,8 @@ void LavapipeBackend::create_images(const PipelinePlan& plan, LavapipePipeline& 
         static_cast<int>(b) == pp.borrowed_depth
             ? static_cast<const LavapipePipeline&>(*pp.gbuffer->pipeline).depth_buffers.at(0)
             : dev_->create_image(pp.extent_of(plan.depth_buffers[b].full_resolution), kDepthFormat,
-                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT));
+                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                 VK_IMAGE_ASPECT_DEPTH_BIT));
 }
 
 // AOFrame (rewritten each frame) and every draw's AOParams at aligned offsets of one buffer; also each
@@ -735,28 +740,34 @@ double LavapipeBackend::render_gbuffer(PreparedPipeline& pipeline, const FrameSe
   return ensure_gbuffer(pp, frame, true);
 }
 
-image::FloatImage LavapipeBackend::read_result(PreparedPipeline& pipeline) {
-  LavapipePipeline& pp = ours(pipeline);
-  if (pp.last_parity < 0) throw BackendError("lavapipe: read_result() before render()");
-  if (pp.result < 0) throw BackendError("lavapipe: read_result() of a G-buffer, which has no result");
-  const Image& img = pp.image(TextureRef{pp.result, false}, pp.last_parity);
+// Level 0 of `img` (resting in `rest`) as the image holds it, `texel_bytes` a texel, rows from the bottom of the
+// view (frame.h: row 0 is NDC y = -1, no flip).
+std::string LavapipeBackend::read_image(LavapipePipeline& pp, const Image& img, VkImageAspectFlags aspect,
+                                        VkImageLayout rest, std::uint32_t texel_bytes) {
+  const VkDeviceSize bytes = VkDeviceSize(img.extent.width) * img.extent.height * texel_bytes;
+  Buffer own;  // the result's read-back buffer, or one of this size for a wider texel
+  if (pp.readback.size < bytes) own = dev_->create_buffer(bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+  const Buffer& target = own.buffer ? own : pp.readback;
+  const bool depth = aspect == VK_IMAGE_ASPECT_DEPTH_BIT;
+  const VkPipelineStageFlags2 written = depth ? VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT
+                                              : VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+  const VkAccessFlags2 write = depth ? VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT : VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
 
   VkCommandBuffer cmd = pp.readback_cmd;
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
-  auto to_src = image_barrier(img.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                              VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                              VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                              VK_ACCESS_2_TRANSFER_READ_BIT);
+  auto to_src = image_barrier(img.image, aspect, rest, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, written, write,
+                              VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
   pipeline_barrier(cmd, &to_src, 1);
   VkBufferImageCopy copy{};
-  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  copy.imageSubresource = {aspect, 0, 0, 1};
   copy.imageExtent = {img.extent.width, img.extent.height, 1};
-  vkCmdCopyImageToBuffer(cmd, img.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pp.readback.buffer, 1, &copy);
-  auto back = image_barrier(img.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                            VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_NONE,
-                            VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+  vkCmdCopyImageToBuffer(cmd, img.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target.buffer, 1, &copy);
+  auto back = image_barrier(img.image, aspect, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, rest, VK_PIPELINE_STAGE_2_COPY_BIT,
+                            VK_ACCESS_2_NONE,
+                            VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT |
+                                VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT,
                             VK_ACCESS_2_NONE);
   VkBufferMemoryBarrier2 to_host{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
   to_host.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
@@ -764,20 +775,51 @@ image::FloatImage LavapipeBackend::read_result(PreparedPipeline& pipeline) {
   to_host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
   to_host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
   to_host.srcQueueFamilyIndex = to_host.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  to_host.buffer = pp.readback.buffer;
+  to_host.buffer = target.buffer;
   to_host.size = VK_WHOLE_SIZE;
   pipeline_barrier(cmd, &back, 1, &to_host, 1);
   check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
   dev_->submit_and_wait(cmd, pp.fence);
+  std::string out(static_cast<const char*>(target.mapped), static_cast<std::size_t>(bytes));
+  dev_->destroy(own);
+  dev_->check_validation("read-back");
+  return out;
+}
 
-  // Row 0 of the image in memory is NDC y = -1, the bottom of the view (frame.h): no flip.
+image::FloatImage LavapipeBackend::read_result(PreparedPipeline& pipeline) {
+  LavapipePipeline& pp = ours(pipeline);
+  if (pp.last_parity < 0) throw BackendError("lavapipe: read_result() before render()");
+  if (pp.result < 0) throw BackendError("lavapipe: read_result() of a G-buffer, which has no result");
+  const Image& img = pp.image(TextureRef{pp.result, false}, pp.last_parity);
+  const std::string bytes = read_image(pp, img, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                       sizeof(float));
   image::FloatImage out;
   out.width = static_cast<int>(img.extent.width);
   out.height = static_cast<int>(img.extent.height);
   out.pixels.resize(std::size_t(out.width) * out.height);
-  std::memcpy(out.pixels.data(), pp.readback.mapped, out.pixels.size() * sizeof(float));
-  dev_->check_validation("read-back");
+  std::memcpy(out.pixels.data(), bytes.data(), bytes.size());
   return out;
+}
+
+std::vector<GbufferPlane> LavapipeBackend::read_gbuffer(PreparedPipeline& pipeline) {
+  LavapipePipeline& pp = ours(pipeline);
+  if (pp.last_parity < 0) throw BackendError("lavapipe: read_gbuffer() before render()");
+  const auto geometry = std::find_if(pp.draws.begin(), pp.draws.end(), [](const Draw& d) { return d.geometry; });
+  if (geometry == pp.draws.end()) throw BackendError("lavapipe: read_gbuffer() of a plan without a geometry draw");
+  std::vector<GbufferPlane> planes;
+  for (const TextureRef& out : geometry->outputs) {
+    if (out.texture < 0) continue;
+    const Texture& t = pp.textures[out.texture];
+    GbufferPlane p{t.name, passplan::format_name(t.format), static_cast<std::uint32_t>(passplan::format_bytes(t.format)), {}};
+    p.texels = read_image(pp, pp.image(TextureRef{out.texture, false}, pp.last_parity), VK_IMAGE_ASPECT_COLOR_BIT,
+                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, p.texel_bytes);
+    planes.push_back(std::move(p));
+  }
+  GbufferPlane z{"zbuffer", "d32f", 4, {}};
+  z.texels = read_image(pp, pp.depth_buffers.at(geometry->depth_buffer), VK_IMAGE_ASPECT_DEPTH_BIT,
+                        VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, z.texel_bytes);
+  planes.push_back(std::move(z));
+  return planes;
 }
 
 }  // namespace
