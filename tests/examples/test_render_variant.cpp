@@ -32,7 +32,6 @@ using json = nlohmann::json;
 
 const char* kScene = "builtin:atrium";
 const char* kSize = "64x36";
-const char* kHeldOut = "background";  // the view ship holds out on builtin:atrium (its calibration's held-out view)
 
 // tests/ship/test_ship_cli.cpp's slice and baseline, raced on lavapipe (no RADV needed) with each candidate's
 // timing capped at 0.2 s.
@@ -135,13 +134,13 @@ struct Scored {
 };
 
 // Writes the held-out view's G-buffer for `key`, runs the example on it and holds its image to aovar's.
-void expect_reproduced(const fs::path& example, const fs::path& dir, const std::string& key, float radius,
-                       const Scored& scored) {
+void expect_reproduced(const fs::path& example, const fs::path& dir, const std::string& key, const std::string& view,
+                       float radius, const Scored& scored) {
   SCOPED_TRACE(key);
   ASSERT_FALSE(scored.image.empty()) << "aovar wrote no image of " << key;
   const fs::path gbuffer = dir / (key + ".gbuffer"), ours = dir / (key + ".pfm");
   const CommandResult g = run_aovar(fmt::format("gbuffer --scene {} --view {} --variant {} --size {} --radius {} "
-                                                "--cache-dir {} --out {}", kScene, kHeldOut, key, kSize, radius,
+                                                "--cache-dir {} --out {}", kScene, view, key, kSize, radius,
                                                 (dir / "cache").string(), gbuffer.string()));
   ASSERT_EQ(g.status, 0) << g.output;
   const CommandResult r = run_command(fmt::format("{} {} {} {}", example.string(), key, gbuffer.string(), ours.string()));
@@ -196,24 +195,25 @@ TEST(RenderVariantExample, RendersWhatAovarScoredFromTheGeneratedLibraryAlone) {
   // The choice: the image and cost-table row ship scored on the held-out view.
   const json table = read_json(ship / "cost_table.json");
   const float radius = table.at("meta").at("scenes").at(0).at("radius").get<float>();
-  const fs::path ship_image = aovar_image(ship, kHeldOut, chosen);
-  expect_reproduced(example, dir.path(), chosen, radius,
-                    {ship_image, ship_image.parent_path().parent_path().parent_path() / "reference" / kHeldOut,
-                     row_rmse(table.at("rows"), chosen, kHeldOut)});
+  const std::string held_out = table.at("meta").at("ship").at("holdout_views").at(0).get<std::string>();
+  const fs::path ship_image = aovar_image(ship, held_out, chosen);
+  expect_reproduced(example, dir.path(), chosen, held_out, radius,
+                    {ship_image, ship_image.parent_path().parent_path().parent_path() / "reference" / held_out,
+                     row_rmse(table.at("rows"), chosen, held_out)});
 
   // The other shapes, measured by aovar with the same fit.
   std::string measure = fmt::format("measure --scene {} --view {} --size {} --radius {} --reps 1 --warmup 0 --no-prune "
                                     "--calibration {} --reference --rays 16 --cache-dir {} --out {}",
-                                    kScene, kHeldOut, kSize, radius, (ship / "calibration.json").string(),
+                                    kScene, held_out, kSize, radius, (ship / "calibration.json").string(),
                                     cache.string(), (dir / "measure").string());
   for (const std::string& key : others) measure += fmt::format(" --variants '{}'", key);
   const CommandResult measured = run_aovar(measure);
   ASSERT_EQ(measured.status, 0) << measured.output;
   const json rows = read_json(dir / "measure" / "measure.json").at("rows");
   for (const std::string& key : others)
-    expect_reproduced(example, dir.path(), key, radius,
-                      {aovar_image(dir / "measure", kHeldOut, key), dir / "measure" / "images" / "reference" / kHeldOut,
-                       row_rmse(rows, key, kHeldOut)});
+    expect_reproduced(example, dir.path(), key, held_out, radius,
+                      {aovar_image(dir / "measure", held_out, key), dir / "measure" / "images" / "reference" / held_out,
+                       row_rmse(rows, key, held_out)});
   expect_bad_inputs_refused(example, dir.path(), chosen);
 }
 
