@@ -15,7 +15,8 @@ constexpr std::size_t kPlaneHeaderBytes = 48;          // name, format, bytes pe
 constexpr std::uint32_t kMaxPlanes = 16;               // the gbuffer draw writes at most three, plus its depth buffer
 constexpr std::uint32_t kMaxSide = 1u << 15;           // beyond any Vulkan device's image size
 
-const char* const kRegenerate = "write it again with `aovar gbuffer --scene S --view V --variant KEY --size WxH --out FILE`";
+const char* const kRegenerate =
+    "write it again with `aovar gbuffer --scene S --view V --variant KEY --size WxH --out FILE`";
 
 // Reads the file's bytes in a cursor that refuses to run past the end.
 class Reader {

@@ -13,7 +13,8 @@ const Plane& plane_for(const GbufferFile& file, const std::string& key, const st
   if (!p)
     throw InputError(file.path + ": no plane '" + name + "', which variant " + key + "'s gbuffer draw writes" + again);
   if (p->format != format)
-    throw InputError(file.path + ": plane '" + name + "' is " + p->format + ", variant " + key + " has it " + format + again);
+    throw InputError(file.path + ": plane '" + name + "' is " + p->format + ", variant " + key + " has it " + format +
+                     again);
   return *p;
 }
 

@@ -38,7 +38,8 @@ Arguments parse(int argc, char** argv) {
     if (arg == "-h" || arg == "--help") {
       a.help = true;
     } else if (arg == "--device") {
-      if (i + 1 >= argc) throw InputError(std::string("--device needs a NAME (a part of the Vulkan device's name): ") + kUsage);
+      if (i + 1 >= argc)
+        throw InputError(std::string("--device needs a NAME (a part of the Vulkan device's name): ") + kUsage);
       a.device = argv[++i];
     } else if (arg.rfind("--device=", 0) == 0) {
       a.device = arg.substr(std::strlen("--device="));

@@ -3,7 +3,6 @@
 #include "formats.h"
 #include "vk_util.h"
 
-
 namespace render_variant {
 namespace {
 
@@ -23,8 +22,10 @@ VkPipelineDepthStencilStateCreateInfo depth_state(shaders::DepthUse use) {
 
 VkPipeline create_pipeline(VkDevice device, const PipelineDesc& d) {
   VkPipelineShaderStageCreateInfo stages[2]{};
-  stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, d.vertex, "main"};
-  stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, d.fragment, "main"};
+  const VkShaderStageFlagBits kinds[2] = {VK_SHADER_STAGE_VERTEX_BIT, VK_SHADER_STAGE_FRAGMENT_BIT};
+  const VkShaderModule modules[2] = {d.vertex, d.fragment};
+  for (int i = 0; i < 2; ++i)
+    stages[i] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, kinds[i], modules[i], "main"};
   // The fullscreen triangle comes from gl_VertexIndex: no vertex buffers.
   VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
   VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
@@ -45,7 +46,8 @@ VkPipeline create_pipeline(VkDevice device, const PipelineDesc& d) {
   const VkPipelineDepthStencilStateCreateInfo ds = depth_state(d.depth);
   std::vector<VkPipelineColorBlendAttachmentState> blend(d.colour_formats.size());
   for (auto& b : blend)
-    b.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    b.colorWriteMask =
+        VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
   VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
   cb.attachmentCount = static_cast<uint32_t>(blend.size());
   cb.pAttachments = blend.data();

@@ -7,7 +7,6 @@
 #include "formats.h"
 #include "vk_util.h"
 
-
 namespace render_variant {
 namespace {
 

@@ -2,13 +2,13 @@
 
 #include <cstring>
 #include <map>
+#include <string>
 
 #include "errors.h"
 #include "formats.h"
 #include "pipeline.h"
 #include "transfers.h"
 #include "vk_util.h"
-
 
 namespace render_variant {
 namespace {
@@ -31,7 +31,8 @@ struct ShaderModules {
     ci.codeSize = p->spirv_words * sizeof(std::uint32_t);
     ci.pCode = p->spirv;
     VkShaderModule m = VK_NULL_HANDLE;
-    check(vkCreateShaderModule(device, &ci, nullptr, &m), p->key);
+    const std::string what = std::string("vkCreateShaderModule of ") + p->key;
+    check(vkCreateShaderModule(device, &ci, nullptr, &m), what.c_str());
     return modules[p] = m;
   }
 };
@@ -71,15 +72,15 @@ PlanRunner::PlanRunner(VulkanContext& vk, const shaders::Variant& variant, shade
 }
 
 void PlanRunner::create_pipelines() {
-  ShaderModules shaders_{vk_.device, {}};
+  ShaderModules modules{vk_.device, {}};
   const shaders::Plan& plan = res_->plan;
   for (std::size_t i = 0; i < plan.draw_count; ++i) {
     DrawState& s = res_->draws[i];
     if (!s.runs) continue;
     const shaders::Draw& d = plan.draws[i];
     PipelineDesc desc;
-    desc.vertex = shaders_.of(vulkan_programs(variant_, d).vertex);
-    desc.fragment = shaders_.of(vulkan_programs(variant_, d).fragment);
+    desc.vertex = modules.of(vulkan_programs(variant_, d).vertex);
+    desc.fragment = modules.of(vulkan_programs(variant_, d).fragment);
     for (std::size_t o = 0; o < d.output_count; ++o)
       desc.colour_formats.push_back(d.outputs[o].texture < 0 ? VK_FORMAT_UNDEFINED
                                                              : vk_format(plan.textures[d.outputs[o].texture].format));
@@ -103,66 +104,56 @@ void PlanRunner::init_textures(const std::vector<PlaneUpload>& uploads) {
   vk_.destroy(staging);
 }
 
-// Draw i of frame parity p: its outputs (and depth buffer) made attachments, the fullscreen triangle, its outputs
-// made readable again.
-void PlanRunner::record_draw(VkCommandBuffer cmd, std::size_t i, int p, float background_depth) {
-  const shaders::Plan& plan = res_->plan;
-  const shaders::Draw& d = plan.draws[i];
-  const DrawState& s = res_->draws[i];
+// Output `o` of draw `d` in frame parity p as a colour attachment (no view for an unused location), with the barrier
+// that makes its level one.
+VkRenderingAttachmentInfo PlanRunner::colour_attachment(const shaders::Draw& d, std::size_t o, int p,
+                                                        float background_depth,
+                                                        std::vector<VkImageMemoryBarrier2>& barriers) const {
+  VkRenderingAttachmentInfo a{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  const shaders::TextureRef& out = d.outputs[o];
+  if (out.texture < 0) return a;  // location unused: writes discarded
+  const shaders::Texture& t = res_->plan.textures[out.texture];
+  const Image& img = res_->image({out.texture, false, 0}, p);
+  const uint32_t level = uint32_t(out.level > 0 ? out.level : 0);
+  // A fullscreen draw clears its output or rewrites every texel of it: no old contents to keep.
+  barriers.push_back(image_barrier(
+      img.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+      VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
+          VK_PIPELINE_STAGE_2_COPY_BIT,
+      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT, level, 1));
+  a.imageView = img.level_view(int(level));
+  a.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+  a.loadOp = t.cleared ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+  a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  if (t.cleared) a.clearValue = clear_value(t, background_depth);
+  return a;
+}
+
+// Draw d's depth buffer as its depth attachment, with its barrier; d tests depth (DepthUse other than none).
+VkRenderingAttachmentInfo PlanRunner::depth_attachment(const shaders::Draw& d,
+                                                       std::vector<VkImageMemoryBarrier2>& barriers) const {
+  // write_mask starts its buffer afresh (cleared to 0); skip_background tests against what is there.
+  const bool load = d.depth == shaders::DepthUse::skip_background;
+  const VkPipelineStageFlags2 tests =
+      VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+  const Image& z = res_->depth_buffers[d.depth_buffer];
+  barriers.push_back(image_barrier(
+      z.image, VK_IMAGE_ASPECT_DEPTH_BIT, load ? VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
+      VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, tests, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, tests,
+      VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT));
+  VkRenderingAttachmentInfo a{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  a.imageView = z.view;
+  a.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+  a.loadOp = load ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
+  a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;  // later draws of the frame test against it
+  a.clearValue.depthStencil = {d.depth == shaders::DepthUse::write_mask ? 0.0f : 1.0f, 0};
+  return a;
+}
+
+// Draw d's outputs back to SHADER_READ_ONLY_OPTIMAL, where every texture rests between draws.
+void PlanRunner::release_outputs(VkCommandBuffer cmd, const shaders::Draw& d, int p) const {
   std::vector<VkImageMemoryBarrier2> barriers;
-  std::vector<VkRenderingAttachmentInfo> colour(d.output_count, {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO});
-  for (std::size_t o = 0; o < d.output_count; ++o) {
-    const shaders::TextureRef& out = d.outputs[o];
-    if (out.texture < 0) continue;  // location unused: no view, writes discarded
-    const shaders::Texture& t = plan.textures[out.texture];
-    const Image& img = res_->image({out.texture, false, 0}, p);
-    const uint32_t level = uint32_t(out.level > 0 ? out.level : 0);
-    // A fullscreen draw rewrites every texel it does not clear first: no old contents to keep.
-    barriers.push_back(image_barrier(
-        img.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
-            VK_PIPELINE_STAGE_2_COPY_BIT,
-        VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-        VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT, level, 1));
-    colour[o].imageView = img.level_view(int(level));
-    colour[o].imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    colour[o].loadOp = t.cleared ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-    colour[o].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    if (t.cleared) colour[o].clearValue = clear_value(t, background_depth);
-  }
-  VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-  if (d.depth != shaders::DepthUse::none) {
-    // write_mask starts its buffer afresh (cleared to 0); skip_background tests against what is there.
-    const bool load = d.depth == shaders::DepthUse::skip_background;
-    const VkPipelineStageFlags2 tests =
-        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
-    const Image& z = res_->depth_buffers[d.depth_buffer];
-    barriers.push_back(image_barrier(
-        z.image, VK_IMAGE_ASPECT_DEPTH_BIT,
-        load ? VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
-        VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, tests, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, tests,
-        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT));
-    depth.imageView = z.view;
-    depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-    depth.loadOp = load ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
-    depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    depth.clearValue.depthStencil = {d.depth == shaders::DepthUse::write_mask ? 0.0f : 1.0f, 0};
-  }
-  pipeline_barrier(cmd, barriers.data(), uint32_t(barriers.size()));
-
-  VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-  ri.renderArea = {{0, 0}, s.extent};
-  ri.layerCount = 1;
-  ri.colorAttachmentCount = uint32_t(colour.size());
-  ri.pColorAttachments = colour.data();
-  if (d.depth != shaders::DepthUse::none) ri.pDepthAttachment = &depth;
-  vkCmdBeginRendering(cmd, &ri);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, s.pipeline);
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, vk_.pipeline_layout, 0, 1, &s.sets[p], 0, nullptr);
-  vkCmdDraw(cmd, 3, 1, 0, 0);  // the fullscreen triangle from gl_VertexIndex
-  vkCmdEndRendering(cmd);
-
-  barriers.clear();
   for (std::size_t o = 0; o < d.output_count; ++o) {
     const shaders::TextureRef& out = d.outputs[o];
     if (out.texture < 0) continue;
@@ -175,6 +166,33 @@ void PlanRunner::record_draw(VkCommandBuffer cmd, std::size_t i, int p, float ba
                                      uint32_t(out.level > 0 ? out.level : 0), 1));
   }
   pipeline_barrier(cmd, barriers.data(), uint32_t(barriers.size()));
+}
+
+// Draw i of frame parity p: the fullscreen triangle into its outputs at its viewport, with its depth use.
+void PlanRunner::record_draw(VkCommandBuffer cmd, std::size_t i, int p, float background_depth) {
+  const shaders::Draw& d = res_->plan.draws[i];
+  const DrawState& s = res_->draws[i];
+  std::vector<VkImageMemoryBarrier2> barriers;
+  std::vector<VkRenderingAttachmentInfo> colour;
+  for (std::size_t o = 0; o < d.output_count; ++o)
+    colour.push_back(colour_attachment(d, o, p, background_depth, barriers));
+  const bool tests_depth = d.depth != shaders::DepthUse::none;
+  VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  if (tests_depth) depth = depth_attachment(d, barriers);
+  pipeline_barrier(cmd, barriers.data(), uint32_t(barriers.size()));
+
+  VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  ri.renderArea = {{0, 0}, s.extent};
+  ri.layerCount = 1;
+  ri.colorAttachmentCount = uint32_t(colour.size());
+  ri.pColorAttachments = colour.data();
+  if (tests_depth) ri.pDepthAttachment = &depth;
+  vkCmdBeginRendering(cmd, &ri);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, s.pipeline);
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, vk_.pipeline_layout, 0, 1, &s.sets[p], 0, nullptr);
+  vkCmdDraw(cmd, 3, 1, 0, 0);  // the fullscreen triangle from gl_VertexIndex
+  vkCmdEndRendering(cmd);
+  release_outputs(cmd, d, p);
 }
 
 void PlanRunner::render(const shaders::FrameBlock& frame) {

@@ -31,6 +31,11 @@ class PlanRunner {
   void create_pipelines();
   void init_textures(const std::vector<PlaneUpload>& uploads);
   void record_draw(VkCommandBuffer cmd, std::size_t i, int parity, float background_depth);
+  VkRenderingAttachmentInfo colour_attachment(const shaders::Draw& d, std::size_t output, int parity,
+                                              float background_depth,
+                                              std::vector<VkImageMemoryBarrier2>& barriers) const;
+  VkRenderingAttachmentInfo depth_attachment(const shaders::Draw& d, std::vector<VkImageMemoryBarrier2>& barriers) const;
+  void release_outputs(VkCommandBuffer cmd, const shaders::Draw& d, int parity) const;
 
   VulkanContext& vk_;
   const shaders::Variant& variant_;

@@ -4,7 +4,6 @@
 
 #include "vk_util.h"
 
-
 namespace render_variant {
 namespace {
 

@@ -8,7 +8,6 @@
 #include "errors.h"
 #include "vk_util.h"
 
-
 namespace render_variant {
 namespace {
 
@@ -28,7 +27,8 @@ bool has_layer(const char* name) {
   vkEnumerateInstanceLayerProperties(&n, nullptr);
   std::vector<VkLayerProperties> layers(n);
   vkEnumerateInstanceLayerProperties(&n, layers.data());
-  return std::any_of(layers.begin(), layers.end(), [&](const VkLayerProperties& l) { return !std::strcmp(l.layerName, name); });
+  return std::any_of(layers.begin(), layers.end(),
+                     [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
 }
 
 struct Candidate {
@@ -139,8 +139,9 @@ void VulkanContext::pick_device(const std::string& selector) {
   vkGetPhysicalDeviceQueueFamilyProperties(physical, &families, nullptr);
   std::vector<VkQueueFamilyProperties> family(families);
   vkGetPhysicalDeviceQueueFamilyProperties(physical, &families, family.data());
-  const auto graphics = std::find_if(family.begin(), family.end(),
-                                     [](const VkQueueFamilyProperties& f) { return f.queueFlags & VK_QUEUE_GRAPHICS_BIT; });
+  const auto graphics = std::find_if(family.begin(), family.end(), [](const VkQueueFamilyProperties& f) {
+    return (f.queueFlags & VK_QUEUE_GRAPHICS_BIT) != 0;
+  });
   if (graphics == family.end())
     throw InputError(std::string("the Vulkan device ") + properties.deviceName +
                      " has no graphics queue: pick another with --device NAME");
@@ -182,7 +183,8 @@ void VulkanContext::create_shared_objects() {
   VkDescriptorSetLayoutBinding b[kBindingCount]{};
   for (uint32_t i = 0; i < kBindingCount; ++i) {
     b[i].binding = i;
-    b[i].descriptorType = i < kFirstSampler ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    b[i].descriptorType =
+        i < kFirstSampler ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     b[i].descriptorCount = 1;
     b[i].stageFlags = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
   }
