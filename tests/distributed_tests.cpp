@@ -49,7 +49,8 @@ std::string rows_of(const fs::path& table) {
   json t = json::parse(util::read_file(table).value_or("{}"));
   std::vector<std::string> rows;
   for (json row : t.value("rows", json::array())) {
-    for (const char* k : {"time_ms", "rel_time", "rel_time_ci", "rel_time_median", "rounds", "pareto", "images"})
+    for (const char* k :
+         {"time_ms", "gbuffer_ms", "rel_time", "rel_time_ci", "rel_time_median", "rounds", "pareto", "images"})
       row.erase(k);
     rows.push_back(row.dump());
   }

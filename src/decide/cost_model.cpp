@@ -197,6 +197,7 @@ std::vector<table::CostRow> predict_rows(const CostModel& model, std::vector<tab
   for (auto& r : rows) {
     double t = model.predict(r);
     r.time_ms = {t, t, t, 0, t};
+    r.gbuffer_ms.reset();  // the model predicts the frame, not its split
     r.predicted = true;
     r.pareto = false;
   }

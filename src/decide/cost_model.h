@@ -60,7 +60,8 @@ struct CostModel {
 CostModel fit_cost_model(const std::vector<table::CostRow>& rows, const FeatureSpec& features, double lambda = 1e-2,
                          int k = 5, const Target& target = {});
 
-// Copies of `unmeasured` with time_ms (min = median = p90 = paired) from the model, n = 0, predicted = true.
+// Copies of `unmeasured` with time_ms (min = median = p90 = paired) from the model, n = 0, predicted = true,
+// and no G-buffer split (gbuffer_ms unknown).
 std::vector<table::CostRow> predict_rows(const CostModel& model, std::vector<table::CostRow> unmeasured);
 
 }  // namespace aovar::decide

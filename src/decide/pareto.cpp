@@ -83,6 +83,7 @@ std::vector<table::CostRow> worst_view(const std::vector<table::CostRow>& rows) 
     // scale still names that view, so two worst rows from different views compare by paired time).
     agg.time_ms.paired = slowest->time_ms.paired;
     agg.time_ms.paired_ci = slowest->time_ms.paired_ci;
+    agg.gbuffer_ms = slowest->gbuffer_ms;
     agg.rel_time_median = slowest->rel_time_median;
     agg.rel_time_ci = slowest->rel_time_ci;
     agg.rounds = slowest->rounds;

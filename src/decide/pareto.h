@@ -16,7 +16,8 @@ inline void mark_pareto(table::CostTable& t) { mark_pareto(t.rows); }
 
 // The worst view of each scene: per (scene, variant, backend, size, threads) one row with view
 // "worst(<views>)", error = the row with max rmse's error, time_ms = the max of each statistic over the
-// views; then Pareto-marked per (scene, backend). Rows without an error are left out.
+// views, but paired, its interval, the rounds and gbuffer_ms, which are the slowest view's; then Pareto-marked per
+// (scene, backend). Rows without an error are left out.
 std::vector<table::CostRow> worst_view(const std::vector<table::CostRow>& rows);
 
 }  // namespace aovar::decide

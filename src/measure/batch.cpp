@@ -450,7 +450,7 @@ void BatchMeasurer::temporal_errors(MeasureRow& row, runner::VariantRunner& runn
 void BatchMeasurer::finish_row(MeasureRow& row, runner::VariantRunner& runner, const Candidate& cand,
                                render::PreparedPipeline& p, const PipelineTiming& timing, const scene::View& view) {
   row.time_ms = util::summarize(timing.total_ms);
-  row.passes = pass_stats(render::plan_for_size(cand.plan, o_.size), timing);  // the draws that ran
+  row.set_passes(pass_stats(render::plan_for_size(cand.plan, o_.size), timing));  // the draws that ran
   row.create_ms = p.create_ms;
   row.first_frame_ms = timing.first_frame_ms;
   row.jit_ms = std::max(0.0, timing.first_frame_ms - row.time_ms.min);

@@ -319,6 +319,13 @@ void MeasureRow::list_images() {
     if (!f->empty()) images.push_back(*f);
 }
 
+void MeasureRow::set_passes(std::vector<std::pair<std::string, util::TimeStats>> per_group) {
+  passes = std::move(per_group);
+  gbuffer_ms.reset();
+  for (const auto& [group, stats] : passes)
+    if (group == "gbuffer" && stats.n > 0) gbuffer_ms = stats;
+}
+
 std::vector<table::CostRow> cost_rows(const MeasureResult& result, const fs::path& prefix) {
   std::vector<table::CostRow> rows;
   for (const MeasureRow& m : result.rows) {

@@ -169,6 +169,9 @@ struct MeasureRow : table::CostRow {
   Stop stop = Stop::fixed;
 
   void list_images();  // images = the non-empty of image, preview, error_map
+  // passes, and gbuffer_ms from its "gbuffer" group (the format's G-buffer draw of each round; unknown
+  // without timed rounds): the one way both are set, so the table's split is the passes' own figure.
+  void set_passes(std::vector<std::pair<std::string, util::TimeStats>> per_group);
   void set_reps_reached(Stop why);  // ci_half_width from rounds.ratios
 };
 

@@ -86,7 +86,9 @@ MeasureRow row_from_json(const json& j) {
   r.spirv_hash = j.at("spirv_hash");
   r.inputs_hash = j.at("inputs_hash");
   r.time_ms = stats_from(j.at("time_ms"));
-  for (auto& [k, v] : j.at("passes").items()) r.passes.emplace_back(k, stats_from(v));
+  std::vector<std::pair<std::string, util::TimeStats>> passes;
+  for (auto& [k, v] : j.at("passes").items()) passes.emplace_back(k, stats_from(v));
+  r.set_passes(std::move(passes));
   r.rel_time = j.at("rel_time");
   r.rel_time_median = j.at("rel_time_median");
   r.rounds = table::rounds_from_json(j.at("rounds"));  // rows written before rounds existed are measured again

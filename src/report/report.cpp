@@ -116,6 +116,22 @@ std::string legend_html(const std::set<std::string>& algorithms, const Methods& 
   return s + "</p>";
 }
 
+// The grey of the G-buffer's part in the time bars: no method has it (unknown methods are #7f7f7f).
+constexpr const char* kGbufferGrey = "#c8c8c8";
+
+// ": own 1.23 ms + G-buffer 4.56 ms", or nothing without a measured split (table::time_split).
+std::string split_words(const CostRow& r) {
+  const auto split = table::time_split(r);
+  return split ? fmt::format(": own {:.2f} ms + G-buffer {:.2f} ms", split->own, split->gbuffer) : "";
+}
+
+// The two cells of a front table, "own" and "G-buffer" ms; "-" without a measured split.
+std::pair<std::string, std::string> split_cells(const CostRow& r) {
+  const auto split = table::time_split(r);
+  if (!split) return {"-", "-"};
+  return {fmt::format("{:.2f}", split->own), fmt::format("{:.2f}", split->gbuffer)};
+}
+
 std::string time_bars_svg(const std::string& title, const std::vector<const CostRow*>& rows, const Methods& methods) {
   const std::size_t n = std::min<std::size_t>(rows.size(), 60);
   const double w = 560, bar = 12, left = 290, top = 26;
@@ -129,9 +145,14 @@ std::string time_bars_svg(const std::string& title, const std::vector<const Cost
     double y = top + i * (bar + 2), len = max_t > 0 ? r.time_ms.decision() / max_t * (w - left - 50) : 0;
     s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{}</text>", left - 4, y + bar - 2, escape(r.variant));
     // Predicted rows: outlined bars and a "~" before the figure.
-    s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{:.1f}\" height=\"{}\" fill=\"{}\" stroke=\"{}\"><title>{} {:.2f} ms{}</title></rect>",
+    s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{:.1f}\" height=\"{}\" fill=\"{}\" stroke=\"{}\"><title>{} {:.2f} ms{}{}</title></rect>",
                      left, y, len, bar, r.predicted ? "none" : colour(methods, algorithm_of(r)), colour(methods, algorithm_of(r)),
-                     escape(r.variant), r.time_ms.decision(), r.predicted ? " (predicted)" : "");
+                     escape(r.variant), r.time_ms.decision(), r.predicted ? " (predicted)" : "", split_words(r));
+    if (const auto split = table::time_split(r); split && r.time_ms.decision() > 0)  // the G-buffer part, grey, first
+      s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{:.1f}\" height=\"{}\" fill=\"{}\"><title>{}: the format's "
+                       "G-buffer {:.2f} ms</title></rect>",
+                       left, y, len * split->gbuffer / r.time_ms.decision(), bar, kGbufferGrey, escape(r.variant),
+                       split->gbuffer);
     s += fmt::format("<text x=\"{:.1f}\" y=\"{}\">{}{:.2f}</text>", left + len + 3, y + bar - 2, r.predicted ? "~" : "",
                      r.time_ms.decision());
     if (const auto& ci = r.time_ms.paired_ci; ci.known() && max_t > 0) {  // the 95 % interval as a whisker
@@ -158,6 +179,11 @@ std::string time_with_interval(const CostRow& r) {
                     : fmt::format("{:.2f}", r.time_ms.decision());
 }
 
+const char* kSplitNote =
+    "Each measured time is the whole frame a renderer pays: the G-buffer in the variant's formats (drawn once a "
+    "round per format, shared by every variant of that format) plus the variant's own passes. The fronts, select "
+    "and ship decide on that sum; the columns own and G-buffer split it by the G-buffer's share of the median "
+    "frame (grey in the bars). Predicted rows and GPU estimates have no measured split (-).";
 const char* kPairsNote =
     "Sunet 2018, \"Ambient Occlusion on Mobile: An Empirical Comparison\" (master thesis, UPC), chapter 5, and "
     "McGuire et al. 2012, Table 1. Each matched pair (rows equal in every other axis) is judged by its 95 % "
@@ -200,6 +226,22 @@ std::vector<const CostRow*> front_of(const std::vector<const CostRow*>& rows) {
   for (const CostRow* r : rows)
     if (r->pareto) out.push_back(r);
   return out;
+}
+
+// A view's front with each time's split (the charts above draw it; this gives the figures), fastest first.
+std::string front_table_html(const std::vector<const CostRow*>& front) {
+  if (front.empty()) return "";
+  std::string h = "<h3>The front: time and its split</h3><table><tr><th>variant</th><th>paired ms [95 % interval]</th>"
+                  "<th>own ms</th><th>G-buffer ms</th><th>RMSE</th><th>SSIM</th></tr>";
+  for (const CostRow* r : first(front, kMaxListed)) {
+    const auto [own, gbuffer] = split_cells(*r);
+    h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.4f}</td><td>{:.3f}</td></tr>",
+                     escape(r->variant), time_with_interval(*r), own, gbuffer, r->error->rmse, r->error->ssim);
+  }
+  h += "</table>";
+  if (const std::string note = left_out(kMaxListed, front.size(), "rows on the front, fastest first"); !note.empty())
+    h += "<p>" + escape(note) + "</p>";
+  return h;
 }
 
 // The front is recomputed, never taken from the file: a hand-edited `pareto: true` on a row without an error
@@ -266,7 +308,7 @@ std::string markdown_with_front(const CostTable& t, const fs::path& images_rel) 
   if (decision)
     md << choices_markdown(decisions) << decision_markdown(*decision) << decision_images_markdown(*decision, images_rel) << funnel_markdown(*decision)
        << "# The evidence\n\n";
-  md << kTimeNote << "\n\n";
+  md << kTimeNote << "\n\n" << kSplitNote << "\n\n";
   if (auto pruned = table::pruned_summary(t); !pruned.empty()) md << "## Scene profiles\n\n" << pruned.substr(1) << "\n";
   for (const auto& [k, rows] : worst_view_fronts(t)) {
     md << fmt::format("## The front over the worst view: {} / {}\n\nEach variant's worst view (max RMSE and max time over "
@@ -282,10 +324,14 @@ std::string markdown_with_front(const CostTable& t, const fs::path& images_rel) 
   for (const auto& [g, rows] : groups_of(t)) {
     md << fmt::format("## {} / {} / {}\n\nPareto front (time against RMSE, fastest first):\n\n", std::get<0>(g), std::get<1>(g),
                       std::get<2>(g));
-    md << "| variant | paired ms [95 % interval] | rmse | ssim |\n|---|---:|---:|---:|\n";
+    md << "| variant | paired ms [95 % interval] | own ms | G-buffer ms | rmse | ssim |\n"
+          "|---|---:|---:|---:|---:|---:|\n";
     const std::vector<const CostRow*> front = front_of(rows), listed = first(front, kMaxListed);
-    for (const CostRow* r : listed)
-      md << fmt::format("| {} | {} | {:.4f} | {:.3f} |\n", r->variant, time_with_interval(*r), r->error->rmse, r->error->ssim);
+    for (const CostRow* r : listed) {
+      const auto [own, gbuffer] = split_cells(*r);
+      md << fmt::format("| {} | {} | {} | {} | {:.4f} | {:.3f} |\n", r->variant, time_with_interval(*r), own, gbuffer,
+                        r->error->rmse, r->error->ssim);
+    }
     if (const std::string note = left_out(listed.size(), front.size(), "rows on the front, fastest first"); !note.empty())
       md << "\n" << note << "\n";
     md << "\n" << error_sources_markdown(listed);
@@ -325,7 +371,7 @@ std::string html_with_front(const CostTable& t, const fs::path& dir, const Metho
     << (m.reps_auto && !m.reps_auto->is_null() ? "--reps auto" : std::to_string(m.reps.value_or(0)) + " reps")
     << ", references " << m.rays.value_or(0) << " rays; "
     << (m.calibrated.value_or(false) ? "calibrated parameters" : "manifest defaults") << "; shard "
-    << escape(m.shard.value_or("1/1")) << ".</p><p>" << escape(kTimeNote) << "</p>";
+    << escape(m.shard.value_or("1/1")) << ".</p><p>" << escape(kTimeNote) << "</p><p>" << escape(kSplitNote) << "</p>";
   // The scene profiles' pruning, counts only (the variants and reasons are in cost_table.json meta.pruned).
   if (m.pruned && !m.pruned->empty()) {
     h << "<p>Pruned before compiling by each scene's profile (every dropped variant with its reason: "
@@ -369,7 +415,9 @@ std::string html_with_front(const CostTable& t, const fs::path& dir, const Metho
     h << scatter_svg("static cost against measured time", "static work per output pixel (ALU + reads, all passes)",
                      "frame time, paired (ms)",
                      statics);
-    h << time_bars_svg("time per variant (fastest 60; outlined: predicted)", rows, methods);
+    h << time_bars_svg("time per variant (fastest 60; grey: the format's G-buffer; outlined: predicted)", rows,
+                       methods);
+    h << front_table_html(front_of(rows));
     // The predicting cost model's held-out predictions against the measured (paired) time.
     for (const auto& cm : m.cost_models.value_or(std::vector<table::ModelFit>{})) {
       if (!cm.predicts || cm.scene != std::get<0>(g) || cm.view != std::get<1>(g) || cm.backend != std::get<2>(g)) continue;

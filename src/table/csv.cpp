@@ -92,7 +92,8 @@ namespace {
 const std::vector<std::string> kFixedHead = {"variant"};
 const std::vector<std::string> kFixedTail = {
     "spirv_hash", "scene", "view", "backend", "device", "driver", "size", "threads", "time_ms.min", "time_ms.median", "time_ms.p90",
-    "time_ms.n", "time_ms.paired", "time_ms.paired_lo", "time_ms.paired_hi", "rel_time", "rel_time_median", "rel_time_lo",
+    "time_ms.n", "time_ms.paired", "time_ms.paired_lo", "time_ms.paired_hi", "gbuffer_ms.min", "gbuffer_ms.median",
+    "gbuffer_ms.p90", "gbuffer_ms.n", "own_ms", "rel_time", "rel_time_median", "rel_time_lo",
     "rel_time_hi", "same_code_as", "error.rmse", "error.mae", "error.psnr", "error.ssim", "error.bias", "error.max",
     "health.nan", "health.inf", "health.out_of_range", "pareto", "predicted", "flicker", "images", "static", "gpu",
     "rounds", "error.breakdown", "err_edge_share", "err_far_share", "err_light_share"};
@@ -100,6 +101,28 @@ const std::vector<std::string> kFixedTail = {
 // vgprs and waves are RADV's; instructions (every pass's, summed), registers (the most) and occupancy (the
 // least) are the vendor-neutral ones every chip's compiler fills (schema_version 2).
 const std::vector<std::string> kGpuColumns = {"est_ms", "bound", "vgprs", "waves", "instructions", "registers", "occupancy"};
+
+// gbuffer_ms's four cells (read back) and own_ms, the variant's own part of the decision time (time_split,
+// for a spreadsheet; not read back); all empty when the row has no measured split.
+void gbuffer_cells(const CostRow& r, std::vector<std::string>& cells) {
+  if (!r.gbuffer_ms) {
+    cells.insert(cells.end(), 5, std::string());
+    return;
+  }
+  const util::TimeStats& g = *r.gbuffer_ms;
+  const std::optional<TimeSplit> split = time_split(r);
+  cells.insert(cells.end(),
+               {text(g.min), text(g.median), text(g.p90), std::to_string(g.n), split ? text(split->own) : ""});
+}
+
+// gbuffer_ms from its cells: empty or absent (a CSV written before it) when unknown.
+std::optional<util::TimeStats> gbuffer_from(std::map<std::string, std::string>& c) {
+  if (c["gbuffer_ms.min"].empty()) return std::nullopt;
+  return util::TimeStats{parse_double(c["gbuffer_ms.min"], "gbuffer_ms.min"),
+                         parse_double(c["gbuffer_ms.median"], "gbuffer_ms.median"),
+                         parse_double(c["gbuffer_ms.p90"], "gbuffer_ms.p90"),
+                         static_cast<int>(parse_double(c["gbuffer_ms.n"], "gbuffer_ms.n"))};
+}
 }  // namespace
 
 std::string to_csv(const CostTable& t) {
@@ -137,14 +160,16 @@ std::string to_csv(const CostTable& t) {
     std::vector<std::string> tail = {r.spirv_hash, r.scene, r.view, r.backend, r.device, r.driver, r.size, std::to_string(r.threads),
                                      text(r.time_ms.min), text(r.time_ms.median), text(r.time_ms.p90),
                                      std::to_string(r.time_ms.n), text(r.time_ms.paired), bound(r.time_ms.paired_ci.lo),
-                                     bound(r.time_ms.paired_ci.hi), text(r.rel_time), text(r.rel_time_median),
-                                     bound(r.rel_time_ci.lo), bound(r.rel_time_ci.hi), r.same_code_as, e(0), e(1), e(2), e(3), e(4), e(5),
-                                     std::to_string(r.health.nan), std::to_string(r.health.inf),
-                                     std::to_string(r.health.out_of_range), r.pareto ? "true" : "false",
-                                     r.predicted ? "true" : "false", r.flicker ? text(*r.flicker) : "", images,
-                                     r.static_cost ? to_json(r.static_cost).dump() : std::string("{}"),
-                                     r.gpu.empty() ? std::string("{}") : to_json(r.gpu).dump(),
-                                     r.rounds.ratios.empty() ? std::string() : to_json(r.rounds).dump()};
+                                     bound(r.time_ms.paired_ci.hi)};
+    gbuffer_cells(r, tail);
+    tail.insert(tail.end(), {text(r.rel_time), text(r.rel_time_median), bound(r.rel_time_ci.lo), bound(r.rel_time_ci.hi),
+                             r.same_code_as, e(0), e(1), e(2), e(3), e(4), e(5), std::to_string(r.health.nan),
+                             std::to_string(r.health.inf), std::to_string(r.health.out_of_range),
+                             r.pareto ? "true" : "false", r.predicted ? "true" : "false",
+                             r.flicker ? text(*r.flicker) : "", images,
+                             r.static_cost ? to_json(r.static_cost).dump() : std::string("{}"),
+                             r.gpu.empty() ? std::string("{}") : to_json(r.gpu).dump(),
+                             r.rounds.ratios.empty() ? std::string() : to_json(r.rounds).dump()});
     // The breakdown: its JSON (what from_csv reads back), then the three shares a spreadsheet sorts by.
     const metrics::ErrorBreakdown* b = r.error && r.error->breakdown ? &*r.error->breakdown : nullptr;
     auto share = [&](const metrics::ErrorPart& p) { return std::isnan(p.error_share) ? std::string() : text(p.error_share); };
@@ -199,6 +224,7 @@ CostTable from_csv(const std::string& s) {
                  parse_double(c["time_ms.p90"], "time_ms.p90"),
                  static_cast<int>(parse_double(c["time_ms.n"], "time_ms.n"))};
     if (c.count("time_ms.paired")) r.time_ms.paired = parse_double(c["time_ms.paired"], "time_ms.paired");
+    r.gbuffer_ms = gbuffer_from(c);
     r.rel_time = parse_double(c["rel_time"], "rel_time");
     if (c.count("rel_time_median")) r.rel_time_median = parse_double(c["rel_time_median"], "rel_time_median");
     auto interval = [&](const std::string& lo, const std::string& hi) {

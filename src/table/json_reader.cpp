@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <span>
 #include <stdexcept>
 #include <string_view>
 #include <type_traits>
@@ -168,22 +169,32 @@ Rounds rounds_of(od::value v) {
   return r;
 }
 
-util::TimeStats time_of(od::value v) {
+// A TimeStats object's fields, in the order of their required bits, and what each is called in messages.
+constexpr const char* kStatsKeys[] = {"min", "median", "p90", "n"};
+struct StatsNames {
+  const char* object;
+  const char* fields[4];  // kStatsKeys, prefixed: "time_ms.min", ...
+  std::size_t required;   // how many of kStatsKeys (from the first) it must have
+  bool paired;            // it has paired and paired_ci
+};
+// time_ms: min alone is required (tables written before the others). gbuffer_ms: all four, as written.
+constexpr StatsNames kTimeNames{"time_ms", {"time_ms.min", "time_ms.median", "time_ms.p90", "time_ms.n"}, 1, true};
+constexpr StatsNames kGbufferNames{
+    "gbuffer_ms", {"gbuffer_ms.min", "gbuffer_ms.median", "gbuffer_ms.p90", "gbuffer_ms.n"}, 4, false};
+
+util::TimeStats stats_of(od::value v, const StatsNames& names) {
   util::TimeStats t;
+  double* const numbers[] = {&t.min, &t.median, &t.p90};
   Required required;
-  each_field(v, "time_ms", [&](std::string_view key, od::value x) {
-    if (key == "min") {
-      t.min = number_of(x, "time_ms.min");
-      required.seen |= 1;
-    }
-    if (key == "median") t.median = number_of(x, "time_ms.median");
-    if (key == "p90") t.p90 = number_of(x, "time_ms.p90");
-    if (key == "n") t.n = int_of(x, "time_ms.n");
-    if (key == "paired") t.paired = number_of(x, "time_ms.paired");
-    if (key == "paired_ci") t.paired_ci = interval_of(x, "time_ms.paired_ci");
+  each_field(v, names.object, [&](std::string_view key, od::value x) {
+    const auto i = static_cast<std::size_t>(std::find(std::begin(kStatsKeys), std::end(kStatsKeys), key) - kStatsKeys);
+    if (i < 3) *numbers[i] = number_of(x, names.fields[i]);
+    if (i == 3) t.n = int_of(x, names.fields[3]);
+    if (i < 4) required.seen |= 1u << i;
+    if (names.paired && key == "paired") t.paired = number_of(x, "time_ms.paired");
+    if (names.paired && key == "paired_ci") t.paired_ci = interval_of(x, "time_ms.paired_ci");
   });
-  constexpr const char* kNames[] = {"min"};
-  required.check(kNames, "time_ms");
+  required.check(std::span(kStatsKeys, names.required), names.object);
   return t;
 }
 
@@ -251,9 +262,13 @@ const std::unordered_map<std::string_view, FieldReader>& field_readers() {
         q.seen |= 16;
       }},
       {"time_ms", [](CostRow& r, od::value v, Required& q) {
-        r.time_ms = time_of(v);
+        r.time_ms = stats_of(v, kTimeNames);
         q.seen |= 32;
       }},
+      {"gbuffer_ms",
+       [](CostRow& r, od::value v, Required&) {
+         r.gbuffer_ms = is_null(v) ? std::nullopt : std::optional(stats_of(v, kGbufferNames));
+       }},
       {"spirv_hash", [](CostRow& r, od::value v, Required&) { r.spirv_hash = text_of(v, "spirv_hash"); }},
       {"device", [](CostRow& r, od::value v, Required&) { r.device = text_of(v, "device"); }},
       {"driver", [](CostRow& r, od::value v, Required&) { r.driver = text_of(v, "driver"); }},

@@ -69,6 +69,12 @@ std::string CostRow::key() const {
   return fmt::format("{}|{}|{}|{}|{}|{}", variant, scene, view, backend, size, threads);
 }
 
+std::optional<TimeSplit> time_split(const CostRow& r) {
+  if (!r.gbuffer_ms || !(r.time_ms.median > 0)) return std::nullopt;
+  const double frame = r.time_ms.decision(), gbuffer = frame * r.gbuffer_ms->median / r.time_ms.median;
+  return TimeSplit{gbuffer, frame - gbuffer};
+}
+
 json frame_times_json(const util::TimeStats& s) {
   return {{"min", s.min}, {"median", s.median}, {"p90", s.p90}, {"n", s.n}};
 }
@@ -104,12 +110,14 @@ json shared_row_json(const CostRow& r) {
           {"flicker", r.flicker ? json(*r.flicker) : json(nullptr)}};
 }
 
-// cost_table.json's row: the shared fields, the static cost, the paired time's interval, the rounds (null
-// for rows without), the front and the images.
+// cost_table.json's row: the shared fields, the static cost, the paired time's interval, the G-buffer's
+// times (null: no measured split; measure.json has them as passes.gbuffer), the rounds (null for rows
+// without), the front and the images.
 json to_json(const CostRow& r) {
   json j = shared_row_json(r);
   j["time_ms"]["paired"] = r.time_ms.paired;
   j["time_ms"]["paired_ci"] = to_json(r.time_ms.paired_ci);
+  j["gbuffer_ms"] = r.gbuffer_ms ? frame_times_json(*r.gbuffer_ms) : json(nullptr);
   j["static"] = to_json(r.static_cost);
   j["rel_time_ci"] = to_json(r.rel_time_ci);
   j["rounds"] = r.rounds.ratios.empty() ? json(nullptr) : to_json(r.rounds);

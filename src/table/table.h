@@ -44,7 +44,12 @@ struct CostRow {
   int threads = 0;
   std::optional<StaticCost> static_cost;    // "static": from the SPIR-V (sweep); nullopt when not analysed
   GpuCosts gpu;                              // "gpu": per AMD family (--gpu); empty when not analysed
-  util::TimeStats time_ms;                   // paired: the decision time (util/stats.h)
+  util::TimeStats time_ms;                   // paired: the decision time (util/stats.h): the whole frame
+  // The format's G-buffer draw of each round the row was timed in ({min, median, p90, n}; paired stays 0):
+  // measure draws it once a round per format and every frame of that format counts it (measure/timing.h), so
+  // it is part of time_ms, as in the GPU estimate. Stored; the variant's own part is derived (time_split).
+  // nullopt: no measured split (predicted rows, rows without timed rounds, tables written before it).
+  std::optional<util::TimeStats> gbuffer_ms;
   double rel_time = 0;           // time_ms.min / the baseline's min in the same batch
   // Median over rounds of this row's frame time / the baseline's in the same round: a paired ratio that
   // cancels drift between rounds and batches (0 when unknown, e.g. predicted rows).
@@ -67,6 +72,17 @@ struct CostRow {
   std::string key() const;
   bool operator==(const CostRow&) const = default;
 };
+
+// The decision time (time_ms.decision(), what select, the front and the race compare) as the two parts a
+// renderer pays: the format's G-buffer, that time times the G-buffer's share of the median frame
+// (gbuffer_ms.median / time_ms.median), and the variant's own passes, the rest. They add up to the decision
+// time; both are >= 0 since a round's G-buffer is part of its frame (the reader refuses a table whose
+// G-buffer median is above its frame median).
+struct TimeSplit {
+  double gbuffer = 0, own = 0;
+};
+// nullopt when the row has no measured split (gbuffer_ms unknown, or no median frame).
+std::optional<TimeSplit> time_split(const CostRow& row);
 
 struct CostTable {
   std::vector<CostRow> rows;

@@ -28,6 +28,10 @@ struct RowCheck {
     if (!std::isfinite(v)) fail(fmt::format("{} is {} (a time must be a finite number)", field, v));
     if (v < 0 && !row.predicted) fail(fmt::format("{} {} is negative", field, v));
   }
+  // A measured part of the frame: finite and >= 0, predicted row or not (the cost model predicts no part).
+  void part(const char* field, double v) const {
+    if (!std::isfinite(v) || v < 0) fail(fmt::format("{} {} is not a time (a finite number >= 0)", field, v));
+  }
   void interval(const char* field, const util::Interval& ci) const {
     if (!ci.known()) return;
     if (!std::isfinite(ci.lo) || !std::isfinite(ci.hi) || ci.lo < 0 || ci.lo > ci.hi)
@@ -41,6 +45,18 @@ struct RowCheck {
     if (v < 0) fail(fmt::format("{} {} is negative (a count)", field, v));
   }
 };
+
+// The format's G-buffer of each round is part of that round's frame: its median cannot be above the frame's
+// (time_split relies on it).
+void check_gbuffer(const RowCheck& c, const util::TimeStats& g, const util::TimeStats& frame) {
+  c.part("gbuffer_ms.min", g.min);
+  c.part("gbuffer_ms.median", g.median);
+  c.part("gbuffer_ms.p90", g.p90);
+  c.count("gbuffer_ms.n", g.n);
+  if (g.median > frame.median)
+    c.fail(fmt::format("gbuffer_ms.median {} is above time_ms.median {} (the G-buffer is part of the frame)", g.median,
+                       frame.median));
+}
 
 void check_row(const CostRow& r, std::size_t index) {
   const RowCheck c{r, index};
@@ -56,6 +72,7 @@ void check_row(const CostRow& r, std::size_t index) {
   if (t.n > 0 && t.p90 > 0 && t.median > t.p90)
     c.fail(fmt::format("time_ms.median {} is above time_ms.p90 {}", t.median, t.p90));
   c.interval("time_ms.paired_ci", t.paired_ci);
+  if (r.gbuffer_ms) check_gbuffer(c, *r.gbuffer_ms, t);
   c.time("rel_time", r.rel_time);
   c.time("rel_time_median", r.rel_time_median);
   c.interval("rel_time_ci", r.rel_time_ci);

@@ -75,6 +75,40 @@ TEST(Measure, WritesJsonAndImagesAndReusesUnchangedRows) {
   EXPECT_EQ(fifth.rows.size(), 2u);
 }
 
+// The table keeps the frame and its split (issue 55): each row's gbuffer_ms is its passes' "gbuffer" group, the
+// one draw a round that rows of one format share; the split parts the decision time, and a reused row keeps it.
+TEST(Measure, RowsSplitTheirTimeIntoTheGbufferAndTheirOwnPasses) {
+  TempDir dir;
+  // One G-buffer format (rg8 normals, depth, d16) for both.
+  auto o = tiny_measure(dir.path(), {"alchemy-s0[48]-p0-nrg8-zdep-rst-d16-bsep-x1-hp"}, measure::kDefaultBaseline);
+  o.timing.reps = 3;
+  const auto first = measure::run_measure(o);
+  ASSERT_EQ(first.rows.size(), 2u);
+  for (const auto& row : first.rows) {
+    SCOPED_TRACE(row.variant);
+    ASSERT_TRUE(row.gbuffer_ms);
+    const auto group = std::find_if(row.passes.begin(), row.passes.end(), [](const auto& p) { return p.first == "gbuffer"; });
+    ASSERT_NE(group, row.passes.end());
+    EXPECT_EQ(*row.gbuffer_ms, group->second);
+    EXPECT_EQ(row.gbuffer_ms->n, row.time_ms.n) << "one G-buffer sample a timed round";
+    const auto split = table::time_split(row);
+    ASSERT_TRUE(split);
+    const double decision = row.time_ms.decision();
+    EXPECT_GT(split->gbuffer, 0.0);
+    EXPECT_LT(split->gbuffer, decision) << "the variant's own passes take time too";
+    EXPECT_DOUBLE_EQ(split->gbuffer, decision * row.gbuffer_ms->median / row.time_ms.median);
+    EXPECT_DOUBLE_EQ(split->own, decision - split->gbuffer);
+  }
+  EXPECT_EQ(first.rows[0].gbuffer_ms, first.rows[1].gbuffer_ms) << "one format: one shared draw a round";
+  const auto rows = measure::cost_rows(first);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].gbuffer_ms, first.rows[0].gbuffer_ms);
+
+  const auto again = measure::run_measure(o);
+  ASSERT_EQ(again.reused, 2);
+  for (std::size_t i = 0; i < 2; ++i) EXPECT_EQ(again.rows[i].gbuffer_ms, first.rows[i].gbuffer_ms) << "from measure.json";
+}
+
 TEST(MeasureCli, BadInputGetsOneLineErrors) {
   const std::pair<const char*, const char*> cases[] = {  // arguments, what the message must name
       {"--size 640by360", "--size"},
@@ -168,6 +202,7 @@ TEST(Measure, StillOnlyRowsHaveTheTimedRowsErrorAndNoTime) {
     ASSERT_TRUE(still.rows[i].error && timed.rows[i].error);
     EXPECT_EQ(still.rows[i].error->rmse, timed.rows[i].error->rmse) << still.rows[i].variant;
     EXPECT_EQ(still.rows[i].time_ms.n, 0) << still.rows[i].variant;
+    EXPECT_FALSE(still.rows[i].gbuffer_ms) << "no timed round: no split";
     EXPECT_EQ(timed.rows[i].time_ms.n, 1) << timed.rows[i].variant;
   }
   EXPECT_EQ(still.reused, 0) << "a row without time is not reused for a timed one, nor the other way";

@@ -4,6 +4,8 @@
 
 #include <cstdlib>
 
+#include <fmt/format.h>
+
 #define STB_IMAGE_STATIC
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb/stb_image.h>
@@ -40,7 +42,7 @@ TEST(Report, SeedPairsMatchRowsDifferingInOneAxis) {
   }
 
   auto md = report::markdown_report(t);
-  EXPECT_NE(md.find("| a-bsep | 10.00 | 0.0500"), std::string::npos) << md;  // on the front
+  EXPECT_NE(md.find("| a-bsep | 10.00 | - | - | 0.0500"), std::string::npos) << md;  // on the front, no split
   EXPECT_EQ(md.find("| c-bbil |"), std::string::npos) << "dominated rows are not on the front";
 
   TempDir dir;
@@ -81,6 +83,30 @@ TEST(Report, TheTitleSaysWhatThePageIsAndTheCostModelsAreAnAppendix) {
 
   t.meta.merged_from = std::vector<std::string>{"a/cost_table.json", "b/cost_table.json"};
   EXPECT_EQ(report::markdown_report(t).rfind("# aovar report of merged cost tables\n", 0), 0u);
+}
+
+// The split of each time (issue 55): the front tables give the variant's own part and its format's G-buffer
+// next to the frame time that decides, the bars draw the G-buffer's part in grey, and a row without a
+// measured split (predicted, or a table from before it) says "-".
+TEST(Report, ShowsEachTimeSplitIntoOwnPassesAndTheGbuffer) {
+  table::CostTable t;
+  auto split = axes_row("alchemy-split", {{"algorithm", "alchemy"}}, 10, 0.05);
+  split.time_ms.median = 12;
+  split.gbuffer_ms = util::TimeStats{3, 4.8, 6, 3};
+  t.rows = {split, axes_row("gtao-whole", {{"algorithm", "gtao"}}, 20, 0.04)};
+  const auto parts = table::time_split(split);
+  ASSERT_TRUE(parts);
+  const std::string own = fmt::format("{:.2f}", parts->own), gbuffer = fmt::format("{:.2f}", parts->gbuffer);
+  const std::string md = report::markdown_report(t);
+  EXPECT_NE(md.find("| variant | paired ms [95 % interval] | own ms | G-buffer ms | rmse | ssim |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| alchemy-split | 10.00 | " + own + " | " + gbuffer + " | 0.0500"), std::string::npos) << md;
+  EXPECT_NE(md.find("| gtao-whole | 20.00 | - | - | 0.0400"), std::string::npos) << md;
+  EXPECT_NE(md.find("no measured split"), std::string::npos) << "the note says which rows have none";
+  const std::string html = report::html_report(t, ".");
+  EXPECT_NE(html.find("<th>own ms</th><th>G-buffer ms</th>"), std::string::npos);
+  EXPECT_NE(html.find("<td>" + own + "</td><td>" + gbuffer + "</td>"), std::string::npos);
+  EXPECT_NE(html.find("own " + own + " ms + G-buffer " + gbuffer + " ms"), std::string::npos) << "the bar's title";
+  EXPECT_NE(html.find("the format's G-buffer " + gbuffer + " ms"), std::string::npos) << "its grey part";
 }
 
 // "Where the error comes from": per view, the front rows' breakdowns with their numbers and one reading
