@@ -241,8 +241,12 @@ TEST(ShipCli, AMeasuredRaceTimesTheHeldOutViewOnlyForWhatTheQueryCouldChoose) {
       retired_training += dominated && row.at("view") != holdout;
       EXPECT_EQ(!row.contains("flicker") || row.at("flicker").is_null(), dominated) << row.dump();
     }
+  // Retiring compares times, which the sanitizers' instrumentation changes unevenly: like the timing tests,
+  // these two hold in the normal build only (scripts/sanitize).
+#if !defined(__SANITIZE_ADDRESS__)
   EXPECT_GT(retired, 0) << "the slice holds candidates a more accurate one beats";
   EXPECT_GT(retired_training, 0) << "no screen gave the training views' errors: the race scored its stills";
+#endif
 
   // Every candidate fits one batch of the race: no screen runs; the race scores the stills it retires by itself
   // (the retired rows above had no other error to retire by). With batches of 4 (the baseline and 3) the screen
