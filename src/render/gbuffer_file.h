@@ -2,7 +2,7 @@
 // The G-buffer file (docs/template-contract.md, "The G-buffer file"): what a variant's gbuffer draw leaves for
 // one view at one frame size, texels as the images hold them, with the view's AOFrame block. A renderer that
 // links only the generated library reads it to run the rest of the plan on exactly what aovar scored
-// (examples/render_variant), and the shared G-buffer cache stores the same bytes. A binary file of our own:
+// (examples/render_variant), and the shared G-buffer cache stores its entries in it. A binary file of our own:
 // no image format carries half floats, unorm pairs, a depth buffer and a uniform block together, and an engine
 // reads this one with a dozen lines of C.
 #include <cstdint>

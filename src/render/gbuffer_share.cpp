@@ -105,7 +105,7 @@ std::shared_ptr<SharedGbuffer> GbufferPool::get(const GbufferSplit& split, Exten
   auto shared = std::make_shared<SharedGbuffer>();
   shared->pipeline = prepare(split.gbuffer);
   shared->key = split.key;
-  shared->plan = split.gbuffer;
+  shared->planes = gbuffer_planes(split.gbuffer);
   shared->size = size;
   by_key_[split.key] = shared;
   kept_.push_back(shared);
@@ -116,9 +116,10 @@ double GbufferPool::ensure(SharedGbuffer& g, const GbufferContent& content, cons
                            const GbufferOps& ops, const GbufferStore* store) {
   if (!force && g.holds && *g.holds == content) return g.last_ms;
   g.holds.reset();  // a draw or upload that throws leaves it holding nothing known
-  const bool stores = store && store->enabled() && ops.read && ops.upload;
+  // A forced draw (a timed round) neither reads nor fills the store: the stills keep it.
+  const bool stores = !force && store && store->enabled() && ops.read && ops.upload;
   const std::string key = stores ? store->key(g, content) : "";
-  if (stores && !force) {
+  if (stores) {
     if (auto planes = store->load(key, g)) {
       ops.upload(*g.pipeline, *planes);
       ++loads_;
@@ -129,8 +130,16 @@ double GbufferPool::ensure(SharedGbuffer& g, const GbufferContent& content, cons
   const std::vector<double> ms = ops.draw(*g.pipeline);
   g.last_ms = ms.empty() ? 0.0 : ms.front();
   g.holds = content;
-  if (stores && !force) store->save(key, g, frame, ops.read(*g.pipeline));  // a still's first draw: keep it
+  if (stores) store->save(key, g, frame, ops.read(*g.pipeline));  // a still's first draw: keep it
   return g.last_ms;
+}
+
+std::vector<std::pair<std::string, std::string>> gbuffer_planes(const PipelinePlan& gbuffer) {
+  std::vector<std::pair<std::string, std::string>> planes;
+  for (const TextureRef& o : gbuffer.draws.front().outputs)
+    if (o.texture >= 0) planes.emplace_back(gbuffer.textures[o.texture].name, format_name(gbuffer.textures[o.texture].format));
+  planes.emplace_back("zbuffer", "d32f");
+  return planes;
 }
 
 GbufferStore::GbufferStore(std::filesystem::path cache_dir, std::string device)
@@ -155,10 +164,7 @@ namespace {
 // Why stored planes cannot stand for G-buffer `g` ("" when they can): the planes its plan's draw writes and its
 // depth buffer, in that order, with their formats, at its size, every float finite (the draw writes no other).
 std::string unfit(const std::vector<GbufferPlane>& planes, const SharedGbuffer& g, Extent size) {
-  std::vector<std::pair<std::string, std::string>> want;
-  for (const TextureRef& o : g.plan.draws.front().outputs)
-    if (o.texture >= 0) want.emplace_back(g.plan.textures[o.texture].name, format_name(g.plan.textures[o.texture].format));
-  want.emplace_back("zbuffer", "d32f");
+  const auto& want = g.planes;
   if (planes.size() != want.size()) return fmt::format("{} planes, not {}", planes.size(), want.size());
   if (size.width != g.size.width || size.height != g.size.height) return "another frame size";
   for (std::size_t i = 0; i < planes.size(); ++i) {
@@ -199,7 +205,6 @@ std::optional<std::vector<GbufferPlane>> GbufferStore::load(const std::string& k
 
 void GbufferStore::save(const std::string& key, const SharedGbuffer& g, const FrameBlock& frame,
                         std::vector<GbufferPlane> planes) const {
-  if (!cache_.enabled()) return;
   cache_.write(key, encode_gbuffer(GbufferImage{g.size, frame, std::move(planes)}));
 }
 

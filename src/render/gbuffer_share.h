@@ -52,11 +52,16 @@ struct GbufferSplit {
 // writes one of its textures or its depth buffer (then the G-buffer is not the geometry draw's alone).
 std::optional<GbufferSplit> split_gbuffer(const PipelinePlan& plan, Extent size);
 
+// (name, format) of the planes a G-buffer plan's draw leaves, in G-buffer file order: its outputs, then
+// "zbuffer" (d32f), as Backend::read_gbuffer returns them.
+std::vector<std::pair<std::string, std::string>> gbuffer_planes(const PipelinePlan& gbuffer);
+
 // A prepared G-buffer and what it holds now.
 struct SharedGbuffer {
   std::unique_ptr<PreparedPipeline> pipeline;  // prepared from GbufferSplit::gbuffer
   std::string key;                             // GbufferSplit::key
-  PipelinePlan plan;                           // GbufferSplit::gbuffer: what a stored copy must hold
+  // What a stored copy must hold: (name, format) of each plane, in file order (gbuffer_planes).
+  std::vector<std::pair<std::string, std::string>> planes;
   Extent size;
   std::optional<GbufferContent> holds;         // nothing before its first draw
   double last_ms = 0;                          // its draw's time when last drawn (0: never drawn, only loaded)
