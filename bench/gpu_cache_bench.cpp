@@ -168,7 +168,9 @@ int main(int argc, char** argv) {
 
     std::map<std::string, table::GpuCosts> base;
     std::map<std::string, std::vector<gpu::PassLoad>> loads = gpu::variant_loads(compiled, variants);
-    const gpu::Frame frame{w, h};
+    // The estimate covers every pixel the GPU shades, the guard band's too (McGuire et al. 2012 time their passes on
+  // the guard-banded buffer); the traffic counts above divide by the output pixels only.
+  const gpu::Frame frame{w + 2 * guard, h + 2 * guard};
     if (!families.empty()) {
       gpu::GpuOptions go;
       go.families = split(families);

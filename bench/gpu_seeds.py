@@ -186,12 +186,13 @@ def mcguire(out):
     est = load(f"{out}/mcguire.txt")
     a = get(est, "overview", "gf110", "alchemy-s12-p0-nrgb8-zpos-rst-d32-bsep-x1-hp")
     s = get(est, "overview", "gf110", "sao-s08-p0-ndep-zdep-rst-d32-bsep-x1-hp")
-    print("McGuire et al. 2012, GeForce GTX 580 (gf110), 1920x1080, r = 1 m, Sponza overview (no guard band)")
+    print("McGuire et al. 2012, GeForce GTX 580 (gf110), 1920x1080 and its 190-pixel guard band (2300x1460 shaded), r = 1 m, "
+          "Sponza overview")
     papers, ests = table("Table 2", [("AlchemyAO s12: AO pass", 13.53, a["ao"]), ("SAO s08: AO pass", 1.33, s["ao"]),
                                      ("AlchemyAO s12: whole effect", 16.10, effect(a)),
                                      ("SAO s08: whole effect", 2.26, effect(s))])
     check("McGuire Alchemy s12 AO pass >= 3x SAO s08", a["ao"] / s["ao"] >= 3, f"{a['ao'] / s['ao']:.2f}x (paper 10.2x)")
-    device_summary("gf110", "McGuire", papers, ests, "McGuire et al. 2012, Table 2 (1920x1080)")
+    device_summary("gf110", "McGuire", papers, ests, "McGuire et al. 2012, Table 2 (1920x1080, 190 px guard band)")
 
 
 def doerries(out):
