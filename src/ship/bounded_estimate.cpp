@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
+#include <iterator>
+#include <stdexcept>
 #include <map>
 #include <set>
 #include <tuple>
@@ -18,7 +21,8 @@ double alu_lower_bound_ms(const table::GpuCost& cost) {
 }
 
 void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::string& keep, int chunk, int stages,
-                        const std::function<void(const std::vector<BoundCandidate*>&, int)>& trace) {
+                        const std::function<void(const std::vector<BoundCandidate*>&, int)>& trace,
+                        const std::function<void(const std::vector<BoundCandidate*>&)>& complete) {
   std::sort(candidates.begin(), candidates.end(), [](const BoundCandidate& a, const BoundCandidate& b) {
     return std::tie(a.error, a.bound, a.key) < std::tie(b.error, b.bound, b.key);
   });
@@ -33,6 +37,10 @@ void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::stri
   };
   std::vector<BoundCandidate*> pending;
   auto flush = [&] {
+    if (complete && !pending.empty()) {  // every view's error before any trace: it may already decide
+      complete(pending);
+      std::erase_if(pending, [&](BoundCandidate* c) { return beaten(*c); });
+    }
     for (int stage = 0; stage < stages && !pending.empty(); ++stage) {
       trace(pending, stage);
       if (stage + 1 == stages) break;
@@ -54,9 +62,46 @@ void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::stri
   flush();
 }
 
+namespace {
+
+// One family's candidates: each one's rows on the training views (in the screen or rendered since).
+struct FamilyRows {
+  std::map<std::string, std::vector<table::CostRow*>> rows;
+
+  // Its worst error so far and its ALU bound (the same on every view: no trace).
+  BoundCandidate candidate(const std::string& key, const std::string& family) const {
+    BoundCandidate c;
+    c.key = key;
+    for (const table::CostRow* r : rows.at(key)) {
+      c.error = std::max(c.error, r->error->rmse);
+      c.bound = std::max(c.bound, alu_lower_bound_ms(r->gpu.at(family)));
+    }
+    return c;
+  }
+};
+
+bool is_candidate_row(const table::CostRow& r, const std::vector<std::string>& training, const std::string& family) {
+  return r.error && !r.predicted && r.gpu.count(family) &&
+         std::find(training.begin(), training.end(), r.view) != training.end();
+}
+
+std::string elimination_reason(const BoundCandidate& c, const BoundCandidate& by, const std::string& family,
+                               const std::vector<std::string>& training) {
+  const std::string bound = c.bound_traced ? "its estimate on " + training.front() + " alone"
+                                           : std::string("the ALU time alone, untraced");
+  const std::string error = c.complete ? fmt::format("with more error ({:.4f} > {:.4f})", c.error, by.error)
+                                       : fmt::format("with more error on {} alone ({:.4f} > {:.4f}; its other views "
+                                                     "not rendered)", training.front(), c.error, by.error);
+  return fmt::format("its {} estimate cannot be below {:.4f} ms ({}), more than {}'s traced {:.4f} ms, {}", family,
+                     c.bound, bound, by.key, by.est, error);
+}
+
+}  // namespace
+
 BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vector<std::string>& training,
                                         const trace::RowGpuRequest& request, const std::string& keep,
-                                        const std::function<void(const std::string&)>& say, int chunk) {
+                                        const std::function<void(const std::string&)>& say, int chunk,
+                                        const RenderRest& render_rest) {
   const std::string& family = request.gpu.families.at(0);
   BoundedEstimate out;
   std::vector<table::CostRow*> all;
@@ -67,49 +112,65 @@ BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vec
   out.gpu.traced = true;
   out.gpu.window_share = request.gpu.window;
 
-  // Each candidate's training rows, its worst error and its bound.
-  std::map<std::string, std::vector<table::CostRow*>> rows;
-  std::map<std::string, BoundCandidate> by_key;
-  for (auto& r : screen.rows) {
-    if (!r.error || r.predicted || !r.gpu.count(family)) continue;
-    if (std::find(training.begin(), training.end(), r.view) == training.end()) continue;
-    BoundCandidate& c = by_key[r.variant];
-    c.key = r.variant;
-    c.error = std::max(c.error, r.error->rmse);
-    c.bound = std::max(c.bound, alu_lower_bound_ms(r.gpu.at(family)));
-    rows[r.variant].push_back(&r);
-  }
+  FamilyRows fc;
+  for (auto& r : screen.rows)
+    if (is_candidate_row(r, training, family)) fc.rows[r.variant].push_back(&r);
   std::vector<BoundCandidate> candidates;
-  for (auto& [key, c] : by_key) candidates.push_back(std::move(c));
+  for (const auto& [key, rows] : fc.rows) {
+    candidates.push_back(fc.candidate(key, family));
+    candidates.back().complete = rows.size() == training.size();
+    if (!candidates.back().complete && !render_rest)
+      throw std::logic_error("estimate_in_error_order: " + key + " lacks a training view");
+  }
+  std::deque<table::CostRow> rendered;  // the other views' rows (a deque: fc holds pointers to them)
+  auto complete = [&](const std::vector<BoundCandidate*>& chunk_of) {
+    std::vector<std::string> keys;
+    for (const BoundCandidate* c : chunk_of)
+      if (!c->complete) keys.push_back(c->key);
+    if (keys.empty()) return;
+    std::vector<table::CostRow*> fresh;
+    for (table::CostRow& r : render_rest(keys)) fresh.push_back(&rendered.emplace_back(std::move(r)));
+    trace::add_gpu_costs(fresh, statistics, [](const std::string&) {});
+    for (table::CostRow* r : fresh)
+      if (is_candidate_row(*r, training, family)) fc.rows[r->variant].push_back(r);
+    for (BoundCandidate* c : chunk_of) {
+      if (c->complete) continue;
+      if (fc.rows.at(c->key).size() != training.size())
+        throw std::runtime_error("ship: the screen's other training views gave no still of " + c->key);
+      c->error = fc.candidate(c->key, family).error;  // the worst of every view now
+      c->complete = true;
+      ++out.completed;
+    }
+  };
   // Stage 0 traces the first training view, stage 1 the others (each candidate's rows are in view order).
   const int stages = training.size() > 1 ? 2 : 1;
-  eliminate_by_bound(candidates, keep, chunk, stages, [&](const std::vector<BoundCandidate*>& chunk_of, int stage) {
+  auto trace_stage = [&](const std::vector<BoundCandidate*>& chunk_of, int stage) {
     std::vector<table::CostRow*> traced_rows;
     for (const BoundCandidate* c : chunk_of)
-      for (table::CostRow* r : rows[c->key])
+      for (table::CostRow* r : fc.rows[c->key])
         if ((r->view == training.front()) == (stage == 0)) traced_rows.push_back(r);
     out.gpu.traffic += trace::add_row_traffic(traced_rows, request);
     for (BoundCandidate* c : chunk_of)
-      for (const table::CostRow* r : rows[c->key])
+      for (const table::CostRow* r : fc.rows[c->key])
         if (stage == 1 || r->view == training.front()) c->est = std::max(c->est, r->gpu.at(family).est_ms);
     out.traced += stage + 1 == stages ? int(chunk_of.size()) : 0;
     if (say && stage + 1 == stages)
       say(fmt::format("estimated {} of {} candidates in order of error", out.traced, candidates.size()));
-  });
+  };
+  if (render_rest)
+    eliminate_by_bound(candidates, keep, chunk, stages, trace_stage, complete);
+  else
+    eliminate_by_bound(candidates, keep, chunk, stages, trace_stage);
 
   std::map<std::string, const BoundCandidate*> index;
   for (const auto& c : candidates) index[c.key] = &c;
   for (const auto& c : candidates) {
     if (c.beaten_by.empty()) continue;
-    const BoundCandidate& by = *index.at(c.beaten_by);
-    out.eliminated.push_back({c.key, rows[c.key].front()->backend, by.key,
-                              fmt::format("its {} estimate cannot be below {:.4f} ms ({}), more than {}'s traced "
-                                          "{:.4f} ms, with more error ({:.4f} > {:.4f})",
-                                          family, c.bound,
-                                          c.bound_traced ? "its estimate on " + training.front() + " alone"
-                                                         : std::string("the ALU time alone, untraced"),
-                                          by.key, by.est, c.error, by.error)});
+    out.dropped_early += c.complete ? 0 : 1;
+    out.eliminated.push_back({c.key, fc.rows[c.key].front()->backend, c.beaten_by,
+                              elimination_reason(c, *index.at(c.beaten_by), family, training)});
   }
+  std::move(rendered.begin(), rendered.end(), std::back_inserter(screen.rows));
   std::erase_if(screen.rows, [&](const table::CostRow& r) {
     auto it = index.find(r.variant);
     return it != index.end() && !it->second->beaten_by.empty();

@@ -9,6 +9,9 @@
 // evidence; one whose estimate on the first training view already exceeds it is eliminated before its other
 // views are traced (the race takes the worst view's estimate, which is at least that one). The rule only ever removes what race.h would remove with the full estimate: it is exact, not a
 // prediction. Static costs thereby order the work (issue 35), without the risk of a learned model.
+// Views in turn (issue 55): the screen may render every candidate on the first training view only. Its error
+// there is a lower bound on its worst, so the same rule drops it before its other views are rendered; the
+// candidates it cannot drop get them rendered (render_rest), in chunks, before they are traced.
 #include <functional>
 #include <string>
 #include <vector>
@@ -22,16 +25,25 @@ namespace aovar::ship {
 struct BoundedEstimate {
   std::vector<Elimination> eliminated;  // untraced, with their bound and the traced variant that beats it
   int traced = 0;                       // candidates traced
+  int completed = 0;                    // candidates whose other training views render_rest rendered for this family
+  int dropped_early = 0;                // eliminated on the first training view's error, the others never rendered
   trace::RowGpuResult gpu;              // the statistics and the traffic, as the table's meta.gpu
 };
 
+// The rows of the training views after the first for `keys` (candidates rendered on the first one only), without
+// GPU costs. Called with each chunk that needs them; may return rows rendered for an earlier family.
+using RenderRest = std::function<std::vector<table::CostRow>(const std::vector<std::string>& keys)>;
+
 // Adds `request`'s family estimate (one family) to the rows of `screen`: RADV's statistics to every row, the
 // traced estimate to the rows on `training` views of each candidate not eliminated, in chunks of `chunk`
-// candidates by ascending worst training-view error; removes the rows of the eliminated candidates. `keep`
-// (the budget's variant) is never eliminated. Throws as trace::add_gpu_costs.
+// candidates by ascending worst training-view error so far; removes the rows of the eliminated candidates.
+// A candidate with rows on fewer than every training view gets the others from `render_rest` (required then)
+// once the rule cannot drop it; they join `screen`. `keep` (the budget's variant) is never eliminated. Throws as
+// trace::add_gpu_costs.
 BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vector<std::string>& training,
                                         const trace::RowGpuRequest& request, const std::string& keep,
-                                        const std::function<void(const std::string&)>& say, int chunk = 16);
+                                        const std::function<void(const std::string&)>& say, int chunk = 16,
+                                        const RenderRest& render_rest = {});
 
 // The estimate no trace can bring below: the sum of the passes' ALU times (0 where a statistic is missing).
 double alu_lower_bound_ms(const table::GpuCost& cost);
@@ -42,6 +54,7 @@ struct BoundCandidate {
   double error = 0, bound = 0, est = 0;
   bool traced = false;        // every stage traced: est is its estimate
   bool bound_traced = false;  // the bound is the estimate of the stages traced so far
+  bool complete = true;       // error is the worst of every view (false: of the views rendered so far, a lower bound)
   std::string beaten_by;      // set when eliminated before every stage was traced
 };
 // Visits `candidates` by ascending error (then bound, key; the vector is sorted so); a candidate that a fully
@@ -49,8 +62,10 @@ struct BoundCandidate {
 // `trace(chunk, stage)` in chunks of `chunk`, stage by stage (each call raises their est to the worst view
 // traced so far). Between stages the partial estimate becomes the bound, since the worst of some views is at
 // most the worst of all, and the chunk is checked again: most candidates of a large space are eliminated after
-// the first view. `keep` is always traced.
+// the first view. `keep` is always traced. Before the stages, `complete(chunk)` (when given) must raise each
+// incomplete candidate's error to its worst over every view and set `complete`; the chunk is checked again.
 void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::string& keep, int chunk, int stages,
-                        const std::function<void(const std::vector<BoundCandidate*>&, int stage)>& trace);
+                        const std::function<void(const std::vector<BoundCandidate*>&, int stage)>& trace,
+                        const std::function<void(const std::vector<BoundCandidate*>&)>& complete = {});
 
 }  // namespace aovar::ship

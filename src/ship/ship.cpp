@@ -393,20 +393,76 @@ table::CostTable measured_search(const ShipOptions& o, const Fitted& fit, const 
   return last;
 }
 
-// The GPU targets' screen: one render of every candidate's still (its error is the same on every GPU), then
-// per target the estimate in order of error (bounded_estimate.h) and the race's rule on it. res.choices gets
-// each target's survivors; returns the screen's rows.
+// Views in turn (issue 55): an unsharded screen with several training views renders every candidate on the
+// first one only; the others are rendered for the candidates the bounded estimate cannot drop on that view's
+// error (bounded_estimate.h), a chunk at a time, each chunk one sweep into OUT/screen-views/<n> (resumable: the
+// chunks come in the same order again). A chunk rendered for one target serves the later ones.
+class OtherViews {
+ public:
+  OtherViews(const ShipOptions& o, const Fitted& fit, const ShipResult& res, const std::set<std::string>& skip,
+             const Progress& say)
+      : o_(o), fit_(fit), views_(res.training.begin() + 1, res.training.end()), skip_(skip), say_(say) {}
+
+  std::vector<table::CostRow> render(const std::vector<std::string>& keys) {
+    std::vector<std::string> todo;
+    for (const auto& k : keys)
+      if (!rows_.count(k)) todo.push_back(k);
+    if (!todo.empty()) {
+      sweep::SweepOptions so = round_options(o_, fit_, views_, todo, skip_, false);
+      so.out = o_.out / "screen-views" / std::to_string(sweeps_++);
+      so.measure.baseline = todo.front();  // stills only: the budget's variant would be one more render per chunk
+      const std::set<std::string> wanted(todo.begin(), todo.end());
+      const auto progress = [&](const std::string& line) {
+        if (say_) say_("screen: other views: " + line);
+      };
+      for (table::CostRow& row : sweep::run_sweep(so, progress).table.rows)
+        if (wanted.count(row.variant)) rows_[row.variant].push_back(std::move(row));
+      rendered_ += int(todo.size());
+    }
+    std::vector<table::CostRow> out;
+    for (const auto& k : keys) {
+      auto it = rows_.find(k);
+      if (it != rows_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+    }
+    return out;
+  }
+  int rendered() const { return rendered_; }
+
+ private:
+  const ShipOptions& o_;
+  const Fitted& fit_;
+  std::vector<std::string> views_;
+  const std::set<std::string>& skip_;
+  const Progress& say_;
+  std::map<std::string, std::vector<table::CostRow>> rows_;
+  int sweeps_ = 0, rendered_ = 0;
+};
+
+bool views_in_turn(const ShipOptions& o, const ShipResult& res) {
+  return res.training.size() > 1 && o.shard.count <= 1 && o.join.empty();
+}
+
+// The GPU targets' screen: one render of every candidate's still (its error is the same on every GPU; on the
+// first training view only when views_in_turn), then per target the estimate in order of error
+// (bounded_estimate.h) and the race's rule on it. res.choices gets each target's survivors; returns the
+// screen's rows.
 table::CostTable estimated_screen(const ShipOptions& o, const Fitted& fit, const std::vector<std::string>& views,
                                   const std::vector<std::string>& globs, const std::set<std::string>& skip,
                                   ShipResult& res, const Progress& say) {
   Round r;
   r.name = round_name(true, false);
   const auto t0 = std::chrono::steady_clock::now();
-  sweep::SweepOptions so = round_options(o, fit, res.training, globs, skip, false);
+  const bool in_turn = views_in_turn(o, res);
+  sweep::SweepOptions so = round_options(o, fit, in_turn ? std::vector{res.training.front()} : res.training, globs,
+                                         skip, false);
   r.timing = fmt::format("one render, estimate on {}, still error only", fmt::join(o.targets, ", "));
+  if (in_turn) r.timing += fmt::format("; views in turn: {} first", res.training.front());
   say(fmt::format("round {}: {} ({})", r.name, o.globs.empty() ? "the whole pruned space" : "the selection", r.timing));
   const table::CostTable screen = round_rows(o, fit, so, false, res, r, say);
   r.candidates = int(variants_of(screen).size());
+  OtherViews other_views(o, fit, res, skip, say);
+  RenderRest render_rest;
+  if (in_turn) render_rest = [&](const std::vector<std::string>& keys) { return other_views.render(keys); };
   if (res.shard.empty()) {  // a shard screens its share and stops: the join estimates, eliminates and selects
     std::set<std::string> kept;  // what survived on some target
     std::vector<std::string> traced;
@@ -414,8 +470,10 @@ table::CostTable estimated_screen(const ShipOptions& o, const Fitted& fit, const
       sweep::SweepOptions estimated = round_options(o, fit, views, globs, skip, true);
       estimated.gpu.families = {target};
       table::CostTable rows = screen;
-      BoundedEstimate b = estimate_in_error_order(rows, res.training, measure::gpu_request(estimated.measure, estimated.gpu),
-                                                  o.query.budget_of, [&](const std::string& line) { say(r.name + ": " + line); });
+      BoundedEstimate b =
+          estimate_in_error_order(rows, res.training, measure::gpu_request(estimated.measure, estimated.gpu),
+                                  o.query.budget_of, [&](const std::string& line) { say(r.name + ": " + line); }, 16,
+                                  render_rest);
       for (auto& e : b.eliminated) res.eliminated.push_back({round_on(r.name, o, target), std::move(e)});
       traced.push_back(o.targets.size() > 1 ? fmt::format("{} {}", target, b.traced) : std::to_string(b.traced));
       std::set<std::string> out;
@@ -428,6 +486,8 @@ table::CostTable estimated_screen(const ShipOptions& o, const Fitted& fit, const
     }
     r.eliminated = r.candidates - int(kept.size());
     r.timing += fmt::format(", {} traced in order of error", fmt::join(traced, ", "));
+    if (in_turn)
+      r.timing += fmt::format(", {} of {} rendered on the other training views", other_views.rendered(), r.candidates);
   }
   r.seconds = util::seconds_since(t0);
   res.rounds.push_back(r);

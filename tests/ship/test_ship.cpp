@@ -175,6 +175,53 @@ TEST(ShipBound, ACandidateBeatenOnItsFirstViewIsNotTracedOnTheSecond) {
   EXPECT_TRUE(c[2].beaten_by.empty());
 }
 
+// Views in turn (issue 55): errors start as the first view's; a candidate that a traced, more accurate one
+// beats on that error and its ALU bound is dropped before its other views render; the others are completed
+// (error raised to the worst view) before any trace, and checked again on it. The survivors are those of the
+// rule run on every view's error from the start.
+TEST(ShipBound, ACandidateBeatenOnItsFirstViewsErrorIsNeverRenderedOnTheOthers) {
+  const std::map<std::string, double> worst = {{"a", 0.05}, {"dropped-early", 0.09}, {"worse-elsewhere", 0.12},
+                                               {"cheap", 0.08}, {"budget", 0.10}};
+  const std::map<std::string, double> est = {{"a", 0.20}, {"dropped-early", 0.30}, {"worse-elsewhere", 0.25},
+                                             {"cheap", 0.10}, {"budget", 0.50}};
+  auto run = [&](bool in_turn, std::vector<std::string>& completed, std::vector<std::string>& traced) {
+    std::vector<ship::BoundCandidate> c = {
+        untraced("a", in_turn ? 0.04 : 0.05, 0.1),
+        untraced("dropped-early", in_turn ? 0.06 : 0.09, 0.25),     // beaten by a on its first view already
+        untraced("worse-elsewhere", in_turn ? 0.045 : 0.12, 0.22),  // looks better than a there; its worst is not
+        untraced("cheap", in_turn ? 0.07 : 0.08, 0.05),             // faster than a: on the front
+        untraced("budget", in_turn ? 0.08 : 0.10, 0.4)};
+    for (auto& x : c) x.complete = !in_turn;
+    auto trace = [&](const std::vector<ship::BoundCandidate*>& chunk, int) {
+      for (auto* x : chunk) {
+        EXPECT_TRUE(x->complete) << x->key << " traced before its other views";
+        x->est = est.at(x->key);
+        traced.push_back(x->key);
+      }
+    };
+    auto complete = [&](const std::vector<ship::BoundCandidate*>& chunk) {
+      for (auto* x : chunk)
+        if (!x->complete) x->error = worst.at(x->key), x->complete = true, completed.push_back(x->key);
+    };
+    if (in_turn) ship::eliminate_by_bound(c, "budget", 1, 1, trace, complete);
+    else ship::eliminate_by_bound(c, "budget", 1, 1, trace);
+    std::map<std::string, bool> beaten;  // who beats it may differ: the fastest traced by then
+    for (const auto& x : c) beaten[x.key] = !x.beaten_by.empty();
+    return beaten;
+  };
+  std::vector<std::string> completed, traced, traced_all_views, none;
+  const auto in_turn = run(true, completed, traced);
+  const auto all_views = run(false, none, traced_all_views);
+  EXPECT_EQ(in_turn, all_views) << "the same eliminations";
+  EXPECT_TRUE(in_turn.at("dropped-early"));
+  EXPECT_TRUE(in_turn.at("worse-elsewhere")) << "beaten once its worst view is known, untraced";
+  EXPECT_FALSE(in_turn.at("cheap"));
+  EXPECT_EQ(std::count(completed.begin(), completed.end(), "dropped-early"), 0) << "never rendered on the others";
+  EXPECT_EQ(std::count(completed.begin(), completed.end(), "worse-elsewhere"), 1);
+  EXPECT_EQ(std::count(traced.begin(), traced.end(), "worse-elsewhere"), 0);
+  EXPECT_TRUE(none.empty());
+}
+
 // Held-out still rows (no time): each variant on two held-out views, its worst is its rmse.
 table::CostTable stills(const std::map<std::string, std::array<double, 2>>& rmse) {
   table::CostTable t;
