@@ -256,6 +256,25 @@ TEST(GlChips, TheBlurCountsItsTapsAtTheRadiusAndEachRadiusIsItsOwnEntry) {
             gpu::gl_cache_key("gt200", "nv50", "Mesa", "v", "f", {{"params.radius_px", 3.0}}));
 }
 
+// Without a calibration each blur unrolls at its manifest radius, read from the pass whose program it is: SAO's
+// keyed blur draws in the "blur" timing group but takes [passes.blur_keyed]'s radius_px (4), the 2-D bilateral
+// [passes.blur]'s (2). No blur loop is left to count once.
+TEST(GlChips, EachBlurUnrollsAtItsOwnPassesManifestRadius) {
+  REQUIRE_GL_VENDOR("nouveau");
+  const auto c = test::compile_variants(
+      {"sao-s08-p0-ndep-zdep-rst-d32-bsep-x1-hp", "alchemy-s08-p0-nrgb8-zdep-rst-d16-bbil-x1-hp"}, true);
+  const auto a = gpu::analyze_gl_chips(c, {0, 1}, {"gt200"}, {});
+  ASSERT_TRUE(a.chips[0].ok()) << a.chips[0].error;
+  ASSERT_EQ(a.chips[0].variants.size(), 2u);
+  for (const auto& v : a.chips[0].variants) {
+    const auto* blur = v.pass("blur");
+    ASSERT_NE(blur, nullptr) << v.key;
+    const double radius = v.key.rfind("sao", 0) == 0 ? 4.0 : 2.0;
+    EXPECT_EQ(blur->stats->specialised, (std::map<std::string, double>{{"params.radius_px", radius}})) << v.key;
+    EXPECT_EQ(blur->stats->loops_kept, 0) << v.key;
+  }
+}
+
 TEST(GlChips, ACacheThatCannotBeWrittenDoesNotFailTheRun) {
   REQUIRE_GL_VENDOR("nouveau");
   const test::TempDir tmp;

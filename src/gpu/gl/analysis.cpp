@@ -48,17 +48,23 @@ std::string inputs_text(const GlslInputs& inputs) {
   return out;
 }
 
-// The values each pass's parameters render with, as the fragment reads them ("params.<name>", shader_src/README.md):
-// the calibrated value where `calibration` has one for the variant, else the manifest's; rounded to float, as
-// the AOParams block uploads them.
-std::map<std::string, GlslInputs> pass_inputs(const compile::CompiledSpace& compiled, int variant,
-                                              const variants::CalibratedValues& calibration) {
+// The values each program's parameters render with, by program key, as its source reads them ("params.<name>",
+// shader_src/README.md): the calibrated value of "<pass>.<name>" where `calibration` has one for the variant,
+// else the manifest's; rounded to float, as the AOParams block uploads them. By program, not by the draw's
+// timing group: SAO's keyed blur times as "blur" but takes the parameters of the manifest pass blur_keyed.
+std::map<std::string, GlslInputs> program_inputs(const compile::CompiledSpace& compiled, int variant,
+                                                 const variants::CalibratedValues& calibration) {
   std::map<std::string, GlslInputs> by_pass;
   for (const compile::VariantParam& p : compile::variant_params(compiled, variant, calibration)) {
     const std::size_t dot = p.key.find('.');
     by_pass[p.key.substr(0, dot)]["params." + p.key.substr(dot + 1)] = static_cast<float>(p.value);
   }
-  return by_pass;
+  std::map<std::string, GlslInputs> by_program;
+  const auto& entry = compiled.space.variants.at(variant);
+  for (std::size_t i = 0; i < compiled.manifest.passes.size(); ++i)
+    for (int program : entry.passes[i])
+      if (program >= 0) by_program[compiled.space.programs[program].key] = by_pass[compiled.manifest.passes[i].name];
+  return by_program;
 }
 
 // One program to unroll: a shader at its pass's parameter values (a vertex shader at none: no loop of its
@@ -115,15 +121,16 @@ Plan plan_pairs(const compile::CompiledSpace& compiled, const std::vector<int>& 
   };
   for (int v : variants) {
     const render::PipelinePlan p = render::plan_pipeline(compiled, v, variants::Target::gles30);
-    const std::map<std::string, GlslInputs> inputs = pass_inputs(compiled, v, calibration);
+    const std::map<std::string, GlslInputs> inputs = program_inputs(compiled, v, calibration);
     std::vector<PassUse> passes;
     for (const render::Draw& draw : p.draws) {
       bool seen = false;
       for (const PassUse& u : passes) seen = seen || u.pass == draw.pass;
       if (seen) continue;
-      const auto in = inputs.find(draw.pass);
+      const render::Shader& fragment = p.shaders[draw.fragment];
+      const auto in = inputs.find(fragment.program_key);
       passes.push_back({draw.pass, job(p.shaders[draw.vertex], {}),
-                        job(p.shaders[draw.fragment], in == inputs.end() ? GlslInputs{} : in->second)});
+                        job(fragment, in == inputs.end() ? GlslInputs{} : in->second)});
     }
     uses.emplace_back(p.variant, std::move(passes));
   }
