@@ -207,7 +207,8 @@ GpuAnalysis analyze_gpu(const compile::CompiledSpace& compiled, const std::vecto
     }
   }
   GlChipsAnalysis gl_stats;
-  if (!gl.empty()) gl_stats = analyze_gl_chips(compiled, variants, gl, options.scope.cache_dir, options.calibration);  // checks first
+  if (!gl.empty())  // checks first
+    gl_stats = analyze_gl_chips(compiled, variants, gl, options.scope.cache_dir, options.calibration);
   GpuAnalysis a;
   if (!amd.empty()) {
     const Work work = plan_work(compiled, variants);

@@ -22,7 +22,7 @@ namespace aovar::gpu {
 struct PipelineStats {
   std::string vertex, fragment;   // program keys
   int loops_unrolled = 0;         // loops the analysis copy unrolled (0: unrolled == shipped)
-  int loops_kept = 0;             // loops the analysis copy left rolled, counted once: bounds it cannot evaluate (GL chips)
+  int loops_kept = 0;             // loops the analysis copy left rolled (GL chips): bounds it cannot evaluate
   ShaderStats unrolled, shipped;  // the fragment executable; `shipped` empty where only the analysis copy ran
   std::map<std::string, double> specialised;  // GL chips: parameter values its loop bounds were unrolled at
 };

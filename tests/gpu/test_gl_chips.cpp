@@ -1,8 +1,9 @@
 // Compiler statistics of the GL chips (NVIDIA, Adreno, Mali, Intel) from Mesa's GL drivers through drm-shim
 // (src/gpu/gl_*.h): each vendor's runner on a tiny shader, the taps showing after the unroll on every paper
 // chip, mediump against highp where the compiler honours it, one line for a rejected shader and for a crash,
-// a cache that is used when whole and recomputed when damaged, and the blur's taps counted at its radius. Outside CI a vendor that is not installed
-// skips (scripts/mesa-gl, scripts/intel-shim); in CI (CI=true) it fails: scripts/deps installs every vendor.
+// a cache that is used when whole and recomputed when damaged, and the blur's taps counted at its radius.
+// Outside CI a vendor that is not installed skips (scripts/mesa-gl, scripts/intel-shim); in CI (CI=true) it
+// fails: scripts/deps installs every vendor.
 #include <gtest/gtest.h>
 
 #include <cstdlib>

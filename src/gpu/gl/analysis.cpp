@@ -134,7 +134,8 @@ Plan plan_pairs(const compile::CompiledSpace& compiled, const std::vector<int>& 
     }
     uses.emplace_back(p.variant, std::move(passes));
   }
-  util::run_parallel(jobs.size(), 0, [&](std::size_t i) { jobs[i].result = unrolled(*jobs[i].shader, jobs[i].inputs); });
+  util::run_parallel(jobs.size(), 0,
+                     [&](std::size_t i) { jobs[i].result = unrolled(*jobs[i].shader, jobs[i].inputs); });
   return pairs_of(jobs, uses);
 }
 

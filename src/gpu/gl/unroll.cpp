@@ -93,7 +93,8 @@ Value compare(const std::string& op, const Value& a, const Value& b) {
 }
 
 Value pick(bool smaller, const Value& a, const Value& b) {  // min() or max(), in float when either is one
-  if (a.real || b.real) return real_value(smaller ? std::min(a.as_real(), b.as_real()) : std::max(a.as_real(), b.as_real()));
+  const double x = a.as_real(), y = b.as_real();
+  if (a.real || b.real) return real_value(smaller ? std::min(x, y) : std::max(x, y));
   return int_value(smaller ? std::min(a.i, b.i) : std::max(a.i, b.i));
 }
 
@@ -277,7 +278,8 @@ bool eval_in(const std::string& expr, const Env& env, long& value, std::set<std:
 // The values the loop variable takes, from the header's three clauses; empty when they are not of the
 // unrollable shape or the loop would expand into more than kMaxCopies copies. The inputs its bounds read are
 // added to `read`.
-std::vector<long> header_values(const std::string& header, std::string& var, const Env& env, std::set<std::string>& read) {
+std::vector<long> header_values(const std::string& header, std::string& var, const Env& env,
+                                std::set<std::string>& read) {
   static const std::regex init(R"(^\s*int\s+([A-Za-z_]\w*)\s*=\s*(.+?)\s*$)");
   static const std::regex cond(R"(^\s*([A-Za-z_]\w*)\s*(<=|>=|<|>)\s*(.+?)\s*$)");
   static const std::regex step(R"(^\s*(?:(\+\+|--)\s*([A-Za-z_]\w*)|([A-Za-z_]\w*)\s*(\+\+|--))\s*$)");
@@ -392,7 +394,8 @@ std::string copies(const std::string& var, const std::vector<long>& values, std:
 
 }  // namespace
 
-bool eval_int(const std::string& expr, long& value, const std::map<std::string, long>& names, const GlslInputs& inputs) {
+bool eval_int(const std::string& expr, long& value, const std::map<std::string, long>& names,
+              const GlslInputs& inputs) {
   Env env;
   for (const auto& [name, v] : names) env[name] = {int_value(v), {}};
   for (const auto& [name, v] : inputs) env[name] = {real_value(v), {name}};
