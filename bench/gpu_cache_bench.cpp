@@ -174,6 +174,7 @@ int main(int argc, char** argv) {
     if (!families.empty()) {
       gpu::GpuOptions go;
       go.families = split(families);
+      go.calibration = ro.calibration;  // --param: the GL chips unroll the blur at that radius
       base = gpu::costs_of(gpu::analyze_gpu(compiled, variants, go), loads, frame);
     }
     fmt::print("bench/gpu_cache: {} ({}), {}x{} + {} px guard band, {} variants, window {}\n", scene_spec, view_name, w,

@@ -52,6 +52,7 @@ KeyedCosts costs_by_key(const CostRequest& request, const std::set<std::string>&
   GpuOptions options;
   options.families = request.families;
   options.scope = request.scope;
+  options.calibration = request.calibration;
   if (any_amd(request.families)) options.icd = find_radeon_icd();
   const GpuAnalysis analysis = analyze_gpu(compiled, selected, options);
   out.by_variant = costs_of(analysis, variant_loads(compiled, selected), request.frame,

@@ -12,6 +12,7 @@
 #include "compile/run_scope.h"
 #include "render/frame.h"
 #include "table/gpu_cost.h"
+#include "variants/manifest.h"
 
 namespace aovar::gpu {
 
@@ -19,6 +20,7 @@ struct CostRequest {
   compile::RunScope scope;            // the manifest, compile jobs, the cache root
   std::vector<std::string> families;  // empty: nothing to do
   render::Extent frame{1920, 1080};    // the frame the estimate is for
+  variants::CalibratedValues calibration;  // the parameter values the variants render with (GpuOptions)
 };
 
 struct KeyedCosts {

@@ -161,7 +161,7 @@ FamilyStats run_family(const Work& w, const std::string& family, const std::file
     const UniquePipeline& p = w.pipelines[i];
     index[i] = static_cast<int>(f.pipelines.size());
     f.pipelines.push_back(std::make_shared<const PipelineStats>(PipelineStats{
-        p.vertex_key, p.fragment_key, p.loops_unrolled, 0, results[i]->first, results[i]->second}));
+        p.vertex_key, p.fragment_key, p.loops_unrolled, 0, results[i]->first, results[i]->second, {}}));
   }
   for (const auto& [key, refs] : w.variants) {
     VariantStats v{key, {}};
@@ -207,7 +207,8 @@ GpuAnalysis analyze_gpu(const compile::CompiledSpace& compiled, const std::vecto
     }
   }
   GlChipsAnalysis gl_stats;
-  if (!gl.empty()) gl_stats = analyze_gl_chips(compiled, variants, gl, options.scope.cache_dir);  // checks first
+  if (!gl.empty())  // checks first
+    gl_stats = analyze_gl_chips(compiled, variants, gl, options.scope.cache_dir, options.calibration);
   GpuAnalysis a;
   if (!amd.empty()) {
     const Work work = plan_work(compiled, variants);

@@ -6,12 +6,14 @@
 // chips: the gles30 programs, loops unrolled in source (gpu/gl/unroll.h), compiled by Mesa's GL driver for
 // the chip through its drm-shim (gpu/gl/analysis.h).
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "compile/generate.h"
 #include "gpu/stats.h"
+#include "variants/manifest.h"
 
 namespace aovar::gpu {
 
@@ -20,8 +22,9 @@ namespace aovar::gpu {
 struct PipelineStats {
   std::string vertex, fragment;   // program keys
   int loops_unrolled = 0;         // loops the analysis copy unrolled (0: unrolled == shipped)
-  int loops_kept = 0;             // loops with run-time bounds the analysis copy left rolled (GL chips)
+  int loops_kept = 0;             // loops the analysis copy left rolled (GL chips): bounds it cannot evaluate
   ShaderStats unrolled, shipped;  // the fragment executable; `shipped` empty where only the analysis copy ran
+  std::map<std::string, double> specialised;  // GL chips: parameter values its loop bounds were unrolled at
 };
 
 struct PassStats {
@@ -63,6 +66,9 @@ struct GpuOptions {
   std::vector<std::string> families;  // AMD families (RADV names) and GL chips (gpu/family_specs.h gl_chips)
   std::filesystem::path icd;          // empty: find_radeon_icd(), when an AMD family is asked for
   compile::RunScope scope;            // its cache root holds the GL chips' statistics cache (empty: none)
+  // The parameter values the variants render with (by variant key or algorithm; the rest: the manifest's).
+  // GL chips unroll a loop bounded by a parameter (the blurs' radius) at its value; AMD families do not.
+  variants::CalibratedValues calibration;
 };
 
 // `variants` index compiled.space.variants; `compiled` holds successful vulkan builds for them (AMD families)

@@ -78,6 +78,7 @@ nlohmann::json pipeline_json(const PipelineStats& p, int id) {
                       {"neutral", neutral_json(p.unrolled)},
                       {"unrolled", to_json(p.unrolled)}};
   if (p.loops_kept) j["loops_kept"] = p.loops_kept;
+  if (!p.specialised.empty()) j["specialised"] = p.specialised;  // e.g. {"params.radius_px": 3}
   if (!p.shipped.empty()) j["shipped"] = to_json(p.shipped);
   if (!p.unrolled.raw.empty()) j["raw"] = p.unrolled.raw;
   return j;

@@ -75,7 +75,7 @@ RowGpuResult add_gpu_costs(const std::vector<table::CostRow*>& rows, const RowGp
   for (const table::CostRow* r : rows) keys.insert(r->variant);
   const GpuEstimateOptions& gpu = request.gpu;
   say(fmt::format("analysing {} variants on RADV's null device ({})", keys.size(), fmt::join(gpu.families, ", ")));
-  gpu::KeyedCosts costs = gpu::costs_by_key({request.scope, gpu.families, gpu.frame}, keys);
+  gpu::KeyedCosts costs = gpu::costs_by_key({request.scope, gpu.families, gpu.frame, request.calibration}, keys);
   for (table::CostRow* r : rows)
     if (auto it = costs.by_variant.find(r->variant); it != costs.by_variant.end()) r->gpu = it->second;
   for (const auto& e : costs.errors) say("note: --gpu " + e);

@@ -1,8 +1,9 @@
 // Compiler statistics of the GL chips (NVIDIA, Adreno, Mali, Intel) from Mesa's GL drivers through drm-shim
 // (src/gpu/gl_*.h): each vendor's runner on a tiny shader, the taps showing after the unroll on every paper
 // chip, mediump against highp where the compiler honours it, one line for a rejected shader and for a crash,
-// and a cache that is used when whole and recomputed when damaged. Outside CI a vendor that is not installed
-// skips (scripts/mesa-gl, scripts/intel-shim); in CI (CI=true) it fails: scripts/deps installs every vendor.
+// a cache that is used when whole and recomputed when damaged, and the blur's taps counted at its radius.
+// Outside CI a vendor that is not installed skips (scripts/mesa-gl, scripts/intel-shim); in CI (CI=true) it
+// fails: scripts/deps installs every vendor.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -218,6 +219,61 @@ TEST(GlChips, TheCacheIsUsedWhenWholeAndRecomputedWhenDamaged) {
   EXPECT_EQ(again.chips[0].variants[0].total(true).instructions, cold.chips[0].variants[0].total(true).instructions);
   EXPECT_EQ(gpu::analyze_gl_chips(c, one, {"gf110"}, tmp.path()).chips[0].cached, static_cast<int>(entries.size()))
       << "stored again, whole";
+}
+
+// Issue 56: the blur's loop runs to its radius parameter; the GL analysis unrolls it at the value the variant
+// renders with, so the chip's count grows with the kernel (one iteration was counted before), and each radius
+// is an entry of its own in the cache.
+TEST(GlChips, TheBlurCountsItsTapsAtTheRadiusAndEachRadiusIsItsOwnEntry) {
+  REQUIRE_GL_VENDOR("nouveau");
+  const auto& c = gl_alchemy_space();
+  const std::string key = "alchemy-s16-p0-nrg8-zdep-rst-d16-bsep-x1-hp";
+  int variant = -1;
+  for (std::size_t i = 0; i < c.space.variants.size(); ++i)
+    if (c.space.variants[i].key == key) variant = static_cast<int>(i);
+  ASSERT_GE(variant, 0);
+  const test::TempDir tmp;
+  const auto at = [&](double radius) {
+    return gpu::analyze_gl_chips(c, {variant}, {"gt200"}, tmp.path(), {{key, {{"blur.radius_px", radius}}}});
+  };
+  const auto r1 = at(1), r3 = at(3), r1_again = at(1);
+  for (const auto* a : {&r1, &r3, &r1_again}) {
+    ASSERT_TRUE(a->chips[0].ok()) << a->chips[0].error;
+    ASSERT_EQ(a->chips[0].variants.size(), 1u);
+  }
+  const auto& blur1 = *r1.chips[0].variants[0].pass("blur")->stats;
+  const auto& blur3 = *r3.chips[0].variants[0].pass("blur")->stats;
+  EXPECT_EQ(blur1.loops_kept, 0);
+  EXPECT_EQ(blur1.specialised, (std::map<std::string, double>{{"params.radius_px", 1.0}}));
+  EXPECT_EQ(blur3.specialised, (std::map<std::string, double>{{"params.radius_px", 3.0}}));
+  // 7 taps against 3 around the same fixed part (the centre's reads, the normalisation).
+  EXPECT_GT(blur3.unrolled.instructions, 1.5 * blur1.unrolled.instructions)
+      << "r 1: " << blur1.unrolled.raw << "\nr 3: " << blur3.unrolled.raw;
+  EXPECT_EQ(r1.chips[0].cached, 0);
+  EXPECT_EQ(r3.chips[0].cached, static_cast<int>(r3.chips[0].pipelines.size()) - 1) << "all but the blur's";
+  EXPECT_EQ(r1_again.chips[0].cached, static_cast<int>(r1_again.chips[0].pipelines.size()));
+  EXPECT_EQ(r1_again.chips[0].variants[0].pass("blur")->unrolled().instructions, blur1.unrolled.instructions);
+  EXPECT_NE(gpu::gl_cache_key("gt200", "nv50", "Mesa", "v", "f", {{"params.radius_px", 1.0}}),
+            gpu::gl_cache_key("gt200", "nv50", "Mesa", "v", "f", {{"params.radius_px", 3.0}}));
+}
+
+// Without a calibration each blur unrolls at its manifest radius, read from the pass whose program it is: SAO's
+// keyed blur draws in the "blur" timing group but takes [passes.blur_keyed]'s radius_px (4), the 2-D bilateral
+// [passes.blur]'s (2). No blur loop is left to count once.
+TEST(GlChips, EachBlurUnrollsAtItsOwnPassesManifestRadius) {
+  REQUIRE_GL_VENDOR("nouveau");
+  const auto c = test::compile_variants(
+      {"sao-s08-p0-ndep-zdep-rst-d32-bsep-x1-hp", "alchemy-s08-p0-nrgb8-zdep-rst-d16-bbil-x1-hp"}, true);
+  const auto a = gpu::analyze_gl_chips(c, {0, 1}, {"gt200"}, {});
+  ASSERT_TRUE(a.chips[0].ok()) << a.chips[0].error;
+  ASSERT_EQ(a.chips[0].variants.size(), 2u);
+  for (const auto& v : a.chips[0].variants) {
+    const auto* blur = v.pass("blur");
+    ASSERT_NE(blur, nullptr) << v.key;
+    const double radius = v.key.rfind("sao", 0) == 0 ? 4.0 : 2.0;
+    EXPECT_EQ(blur->stats->specialised, (std::map<std::string, double>{{"params.radius_px", radius}})) << v.key;
+    EXPECT_EQ(blur->stats->loops_kept, 0) << v.key;
+  }
 }
 
 TEST(GlChips, ACacheThatCannotBeWrittenDoesNotFailTheRun) {

@@ -1,7 +1,7 @@
 // Loops unrolled in GLSL source for the GL compilers' statistics (src/gpu/gl/unroll.h): constant bounds
 // (literals and `const int`s) unroll into copies that glslang still accepts, `continue` and a loop's own
 // `break` keep their meaning, run-time bounds stay loops, and the templates' real programs lose every loop
-// whose trip count is known.
+// whose trip count is known; a blur's radius-bounded loops unroll at the radius the variant renders with.
 #include <gtest/gtest.h>
 
 #include <regex>
@@ -39,7 +39,7 @@ TEST(GlslUnroll, EvaluatesIntegerConstantExpressions) {
   EXPECT_TRUE(gpu::eval_int("TAPS / 2", v, {{"TAPS", 12}}));
   EXPECT_EQ(v, 6);
   EXPECT_FALSE(gpu::eval_int("bound", v));
-  EXPECT_FALSE(gpu::eval_int("min(4, 2)", v));
+  EXPECT_FALSE(gpu::eval_int("hypot(4, 2)", v));
   EXPECT_FALSE(gpu::eval_int("4 / 0", v));
   // The templates' sample ladders: AO_SLICE_STEPS and HBAO_STEPS (common/slices.glsl, ao/hbao.glsl).
   const char* steps = "S < 4 ? 1 : (S > 16 ? 4 : S / 4)";
@@ -51,6 +51,35 @@ TEST(GlslUnroll, EvaluatesIntegerConstantExpressions) {
   EXPECT_EQ(v, 1);
   EXPECT_TRUE(gpu::eval_int("3 >= 3 ? 5 <= 4 : 7", v));
   EXPECT_EQ(v, 0);
+}
+
+// The forms a blur's bound is computed in (passes/blur_separable.frag): float literals and inputs, int()'s
+// truncation, clamp / min / max, and textureSize's components standing for a large extent.
+TEST(GlslUnroll, EvaluatesTheFormsOfARunTimeBound) {
+  long v = 0;
+  const auto is = [&](const std::string& expr, long expected, const gpu::GlslInputs& inputs = {}) {
+    v = -99;
+    EXPECT_TRUE(gpu::eval_int(expr, v, {{"MAXR", 8}}, inputs)) << expr;
+    EXPECT_EQ(v, expected) << expr;
+  };
+  is("int(3.7)", 3);
+  is("int(-2.5)", -2);  // toward zero, as GLSL's int()
+  is("int(.5) + int(2.5e0) + int(1.5f) + int(3.)", 0 + 2 + 1 + 3);
+  is("int(float(7) / 2.0)", 3);
+  is("min(max(1, 2), 3)", 2);
+  is("abs(-4)", 4);
+  const std::string r = "clamp(int(params.radius_px), 1, MAXR)";
+  is(r, 3, {{"params.radius_px", 3.0}});
+  is(r, 1, {{"params.radius_px", 0.5}});
+  is(r, 8, {{"params.radius_px", 12.0}});
+  is("min(" + r + ", max(textureSize(t, 0).x, textureSize(t, 0).y))", 2, {{"params.radius_px", 2.9}});
+  is("max(textureSize(ao_input_tex, 0).y, 2)", gpu::kTextureExtent);
+  EXPECT_FALSE(gpu::eval_int("3.0", v)) << "a float is no loop bound";
+  EXPECT_FALSE(gpu::eval_int("1.0 % 2.0", v));
+  EXPECT_FALSE(gpu::eval_int("int(params.radius_px)", v)) << "no value given";
+  EXPECT_FALSE(gpu::eval_int("textureSize(t, 0)", v)) << "a vector";
+  EXPECT_FALSE(gpu::eval_int("min(1)", v));
+  EXPECT_FALSE(gpu::eval_int("3x", v));
 }
 
 TEST(GlslUnroll, ConstantLoopsBecomeCopiesGlslangAccepts) {
@@ -96,6 +125,70 @@ TEST(GlslUnroll, RunTimeBoundsStayLoops) {
   EXPECT_EQ(r.unrolled, 1);  // the constant inner loop inside the kept one
   EXPECT_EQ(loops_in(r.source), 1);
   EXPECT_TRUE(valid_unrolled_es(r.source)) << r.source;
+}
+
+// A bound computed from an input through locals unrolls; one from a local written again, or from no value,
+// stays a loop.
+TEST(GlslUnroll, ABoundComputedFromAnInputUnrollsAtItsValue) {
+  const std::string src = std::string(kUnrollHead) +
+                          "uniform P { float radius; float other; } params;\nuniform sampler2D t;\n"
+                          "void main() { float s = 0.0;\n"
+                          "  int r = clamp(int(params.radius), 1, 8);\n"
+                          "  ivec2 size = textureSize(t, 0);\n"
+                          "  int bound = min(r, max(size.x, size.y));\n"
+                          "  for (int i = -bound; i <= bound; ++i) { s += u[i + 3] * float(r); }\n"
+                          "  int n = 2;\n  n += 1;\n"
+                          "  for (int k = 0; k < n; ++k) { s += 1.0; }\n  o = vec4(s); }\n";
+  ASSERT_TRUE(valid_unrolled_es(src));
+  const std::string pre = compile::preprocess_es(src, variants::StageKind::fragment);
+  const auto at3 = gpu::unroll_loops(pre, {{"params.radius", 3.0}, {"params.other", 0.5}});
+  EXPECT_EQ(at3.unrolled, 1);
+  EXPECT_EQ(at3.kept, 1);  // `n` is written twice
+  EXPECT_EQ(count_of(at3.source, "const int i = "), 7);
+  EXPECT_EQ(at3.specialised, (gpu::GlslInputs{{"params.radius", 3.0}})) << "only what a bound read";
+  EXPECT_NE(at3.source.find("float(r)"), std::string::npos) << "the input's other reads stay";
+  EXPECT_TRUE(valid_unrolled_es(at3.source)) << at3.source;
+  const auto none = gpu::unroll_loops(pre);
+  EXPECT_EQ(none.kept, 2);
+  EXPECT_TRUE(none.specialised.empty());
+}
+
+// The real blurs (passes/blur_separable.frag, passes/blur_bilateral.frag) at the radius their parameter gives:
+// 2R + 1 copies of the tap, (2R + 1)^2 for the 2-D bilateral, no loop left, glslang still accepting them.
+TEST(GlslUnroll, TheBlursUnrollToTheirTapsAtTheRadius) {
+  const auto c = test::compile_variants({"alchemy-s08-p0-nrgb8-zdep-rst-d16-bsep-x1-hp",
+                                         "alchemy-s08-p0-nrgb8-zdep-rst-d16-bbil-x1-hp"},
+                                        true);
+  int blurs = 0;
+  for (std::size_t v = 0; v < c.space.variants.size(); ++v) {
+    const auto plan = render::plan_pipeline(c, static_cast<int>(v), variants::Target::gles30);
+    for (const auto& draw : plan.draws) {
+      if (draw.pass != "blur") continue;
+      const auto& shader = plan.shaders[draw.fragment];
+      const std::string pre = compile::preprocess_es(shader.glsl, shader.stage);
+      const bool bilateral = shader.program_key.find("bilateral") != std::string::npos;
+      EXPECT_EQ(gpu::unroll_loops(pre).kept, bilateral ? 2 : 1) << "no radius: " << shader.program_key;
+      for (int radius : {1, 3, 8}) {
+        const auto r = gpu::unroll_loops(pre, {{"params.radius_px", radius + 0.5}, {"params.depth_sigma", 0.05}});
+        const int taps = 2 * radius + 1;
+        EXPECT_EQ(r.kept, 0) << shader.program_key;
+        EXPECT_EQ(loops_in(r.source), 0) << shader.program_key;
+        EXPECT_EQ(r.specialised, (gpu::GlslInputs{{"params.radius_px", radius + 0.5}}));
+        if (bilateral) {
+          EXPECT_EQ(count_of(r.source, "const int y = "), taps);
+          EXPECT_EQ(count_of(r.source, "const int x = "), taps * taps);
+        } else {
+          EXPECT_EQ(count_of(r.source, "const int i = "), taps);
+        }
+        if (radius == 3) {
+          EXPECT_TRUE(valid_unrolled_es(r.source)) << shader.program_key;
+        }
+      }
+      ++blurs;
+      break;  // the separable blur's second draw is the same program
+    }
+  }
+  EXPECT_EQ(blurs, 2);
 }
 
 TEST(GlslUnroll, TheTemplatesAoPassesLoseEveryConstantLoop) {

@@ -33,7 +33,7 @@ gpu::GpuAnalysis analyze(const std::vector<std::string>& families) {
   const auto& c = samples_space();
   std::vector<int> all(c.space.variants.size());
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
-  return gpu::analyze_gpu(c, all, {families, {}, {}});
+  return gpu::analyze_gpu(c, all, {families, {}, {}, {}});
 }
 
 double ao_instructions(const gpu::FamilyStats& f, const std::string& key) {

@@ -182,7 +182,7 @@ const std::map<std::string, table::GpuCosts>& ladder_costs() {
     std::vector<int> all(c.space.variants.size());
     for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
     std::vector<std::string> errors;
-    auto out = gpu::costs_of(gpu::analyze_gpu(c, all, {kFamilies, {}, {}}), gpu::variant_loads(c, all), gpu::kDefaultFrame, &errors);
+    auto out = gpu::costs_of(gpu::analyze_gpu(c, all, {kFamilies, {}, {}, {}}), gpu::variant_loads(c, all), gpu::kDefaultFrame, &errors);
     for (const auto& e : errors) ADD_FAILURE() << e;
     return out;
   }();

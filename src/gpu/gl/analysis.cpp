@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "compile/glslang_compiler.h"
+#include "compile/parameters.h"
 #include "gpu/family_specs.h"
 #include "gpu/gl/compiler.h"
 #include "gpu/gl/unroll.h"
@@ -21,12 +22,13 @@ namespace fs = std::filesystem;
 namespace {
 
 // Bumped when the runner's protocol or what the sources are made from changes: old entries stop matching.
-constexpr const char* kGlStatsVersion = "gl-stats 1";
+constexpr const char* kGlStatsVersion = "gl-stats 2";  // 2: blur loops unrolled at the radius (issue 56)
 
 struct Pair {
   std::string vertex_key, fragment_key;
   GlProgram program;  // unrolled sources
   int loops_unrolled = 0, loops_kept = 0;
+  GlslInputs specialised;  // the parameter values the fragment's unrolled loop bounds read
 };
 
 struct Plan {
@@ -34,51 +36,107 @@ struct Plan {
   std::vector<std::pair<std::string, std::vector<std::pair<std::string, int>>>> variants;  // key, (pass, pair)
 };
 
-GlslUnroll unrolled(const render::Shader& shader) {
+GlslUnroll unrolled(const render::Shader& shader, const GlslInputs& inputs) {
   if (shader.glsl.empty()) throw std::runtime_error("gl chips: " + shader.program_key + " has no gles30 source");
-  return unroll_loops(compile::preprocess_es(shader.glsl, shader.stage));
+  return unroll_loops(compile::preprocess_es(shader.glsl, shader.stage), inputs);
+}
+
+// "params.radius_px=3;..." (empty for none): a GlslInputs as part of a key.
+std::string inputs_text(const GlslInputs& inputs) {
+  std::string out;
+  for (const auto& [name, value] : inputs) out += fmt::format("{}={};", name, value);
+  return out;
+}
+
+// The values each program's parameters render with, by program key, as its source reads them ("params.<name>",
+// shader_src/README.md): the calibrated value of "<pass>.<name>" where `calibration` has one for the variant,
+// else the manifest's; rounded to float, as the AOParams block uploads them. By program, not by the draw's
+// timing group: SAO's keyed blur times as "blur" but takes the parameters of the manifest pass blur_keyed.
+std::map<std::string, GlslInputs> program_inputs(const compile::CompiledSpace& compiled, int variant,
+                                                 const variants::CalibratedValues& calibration) {
+  std::map<std::string, GlslInputs> by_pass;
+  for (const compile::VariantParam& p : compile::variant_params(compiled, variant, calibration)) {
+    const std::size_t dot = p.key.find('.');
+    by_pass[p.key.substr(0, dot)]["params." + p.key.substr(dot + 1)] = static_cast<float>(p.value);
+  }
+  std::map<std::string, GlslInputs> by_program;
+  const auto& entry = compiled.space.variants.at(variant);
+  for (std::size_t i = 0; i < compiled.manifest.passes.size(); ++i)
+    for (int program : entry.passes[i])
+      if (program >= 0) by_program[compiled.space.programs[program].key] = by_pass[compiled.manifest.passes[i].name];
+  return by_program;
+}
+
+// One program to unroll: a shader at its pass's parameter values (a vertex shader at none: no loop of its
+// reads a parameter).
+struct UnrollJob {
+  const render::Shader* shader = nullptr;
+  GlslInputs inputs;
+  GlslUnroll result;
+};
+
+struct PassUse {
+  std::string pass;
+  std::size_t vertex = 0, fragment = 0;  // indices into the jobs
+};
+using VariantUses = std::pair<std::string, std::vector<PassUse>>;  // a variant's key and its passes
+
+// The distinct pairs of the unrolled programs: two passes share one when their programs are the same and so
+// are the values their fragment's loop bounds read.
+Plan pairs_of(const std::vector<UnrollJob>& jobs, const std::vector<VariantUses>& uses) {
+  Plan plan;
+  std::map<std::string, int> by_key;
+  for (const auto& [variant, passes] : uses) {
+    std::vector<std::pair<std::string, int>> drawn;
+    for (const PassUse& u : passes) {
+      const UnrollJob &vj = jobs[u.vertex], &fj = jobs[u.fragment];
+      const std::string &vk = vj.shader->program_key, &fk = fj.shader->program_key;
+      const auto [it, fresh] = by_key.try_emplace(vk + "|" + fk + "|" + inputs_text(fj.result.specialised),
+                                                  static_cast<int>(plan.pairs.size()));
+      if (fresh)
+        plan.pairs.push_back({vk, fk, {fk, vj.result.source, fj.result.source}, fj.result.unrolled, fj.result.kept,
+                              fj.result.specialised});
+      drawn.emplace_back(u.pass, it->second);
+    }
+    plan.variants.emplace_back(variant, std::move(drawn));
+  }
+  return plan;
 }
 
 // Each variant's passes (each pass once: the separable blur's second draw is the same program) and the
-// distinct program pairs they draw; each program is unrolled once for every chip, on every core.
-Plan plan_pairs(const compile::CompiledSpace& compiled, const std::vector<int>& variants) {
-  Plan plan;
-  std::map<std::string, int> by_keys;
+// distinct program pairs they draw. A pair is its two programs and the parameter values its loop bounds read
+// (a blur at radius 1 and at 3 are two pairs; at another depth_sigma, the same one). Each program is unrolled
+// once per distinct parameter values, on every core.
+Plan plan_pairs(const compile::CompiledSpace& compiled, const std::vector<int>& variants,
+                const variants::CalibratedValues& calibration) {
   std::map<std::string, render::Shader> shaders;  // program key -> the program (first seen)
-  std::vector<std::pair<const render::Shader*, const render::Shader*>> pair_shaders;
+  std::map<std::string, std::size_t> job_of;      // program key | inputs -> index into jobs
+  std::vector<UnrollJob> jobs;
+  std::vector<VariantUses> uses;
+  const auto job = [&](const render::Shader& shader, const GlslInputs& inputs) {
+    const render::Shader& kept = shaders.try_emplace(shader.program_key, shader).first->second;
+    const auto [it, fresh] = job_of.try_emplace(shader.program_key + "|" + inputs_text(inputs), jobs.size());
+    if (fresh) jobs.push_back({&kept, inputs, {}});
+    return it->second;
+  };
   for (int v : variants) {
     const render::PipelinePlan p = render::plan_pipeline(compiled, v, variants::Target::gles30);
-    std::vector<std::pair<std::string, int>> passes;
+    const std::map<std::string, GlslInputs> inputs = program_inputs(compiled, v, calibration);
+    std::vector<PassUse> passes;
     for (const render::Draw& draw : p.draws) {
       bool seen = false;
-      for (const auto& [pass, pair] : passes) seen = seen || pass == draw.pass;
+      for (const PassUse& u : passes) seen = seen || u.pass == draw.pass;
       if (seen) continue;
-      const render::Shader &vs = p.shaders[draw.vertex], &fs = p.shaders[draw.fragment];
-      auto [it, fresh] = by_keys.try_emplace(vs.program_key + "|" + fs.program_key, static_cast<int>(plan.pairs.size()));
-      if (fresh) {
-        plan.pairs.push_back({vs.program_key, fs.program_key, {fs.program_key, "", ""}, 0, 0});
-        pair_shaders.emplace_back(&shaders.try_emplace(vs.program_key, vs).first->second,
-                                  &shaders.try_emplace(fs.program_key, fs).first->second);
-      }
-      passes.emplace_back(draw.pass, it->second);
+      const render::Shader& fragment = p.shaders[draw.fragment];
+      const auto in = inputs.find(fragment.program_key);
+      passes.push_back({draw.pass, job(p.shaders[draw.vertex], {}),
+                        job(fragment, in == inputs.end() ? GlslInputs{} : in->second)});
     }
-    plan.variants.emplace_back(p.variant, std::move(passes));
+    uses.emplace_back(p.variant, std::move(passes));
   }
-  std::vector<const render::Shader*> todo;
-  for (const auto& [key, shader] : shaders) todo.push_back(&shader);
-  std::vector<GlslUnroll> done(todo.size());
-  util::run_parallel(todo.size(), 0, [&](std::size_t i) { done[i] = unrolled(*todo[i]); });
-  std::map<const render::Shader*, const GlslUnroll*> by_shader;
-  for (std::size_t i = 0; i < todo.size(); ++i) by_shader[todo[i]] = &done[i];
-  for (std::size_t i = 0; i < plan.pairs.size(); ++i) {
-    const GlslUnroll &vu = *by_shader.at(pair_shaders[i].first), &fu = *by_shader.at(pair_shaders[i].second);
-    Pair& p = plan.pairs[i];
-    p.program.vertex = vu.source;
-    p.program.fragment = fu.source;
-    p.loops_unrolled = fu.unrolled;
-    p.loops_kept = fu.kept;
-  }
-  return plan;
+  util::run_parallel(jobs.size(), 0,
+                     [&](std::size_t i) { jobs[i].result = unrolled(*jobs[i].shader, jobs[i].inputs); });
+  return pairs_of(jobs, uses);
 }
 
 struct Cached {
@@ -133,7 +191,7 @@ FamilyStats analyze_chip(const Plan& plan, const FamilySpec& chip, const GlInsta
   for (std::size_t i = 0; i < plan.pairs.size(); ++i) {
     const Pair& p = plan.pairs[i];
     keys.push_back(gl_entry_key(chip.family, gl_cache_key(chip.family, chip.compiler->chip, install.mesa,
-                                                          p.program.vertex, p.program.fragment)));
+                                                          p.program.vertex, p.program.fragment, p.specialised)));
     if (auto hit = read_entry(cache, keys.back(), vendor)) {
       f.device = hit->renderer;
       f.driver = driver_of(hit->version);
@@ -163,7 +221,8 @@ FamilyStats analyze_chip(const Plan& plan, const FamilySpec& chip, const GlInsta
     const Pair& p = plan.pairs[i];
     index[i] = static_cast<int>(f.pipelines.size());
     f.pipelines.push_back(std::make_shared<const PipelineStats>(
-        PipelineStats{p.vertex_key, p.fragment_key, p.loops_unrolled, p.loops_kept, std::move(*stats[i]), {}}));
+        PipelineStats{p.vertex_key, p.fragment_key, p.loops_unrolled, p.loops_kept, std::move(*stats[i]), {},
+                      p.specialised}));
   }
   for (const auto& [key, passes] : plan.variants) {
     VariantStats v{key, {}};
@@ -179,14 +238,17 @@ FamilyStats analyze_chip(const Plan& plan, const FamilySpec& chip, const GlInsta
 
 }  // namespace
 
+// The specialised values are in the key by name as well as through the unrolled source they shaped, so that
+// two radii never share an entry even where their sources were to coincide.
 std::string gl_cache_key(const std::string& chip, const std::string& driver_chip, const std::string& mesa,
-                         const std::string& vertex, const std::string& fragment) {
-  return util::hash_hex(fmt::format("{}\n{}\n{}\n{}\n{}\n{}\n{}", kGlStatsVersion, chip, driver_chip, mesa,
-                                    vertex.size(), vertex, fragment));
+                         const std::string& vertex, const std::string& fragment, const GlslInputs& specialised) {
+  return util::hash_hex(fmt::format("{}\n{}\n{}\n{}\n{}\n{}\n{}\n{}", kGlStatsVersion, chip, driver_chip, mesa,
+                                    inputs_text(specialised), vertex.size(), vertex, fragment));
 }
 
 GlChipsAnalysis analyze_gl_chips(const compile::CompiledSpace& compiled, const std::vector<int>& variants,
-                                 const std::vector<std::string>& chips, const fs::path& cache_dir) {
+                                 const std::vector<std::string>& chips, const fs::path& cache_dir,
+                                 const variants::CalibratedValues& calibration) {
   const GlInstall install = find_gl_install();
   std::vector<const FamilySpec*> specs;
   for (const std::string& name : chips) {
@@ -199,7 +261,7 @@ GlChipsAnalysis analyze_gl_chips(const compile::CompiledSpace& compiled, const s
     }
     specs.push_back(spec);
   }
-  const Plan plan = plan_pairs(compiled, variants);
+  const Plan plan = plan_pairs(compiled, variants, calibration);
   GlChipsAnalysis a;
   a.programs = static_cast<int>(plan.pairs.size());
   const util::VerifiedCache cache(cache_dir, "gl-stats");
