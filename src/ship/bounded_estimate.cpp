@@ -22,23 +22,40 @@ double alu_lower_bound_ms(const table::GpuCost& cost) {
 
 void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::string& keep, int chunk, int stages,
                         const std::function<void(const std::vector<BoundCandidate*>&, int)>& trace,
-                        const std::function<void(const std::vector<BoundCandidate*>&)>& complete) {
+                        const std::function<void(const std::vector<BoundCandidate*>&)>& complete,
+                        std::size_t complete_batch) {
   std::sort(candidates.begin(), candidates.end(), [](const BoundCandidate& a, const BoundCandidate& b) {
     return std::tie(a.error, a.bound, a.key) < std::tie(b.error, b.bound, b.key);
   });
   std::vector<const BoundCandidate*> traced;  // every stage traced: est is the worst view's estimate
-  auto beaten = [&](BoundCandidate& c) {
-    if (c.key == keep) return false;
+  auto beater = [&](const BoundCandidate& c) -> const BoundCandidate* {
+    if (c.key == keep) return nullptr;
     const BoundCandidate* by = nullptr;
     for (const BoundCandidate* d : traced)
       if (d->error < c.error && d->est < c.bound && (!by || d->est < by->est)) by = d;
+    return by;
+  };
+  auto beaten = [&](BoundCandidate& c) {
+    const BoundCandidate* by = beater(c);
     if (by) c.beaten_by = by->key;
     return by != nullptr;
+  };
+  std::size_t next = 0;  // the first candidate not yet visited
+  // The chunk's incomplete candidates, and ahead of it the next ones the rule cannot drop yet, up to a batch:
+  // completing one that a later trace would have dropped costs a still; a call costs many.
+  auto complete_with_lookahead = [&](const std::vector<BoundCandidate*>& chunk_of) {
+    std::vector<BoundCandidate*> batch;
+    for (BoundCandidate* c : chunk_of)
+      if (!c->complete) batch.push_back(c);
+    if (batch.empty()) return;
+    for (std::size_t i = next; i < candidates.size() && batch.size() < complete_batch; ++i)
+      if (!candidates[i].complete && !beater(candidates[i])) batch.push_back(&candidates[i]);
+    complete(batch);
   };
   std::vector<BoundCandidate*> pending;
   auto flush = [&] {
     if (complete && !pending.empty()) {  // every view's error before any trace: it may already decide
-      complete(pending);
+      complete_with_lookahead(pending);
       std::erase_if(pending, [&](BoundCandidate* c) { return beaten(*c); });
     }
     for (int stage = 0; stage < stages && !pending.empty(); ++stage) {
@@ -54,7 +71,8 @@ void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::stri
     }
     pending.clear();
   };
-  for (BoundCandidate& c : candidates) {
+  while (next < candidates.size()) {
+    BoundCandidate& c = candidates[next++];
     if (beaten(c)) continue;
     pending.push_back(&c);
     if (int(pending.size()) >= chunk) flush();

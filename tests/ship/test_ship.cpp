@@ -184,7 +184,9 @@ TEST(ShipBound, ACandidateBeatenOnItsFirstViewsErrorIsNeverRenderedOnTheOthers) 
                                                {"cheap", 0.08}, {"budget", 0.10}};
   const std::map<std::string, double> est = {{"a", 0.20}, {"dropped-early", 0.30}, {"worse-elsewhere", 0.25},
                                              {"cheap", 0.10}, {"budget", 0.50}};
-  auto run = [&](bool in_turn, std::vector<std::string>& completed, std::vector<std::string>& traced) {
+  int calls = 0;
+  auto run = [&](bool in_turn, std::vector<std::string>& completed, std::vector<std::string>& traced,
+                 std::size_t batch = 1) {
     std::vector<ship::BoundCandidate> c = {
         untraced("a", in_turn ? 0.04 : 0.05, 0.1),
         untraced("dropped-early", in_turn ? 0.06 : 0.09, 0.25),     // beaten by a on its first view already
@@ -200,10 +202,11 @@ TEST(ShipBound, ACandidateBeatenOnItsFirstViewsErrorIsNeverRenderedOnTheOthers) 
       }
     };
     auto complete = [&](const std::vector<ship::BoundCandidate*>& chunk) {
+      ++calls;
       for (auto* x : chunk)
         if (!x->complete) x->error = worst.at(x->key), x->complete = true, completed.push_back(x->key);
     };
-    if (in_turn) ship::eliminate_by_bound(c, "budget", 1, 1, trace, complete);
+    if (in_turn) ship::eliminate_by_bound(c, "budget", 1, 1, trace, complete, batch);
     else ship::eliminate_by_bound(c, "budget", 1, 1, trace);
     std::map<std::string, bool> beaten;  // who beats it may differ: the fastest traced by then
     for (const auto& x : c) beaten[x.key] = !x.beaten_by.empty();
@@ -220,6 +223,14 @@ TEST(ShipBound, ACandidateBeatenOnItsFirstViewsErrorIsNeverRenderedOnTheOthers) 
   EXPECT_EQ(std::count(completed.begin(), completed.end(), "worse-elsewhere"), 1);
   EXPECT_EQ(std::count(traced.begin(), traced.end(), "worse-elsewhere"), 0);
   EXPECT_TRUE(none.empty());
+
+  // Completed in batches that look ahead: the first call, before anything is traced, completes every candidate
+  // the rule cannot drop yet; the eliminations stay the same.
+  std::vector<std::string> batched, traced_batched;
+  calls = 0;
+  EXPECT_EQ(run(true, batched, traced_batched, 128), all_views);
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(batched.size(), worst.size());
 }
 
 // Held-out still rows (no time): each variant on two held-out views, its worst is its rmse.
