@@ -399,18 +399,29 @@ table::CostTable measured_search(const ShipOptions& o, const Fitted& fit, const 
 // chunks come in the same order again). A chunk rendered for one target serves the later ones.
 class OtherViews {
  public:
+  // `first`: the first view's rows, whose copies (same_code_as, measure/same_code.h) must stay copies.
   OtherViews(const ShipOptions& o, const Fitted& fit, const ShipResult& res, const std::set<std::string>& skip,
-             const Progress& say)
-      : o_(o), fit_(fit), views_(res.training.begin() + 1, res.training.end()), skip_(skip), say_(say) {}
+             const table::CostTable& first, const Progress& say)
+      : o_(o), fit_(fit), views_(res.training.begin() + 1, res.training.end()), skip_(skip), say_(say) {
+    for (const auto& r : first.rows)
+      if (!r.same_code_as.empty()) copy_of_[r.variant] = r.same_code_as;
+  }
 
   std::vector<table::CostRow> render(const std::vector<std::string>& keys) {
     std::vector<std::string> todo;
     for (const auto& k : keys)
       if (!rows_.count(k)) todo.push_back(k);
     if (!todo.empty()) {
-      sweep::SweepOptions so = round_options(o_, fit_, views_, todo, skip_, false);
+      // A copy's representative renders with it, so that the copy is one again: the race counts a copy's rows
+      // as its representative's (race.h), and a copy measured on one view only would be judged on that view.
+      std::set<std::string> globs(todo.begin(), todo.end());
+      for (const auto& k : todo)
+        if (auto it = copy_of_.find(k); it != copy_of_.end()) globs.insert(it->second);
+      sweep::SweepOptions so = round_options(o_, fit_, views_, {globs.begin(), globs.end()}, skip_, false);
       so.out = o_.out / "screen-views" / std::to_string(sweeps_++);
-      so.measure.baseline = todo.front();  // stills only: the budget's variant would be one more render per chunk
+      // The first key as the baseline: no extra render (stills only), and every group of copies keeps its first
+      // key as representative (group_twins keeps the baseline's group's baseline), as the first view did.
+      so.measure.baseline = *globs.begin();
       const std::set<std::string> wanted(todo.begin(), todo.end());
       const auto progress = [&](const std::string& line) {
         if (say_) say_("screen: other views: " + line);
@@ -435,6 +446,7 @@ class OtherViews {
   const std::set<std::string>& skip_;
   const Progress& say_;
   std::map<std::string, std::vector<table::CostRow>> rows_;
+  std::map<std::string, std::string> copy_of_;
   int sweeps_ = 0, rendered_ = 0;
 };
 
@@ -460,7 +472,7 @@ table::CostTable estimated_screen(const ShipOptions& o, const Fitted& fit, const
   say(fmt::format("round {}: {} ({})", r.name, o.globs.empty() ? "the whole pruned space" : "the selection", r.timing));
   const table::CostTable screen = round_rows(o, fit, so, false, res, r, say);
   r.candidates = int(variants_of(screen).size());
-  OtherViews other_views(o, fit, res, skip, say);
+  OtherViews other_views(o, fit, res, skip, screen, say);
   RenderRest render_rest;
   if (in_turn) render_rest = [&](const std::vector<std::string>& keys) { return other_views.render(keys); };
   if (res.shard.empty()) {  // a shard screens its share and stops: the join estimates, eliminates and selects
