@@ -82,6 +82,11 @@ def get(est, view, chip, key):
         sys.exit(f"gpu_seeds.py: no estimate of {key} on {chip} ({view}): did the bench run it?")
 
 
+def ao_table(title, est, chip, rows):
+    """rows: (name, key, paper ms) on the overview; prints the AO times against the paper's (table)."""
+    return table(title, [(f"{n}: {k}", p, ao_time(get(est, "overview", chip, k))) for n, k, p in rows])
+
+
 def sunet(out):
     est = load(f"{out}/sunet.txt")
     t, d = "p0-nrgb8-zdep-rst-d16-bsep-x1-hp", "p0-ndep-zdep-_r-d16-bsep-x1-hp"
@@ -138,7 +143,7 @@ def aalund(out):
             ("StarCraft II s15 (s16)", "sc2-s16-p0-nrgb8-zdep-rst-d32-bsep-x1-hp", 3.75),
             ("HBAO 8x6 (s32 = 8x4)", "hbao-s32-p0-nrgb8-zdep-rst-d32-bsep-x1-hp", 6.75)]
     print("Aalund 2013, GeForce GTX 260 (gt200), 800x800, Sponza overview")
-    papers, ests = table("Table 2: AO pass", [(f"{n}: {k}", p, ao_time(get(est, "overview", "gt200", k))) for n, k, p in rows])
+    papers, ests = ao_table("Table 2: AO pass", est, "gt200", rows)
     rho = spearman(papers, ests)
     check("Aalund Table 2 Spearman >= 0.8", rho >= 0.8, f"{rho:.2f}")
     check("Aalund Alchemy fastest and HBAO slowest", min(ests) == ests[0] and max(ests) == ests[-1],
@@ -159,8 +164,7 @@ def aalund_quality(out):
             ("HBAO 80 x 6 (s320 = 80 x 4)", "hbao-s320-p0-nrgb8-zdep-rst-d32-bno-x1-hp", 64.0),
             ("VO 40", "vo-s40-p0-ndep-zdep-_r-d32-bno-x1-hp", 6.0),
             ("Alchemy 64", "alchemy-s64-p0-nrgb8-zdep-rst-d32-bno-x1-hp", 12.0)]
-    papers, ests = table("Table 4: quality configuration, AO pass (no blur)",
-                         [(f"{n}: {k}", p, ao_time(get(est, "overview", "gt200", k))) for n, k, p in rows])
+    papers, ests = ao_table("Table 4: quality configuration, AO pass (no blur)", est, "gt200", rows)
     rho = spearman(papers, ests)
     errors = sorted(ratio_error(e, p) for p, e in zip(papers, ests))
     check("Aalund Table 4 Spearman >= 0.8 (beyond issue 56's list)", rho >= 0.8,

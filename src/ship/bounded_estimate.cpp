@@ -175,10 +175,9 @@ BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vec
     if (say && stage + 1 == stages)
       say(fmt::format("estimated {} of {} candidates in order of error", out.traced, candidates.size()));
   };
-  if (render_rest)
-    eliminate_by_bound(candidates, keep, chunk, stages, trace_stage, complete);
-  else
-    eliminate_by_bound(candidates, keep, chunk, stages, trace_stage);
+  std::function<void(const std::vector<BoundCandidate*>&)> completion;  // none: every candidate is complete
+  if (render_rest) completion = complete;
+  eliminate_by_bound(candidates, keep, chunk, stages, trace_stage, completion);
 
   std::map<std::string, const BoundCandidate*> index;
   for (const auto& c : candidates) index[c.key] = &c;
