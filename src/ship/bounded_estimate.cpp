@@ -129,6 +129,10 @@ BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vec
   out.gpu = trace::add_gpu_costs(all, statistics, say);
   out.gpu.traced = true;
   out.gpu.window_share = request.gpu.window;
+  // RADV's statistics depend on the variant's programs, not the view: the other views' rows take them from the
+  // first view's, untraced, rather than compile every chunk's pipelines again.
+  std::map<std::string, table::GpuCosts> statistics_of;
+  for (const auto& r : screen.rows) statistics_of.emplace(r.variant, r.gpu);
 
   FamilyRows fc;
   for (auto& r : screen.rows)
@@ -146,9 +150,14 @@ BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vec
     for (const BoundCandidate* c : chunk_of)
       if (!c->complete) keys.push_back(c->key);
     if (keys.empty()) return;
-    std::vector<table::CostRow*> fresh;
-    for (table::CostRow& r : render_rest(keys)) fresh.push_back(&rendered.emplace_back(std::move(r)));
-    trace::add_gpu_costs(fresh, statistics, [](const std::string&) {});
+    std::vector<table::CostRow*> fresh, unknown;
+    for (table::CostRow& r : render_rest(keys)) {
+      table::CostRow* row = &rendered.emplace_back(std::move(r));
+      fresh.push_back(row);
+      if (auto it = statistics_of.find(row->variant); it != statistics_of.end()) row->gpu = it->second;
+      else unknown.push_back(row);
+    }
+    if (!unknown.empty()) trace::add_gpu_costs(unknown, statistics, [](const std::string&) {});
     for (table::CostRow* r : fresh)
       if (is_candidate_row(*r, training, family)) fc.rows[r->variant].push_back(r);
     for (BoundCandidate* c : chunk_of) {

@@ -395,16 +395,20 @@ table::CostTable measured_search(const ShipOptions& o, const Fitted& fit, const 
 
 // Views in turn (issue 55): an unsharded screen with several training views renders every candidate on the
 // first one only; the others are rendered for the candidates the bounded estimate cannot drop on that view's
-// error (bounded_estimate.h), a chunk at a time, each chunk one sweep into OUT/screen-views/<n> (resumable: the
-// chunks come in the same order again). A chunk rendered for one target serves the later ones.
+// error (bounded_estimate.h), a chunk at a time, each chunk one measurement into OUT/screen-views/<n> (resumable:
+// the chunks come in the same order again). A chunk rendered for one target serves the later ones. Only the
+// stills' errors are wanted: no static analysis, model, table or report per chunk (sweep::measure_rows); the
+// static cost, which the view does not change, is the first view's row's.
 class OtherViews {
  public:
   // `first`: the first view's rows, whose copies (same_code_as, measure/same_code.h) must stay copies.
   OtherViews(const ShipOptions& o, const Fitted& fit, const ShipResult& res, const std::set<std::string>& skip,
              const table::CostTable& first, const Progress& say)
       : o_(o), fit_(fit), views_(res.training.begin() + 1, res.training.end()), skip_(skip), say_(say) {
-    for (const auto& r : first.rows)
+    for (const auto& r : first.rows) {
       if (!r.same_code_as.empty()) copy_of_[r.variant] = r.same_code_as;
+      static_of_.emplace(r.variant, r.static_cost);
+    }
   }
 
   std::vector<table::CostRow> render(const std::vector<std::string>& keys) {
@@ -426,8 +430,11 @@ class OtherViews {
       const auto progress = [&](const std::string& line) {
         if (say_) say_("screen: other views: " + line);
       };
-      for (table::CostRow& row : sweep::run_sweep(so, progress).table.rows)
-        if (wanted.count(row.variant)) rows_[row.variant].push_back(std::move(row));
+      for (table::CostRow& row : sweep::measure_rows(so, progress))
+        if (wanted.count(row.variant)) {
+          if (auto it = static_of_.find(row.variant); it != static_of_.end()) row.static_cost = it->second;
+          rows_[row.variant].push_back(std::move(row));
+        }
       rendered_ += int(todo.size());
     }
     std::vector<table::CostRow> out;
@@ -447,6 +454,7 @@ class OtherViews {
   const Progress& say_;
   std::map<std::string, std::vector<table::CostRow>> rows_;
   std::map<std::string, std::string> copy_of_;
+  std::map<std::string, std::optional<table::StaticCost>> static_of_;
   int sweeps_ = 0, rendered_ = 0;
 };
 

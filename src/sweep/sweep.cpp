@@ -238,4 +238,14 @@ SweepResult run_sweep(const SweepOptions& options, const Progress& progress) {
   return res;
 }
 
+std::vector<table::CostRow> measure_rows(const SweepOptions& o, const Progress& progress) {
+  if (o.scenes.size() != 1) throw std::logic_error("sweep::measure_rows: one scene");
+  if (o.out.empty()) throw std::runtime_error("sweep: --out is required");
+  util::remove_stale_temps(o.out);
+  SweepResult res;
+  const ScenePlans plans = plan_scenes(o, res, [&](std::size_t) -> measure::Progress { return progress; });
+  const measure::MeasureResult r = measure::run_measure(plans.per_scene.front(), progress);
+  return measure::cost_rows(r, fs::path("measure") / scene_folder(o.scenes.front()));
+}
+
 }  // namespace aovar::sweep

@@ -61,6 +61,11 @@ struct SweepResult {
 // Throws std::runtime_error (and the scene/manifest/backend errors) with one-line messages.
 SweepResult run_sweep(const SweepOptions& options, const std::function<void(const std::string&)>& progress = {});
 
+// One scene's measurement and its rows alone (options.scenes holds one scene): no static costs, cost models,
+// GPU costs, tables or reports. For ship's other training views (views in turn), which need each candidate's
+// still error and nothing else, many times a run. Resumable as run_sweep (OUT/measure/<scene>/measure.json).
+std::vector<table::CostRow> measure_rows(const SweepOptions& options, const std::function<void(const std::string&)>& progress = {});
+
 // OUT/measure/<this> for a scene name: builtin:atrium -> builtin_atrium, a file -> its stem plus a short
 // hash of the path (two sponza.obj in different folders stay apart).
 std::string scene_folder(const std::string& scene);
