@@ -22,8 +22,7 @@ double alu_lower_bound_ms(const table::GpuCost& cost) {
 
 void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::string& keep, int chunk, int stages,
                         const std::function<void(const std::vector<BoundCandidate*>&, int)>& trace,
-                        const std::function<void(const std::vector<BoundCandidate*>&)>& complete,
-                        std::size_t complete_batch) {
+                        const std::function<void(const std::vector<BoundCandidate*>&)>& complete) {
   std::sort(candidates.begin(), candidates.end(), [](const BoundCandidate& a, const BoundCandidate& b) {
     return std::tie(a.error, a.bound, a.key) < std::tie(b.error, b.bound, b.key);
   });
@@ -41,24 +40,21 @@ void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::stri
     return by != nullptr;
   };
   std::size_t next = 0;  // the first candidate not yet visited
-  // The chunk's incomplete candidates, and ahead of it the next ones the rule cannot drop yet, up to a batch:
-  // completing one that a later trace would have dropped costs a still; a call costs many.
-  auto complete_with_lookahead = [&](const std::vector<BoundCandidate*>& chunk_of) {
-    std::vector<BoundCandidate*> batch;
-    for (BoundCandidate* c : chunk_of)
-      if (!c->complete) batch.push_back(c);
-    if (batch.empty()) return;
-    for (std::size_t i = next; i < candidates.size() && batch.size() < complete_batch; ++i)
-      if (!candidates[i].complete && !beater(candidates[i])) batch.push_back(&candidates[i]);
-    complete(batch);
-  };
   std::vector<BoundCandidate*> pending;
+  auto complete_pending = [&] {  // every view's error before the last stage: it may already decide
+    std::vector<BoundCandidate*> incomplete;
+    for (BoundCandidate* c : pending)
+      if (!c->complete) incomplete.push_back(c);
+    if (incomplete.empty()) return;
+    complete(incomplete);
+    std::erase_if(pending, [&](BoundCandidate* c) { return beaten(*c); });
+  };
   auto flush = [&] {
-    if (complete && !pending.empty()) {  // every view's error before any trace: it may already decide
-      complete_with_lookahead(pending);
-      std::erase_if(pending, [&](BoundCandidate* c) { return beaten(*c); });
-    }
     for (int stage = 0; stage < stages && !pending.empty(); ++stage) {
+      if (complete && stage + 1 == stages) {
+        complete_pending();
+        if (pending.empty()) break;
+      }
       trace(pending, stage);
       if (stage + 1 == stages) break;
       for (BoundCandidate* c : pending)  // the worst view so far: a bound on the worst of all
