@@ -177,6 +177,7 @@ BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vec
       for (const table::CostRow* r : fc.rows[c->key])
         if (stage == 1 || r->view == training.front()) c->est = std::max(c->est, r->gpu.at(family).est_ms);
     out.traced += stage + 1 == stages ? int(chunk_of.size()) : 0;
+    out.first_view_traced += stage == 0 ? int(chunk_of.size()) : 0;
     if (say && stage + 1 == stages)
       say(fmt::format("estimated {} of {} candidates in order of error", out.traced, candidates.size()));
   };

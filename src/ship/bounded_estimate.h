@@ -27,6 +27,7 @@ namespace aovar::ship {
 struct BoundedEstimate {
   std::vector<Elimination> eliminated;  // untraced, with their bound and the traced variant that beats it
   int traced = 0;                       // candidates traced
+  int first_view_traced = 0;            // candidates traced on the first training view (the traced among them)
   int completed = 0;                    // candidates whose other training views render_rest rendered for this family
   int dropped_early = 0;                // eliminated on the first training view's error, the others never rendered
   trace::RowGpuResult gpu;              // the statistics and the traffic, as the table's meta.gpu

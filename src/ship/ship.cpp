@@ -495,7 +495,9 @@ table::CostTable estimated_screen(const ShipOptions& o, const Fitted& fit, const
                                   o.query.budget_of, [&](const std::string& line) { say(r.name + ": " + line); }, 16,
                                   render_rest);
       for (auto& e : b.eliminated) res.eliminated.push_back({round_on(r.name, o, target), std::move(e)});
-      traced.push_back(o.targets.size() > 1 ? fmt::format("{} {}", target, b.traced) : std::to_string(b.traced));
+      std::string count = std::to_string(b.traced);
+      if (b.first_view_traced > b.traced) count += fmt::format(" (and {} on the first view only)", b.first_view_traced - b.traced);
+      traced.push_back(o.targets.size() > 1 ? fmt::format("{} {}", target, count) : count);
       std::set<std::string> out;
       const std::vector<std::string> candidates = variants_of(rows);
       eliminate_dominated(rows, o, target, round_on(r.name, o, target), out, res);
@@ -505,7 +507,7 @@ table::CostTable estimated_screen(const ShipOptions& o, const Fitted& fit, const
       res.choices.push_back(std::move(choice));
     }
     r.eliminated = r.candidates - int(kept.size());
-    r.timing += fmt::format(", {} traced in order of error", fmt::join(traced, ", "));
+    r.timing += fmt::format(", traced in order of error: {}", fmt::join(traced, ", "));
     if (in_turn)
       r.timing += fmt::format(", {} of {} rendered on the other training views", other_views.rendered(), r.candidates);
   }

@@ -5,7 +5,7 @@
 //   2. fit every method's parameters on the scene's training views (calibrate), held-out views apart;
 //   3. search the pruned space by racing (race.h): a screen of every candidate, its still error only (no
 //      flicker along the camera path, no images) and a few timed repetitions (with a GPU target: one render, no
-//      timing, and views in turn: the other training views only for what the first one's error leaves, see
+//      timing, and views in turn: the other training views only for what the first one's error and traced estimate leave, see
 //      bounded_estimate.h; when every candidate fits one batch of the race: no screen, the race scores the stills itself),
 //      the dominated ones eliminated with their reason, then the survivors
 //      with every measure of a sweep, timed until their intervals are narrow (--reps auto), except that a
