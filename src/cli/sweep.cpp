@@ -102,6 +102,8 @@ Command add_sweep(CLI::App& app) {
   cmd->add_flag("--no-prune", a->no_prune,
                 "measure every selected variant on every scene (default: drop, before compiling, what each scene's "
                 "profile drops)");
+  cmd->add_flag("!--own-gbuffers", so.measure.share_gbuffer,
+                "every variant draws its own G-buffer (default: one per format, shared; the images are identical)");
   add_all(cmd, a->all);
   cmd->add_option("--out,-o", a->out, "output folder: cost_table.{json,csv,md}, measure/<scene>/")->required();
   return {cmd, runs(a, run_sweep)};

@@ -124,6 +124,21 @@ TEST(Sweep, KilledSweepResumesToTheUninterruptedTable) {
   EXPECT_NE(table::to_markdown(with_predictions).find("(predicted)"), std::string::npos);
 }
 
+// --own-gbuffers (a G-buffer per variant, as before issue 55) changes what a row's time includes, never its
+// error: variants of four G-buffer formats, each sweep in its own folder.
+TEST(Sweep, OwnGbuffersGiveTheSameErrorsAsSharedOnes) {
+  TempDir dir;
+  const std::string args = "sweep --scene builtin:stairs --view overview --size 96x54 --reps 2 --rays 32 --no-prune"
+                           " --variants 'alchemy-s04-p0-nrg*-z*-rst-d32-bsep-x1-hp'";
+  auto shared = run_aovar(args + " --out " + (dir / "shared").string());
+  ASSERT_EQ(shared.status, 0) << shared.output;
+  auto own = run_aovar(args + " --own-gbuffers --out " + (dir / "own").string());
+  ASSERT_EQ(own.status, 0) << own.output;
+  const auto a = deterministic(table::read_table(dir / "shared" / "cost_table.json"));
+  ASSERT_EQ(a.size(), 4u) << "rg8 and rgb8 normals, position and depth";
+  EXPECT_EQ(a, deterministic(table::read_table(dir / "own" / "cost_table.json")));
+}
+
 TEST(Sweep, ShardsSplitTheVariantsWithoutOverlap) {
   TempDir dir;
   std::set<std::string> seen;
