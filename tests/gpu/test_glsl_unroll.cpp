@@ -51,6 +51,14 @@ TEST(GlslUnroll, EvaluatesIntegerConstantExpressions) {
   EXPECT_EQ(v, 1);
   EXPECT_TRUE(gpu::eval_int("3 >= 3 ? 5 <= 4 : 7", v));
   EXPECT_EQ(v, 0);
+  // What no bound can be fails instead of overflowing or throwing: the loop then stays rolled.
+  EXPECT_FALSE(gpu::eval_int("9223372036854775807 + 1", v));
+  EXPECT_FALSE(gpu::eval_int("4611686018427387904 * 2", v));
+  EXPECT_FALSE(gpu::eval_int("-(-9223372036854775807 - 1)", v));
+  EXPECT_FALSE(gpu::eval_int("(-9223372036854775807 - 1) / -1", v));
+  EXPECT_FALSE(gpu::eval_int("99999999999999999999", v));
+  EXPECT_FALSE(gpu::eval_int("int(1e999)", v));
+  EXPECT_FALSE(gpu::eval_int("int(1e308 * 10.0 - 1e308 * 10.0)", v)) << "NaN";
 }
 
 // The forms a blur's bound is computed in (passes/blur_separable.frag): float literals and inputs, int()'s
@@ -151,6 +159,20 @@ TEST(GlslUnroll, ABoundComputedFromAnInputUnrollsAtItsValue) {
   const auto none = gpu::unroll_loops(pre);
   EXPECT_EQ(none.kept, 2);
   EXPECT_TRUE(none.specialised.empty());
+}
+
+// Names are not scoped: a local `int n = 4` of one function must not give another function's parameter `n` a
+// value, so that function's loop over `n` stays a loop.
+TEST(GlslUnroll, AParametersNameIsNeverTakenFromALocalElsewhere) {
+  const std::string src = std::string(kUnrollHead) +
+                          "float f(int n) { float s = 0.0; for (int i = 0; i < n; ++i) { s += u[i]; } return s; }\n"
+                          "void main() { int n = 4; float s = 0.0;\n"
+                          "  for (int k = 0; k < n; ++k) { s += u[k]; }\n  o = vec4(s + f(2)); }\n";
+  ASSERT_TRUE(valid_unrolled_es(src));
+  const auto r = gpu::unroll_loops(compile::preprocess_es(src, variants::StageKind::fragment));
+  EXPECT_EQ(r.unrolled, 0);
+  EXPECT_EQ(r.kept, 2);
+  EXPECT_TRUE(valid_unrolled_es(r.source)) << r.source;
 }
 
 // The real blurs (passes/blur_separable.frag, passes/blur_bilateral.frag) at the radius their parameter gives:

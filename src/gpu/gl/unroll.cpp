@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <climits>
 #include <cstring>
 #include <map>
 #include <regex>
@@ -75,8 +76,12 @@ bool arith(char op, Value& a, const Value& b) {
     a = real_value(op == '+' ? x + y : op == '-' ? x - y : op == '*' ? x * y : x / y);
     return true;
   }
-  if ((op == '/' || op == '%') && b.i == 0) return false;
-  a.i = op == '+' ? a.i + b.i : op == '-' ? a.i - b.i : op == '*' ? a.i * b.i : op == '/' ? a.i / b.i : a.i % b.i;
+  if ((op == '/' || op == '%') && (b.i == 0 || (b.i == -1 && a.i == LONG_MIN))) return false;
+  long r = 0;  // an overflow is no bound: the loop stays rolled (signed overflow is undefined in C++)
+  if (op == '+') return !__builtin_add_overflow(a.i, b.i, &r) && (a.i = r, true);
+  if (op == '-') return !__builtin_sub_overflow(a.i, b.i, &r) && (a.i = r, true);
+  if (op == '*') return !__builtin_mul_overflow(a.i, b.i, &r) && (a.i = r, true);
+  a.i = op == '/' ? a.i / b.i : a.i % b.i;
   return true;
 }
 
@@ -133,7 +138,11 @@ struct ExprParser {
     const std::string text = s.substr(start, i - start);
     if (i < s.size() && (real ? (s[i] == 'f' || s[i] == 'F') : (s[i] == 'u' || s[i] == 'U'))) ++i;
     if (i < s.size() && is_ident(s[i])) return fail();
-    return real ? real_value(std::stod(text)) : int_value(std::stol(text));
+    try {  // a literal too large for a long or a double is no bound (std::out_of_range)
+      return real ? real_value(std::stod(text)) : int_value(std::stol(text));
+    } catch (const std::out_of_range&) {
+      return fail();
+    }
   }
   std::vector<Value> arguments() {  // after the '(' of a call, up to and past its ')'
     std::vector<Value> args;
@@ -158,7 +167,7 @@ struct ExprParser {
     const std::vector<Value> a = arguments();
     if (!ok) return {};
     if (a.size() == 1 && fn == "int") {
-      if (a[0].real && std::abs(a[0].f) > 1e15) return fail();
+      if (a[0].real && !(std::abs(a[0].f) <= 1e15)) return fail();  // NaN and infinities too
       return int_value(a[0].real ? static_cast<long>(a[0].f) : a[0].i);  // truncates toward zero, as GLSL's
     }
     if (a.size() == 1 && fn == "float") return real_value(a[0].as_real());
@@ -197,6 +206,7 @@ struct ExprParser {
     if (s[i] == '-' || s[i] == '+') {
       const bool neg = s[i++] == '-';
       Value v = primary();
+      if (neg && !v.real && v.i == LONG_MIN) return fail();
       if (neg) v.real ? v.f = -v.f : v.i = -v.i;
       return v;
     }
@@ -335,6 +345,13 @@ int writes_of(const std::string& s, const std::string& name) {
 Env known_names(const std::string& source, const GlslInputs& inputs) {
   static const std::regex decl(
       R"(\b(const\s+)?(?:(?:highp|mediump|lowp)\s+)?(int|ivec[234])\s+([A-Za-z_]\w*)\s*=\s*([^;]+);)");
+  // The names are not scoped: a function parameter `int m` elsewhere would read a local `int m = 4` here as
+  // its value. So a name some function takes as a parameter is never known.
+  static const std::regex parameter(
+      R"([(,]\s*(?:(?:in|const|highp|mediump|lowp)\s+)*(?:int|ivec[234])\s+([A-Za-z_]\w*)\s*(?=[,)]))");
+  std::set<std::string> parameters;
+  for (auto it = std::sregex_iterator(source.begin(), source.end(), parameter); it != std::sregex_iterator(); ++it)
+    parameters.insert((*it)[1]);
   Env env;
   for (const auto& [name, value] : inputs) env[name] = {real_value(value), {name}};
   for (auto it = std::sregex_iterator(source.begin(), source.end(), decl); it != std::sregex_iterator(); ++it) {
@@ -344,7 +361,7 @@ Env known_names(const std::string& source, const GlslInputs& inputs) {
     if (before > 0 && source[before - 1] == '(') continue;  // a for loop's variable
     const std::string name = m[3], type = m[2];
     const bool constant = m[1].matched;
-    if (!constant && writes_of(source, name) != 1) continue;
+    if (!constant && (writes_of(source, name) != 1 || parameters.count(name))) continue;
     if (type != "int") {
       if (!std::regex_search(m[4].str(), std::regex(R"(^\s*textureSize\s*\()"))) continue;
       for (int k = 0; k < type.back() - '0'; ++k) env[name + "." + "xyzw"[k]] = {int_value(kTextureExtent), {}};
@@ -365,6 +382,7 @@ bool rewrite_breaks(std::string& body, const std::string& flag) {
     for (const char* nested : {"for", "while", "switch"})
       if (word_at(body, i, nested)) {
         const std::size_t open = body.find('(', i);
+        if (open == std::string::npos) return any;  // not GLSL glslang accepted: no loop header follows
         i = statement_end(body, closing(body, open) + 1) - 1;
       }
     if (word_at(body, i, "do")) {
