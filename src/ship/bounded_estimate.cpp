@@ -126,9 +126,10 @@ BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vec
   out.gpu.traced = true;
   out.gpu.window_share = request.gpu.window;
   // RADV's statistics depend on the variant's programs, not the view: the other views' rows take them from the
-  // first view's, untraced, rather than compile every chunk's pipelines again.
+  // first view's, copied before any trace, rather than compile every chunk's pipelines again.
   std::map<std::string, table::GpuCosts> statistics_of;
-  for (const auto& r : screen.rows) statistics_of.emplace(r.variant, r.gpu);
+  if (render_rest)
+    for (const auto& r : screen.rows) statistics_of.emplace(r.variant, r.gpu);
 
   FamilyRows fc;
   for (auto& r : screen.rows)
