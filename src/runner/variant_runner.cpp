@@ -16,11 +16,17 @@ void VariantRunner::use_scene(const scene::Scene& scene) {
   scene_ = &scene;
 }
 
-render::PipelinePlan VariantRunner::plan(int variant, const render::ParamOverrides& overrides, bool strict) const {
+render::PipelinePlan plan_variant(const compile::CompiledSpace& compiled, int variant, variants::Target target,
+                                  const variants::CalibratedValues& calibration,
+                                  const render::ParamOverrides& overrides, bool strict) {
   render::ParamOverrides values = overrides;
-  if (const auto* calibrated = compile::calibrated_for(compiled_, variant, options_.calibration))
+  if (const auto* calibrated = compile::calibrated_for(compiled, variant, calibration))
     values.insert(calibrated->begin(), calibrated->end());  // keeps the caller's
-  return render::plan_pipeline(compiled_, variant, target_, values, strict);
+  return render::plan_pipeline(compiled, variant, target, values, strict);
+}
+
+render::PipelinePlan VariantRunner::plan(int variant, const render::ParamOverrides& overrides, bool strict) const {
+  return plan_variant(compiled_, variant, target_, options_.calibration, overrides, strict);
 }
 
 std::unique_ptr<render::PreparedPipeline> VariantRunner::prepare(const render::PipelinePlan& plan) {

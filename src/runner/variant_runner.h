@@ -35,6 +35,12 @@ struct Still {
   double mean_visibility = 0;  // mean of the finite pixels (0 for an empty image)
 };
 
+// The plan of `variant` (index into compiled.space.variants) for `target`, as VariantRunner::plan makes it:
+// its calibrated values from `calibration`, then `overrides` on top. Needs no backend.
+render::PipelinePlan plan_variant(const compile::CompiledSpace& compiled, int variant, variants::Target target,
+                                  const variants::CalibratedValues& calibration,
+                                  const render::ParamOverrides& overrides = {}, bool strict = false);
+
 class VariantRunner {
  public:
   // `compiled` must hold successful builds for the backend's target and outlive the runner. Throws

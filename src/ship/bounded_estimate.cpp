@@ -22,7 +22,8 @@ double alu_lower_bound_ms(const table::GpuCost& cost) {
 
 void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::string& keep, int chunk, int stages,
                         const std::function<void(const std::vector<BoundCandidate*>&, int)>& trace,
-                        const std::function<void(const std::vector<BoundCandidate*>&)>& complete) {
+                        const std::function<void(const std::vector<BoundCandidate*>&)>& complete,
+                        const std::function<void(const std::vector<BoundCandidate*>&, int)>& refine) {
   std::sort(candidates.begin(), candidates.end(), [](const BoundCandidate& a, const BoundCandidate& b) {
     return std::tie(a.error, a.bound, a.key) < std::tie(b.error, b.bound, b.key);
   });
@@ -53,6 +54,11 @@ void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::stri
     for (int stage = 0; stage < stages && !pending.empty(); ++stage) {
       if (complete && stage + 1 == stages) {
         complete_pending();
+        if (pending.empty()) break;
+      }
+      if (refine) {
+        refine(pending, stage);
+        std::erase_if(pending, [&](BoundCandidate* c) { return beaten(*c); });
         if (pending.empty()) break;
       }
       trace(pending, stage);
@@ -94,6 +100,16 @@ struct FamilyRows {
   }
 };
 
+// A bound on a row's traced estimate: the traced estimate of each pass `cached` holds (pass -> ms), the ALU
+// time of the others.
+double bound_with_cached(const table::GpuCost& cost, const std::map<std::string, double>& cached) {
+  double sum = 0;
+  for (const auto& p : cost.passes)
+    if (auto it = cached.find(p.pass); it != cached.end() && !std::isnan(it->second)) sum += it->second;
+    else if (!std::isnan(p.alu_ms)) sum += p.alu_ms;
+  return sum;
+}
+
 bool is_candidate_row(const table::CostRow& r, const std::vector<std::string>& training, const std::string& family) {
   return r.error && !r.predicted && r.gpu.count(family) &&
          std::find(training.begin(), training.end(), r.view) != training.end();
@@ -101,8 +117,13 @@ bool is_candidate_row(const table::CostRow& r, const std::vector<std::string>& t
 
 std::string elimination_reason(const BoundCandidate& c, const BoundCandidate& by, const std::string& family,
                                const std::vector<std::string>& training) {
-  const std::string bound = c.bound_traced ? "its estimate on " + training.front() + " alone"
-                                           : std::string("the ALU time alone, untraced");
+  const std::string shared = "the traffic other candidates' traces simulated for the draws it shares and the ALU "
+                             "time of the rest";
+  const std::string bound = c.bound_traced && c.bound_cached
+                                ? "its estimate on " + training.front() + ", and on its other views " + shared
+                            : c.bound_traced ? "its estimate on " + training.front() + " alone"
+                            : c.bound_cached ? shared + ", untraced"
+                                             : std::string("the ALU time alone, untraced");
   const std::string error = c.complete ? fmt::format("with more error ({:.4f} > {:.4f})", c.error, by.error)
                                        : fmt::format("with more error on {} alone ({:.4f} > {:.4f}; its other views "
                                                      "not rendered)", training.front(), c.error, by.error);
@@ -168,12 +189,32 @@ BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vec
   };
   // Stage 0 traces the first training view, stage 1 the others (each candidate's rows are in view order).
   const int stages = training.size() > 1 ? 2 : 1;
+  auto rows_of_stage = [&](const std::vector<BoundCandidate*>& chunk_of, int stage) {
+    std::vector<std::pair<BoundCandidate*, table::CostRow*>> rows;
+    for (BoundCandidate* c : chunk_of)
+      for (table::CostRow* r : fc.rows[c->key])
+        if ((r->view == training.front()) == (stage == 0)) rows.emplace_back(c, r);
+    return rows;
+  };
+  trace::RowTracer tracer(request);
+  // Most draws are shared (every blur variant of a method has its AO draw, one blur program serves many
+  // methods), so a candidate's shared passes are often simulated before it is reached: their traced estimates
+  // and the ALU time of its other passes bound its estimate before its own trace (trace::RowTracer::cached).
+  auto refine = [&](const std::vector<BoundCandidate*>& chunk_of, int stage) {
+    const auto rows = rows_of_stage(chunk_of, stage);
+    std::vector<table::CostRow*> just_rows;
+    for (const auto& [c, r] : rows) just_rows.push_back(r);
+    const auto cached = tracer.cached(just_rows, family);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const double bound = bound_with_cached(rows[i].second->gpu.at(family), cached[i]);
+      BoundCandidate& c = *rows[i].first;
+      if (bound > c.bound) c.bound = bound, c.bound_cached = true;
+    }
+  };
   auto trace_stage = [&](const std::vector<BoundCandidate*>& chunk_of, int stage) {
     std::vector<table::CostRow*> traced_rows;
-    for (const BoundCandidate* c : chunk_of)
-      for (table::CostRow* r : fc.rows[c->key])
-        if ((r->view == training.front()) == (stage == 0)) traced_rows.push_back(r);
-    out.gpu.traffic += trace::add_row_traffic(traced_rows, request);
+    for (const auto& [c, r] : rows_of_stage(chunk_of, stage)) traced_rows.push_back(r);
+    out.gpu.traffic += tracer.trace(traced_rows);
     for (BoundCandidate* c : chunk_of)
       for (const table::CostRow* r : fc.rows[c->key])
         if (stage == 1 || r->view == training.front()) c->est = std::max(c->est, r->gpu.at(family).est_ms);
@@ -184,7 +225,7 @@ BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vec
   };
   std::function<void(const std::vector<BoundCandidate*>&)> completion;  // none: every candidate is complete
   if (render_rest) completion = complete;
-  eliminate_by_bound(candidates, keep, chunk, stages, trace_stage, completion);
+  eliminate_by_bound(candidates, keep, chunk, stages, trace_stage, completion, refine);
 
   std::map<std::string, const BoundCandidate*> index;
   for (const auto& c : candidates) index[c.key] = &c;

@@ -57,6 +57,7 @@ struct BoundCandidate {
   double error = 0, bound = 0, est = 0;
   bool traced = false;        // every stage traced: est is its estimate
   bool bound_traced = false;  // the bound is the estimate of the stages traced so far
+  bool bound_cached = false;  // the bound takes the traffic that other candidates' traces already simulated
   bool complete = true;       // error is the worst of every view (false: of the views rendered so far, a lower bound)
   std::string beaten_by;      // set when eliminated before every stage was traced
 };
@@ -73,8 +74,12 @@ struct BoundCandidate {
 // the first view is the worst of 100 % and 89 % of the candidates: it rendered 1749 of Sponza's 2643 on the
 // close-up, where this order renders about as many as are traced. A call is a measurement (about 0.7 s of
 // fixed cost on Sponza here: the scene, its references, a device).
+// Before each stage's trace, `refine(chunk, stage)` (when given) may raise the chunk's bounds on that stage's
+// views without tracing (from traffic already simulated), and the chunk is checked again: what it eliminates is
+// never traced on that stage.
 void eliminate_by_bound(std::vector<BoundCandidate>& candidates, const std::string& keep, int chunk, int stages,
                         const std::function<void(const std::vector<BoundCandidate*>&, int stage)>& trace,
-                        const std::function<void(const std::vector<BoundCandidate*>&)>& complete = {});
+                        const std::function<void(const std::vector<BoundCandidate*>&)>& complete = {},
+                        const std::function<void(const std::vector<BoundCandidate*>&, int stage)>& refine = {});
 
 }  // namespace aovar::ship

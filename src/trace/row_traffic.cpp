@@ -1,5 +1,6 @@
 #include "trace/row_traffic.h"
 
+#include <algorithm>
 #include <set>
 
 #include <fmt/format.h>
@@ -11,57 +12,137 @@
 
 namespace aovar::trace {
 
-TrafficStats add_row_traffic(const std::vector<table::CostRow*>& rows, const RowGpuRequest& request) {
-  TrafficStats total;
-  std::set<std::string> keys;
-  std::map<std::pair<std::string, std::string>, std::vector<table::CostRow*>> by_view;  // (scene, view) -> rows
-  for (table::CostRow* r : rows)
-    if (!r->gpu.empty()) {
-      keys.insert(r->variant);
-      by_view[{r->scene, r->view}].push_back(r);
-    }
-  if (keys.empty()) return total;
+// The rows' variants compiled for the Vulkan target (trace builds run there), with their index and loads.
+struct RowTracer::Compiled {
+  compile::CompiledSpace compiled;
+  std::map<std::string, int> index;
+  std::map<std::string, std::vector<gpu::PassLoad>> loads;
+};
 
-  compile::CompileOptions co{request.scope};
+namespace {
+
+using CompiledRows = RowTracer::Compiled;
+
+CompiledRows compile_rows(const std::set<std::string>& keys, const compile::RunScope& scope) {
+  compile::CompileOptions co{scope};
   co.scope.targets = {variants::Target::vulkan};
   co.globs.assign(keys.begin(), keys.end());
-  const compile::CompiledSpace compiled = compile::compile_space(co);
-  if (!compiled.ok())
-    throw std::runtime_error("trace: the rows' variants do not compile: " + compiled.diagnostics.front());
-  std::map<std::string, int> index;
-  for (std::size_t i = 0; i < compiled.space.variants.size(); ++i) index[compiled.space.variants[i].key] = int(i);
+  CompiledRows out{compile::compile_space(co), {}, {}};
+  if (!out.compiled.ok())
+    throw std::runtime_error("trace: the rows' variants do not compile: " + out.compiled.diagnostics.front());
   std::vector<int> all;
-  for (const auto& [key, i] : index) all.push_back(i);
-  const auto loads = gpu::variant_loads(compiled, all);
+  for (std::size_t i = 0; i < out.compiled.space.variants.size(); ++i) {
+    out.index[out.compiled.space.variants[i].key] = int(i);
+    all.push_back(int(i));
+  }
+  out.loads = gpu::variant_loads(out.compiled, all);
+  return out;
+}
+
+std::set<std::string> keys_with_costs(const std::vector<table::CostRow*>& rows) {
+  std::set<std::string> keys;
+  for (const table::CostRow* r : rows)
+    if (!r->gpu.empty()) keys.insert(r->variant);
+  return keys;
+}
+
+}  // namespace
+
+// One scene view: the scene loaded once, its traffic cache and the traffic simulated on it so far.
+struct RowTracer::View {
+  const scene::Scene& scene;
+  std::string name;
+  float radius = 0;
+  TrafficCache cache;
+  TrafficMemo memo;
+  const scene::View& view() const { return scene.view(name); }
+};
+
+RowTracer::RowTracer(RowGpuRequest request) : request_(std::move(request)) {}
+RowTracer::~RowTracer() = default;
+
+const RowTracer::Compiled& RowTracer::compiled_for(const std::set<std::string>& keys) {
+  if (!compiled_ || !std::includes(compiled_keys_.begin(), compiled_keys_.end(), keys.begin(), keys.end())) {
+    compiled_ = std::make_unique<Compiled>(compile_rows(keys, request_.scope));
+    compiled_keys_ = keys;
+  }
+  return *compiled_;
+}
+
+RowTracer::View& RowTracer::view_of(const table::CostRow& row) {
+  auto& slot = views_[{row.scene, row.view}];
+  if (!slot) {
+    auto& loaded = scenes_[row.scene];
+    if (!loaded) {
+      scene::LoadOptions lo;
+      lo.views_file = request_.views_file;
+      loaded = std::make_unique<scene::Scene>(scene::load_scene(row.scene, lo));
+    }
+    const scene::Scene& scene = *loaded;
+    const float radius = request_.radius > 0 ? request_.radius : scene.ao_radius;
+    TraceOptions options;
+    options.window_share = request_.gpu.window;
+    std::string context = view_context(scene, scene.view(row.view), radius, request_.gpu.frame, options);
+    slot.reset(new View{scene, row.view, radius, TrafficCache(request_.scope.cache_dir, std::move(context)), {}});
+  }
+  return *slot;
+}
+
+TrafficStats RowTracer::trace(const std::vector<table::CostRow*>& rows) {
+  TrafficStats total;
+  const std::set<std::string> keys = keys_with_costs(rows);
+  if (keys.empty()) return total;
+  const Compiled& c = compiled_for(keys);
+  std::map<std::pair<std::string, std::string>, std::vector<table::CostRow*>> by_view;  // (scene, view) -> rows
+  for (table::CostRow* r : rows)
+    if (!r->gpu.empty()) by_view[{r->scene, r->view}].push_back(r);
 
   runner::RunnerOptions ro;
   ro.backend = render::backend_for(variants::Target::vulkan);  // trace builds run on the Vulkan target
-  const gpu::Frame frame = request.gpu.frame;
-  ro.size = frame;
-  ro.calibration = request.calibration;
-  ro.device.threads = request.scope.threads;
-  runner::VariantRunner runner(compiled, ro);
+  ro.size = request_.gpu.frame;
+  ro.calibration = request_.calibration;
+  ro.device.threads = request_.scope.threads;
+  runner::VariantRunner runner(c.compiled, ro);
   TraceOptions options;
-  options.window_share = request.gpu.window;
+  options.window_share = request_.gpu.window;
   for (auto& [where, view_rows] : by_view) {
-    scene::LoadOptions lo;
-    lo.views_file = request.views_file;
-    const scene::Scene scene = scene::load_scene(where.first, lo);
-    const scene::View& view = scene.view(where.second);
-    runner.use_scene(scene);
+    View& v = view_of(*view_rows.front());
+    runner.use_scene(v.scene);
     std::vector<int> variants;
     std::map<std::string, table::GpuCosts> costs;
     for (const table::CostRow* r : view_rows)
-      if (auto it = index.find(r->variant); it != index.end() && costs.emplace(r->variant, r->gpu).second)
+      if (auto it = c.index.find(r->variant); it != c.index.end() && costs.emplace(r->variant, r->gpu).second)
         variants.push_back(it->second);
-    const float radius = request.radius > 0 ? request.radius : scene.ao_radius;
-    const TrafficCache cache(request.scope.cache_dir, view_context(scene, view, radius, frame, options));
-    const TrafficStats s = add_traffic(runner, variants, view, radius, loads, frame, costs, options, cache);
+    total += add_traffic(runner, variants, v.view(), v.radius, c.loads, request_.gpu.frame, costs, options, v.cache,
+                         &v.memo);
     for (table::CostRow* r : view_rows)
       if (auto it = costs.find(r->variant); it != costs.end()) r->gpu = it->second;
-    total += s;
   }
   return total;
+}
+
+std::vector<std::map<std::string, double>> RowTracer::cached(const std::vector<table::CostRow*>& rows,
+                                                             const std::string& family) {
+  std::vector<std::map<std::string, double>> out(rows.size());
+  const std::set<std::string> keys = keys_with_costs(rows);
+  if (keys.empty()) return out;
+  const Compiled& c = compiled_for(keys);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const table::CostRow& r = *rows[i];
+    auto index = c.index.find(r.variant);
+    auto cost = r.gpu.find(family);
+    if (index == c.index.end() || cost == r.gpu.end()) continue;
+    View& v = view_of(r);
+    const render::PipelinePlan plan =
+        runner::plan_variant(c.compiled, index->second, variants::Target::vulkan, request_.calibration);
+    out[i] = cached_pass_estimates(cost->second, TraceSet::draws_of(plan), c.loads.at(r.variant), family,
+                                   request_.gpu.frame, v.cache, v.memo);
+  }
+  return out;
+}
+
+TrafficStats add_row_traffic(const std::vector<table::CostRow*>& rows, const RowGpuRequest& request) {
+  return RowTracer(request).trace(rows);
 }
 
 }  // namespace aovar::trace

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -14,6 +16,7 @@
 #include "compile/run_scope.h"
 #include "gpu/by_key.h"
 #include "render/plan.h"
+#include "scene/scene.h"
 #include "table/table.h"
 #include "trace/traced_costs.h"
 
@@ -41,6 +44,36 @@ struct RowGpuRequest {
 // (a scene or view that does not load, a variant that does not compile) or render::BackendError (no
 // tracing backend).
 TrafficStats add_row_traffic(const std::vector<table::CostRow*>& rows, const RowGpuRequest& request);
+
+// add_row_traffic over many calls on the rows of one screen (ship's bounded estimate, a chunk of candidates at a
+// time): each scene is loaded once, and each draw simulated once per view and family across the calls, kept
+// in memory as well as in the cache dir. `cached` tells, without rendering, what the traffic simulated so far
+// already gives.
+class RowTracer {
+ public:
+  explicit RowTracer(RowGpuRequest request);
+  ~RowTracer();
+  RowTracer(const RowTracer&) = delete;
+  RowTracer& operator=(const RowTracer&) = delete;
+
+  TrafficStats trace(const std::vector<table::CostRow*>& rows);  // add_row_traffic
+  // Per row of `rows` (in order), pass -> its traced estimate on `family`, for the passes whose every draw on the
+  // row's view was simulated by an earlier call or an earlier run (trace::cached_pass_estimates). Renders nothing.
+  std::vector<std::map<std::string, double>> cached(const std::vector<table::CostRow*>& rows,
+                                                    const std::string& family);
+
+  struct Compiled;  // the rows' variants compiled for tracing (row_traffic.cpp)
+
+ private:
+  struct View;
+  View& view_of(const table::CostRow& row);
+  const Compiled& compiled_for(const std::set<std::string>& keys);  // the last compilation when it holds them
+  RowGpuRequest request_;
+  std::unique_ptr<Compiled> compiled_;
+  std::set<std::string> compiled_keys_;
+  std::map<std::string, std::unique_ptr<scene::Scene>> scenes_;                  // by scene spec, loaded once
+  std::map<std::pair<std::string, std::string>, std::unique_ptr<View>> views_;  // (scene, view)
+};
 
 // `measure --gpu` and `sweep --gpu`: each row's ISA statistics and roofline per family (gpu::costs_by_key),
 // then, unless gpu.trace is off, the traced estimate on its view. `say` gets the progress lines.

@@ -30,7 +30,10 @@ std::string TraceSet::draw_key(const render::PipelinePlan& plan, int draw) {
 }
 
 std::vector<std::pair<std::string, std::string>> TraceSet::draws_of(int variant) const {
-  const render::PipelinePlan plan = runner_.plan(variant);
+  return draws_of(runner_.plan(variant));
+}
+
+std::vector<std::pair<std::string, std::string>> TraceSet::draws_of(const render::PipelinePlan& plan) {
   std::vector<std::pair<std::string, std::string>> out;
   for (int i : traceable_draws(plan)) out.emplace_back(draw_key(plan, i), plan.draws[i].pass);
   return out;

@@ -28,6 +28,8 @@ class TraceSet {
   std::vector<std::pair<std::string, const gpu::FetchTrace*>> keyed(int variant);
   // The key and pass of each traceable draw of `variant`, without tracing anything.
   std::vector<std::pair<std::string, std::string>> draws_of(int variant) const;
+  // The same of a plan (runner::plan_variant), without a runner.
+  static std::vector<std::pair<std::string, std::string>> draws_of(const render::PipelinePlan& plan);
 
   int traced_draws() const { return traced_; }  // draws rendered with a trace build
   int shared_draws() const { return shared_; }  // draws answered from another variant's trace

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <set>
 #include <utility>
 
 #include "gpu/cache_estimate.h"
@@ -23,22 +24,34 @@ const gpu::PassLoad* load_of(const std::vector<gpu::PassLoad>& loads, const std:
   return nullptr;
 }
 
+// Whether `memo` holds draw `key` on `family`, reading it from the disk cache into `memo` when it can.
+bool known(const std::string& key, const std::string& family, const TrafficCache& cache, TrafficMemo& memo,
+           TrafficStats& stats) {
+  if (memo.count({key, family})) return true;
+  auto hit = cache.find(key, family);
+  if (!hit) return false;
+  memo[{key, family}] = std::move(*hit);
+  ++stats.cached_draws;
+  return true;
+}
+
+// The estimate of `pass` on `spec` from the traffic of its draws (`sims`), as add_traffic makes it.
+void apply_traffic(table::GpuPassCost& pass, const std::vector<gpu::PassLoad>& loads,
+                   const std::map<std::string, std::vector<gpu::CacheSimResult>>& by_pass, const gpu::FamilySpec& spec,
+                   gpu::Frame frame) {
+  auto sims = by_pass.find(pass.pass);
+  const gpu::PassLoad* load = load_of(loads, pass.pass);
+  if (sims != by_pass.end() && load) gpu::apply_cache_model(pass, *load, spec, frame, gpu::merge(sims->second));
+}
+
 // The simulated traffic of every traceable draw of `variant` on `family`, by pass: from `memo`, else the disk
 // cache, else traced (the variant's missing draws in one render) and simulated, then kept in both.
 std::map<std::string, std::vector<gpu::CacheSimResult>> draw_traffic(
     TraceSet& set, int variant, const std::string& family, const gpu::CacheHierarchy& hierarchy,
-    const TrafficCache& cache, std::map<std::pair<std::string, std::string>, CachedTraffic>& memo, TrafficStats& stats) {
+    const TrafficCache& cache, TrafficMemo& memo, TrafficStats& stats) {
   const auto draws = set.draws_of(variant);
   bool complete = true;
-  for (const auto& [key, pass] : draws) {
-    if (memo.count({key, family})) continue;
-    if (auto hit = cache.find(key, family)) {
-      memo[{key, family}] = std::move(*hit);
-      ++stats.cached_draws;
-    } else {
-      complete = false;
-    }
-  }
+  for (const auto& [key, pass] : draws) complete = known(key, family, cache, memo, stats) && complete;
   if (!complete) {
     const auto t0 = std::chrono::steady_clock::now();
     const auto traces = set.keyed(variant);
@@ -64,6 +77,27 @@ std::map<std::string, std::vector<gpu::CacheSimResult>> draw_traffic(
 
 }  // namespace
 
+std::map<std::string, double> cached_pass_estimates(const table::GpuCost& cost,
+                                                    const std::vector<std::pair<std::string, std::string>>& draws,
+                                                    const std::vector<gpu::PassLoad>& loads, const std::string& family,
+                                                    gpu::Frame frame, const TrafficCache& cache, TrafficMemo& memo) {
+  std::map<std::string, double> out;
+  const gpu::FamilySpec* spec = gpu::estimate_spec(family);
+  if (!spec || spec->caches.empty()) return out;
+  TrafficStats unused;
+  std::set<std::string> unknown;  // passes with a draw not simulated yet
+  std::map<std::string, std::vector<gpu::CacheSimResult>> by_pass;
+  for (const auto& [key, pass] : draws)
+    if (!known(key, family, cache, memo, unused)) unknown.insert(pass);
+    else if (const CachedTraffic& t = memo.at({key, family}); !t.absent) by_pass[pass].push_back(t.result);
+  for (table::GpuPassCost pass : cost.passes) {
+    if (unknown.count(pass.pass)) continue;
+    apply_traffic(pass, loads, by_pass, *spec, frame);
+    out[pass.pass] = pass.est_ms;
+  }
+  return out;
+}
+
 std::string view_context(const scene::Scene& scene, const scene::View& view, float radius, gpu::Frame frame,
                          const TraceOptions& options) {
   return fmt::format("{}|{}|{}|{}x{}|{}", scene.content_hash, scene::camera_text(view), radius, frame.width,
@@ -73,10 +107,11 @@ std::string view_context(const scene::Scene& scene, const scene::View& view, flo
 TrafficStats add_traffic(runner::VariantRunner& runner, const std::vector<int>& variants, const scene::View& view,
                          float radius, const std::map<std::string, std::vector<gpu::PassLoad>>& loads,
                          gpu::Frame frame, std::map<std::string, table::GpuCosts>& costs,
-                         const TraceOptions& options, const TrafficCache& cache) {
+                         const TraceOptions& options, const TrafficCache& cache, TrafficMemo* shared_memo) {
   TrafficStats stats;
   TraceSet set(runner, view, radius, options);
-  std::map<std::pair<std::string, std::string>, CachedTraffic> memo;  // (draw key, family)
+  TrafficMemo own_memo;
+  TrafficMemo& memo = shared_memo ? *shared_memo : own_memo;
   for (int v : variants) {
     const std::string& key = runner.compiled().space.variants.at(v).key;
     auto row = costs.find(key);
@@ -89,9 +124,7 @@ TrafficStats add_traffic(runner::VariantRunner& runner, const std::vector<int>& 
       const auto by_pass = draw_traffic(set, v, family, gpu::hierarchy_of(*spec), cache, memo, stats);
       double total = 0;
       for (table::GpuPassCost& pass : cost.passes) {
-        auto sims = by_pass.find(pass.pass);
-        const gpu::PassLoad* load = load_of(variant_loads->second, pass.pass);
-        if (sims != by_pass.end() && load) gpu::apply_cache_model(pass, *load, *spec, frame, gpu::merge(sims->second));
+        apply_traffic(pass, variant_loads->second, by_pass, *spec, frame);
         total += pass.est_ms;
       }
       cost.est_ms = total;

@@ -26,14 +26,29 @@ struct TrafficStats {
   }
 };
 
+// Simulated traffic by (draw key, family), of one view: what add_traffic keeps between draws, and a caller between
+// calls on the same view (draw keys do not name the view; view_context does).
+using TrafficMemo = std::map<std::pair<std::string, std::string>, CachedTraffic>;
+
 // `costs`: variant key -> family -> cost with statistics and roofline (gpu::costs_of) for the same variants
 // and frame; every family there with a product spec gets the traffic model, the others are left as they are.
 // `loads`: gpu::variant_loads of the same variants. The runner renders at the estimate's frame size.
-// `cache`: draws simulated by an earlier run on the same view (TrafficCache; default: none).
+// `cache`: draws simulated by an earlier run on the same view (TrafficCache; default: none). `memo`: the
+// traffic of this view simulated by earlier calls, filled by this one (null: this call's own).
 TrafficStats add_traffic(runner::VariantRunner& runner, const std::vector<int>& variants, const scene::View& view,
                          float radius, const std::map<std::string, std::vector<gpu::PassLoad>>& loads,
                          gpu::Frame frame, std::map<std::string, table::GpuCosts>& costs,
-                         const TraceOptions& options = {}, const TrafficCache& cache = TrafficCache({}, ""));
+                         const TraceOptions& options = {}, const TrafficCache& cache = TrafficCache({}, ""),
+                         TrafficMemo* memo = nullptr);
+
+// What add_traffic would give the passes of one variant on `family` whose every draw `memo` or `cache` already
+// holds, without rendering: pass -> est_ms. `cost`: the variant's cost on the family before any traffic;
+// `draws`: TraceSet::draws_of its plan; `loads`: its gpu::PassLoad. A pass with a draw not simulated yet is
+// absent; so is every pass when the family has no cache model.
+std::map<std::string, double> cached_pass_estimates(const table::GpuCost& cost,
+                                                    const std::vector<std::pair<std::string, std::string>>& draws,
+                                                    const std::vector<gpu::PassLoad>& loads, const std::string& family,
+                                                    gpu::Frame frame, const TrafficCache& cache, TrafficMemo& memo);
 
 // What a TrafficCache of one view is keyed by besides the draw: the scene's geometry, the camera, the radius,
 // the frame and the trace window.

@@ -154,6 +154,32 @@ TEST(ShipBound, OnlyACandidateSurelyBeatenIsLeftUntraced) {
   }
 }
 
+// The traffic other candidates' traces simulated raises a bound before its own trace (issue 55): a candidate
+// that this refined bound already shows beaten is never traced; one it does not is traced as before.
+TEST(ShipBound, ACandidateWhoseSharedPassesAlreadyBeatItIsNeverTraced) {
+  std::vector<ship::BoundCandidate> c = {untraced("a", 0.05, 0.1), untraced("shares-slow-passes", 0.06, 0.1),
+                                         untraced("shares-fast-passes", 0.07, 0.1)};
+  const std::map<std::string, double> refined = {{"a", 0.1}, {"shares-slow-passes", 0.3}, {"shares-fast-passes", 0.15}};
+  const std::map<std::string, double> est = {{"a", 0.2}, {"shares-slow-passes", 0.35}, {"shares-fast-passes", 0.18}};
+  std::vector<std::string> traced;
+  ship::eliminate_by_bound(
+      c, "", 1, 1,
+      [&](const std::vector<ship::BoundCandidate*>& chunk, int) {
+        for (auto* x : chunk) x->est = est.at(x->key), traced.push_back(x->key);
+      },
+      {},
+      [&](const std::vector<ship::BoundCandidate*>& chunk, int) {
+        for (auto* x : chunk)
+          if (refined.at(x->key) > x->bound) x->bound = refined.at(x->key), x->bound_cached = true;
+      });
+  EXPECT_EQ(traced, (std::vector<std::string>{"a", "shares-fast-passes"}));
+  EXPECT_EQ(c[1].key, "shares-slow-passes");
+  EXPECT_EQ(c[1].beaten_by, "a");
+  EXPECT_TRUE(c[1].bound_cached);
+  EXPECT_FALSE(c[1].traced);
+  EXPECT_TRUE(c[2].beaten_by.empty());
+}
+
 // Two stages (two training views): a candidate whose first view's estimate already exceeds a more accurate
 // variant's worst-view estimate is eliminated without its second view; the others get both.
 TEST(ShipBound, ACandidateBeatenOnItsFirstViewIsNotTracedOnTheSecond) {

@@ -11,7 +11,11 @@
 #include "runner/variant_runner.h"
 #include "scene/scene.h"
 #include "shadergen/bindings.h"
+#include "cost_rows.h"
+#include "radv_support.h"
+#include "test_support.h"
 #include "trace/instrument.h"
+#include "trace/row_traffic.h"
 #include "trace/trace.h"
 #include "trace/trace_set.h"
 
@@ -173,6 +177,52 @@ TEST(TraceOverflow, ABilateralBlurKeepsEveryReadOfItsRunTimeLoop) {
   const int separable = blur_reads(sep), bilateral = blur_reads(bil);
   EXPECT_GT(separable, 0);
   EXPECT_GT(bilateral, 2 * separable);  // (2R + 1)^2 against 2R + 1 taps, R >= 1
+}
+
+// ship's screen bounds a candidate by the traffic other candidates' traces already simulated (issue 55). That
+// bound is only exact if RowTracer::cached gives each pass what a trace of the candidate then gives: SAO at 8
+// and at 12 samples share their z prefilter and their blur, not their AO draw. A second tracer on the same cache
+// dir reads every pass back without rendering.
+TEST(RowTracer, CachedPassesAreWhatTheTraceGivesAndRenderNothing) {
+  REQUIRE_RADV();
+  test::TempDir dir;
+  std::vector<table::CostRow> rows = {test::point_row("sao-s08-p0-ndep-zdep-rst-d32-bsep-x1-hp", 1.0, 0.1),
+                                      test::point_row("sao-s12-p0-ndep-zdep-rst-d32-bsep-x1-hp", 1.0, 0.1)};
+  std::vector<table::CostRow*> all = {&rows[0], &rows[1]};
+  trace::RowGpuRequest request;
+  request.scope.manifest = test::source_dir() / "shader_src" / "aovar.toml";
+  request.scope.cache_dir = dir / "cache";
+  request.gpu.families = {"navi21"};
+  request.gpu.frame = {320, 180};
+  request.gpu.trace = false;
+  trace::add_gpu_costs(all, request, [](const std::string&) {});
+  const table::CostRow untraced = rows[1];
+
+  trace::RowTracer tracer(request);
+  EXPECT_TRUE(tracer.cached({&rows[1]}, "navi21").at(0).empty()) << "nothing simulated yet";
+  const trace::TrafficStats first = tracer.trace({&rows[0]});
+  EXPECT_GT(first.traced_draws, 0);
+  const auto shared = tracer.cached({&rows[1]}, "navi21").at(0);
+  EXPECT_EQ(shared.count("prefilter"), 1u);
+  EXPECT_EQ(shared.count("blur"), 1u);
+  EXPECT_EQ(shared.count("ao"), 0u) << "its AO draw is its own, not simulated yet";
+
+  const trace::TrafficStats second = tracer.trace({&rows[1]});
+  EXPECT_GT(second.traced_draws, 0) << "its AO draw";
+  const table::GpuCost& traced = rows[1].gpu.at("navi21");
+  for (const auto& [pass, ms] : shared) {
+    auto p = std::find_if(traced.passes.begin(), traced.passes.end(), [&](const auto& x) { return x.pass == pass; });
+    ASSERT_NE(p, traced.passes.end()) << pass;
+    EXPECT_DOUBLE_EQ(ms, p->est_ms) << pass;
+  }
+
+  trace::RowTracer later(request);  // another run: the cache dir only
+  table::CostRow again = untraced;
+  const auto read_back = later.cached({&again}, "navi21").at(0);
+  EXPECT_EQ(read_back.size(), traced.passes.size());
+  double sum = 0;
+  for (const auto& [pass, ms] : read_back) sum += ms;
+  EXPECT_NEAR(sum, traced.est_ms, 1e-9 * traced.est_ms);
 }
 
 }  // namespace
