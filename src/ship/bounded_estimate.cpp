@@ -226,6 +226,7 @@ BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vec
   std::function<void(const std::vector<BoundCandidate*>&)> completion;  // none: every candidate is complete
   if (render_rest) completion = complete;
   eliminate_by_bound(candidates, keep, chunk, stages, trace_stage, completion, refine);
+  out.gpu.traffic += tracer.trace({});  // what the last refinements read from the cache dir
 
   std::map<std::string, const BoundCandidate*> index;
   for (const auto& c : candidates) index[c.key] = &c;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <set>
+#include <utility>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -89,7 +90,7 @@ RowTracer::View& RowTracer::view_of(const table::CostRow& row) {
 }
 
 TrafficStats RowTracer::trace(const std::vector<table::CostRow*>& rows) {
-  TrafficStats total;
+  TrafficStats total = std::exchange(read_ahead_, {});
   const std::set<std::string> keys = keys_with_costs(rows);
   if (keys.empty()) return total;
   const Compiled& c = compiled_for(keys);
@@ -136,7 +137,7 @@ std::vector<std::map<std::string, double>> RowTracer::cached(const std::vector<t
     const render::PipelinePlan plan =
         runner::plan_variant(c.compiled, index->second, variants::Target::vulkan, request_.calibration);
     out[i] = cached_pass_estimates(cost->second, TraceSet::draws_of(plan), c.loads.at(r.variant), family,
-                                   request_.gpu.frame, v.cache, v.memo);
+                                   request_.gpu.frame, v.cache, v.memo, read_ahead_);
   }
   return out;
 }

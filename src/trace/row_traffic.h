@@ -16,9 +16,12 @@
 #include "compile/run_scope.h"
 #include "gpu/by_key.h"
 #include "render/plan.h"
-#include "scene/scene.h"
 #include "table/table.h"
 #include "trace/traced_costs.h"
+
+namespace aovar::scene {
+struct Scene;
+}
 
 namespace aovar::trace {
 
@@ -70,6 +73,7 @@ class RowTracer {
   const Compiled& compiled_for(const std::set<std::string>& keys);  // the last compilation when it holds them
   RowGpuRequest request_;
   std::unique_ptr<Compiled> compiled_;
+  TrafficStats read_ahead_;  // draws `cached` read from the cache dir: reported by the next `trace`
   std::set<std::string> compiled_keys_;
   std::map<std::string, std::unique_ptr<scene::Scene>> scenes_;                  // by scene spec, loaded once
   std::map<std::pair<std::string, std::string>, std::unique_ptr<View>> views_;  // (scene, view)

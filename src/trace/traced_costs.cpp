@@ -80,15 +80,15 @@ std::map<std::string, std::vector<gpu::CacheSimResult>> draw_traffic(
 std::map<std::string, double> cached_pass_estimates(const table::GpuCost& cost,
                                                     const std::vector<std::pair<std::string, std::string>>& draws,
                                                     const std::vector<gpu::PassLoad>& loads, const std::string& family,
-                                                    gpu::Frame frame, const TrafficCache& cache, TrafficMemo& memo) {
+                                                    gpu::Frame frame, const TrafficCache& cache, TrafficMemo& memo,
+                                                    TrafficStats& stats) {
   std::map<std::string, double> out;
   const gpu::FamilySpec* spec = gpu::estimate_spec(family);
   if (!spec || spec->caches.empty()) return out;
-  TrafficStats unused;
   std::set<std::string> unknown;  // passes with a draw not simulated yet
   std::map<std::string, std::vector<gpu::CacheSimResult>> by_pass;
   for (const auto& [key, pass] : draws)
-    if (!known(key, family, cache, memo, unused)) unknown.insert(pass);
+    if (!known(key, family, cache, memo, stats)) unknown.insert(pass);
     else if (const CachedTraffic& t = memo.at({key, family}); !t.absent) by_pass[pass].push_back(t.result);
   for (table::GpuPassCost pass : cost.passes) {
     if (unknown.count(pass.pass)) continue;

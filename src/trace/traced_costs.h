@@ -44,11 +44,12 @@ TrafficStats add_traffic(runner::VariantRunner& runner, const std::vector<int>& 
 // What add_traffic would give the passes of one variant on `family` whose every draw `memo` or `cache` already
 // holds, without rendering: pass -> est_ms. `cost`: the variant's cost on the family before any traffic;
 // `draws`: TraceSet::draws_of its plan; `loads`: its gpu::PassLoad. A pass with a draw not simulated yet is
-// absent; so is every pass when the family has no cache model.
+// absent; so is every pass when the family has no cache model. Draws read from `cache` count in `stats`.
 std::map<std::string, double> cached_pass_estimates(const table::GpuCost& cost,
                                                     const std::vector<std::pair<std::string, std::string>>& draws,
                                                     const std::vector<gpu::PassLoad>& loads, const std::string& family,
-                                                    gpu::Frame frame, const TrafficCache& cache, TrafficMemo& memo);
+                                                    gpu::Frame frame, const TrafficCache& cache, TrafficMemo& memo,
+                                                    TrafficStats& stats);
 
 // What a TrafficCache of one view is keyed by besides the draw: the scene's geometry, the camera, the radius,
 // the frame and the trace window.

@@ -223,6 +223,9 @@ TEST(RowTracer, CachedPassesAreWhatTheTraceGivesAndRenderNothing) {
   double sum = 0;
   for (const auto& [pass, ms] : read_back) sum += ms;
   EXPECT_NEAR(sum, traced.est_ms, 1e-9 * traced.est_ms);
+  const trace::TrafficStats reads = later.trace({});
+  EXPECT_GT(reads.cached_draws, 0) << "the draws read from the cache dir are reported";
+  EXPECT_EQ(reads.traced_draws, 0);
 }
 
 }  // namespace
