@@ -3,6 +3,7 @@
 // draws in order with inputs, outputs, viewports and depth use, from the variant's axes alone) with the compiled
 // shaders of one target and each draw's AOParams contents. What an axis means for rendering is decided there,
 // below compile, so the generated library carries the same plan (compile/emit_plan.cpp).
+#include <array>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -40,6 +41,9 @@ struct Draw : passplan::DrawIo {
   // Trace builds only (trace/trace.h): 32-bit words of the storage buffer bound at binding::kTrace for this
   // draw, 0 = not traced. Word 0 counts pixels whose reads overflowed; the reads follow. Vulkan only.
   std::int64_t trace_words = 0;
+  // Trace builds only: the pixels of the draw's viewport it shades (x0, y0, width, height; width 0: all of
+  // them), for a traced draw no later draw reads, whose pixels outside its window no one would see. Vulkan only.
+  std::array<int, 4> scissor{0, 0, 0, 0};
 };
 
 struct PipelinePlan : passplan::PlanResources {

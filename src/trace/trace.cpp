@@ -1,6 +1,7 @@
 #include "trace/trace.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <set>
@@ -101,18 +102,33 @@ void fill_band(gpu::FetchTrace& t, const Window& band, const std::vector<std::ui
   t.overflowed_pixels += words.at(0);
   const std::size_t offset = std::size_t(band.y0 - t.y0) * t.width * t.max_taps;
   std::copy(words.begin() + 1, words.end(), t.reads.begin() + std::ptrdiff_t(offset));
-  std::map<int, const gpu::TracedTexture*> by_slot;
-  for (const gpu::TracedTexture& tex : t.textures) by_slot[tex.slot] = &tex;
+  // Per slot (3 bits: at most 8), looked up once: a band holds tens of millions of reads.
+  std::array<int, 8> add_lod{}, width{}, height{};
+  width.fill(-1);
+  for (const auto& [slot, levels] : lod_offset) add_lod.at(std::size_t(slot)) = levels;
+  for (const gpu::TracedTexture& tex : t.textures) {
+    width.at(std::size_t(tex.slot)) = tex.width;
+    height.at(std::size_t(tex.slot)) = tex.height;
+  }
   for (std::size_t k = offset; k < offset + words.size() - 1; ++k) {
     if (t.reads[k] == gpu::kNoRead) continue;
     gpu::TexelRead r = gpu::unpack_read(t.reads[k]);
-    if (auto it = lod_offset.find(r.slot); it != lod_offset.end()) r.lod += it->second;
-    if (auto tex = by_slot.find(r.slot); tex != by_slot.end()) {
-      r.x = std::min(r.x, std::max(1, tex->second->width >> r.lod) - 1);
-      r.y = std::min(r.y, std::max(1, tex->second->height >> r.lod) - 1);
+    r.lod += add_lod[std::size_t(r.slot)];
+    if (const int w = width[std::size_t(r.slot)]; w >= 0) {
+      r.x = std::min(r.x, std::max(1, w >> r.lod) - 1);
+      r.y = std::min(r.y, std::max(1, height[std::size_t(r.slot)] >> r.lod) - 1);
     }
     t.reads[k] = gpu::pack_read(r);
   }
+}
+
+// Whether a draw after `draw` in `plan` reads a texture `draw` writes.
+bool read_later(const render::PipelinePlan& plan, std::size_t draw) {
+  for (const render::TextureRef& out : plan.draws[draw].outputs)
+    for (std::size_t later = draw + 1; later < plan.draws.size(); ++later)
+      for (const auto& [binding, in] : plan.draws[later].inputs)
+        if (out.texture >= 0 && in.texture == out.texture) return true;
+  return false;
 }
 
 // Rows [b * h / n, (b + 1) * h / n) of window w: band b of n.
@@ -156,9 +172,13 @@ void trace_draws(runner::VariantRunner& runner, const render::PipelinePlan& plan
     const std::int64_t row_words = std::int64_t(windows[i].width) * windows[i].max_taps;
     bands = std::max<int>(bands, int((windows[i].height * row_words + kBandWords - 2) / (kBandWords - 1)));
   }
+  // Without an image to return, the draws after the last traced one need not run (no traced draw reads them;
+  // the result texture stays unwritten, unread), and a traced draw no later draw reads shades its band alone.
+  render::PipelinePlan ran = plan;
+  if (!image && !draws.empty()) ran.draws.resize(std::size_t(*std::max_element(draws.begin(), draws.end())) + 1);
   std::set<int> fresh_draws;
   for (int b = 0; b < bands; ++b) {
-    render::PipelinePlan banded = plan;
+    render::PipelinePlan banded = ran;
     for (int i : draws) {
       render::Draw& d = banded.draws[i];
       const Window w = band_of(windows[i], b, bands);
@@ -169,6 +189,7 @@ void trace_draws(runner::VariantRunner& runner, const render::PipelinePlan& plan
       d.fragment = static_cast<int>(banded.shaders.size());
       banded.shaders.push_back(std::move(traced));
       d.trace_words = 1 + std::int64_t(w.width) * w.height * w.max_taps;
+      if (!image && !read_later(ran, std::size_t(i))) d.scissor = {w.x0, w.y0, w.width, w.height};
     }
     auto prepared = runner.prepare(banded);
     runner.backend().render(*prepared, {&view, 0, true, radius});

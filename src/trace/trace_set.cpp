@@ -46,17 +46,19 @@ std::vector<const gpu::FetchTrace*> TraceSet::of(int variant) {
   return out;
 }
 
-std::vector<std::pair<std::string, const gpu::FetchTrace*>> TraceSet::keyed(int variant) {
+std::vector<std::pair<std::string, const gpu::FetchTrace*>> TraceSet::keyed(int variant,
+                                                                            const std::set<std::string>& skip) {
   const render::PipelinePlan plan = runner_.plan(variant);
-  const std::vector<int> draws = traceable_draws(plan);
   std::vector<std::string> keys;
   TraceOptions missing = options_;
   std::set<std::string> missing_keys;  // two draws of one plan with one key (none today): trace the first
-  for (int i : draws) {
-    keys.push_back(draw_key(plan, i));
-    if (traces_.count(keys.back()) == 0 && missing_keys.insert(keys.back()).second) missing.draws.push_back(i);
+  for (int i : traceable_draws(plan)) {
+    std::string key = draw_key(plan, i);
+    if (skip.count(key)) continue;
+    if (traces_.count(key) == 0 && missing_keys.insert(key).second) missing.draws.push_back(i);
+    keys.push_back(std::move(key));
   }
-  shared_ += static_cast<int>(draws.size() - missing.draws.size());
+  shared_ += static_cast<int>(keys.size() - missing.draws.size());
   if (!missing.draws.empty()) {
     std::vector<gpu::FetchTrace> fresh = trace_variant(runner_, variant, view_, radius_, missing);
     // One trace per traced draw the prepared plan kept (render::plan_for_size drops draws into missing levels).

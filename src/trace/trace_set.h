@@ -8,6 +8,7 @@
 // values differ between such variants only where they do not move a fetch: the templates' tap positions come
 // from depth, the frame and the pixel, never from the AO values a blur smooths.
 #include <map>
+#include <set>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,8 +25,9 @@ class TraceSet {
   // The trace of every fullscreen draw of `variant` (trace::traceable_draws order); draws another variant
   // already traced are shared, the rest traced in one render. Pointers stay valid as long as the set.
   std::vector<const gpu::FetchTrace*> of(int variant);
-  // The same, by draw key, with nullptr for a draw the plan drops at this frame size.
-  std::vector<std::pair<std::string, const gpu::FetchTrace*>> keyed(int variant);
+  // The same, by draw key, with nullptr for a draw the plan drops at this frame size. Draws whose key is in
+  // `skip` (their traffic is known already) are neither traced nor returned.
+  std::vector<std::pair<std::string, const gpu::FetchTrace*>> keyed(int variant, const std::set<std::string>& skip = {});
   // The key and pass of each traceable draw of `variant`, without tracing anything.
   std::vector<std::pair<std::string, std::string>> draws_of(int variant) const;
   // The same of a plan (runner::plan_variant), without a runner.

@@ -50,11 +50,14 @@ std::map<std::string, std::vector<gpu::CacheSimResult>> draw_traffic(
     TraceSet& set, int variant, const std::string& family, const gpu::CacheHierarchy& hierarchy,
     const TrafficCache& cache, TrafficMemo& memo, TrafficStats& stats) {
   const auto draws = set.draws_of(variant);
+  std::set<std::string> simulated;  // draws whose traffic is known (another variant's, an earlier call's): not traced
   bool complete = true;
-  for (const auto& [key, pass] : draws) complete = known(key, family, cache, memo, stats) && complete;
+  for (const auto& [key, pass] : draws)
+    if (known(key, family, cache, memo, stats)) simulated.insert(key);
+    else complete = false;
   if (!complete) {
     const auto t0 = std::chrono::steady_clock::now();
-    const auto traces = set.keyed(variant);
+    const auto traces = set.keyed(variant, simulated);
     stats.trace_seconds += seconds_since(t0);
     const auto t1 = std::chrono::steady_clock::now();
     for (const auto& [key, trace] : traces) {

@@ -179,6 +179,42 @@ TEST(TraceOverflow, ABilateralBlurKeepsEveryReadOfItsRunTimeLoop) {
   EXPECT_GT(bilateral, 2 * separable);  // (2R + 1)^2 against 2R + 1 taps, R >= 1
 }
 
+// Without an image to return, a trace runs the plan only up to its last traced draw, and shades a traced draw
+// that no later draw reads only inside its window (render::Draw::scissor). Neither may change a read: each draw
+// of SAO (its z pyramid, AO and both blur axes) traced alone, and all of them at once, record what the whole
+// frame records, rendered unscissored with its image.
+TEST(TraceCut, ATraceWithoutAnImageRecordsWhatTheWholeFrameRecords) {
+  compile::CompiledSpace compiled = test::compile_variants({"sao-s08-p0-ndep-zdep-rst-d32-bsep-x1-hp"});
+  const int variant = test::variant_index(compiled, "sao-s08-p0-ndep-zdep-rst-d32-bsep-x1-hp");
+  runner::RunnerOptions options;
+  options.size = {96, 54};
+  runner::VariantRunner runner(compiled, options);
+  const scene::Scene scene = scene::load_scene("builtin:atrium");
+  runner.use_scene(scene);
+  trace::TraceOptions half;
+  half.window_share = 0.5;  // a window smaller than the frame, so that the scissor cuts
+  image::FloatImage image;
+  const std::vector<gpu::FetchTrace> whole = trace::trace_variant(runner, variant, scene.views[0], scene.ao_radius, half, &image);
+  ASSERT_GE(whole.size(), 4u);  // z pyramid levels, ao, blur.h, blur.v
+  auto reads_equal = [](const gpu::FetchTrace& a, const gpu::FetchTrace& b) {
+    return a.plan_draw == b.plan_draw && a.x0 == b.x0 && a.y0 == b.y0 && a.width == b.width && a.height == b.height &&
+           a.reads == b.reads;
+  };
+  std::size_t nonempty = 0;
+  for (const gpu::FetchTrace& t : whole) {
+    trace::TraceOptions alone = half;
+    alone.draws = {t.plan_draw};
+    const std::vector<gpu::FetchTrace> cut = trace::trace_variant(runner, variant, scene.views[0], scene.ao_radius, alone);
+    ASSERT_EQ(cut.size(), 1u) << t.pass;
+    EXPECT_TRUE(reads_equal(cut[0], t)) << t.pass << " draw " << t.plan_draw;
+    nonempty += std::count_if(t.reads.begin(), t.reads.end(), [](std::uint32_t w) { return w != gpu::kNoRead; }) > 0;
+  }
+  EXPECT_EQ(nonempty, whole.size());  // every draw read something: the comparison compared reads
+  const std::vector<gpu::FetchTrace> all = trace::trace_variant(runner, variant, scene.views[0], scene.ao_radius, half);
+  ASSERT_EQ(all.size(), whole.size());
+  for (std::size_t i = 0; i < all.size(); ++i) EXPECT_TRUE(reads_equal(all[i], whole[i])) << whole[i].pass;
+}
+
 // ship's screen bounds a candidate by the traffic other candidates' traces already simulated (issue 55). That
 // bound is only exact if RowTracer::cached gives each pass what a trace of the candidate then gives: SAO at 8
 // and at 12 samples share their z prefilter and their blur, not their AO draw. A second tracer on the same cache

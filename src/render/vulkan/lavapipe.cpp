@@ -429,6 +429,12 @@ VkPipeline LavapipeBackend::create_pipeline(const PipelinePlan& plan, const Draw
     if (dr.outputs[o].texture >= 0) desc.colour_formats[o] = vk::format_of(plan.textures[dr.outputs[o].texture].format);
   desc.depth = dr.depth;
   desc.extent = extent;
+  if (const auto& [x0, y0, w, h] = dr.scissor; w > 0) {
+    if (x0 < 0 || y0 < 0 || h <= 0 || unsigned(x0 + w) > extent.width || unsigned(y0 + h) > extent.height)
+      throw BackendError(fmt::format("lavapipe: draw {} has a scissor {}x{}+{}+{} outside its {}x{} viewport", dr.name,
+                                     w, h, x0, y0, extent.width, extent.height));
+    desc.scissor = {{x0, y0}, {unsigned(w), unsigned(h)}};
+  }
   desc.layout = dev_->pipeline_layout;
   VkPipeline pipeline = VK_NULL_HANDLE;
   VkResult r = vk::create_graphics_pipeline(dev_->device, desc, &pipeline);

@@ -48,7 +48,7 @@ VkResult create_graphics_pipeline(VkDevice device, const PipelineDesc& d, VkPipe
   VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
   ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
   VkViewport viewport{0, 0, float(d.extent.width), float(d.extent.height), 0.0f, 1.0f};
-  VkRect2D scissor{{0, 0}, d.extent};
+  const VkRect2D scissor = d.scissor.extent.width > 0 ? d.scissor : VkRect2D{{0, 0}, d.extent};
   VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
   vp.viewportCount = vp.scissorCount = 1;
   vp.pViewports = &viewport;

@@ -19,7 +19,8 @@ struct PipelineDesc {
   bool geometry = false;                 // vertex inputs: position and normal (the G-buffer draw)
   std::vector<VkFormat> colour_formats;  // per location; VK_FORMAT_UNDEFINED for an unused one
   DepthUse depth = DepthUse::none;
-  VkExtent2D extent{1, 1};               // viewport and scissor
+  VkExtent2D extent{1, 1};               // viewport, and scissor unless `scissor` has an extent
+  VkRect2D scissor{{0, 0}, {0, 0}};      // a part of the viewport (trace builds: render::Draw::scissor)
   VkPipelineLayout layout = VK_NULL_HANDLE;
   VkPipelineCreateFlags flags = 0;
 };
