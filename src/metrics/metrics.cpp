@@ -118,15 +118,23 @@ double ssim_sum(const FloatImage& a, const FloatImage& b, const std::vector<std:
     }
   }
 
-  // Vertical pass, evaluated only where the map is averaged.
+  // Vertical pass, evaluated only where the map is averaged. A whole output row is accumulated one input row
+  // at a time (reading rows in memory order); each pixel still adds its rows in the order yy = lo..hi.
   double sum = 0;
+  std::vector<Moments> column(static_cast<std::size_t>(w));
   for (int y = 0; y < h; ++y) {
     const int lo = std::max(y - kRadius, 0), hi = std::min(y + kRadius, h - 1);
+    const std::size_t row = static_cast<std::size_t>(y) * w;
+    std::fill(column.begin(), column.end(), Moments{});
+    for (int yy = lo; yy <= hi; ++yy) {
+      const double g = taps[yy - y + kRadius];
+      const Moments* in = &horiz[static_cast<std::size_t>(yy) * w];
+      for (int x = 0; x < w; ++x)
+        if (valid[row + x]) column[x].add(g, in[x]);
+    }
     for (int x = 0; x < w; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * w + x;
-      if (!valid[i]) continue;
-      Moments m;
-      for (int yy = lo; yy <= hi; ++yy) m.add(taps[yy - y + kRadius], horiz[static_cast<std::size_t>(yy) * w + x]);
+      if (!valid[row + x]) continue;
+      const Moments& m = column[x];
       // m.w > 0: the centre pixel itself is valid.
       const double mx = m.x / m.w, my = m.y / m.w;
       const double vx = std::max(m.xx / m.w - mx * mx, 0.0);
