@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 
@@ -76,6 +77,35 @@ TEST(Lavapipe, VariantsRenderAoCleanUnderValidation) {
       expect_box_occlusion(img, size, key);
     }
   }
+  EXPECT_EQ(render::lavapipe_validation_error_count(), errors_before);
+}
+
+// The backend keeps recent pipelines and hands them to later prepares whose draws need the same one (the blur a
+// method's variants share, a variant prepared again at another size). Every test variant, prepared one after the
+// other on one backend at two sizes, renders bit for bit what it renders alone on a fresh backend, and nothing
+// is reported when the pipelines outlive the ones that made them.
+TEST(Lavapipe, KeptPipelinesRenderWhatFreshOnesRender) {
+  int errors_before = render::lavapipe_validation_error_count();
+  const scene::View view = box_view();
+  const scene::Scene scene = box_on_floor();
+  auto image_of = [&](render::Backend& backend, const std::string& key, render::Extent size) {
+    auto pipeline = backend.prepare(lavapipe_plan(key), size);
+    backend.render(*pipeline, box_frame(view, 0));
+    return backend.read_result(*pipeline);
+  };
+  auto shared = render::make_lavapipe_backend(backend_options(2, true));
+  shared->set_scene(scene);
+  for (const render::Extent size : {render::Extent{96, 54}, render::Extent{160, 90}})
+    for (const auto& key : backend_test_keys()) {
+      const image::FloatImage kept = image_of(*shared, key, size);
+      auto fresh_backend = render::make_lavapipe_backend(backend_options(2, true));
+      fresh_backend->set_scene(scene);
+      const image::FloatImage fresh = image_of(*fresh_backend, key, size);
+      ASSERT_EQ(kept.pixels.size(), fresh.pixels.size()) << key;
+      EXPECT_EQ(std::memcmp(kept.pixels.data(), fresh.pixels.data(), kept.pixels.size() * sizeof(float)), 0)
+          << key << " at " << size.width << "x" << size.height;
+    }
+  shared.reset();
   EXPECT_EQ(render::lavapipe_validation_error_count(), errors_before);
 }
 

@@ -9,12 +9,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "compile/relaxed_fp16.h"
 #include "render/backend.h"
@@ -22,6 +24,7 @@
 #include "render/vulkan/lavapipe.h"
 #include "render/vulkan/lavapipe_device.h"
 #include "render/vulkan/vk_pipeline.h"
+#include "util/hash.h"
 
 // Vulkan structs are written `VkFoo foo{VK_STRUCTURE_TYPE_FOO};`: the rest zero-initialised on purpose.
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
@@ -45,8 +48,21 @@ struct TextureImages {
   int count = 1;
 };
 
-struct DrawState {
+// A graphics pipeline, shared by every prepared pipeline whose draw needs the same one (LavapipeBackend's
+// pipeline reuse); destroyed with its last user.
+struct SharedVkPipeline {
+  std::shared_ptr<Device> dev;
   VkPipeline pipeline = VK_NULL_HANDLE;
+  SharedVkPipeline(std::shared_ptr<Device> d, VkPipeline p) : dev(std::move(d)), pipeline(p) {}
+  SharedVkPipeline(const SharedVkPipeline&) = delete;
+  SharedVkPipeline& operator=(const SharedVkPipeline&) = delete;
+  ~SharedVkPipeline() {
+    if (pipeline && dev && dev->device) vkDestroyPipeline(dev->device, pipeline, nullptr);
+  }
+};
+
+struct DrawState {
+  std::shared_ptr<SharedVkPipeline> pipeline;
   VkExtent2D extent{};
   VkDescriptorSet sets[2]{};  // per frame parity (one when nothing is double-buffered)
   VkDeviceSize params_offset = 0, params_range = 0;
@@ -124,7 +140,7 @@ LavapipePipeline::~LavapipePipeline() {
   if (queries) vkDestroyQueryPool(d, queries, nullptr);
   if (descriptor_pool) vkDestroyDescriptorPool(d, descriptor_pool, nullptr);  // frees the sets
   for (DrawState& s : states) {
-    if (s.pipeline) vkDestroyPipeline(d, s.pipeline, nullptr);
+    s.pipeline.reset();  // after the wait: the last user destroys it
     dev->destroy(s.trace);
   }
   for (std::size_t t = 0; t < images.size(); ++t)
@@ -241,7 +257,7 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
     ri.pColorAttachments = attachments.data();
     if (d.depth != DepthUse::none) ri.pDepthAttachment = &depth_target;
     vkCmdBeginRendering(cmd, &ri);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, s.pipeline);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, s.pipeline->pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, dev->pipeline_layout, 0, 1, &s.sets[p % parities],
                             0, nullptr);
     if (d.geometry) {
@@ -330,6 +346,11 @@ class LavapipeBackend final : public Backend {
   void create_pipelines(const PipelinePlan& plan, LavapipePipeline& pp);
   VkPipeline create_pipeline(const PipelinePlan& plan, const Draw& draw, VkExtent2D extent,
                              const std::vector<VkShaderModule>& modules);
+  // The pipeline of `draw`: a recent one with the same key (its shaders' code, formats, depth use, extent and
+  // scissor), else created and kept.
+  std::shared_ptr<SharedVkPipeline> reuse_or_create(const PipelinePlan& plan, const Draw& draw, VkExtent2D extent,
+                                                    const std::vector<VkShaderModule>& modules,
+                                                    const std::vector<std::string>& code_hashes);
   void create_frame_objects(const PipelinePlan& plan, LavapipePipeline& pp);
   void init_textures(LavapipePipeline& pp);
 
@@ -339,6 +360,17 @@ class LavapipeBackend final : public Backend {
   GbufferStore store_;
   GbufferPool gbuffers_;  // after dev_: destroyed first, while the device lives
   std::size_t gbuffer_draws_ = 0;
+  // Pipeline reuse. Most draws of a variant are another variant's (one blur program serves many methods, every
+  // blur variant has its method's AO draw), and lavapipe compiles each pipeline's shaders with LLVM at creation
+  // (15 % of the screen's stills on Sponza), so the most recently used pipelines are kept by key and handed out
+  // again. The key holds everything create_pipeline reads: the same key, the same pipeline.
+  struct KeptPipeline {
+    std::shared_ptr<SharedVkPipeline> pipeline;
+    std::uint64_t last_use = 0;
+  };
+  static constexpr std::size_t kKeptPipelines = 256;
+  std::map<std::string, KeptPipeline> kept_pipelines_;
+  std::uint64_t pipeline_uses_ = 0;
 };
 
 void LavapipeBackend::set_scene(const scene::Scene& scene) {
@@ -392,6 +424,7 @@ std::vector<std::uint32_t> fp16_code(const Shader& sh) {
 
 void LavapipeBackend::create_pipelines(const PipelinePlan& plan, LavapipePipeline& pp) {
   ShaderModules shaders{dev_->device, std::vector<VkShaderModule>(plan.shaders.size(), VK_NULL_HANDLE)};
+  std::vector<std::string> code_hashes(plan.shaders.size());
   for (std::size_t i = 0; i < plan.shaders.size(); ++i) {
     const Shader& sh = plan.shaders[i];
     if (sh.spirv.empty())
@@ -399,6 +432,7 @@ void LavapipeBackend::create_pipelines(const PipelinePlan& plan, LavapipePipelin
     std::vector<std::uint32_t> fp16;
     if (dev_->info.mediump_fp16) fp16 = fp16_code(sh);
     const std::vector<std::uint32_t>& code = dev_->info.mediump_fp16 ? fp16 : sh.spirv;
+    code_hashes[i] = util::hash_hex({reinterpret_cast<const char*>(code.data()), code.size() * sizeof(std::uint32_t)});
     VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     ci.codeSize = code.size() * sizeof(std::uint32_t);
     ci.pCode = code.data();
@@ -412,10 +446,31 @@ void LavapipeBackend::create_pipelines(const PipelinePlan& plan, LavapipePipelin
   for (std::size_t i = 0; i < plan.draws.size(); ++i) {
     const Draw& dr = plan.draws[i];
     if (pp.gbuffer && i == pp.gbuffer_draw) continue;  // the shared G-buffer's own pipeline draws it
-    pp.states[i].pipeline = create_pipeline(plan, dr, pp.states[i].extent, shaders.modules);  // pp destroys it
+    pp.states[i].pipeline = reuse_or_create(plan, dr, pp.states[i].extent, shaders.modules, code_hashes);
     dev_->check_validation(fmt::format("pipeline creation of draw {} ({} + {})", dr.name,
                                        plan.shaders[dr.vertex].program_key, plan.shaders[dr.fragment].program_key));
   }
+}
+
+std::shared_ptr<SharedVkPipeline> LavapipeBackend::reuse_or_create(const PipelinePlan& plan, const Draw& dr,
+                                                                   VkExtent2D extent,
+                                                                   const std::vector<VkShaderModule>& modules,
+                                                                   const std::vector<std::string>& code_hashes) {
+  std::string key = fmt::format("{}|{}|{}|{}|{}x{}|{}", code_hashes.at(dr.vertex), code_hashes.at(dr.fragment),
+                                static_cast<int>(dr.depth), dr.geometry, extent.width, extent.height,
+                                fmt::join(dr.scissor, ","));
+  for (const TextureRef& o : dr.outputs)
+    key += fmt::format("|{}", o.texture >= 0 ? static_cast<int>(vk::format_of(plan.textures[o.texture].format)) : -1);
+  KeptPipeline& kept = kept_pipelines_[key];
+  kept.last_use = ++pipeline_uses_;
+  if (!kept.pipeline) {
+    kept.pipeline = std::make_shared<SharedVkPipeline>(dev_, create_pipeline(plan, dr, extent, modules));
+    if (kept_pipelines_.size() > kKeptPipelines)  // drop the least recently used (a user keeps it alive)
+      kept_pipelines_.erase(std::min_element(kept_pipelines_.begin(), kept_pipelines_.end(), [](const auto& a, const auto& b) {
+        return a.second.last_use < b.second.last_use;
+      }));
+  }
+  return kept.pipeline;
 }
 
 VkPipeline LavapipeBackend::create_pipeline(const PipelinePlan& plan, const Draw& dr, VkExtent2D extent,
