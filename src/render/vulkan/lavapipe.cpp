@@ -344,8 +344,10 @@ class LavapipeBackend final : public Backend {
   void write_descriptor_set(const Draw& draw, LavapipePipeline& pp, DrawState& s, int parity);
   void write_trace_binding(const Draw& draw, LavapipePipeline& pp, DrawState& s, int parity);
   void create_pipelines(const PipelinePlan& plan, LavapipePipeline& pp);
-  VkPipeline create_pipeline(const PipelinePlan& plan, const Draw& draw, VkExtent2D extent,
-                             const std::vector<VkShaderModule>& modules);
+  // What create_graphics_pipeline gets for `draw`; throws BackendError for a scissor outside the viewport.
+  vk::PipelineDesc describe_pipeline(const PipelinePlan& plan, const Draw& draw, VkExtent2D extent,
+                                     const std::vector<VkShaderModule>& modules) const;
+  VkPipeline create_pipeline(const PipelinePlan& plan, const Draw& draw, const vk::PipelineDesc& desc);
   // The pipeline of `draw`: a recent one with the same key (its shaders' code, formats, depth use, extent and
   // scissor), else created and kept.
   std::shared_ptr<SharedVkPipeline> reuse_or_create(const PipelinePlan& plan, const Draw& draw, VkExtent2D extent,
@@ -363,7 +365,7 @@ class LavapipeBackend final : public Backend {
   // Pipeline reuse. Most draws of a variant are another variant's (one blur program serves many methods, every
   // blur variant has its method's AO draw), and lavapipe compiles each pipeline's shaders with LLVM at creation
   // (15 % of the screen's stills on Sponza), so the most recently used pipelines are kept by key and handed out
-  // again. The key holds everything create_pipeline reads: the same key, the same pipeline.
+  // again. The key is the pipeline's whole description (describe_pipeline): the same key, the same pipeline.
   struct KeptPipeline {
     std::shared_ptr<SharedVkPipeline> pipeline;
     std::uint64_t last_use = 0;
@@ -456,15 +458,17 @@ std::shared_ptr<SharedVkPipeline> LavapipeBackend::reuse_or_create(const Pipelin
                                                                    VkExtent2D extent,
                                                                    const std::vector<VkShaderModule>& modules,
                                                                    const std::vector<std::string>& code_hashes) {
-  std::string key = fmt::format("{}|{}|{}|{}|{}x{}|{}", code_hashes.at(dr.vertex), code_hashes.at(dr.fragment),
-                                static_cast<int>(dr.depth), dr.geometry, extent.width, extent.height,
-                                fmt::join(dr.scissor, ","));
-  for (const TextureRef& o : dr.outputs)
-    key += fmt::format("|{}", o.texture >= 0 ? static_cast<int>(vk::format_of(plan.textures[o.texture].format)) : -1);
+  // The key is the description create_pipeline gets, with the shaders' code for their per-prepare modules.
+  const vk::PipelineDesc desc = describe_pipeline(plan, dr, extent, modules);
+  const VkRect2D& sc = desc.scissor;
+  std::string key = fmt::format("{}|{}|{}|{}|{}x{}|{},{},{}x{}|{}|{}", code_hashes.at(dr.vertex),
+                                code_hashes.at(dr.fragment), static_cast<int>(desc.depth), desc.geometry,
+                                desc.extent.width, desc.extent.height, sc.offset.x, sc.offset.y, sc.extent.width,
+                                sc.extent.height, fmt::join(desc.colour_formats, ","), desc.flags);
   KeptPipeline& kept = kept_pipelines_[key];
   kept.last_use = ++pipeline_uses_;
   if (!kept.pipeline) {
-    kept.pipeline = std::make_shared<SharedVkPipeline>(dev_, create_pipeline(plan, dr, extent, modules));
+    kept.pipeline = std::make_shared<SharedVkPipeline>(dev_, create_pipeline(plan, dr, desc));
     if (kept_pipelines_.size() > kKeptPipelines)  // drop the least recently used (a user keeps it alive)
       kept_pipelines_.erase(std::min_element(kept_pipelines_.begin(), kept_pipelines_.end(), [](const auto& a, const auto& b) {
         return a.second.last_use < b.second.last_use;
@@ -473,8 +477,8 @@ std::shared_ptr<SharedVkPipeline> LavapipeBackend::reuse_or_create(const Pipelin
   return kept.pipeline;
 }
 
-VkPipeline LavapipeBackend::create_pipeline(const PipelinePlan& plan, const Draw& dr, VkExtent2D extent,
-                                            const std::vector<VkShaderModule>& modules) {
+vk::PipelineDesc LavapipeBackend::describe_pipeline(const PipelinePlan& plan, const Draw& dr, VkExtent2D extent,
+                                                   const std::vector<VkShaderModule>& modules) const {
   vk::PipelineDesc desc;
   desc.vertex = modules[dr.vertex];
   desc.fragment = modules[dr.fragment];
@@ -491,6 +495,10 @@ VkPipeline LavapipeBackend::create_pipeline(const PipelinePlan& plan, const Draw
     desc.scissor = {{x0, y0}, {unsigned(w), unsigned(h)}};
   }
   desc.layout = dev_->pipeline_layout;
+  return desc;
+}
+
+VkPipeline LavapipeBackend::create_pipeline(const PipelinePlan& plan, const Draw& dr, const vk::PipelineDesc& desc) {
   VkPipeline pipeline = VK_NULL_HANDLE;
   VkResult r = vk::create_graphics_pipeline(dev_->device, desc, &pipeline);
   if (r != VK_SUCCESS)
