@@ -144,6 +144,7 @@ class Objective {
     // The index in the plan the backend runs at this size (MIP draws before the AO draw may be dropped).
     ao_index_ = render::draw_index_at_size(plan_, runner.size(), "ao");
     prepared_ = runner.prepare(plan_);
+    for (const Case& k : cases_) truths_.emplace_back(k.truth.visibility, k.truth.background);
   }
 
   // Per-case MSE over the cases of one kind (NaN, Inf and values outside [0, 1] count as an error of 1
@@ -152,11 +153,12 @@ class Objective {
     const auto ran = render::plan_for_size(runner_.plan(variant_, values, true), runner_.size());
     runner_.backend().set_params(*prepared_, ao_index_, ran.draws[ao_index_].params);
     std::vector<double> mse;
-    for (const Case& k : cases_) {
+    for (std::size_t c = 0; c < cases_.size(); ++c) {
+      const Case& k = cases_[c];
       if (k.training != training) continue;
       runner_.use_scene(*k.scene);
       const runner::Still still = runner_.render_still(*prepared_, plan_, *k.view, k.scene->ao_radius);
-      const metrics::ErrorStats e = runner::score(still.image, k.truth);
+      const metrics::ErrorStats e = metrics::compare(still.image, truths_[c]);  // as runner::score, reference once
       double bad = static_cast<double>(e.health.nan + e.health.inf + e.health.out_of_range);
       double n = std::max<double>(1.0, static_cast<double>(e.health.pixels));
       double sq = e.finite > 0 ? e.rmse * e.rmse : 1.0;
@@ -172,6 +174,7 @@ class Objective {
   render::PipelinePlan plan_;
   std::size_t ao_index_ = 0;
   std::unique_ptr<render::PreparedPipeline> prepared_;
+  std::vector<metrics::PreparedReference> truths_;  // per case, of cases_[i].truth
 };
 
 double mean(const std::vector<double>& v) {

@@ -146,6 +146,11 @@ const reference::ReferenceImage& BatchMeasurer::ground_truth(const scene::View& 
   return truth_.emplace(view.name, std::move(ref)).first->second;
 }
 
+const runner::ViewScorer& BatchMeasurer::scorer(const scene::View& view) {
+  if (auto it = scorers_.find(view.name); it != scorers_.end()) return it->second;
+  return scorers_.try_emplace(view.name, ground_truth(view), view, res_.radius).first->second;
+}
+
 void BatchMeasurer::store_references(const std::vector<const scene::View*>& views) {
   for (const scene::View* view : views)
     if (!fs::exists(o_.out / "images" / "reference" / (view->name + ".pfm"))) ground_truth(*view);
@@ -362,10 +367,9 @@ RoundRobinResult BatchMeasurer::render_batch(runner::VariantRunner& runner, cons
 // selected variant: a timing-only baseline is no row of the table, and retires nothing by its error.
 void BatchMeasurer::score_unknown_errors(runner::VariantRunner& runner, const std::vector<render::PreparedPipeline*>& pipelines,
                                          const scene::View& view, Retire& rule) {
-  const auto& truth = ground_truth(view);
+  const runner::ViewScorer& score = scorer(view);
   for (std::size_t i = sel_.baseline_selected ? 0 : 1; i < pipelines.size() && i < rule.known_error.size(); ++i)
-    if (std::isnan(rule.known_error[i]))
-      rule.known_error[i] = runner::score(runner.read(*pipelines[i]).image, truth, view, res_.radius).rmse;
+    if (std::isnan(rule.known_error[i])) rule.known_error[i] = score(runner.read(*pipelines[i]).image).rmse;
 }
 
 // Variants that run the same code as an earlier one in key order on this device (same_code.h), once this
@@ -438,13 +442,12 @@ void BatchMeasurer::add_twin_rows(std::map<int, Twin>& twins, const render::Devi
 // Flicker along the view's camera path (every variant), and for progressive ones the error of a single frame
 // (a plan whose average reads this frame's half twice, prepared for the purpose).
 void BatchMeasurer::temporal_errors(MeasureRow& row, runner::VariantRunner& runner, const render::PipelinePlan& plan,
-                                    render::PreparedPipeline& p, const scene::View& view,
-                                    const reference::ReferenceImage& truth) {
+                                    render::PreparedPipeline& p, const scene::View& view) {
   row.flicker = metrics::flicker(runner.render_path(p, view, res_.radius, 0, std::max(2, view.path_frames)));
   if (!plan.progressive) return;
   auto single = runner.prepare(render::plan_single_frame(plan));
   runner.backend().render(*single, {&view, 0, true, res_.radius});
-  row.error_one_frame = runner::score(runner.read(*single).image, truth, view, res_.radius);
+  row.error_one_frame = scorer(view)(runner.read(*single).image);
 }
 
 void BatchMeasurer::finish_row(MeasureRow& row, runner::VariantRunner& runner, const Candidate& cand,
@@ -469,10 +472,10 @@ void BatchMeasurer::finish_row(MeasureRow& row, runner::VariantRunner& runner, c
   }
   if (o_.truth.enabled) {
     const auto& truth = ground_truth(view);
-    row.error = runner::score(row.result, truth, view, res_.radius);  // with where the error comes from
+    row.error = scorer(view)(row.result);  // with where the error comes from
     // A row the race retired is off the front (Retire): its flicker, a view's path_frames more renders (and a
     // pipeline more for a progressive one), would decide nothing.
-    if (o_.truth.temporal && timing.stop != Stop::dominated) temporal_errors(row, runner, cand.plan, p, view, truth);
+    if (o_.truth.temporal && timing.stop != Stop::dominated) temporal_errors(row, runner, cand.plan, p, view);
     if (!o_.out.empty() && o_.images) {
       metrics::write_error_heatmap(o_.out / (rel + ".error.png"), row.result, truth.visibility, truth.background);
       row.error_map = rel + ".error.png";

@@ -13,6 +13,7 @@
 #include "measure/measure.h"
 #include "measure/inputs.h"
 #include "measure/rows_json.h"
+#include "runner/score.h"
 #include "runner/variant_runner.h"
 
 namespace aovar::measure {
@@ -63,7 +64,7 @@ class BatchMeasurer {
   void finish_row(MeasureRow& row, runner::VariantRunner& runner, const Candidate& cand, render::PreparedPipeline& p,
                   const PipelineTiming& timing, const scene::View& view);
   void temporal_errors(MeasureRow& row, runner::VariantRunner& runner, const render::PipelinePlan& plan,
-                       render::PreparedPipeline& p, const scene::View& view, const reference::ReferenceImage& truth);
+                       render::PreparedPipeline& p, const scene::View& view);
   std::string context(const runner::VariantRunner& runner, const scene::View& view) const;
   // The race's rule for one batch (timing.h, Retire): the reference, then todo[lo, hi), by known error on `view`,
   // and the view's rows of the batches before (`earlier`); with TimingPlan::race_budget the reference is the
@@ -77,6 +78,7 @@ class BatchMeasurer {
                             const scene::View& view, Retire& rule);
   reference::ReferenceOptions reference_options() const;
   const reference::ReferenceImage& ground_truth(const scene::View& view);
+  const runner::ViewScorer& scorer(const scene::View& view);  // against ground_truth(view)
   void status(const std::string& what) const;
 
   const MeasureOptions& o_;
@@ -87,6 +89,7 @@ class BatchMeasurer {
   MeasureResult& res_;
   Progress progress_;
   std::map<std::string, reference::ReferenceImage> truth_;
+  std::map<std::string, runner::ViewScorer> scorers_;  // each refers to its view's truth_ entry
   std::map<std::string, bool> twins_alike_;  // by backend: its first twin pair rendered bit-identical images
   std::size_t rows_wanted_ = 0, rows_measured_ = 0;
   std::chrono::steady_clock::time_point measuring_start_ = std::chrono::steady_clock::now();

@@ -65,13 +65,22 @@ ErrorBreakdown error_breakdown(const FloatImage& image, const FloatImage& refere
                                double edge_band_px) {
   detail::check_pair(image, "image", reference, "reference");
   detail::check_pair(depth, "depth", image, "image");
+  detail::check_background(background, image);  // before median_depth, as the split's own checks
+  return error_breakdown(image, reference, background, depth, edge_band_px, median_depth(depth, background));
+}
+
+ErrorBreakdown error_breakdown(const FloatImage& image, const FloatImage& reference,
+                               const std::vector<std::uint8_t>& background, const FloatImage& depth,
+                               double edge_band_px, double split_depth) {
+  detail::check_pair(image, "image", reference, "reference");
+  detail::check_pair(depth, "depth", image, "image");
   detail::check_background(background, image);
   if (!(edge_band_px >= 0) || !std::isfinite(edge_band_px))
     throw std::invalid_argument(fmt::format("metrics: edge band {} px must be finite and >= 0", edge_band_px));
 
   ErrorBreakdown b;
   b.edge_band_px = edge_band_px;
-  b.split_depth = median_depth(depth, background);
+  b.split_depth = split_depth;
   PartSums edge, interior, near, far, light, dark;
   long n = 0;
   double total_sq = 0;

@@ -48,4 +48,10 @@ ErrorBreakdown error_breakdown(const image::FloatImage& image, const image::Floa
                                const std::vector<std::uint8_t>& background, const image::FloatImage& depth,
                                double edge_band_px);
 
+// The same with the near/far split given: median_depth(depth, background), computed once for the many images
+// scored against one reference.
+ErrorBreakdown error_breakdown(const image::FloatImage& image, const image::FloatImage& reference,
+                               const std::vector<std::uint8_t>& background, const image::FloatImage& depth,
+                               double edge_band_px, double split_depth);
+
 }  // namespace aovar::metrics

@@ -3,7 +3,7 @@
 // values are counted in Health instead. SSIM follows Wang et al. 2004 (11x11 Gaussian, sigma 1.5,
 // C1 = 0.01^2, C2 = 0.03^2) with masked windows: each window's weights are renormalised over the pixels
 // that enter it, so image borders, background and non-finite pixels change nothing but the weights. The
-// window sums are separable: one horizontal and one vertical 11-tap pass over six moment channels.
+// window sums are in ssim.cpp; the reference's share of them is computed once per PreparedReference.
 #include "metrics/metrics.h"
 
 #include <algorithm>
@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "metrics/detail.h"
+#include "metrics/ssim.h"
 
 namespace aovar::metrics {
 
@@ -60,109 +61,44 @@ using detail::check_pair;
 using detail::is_compared;
 using detail::pixel_count;
 
-constexpr int kRadius = 5;  // 11 taps
-constexpr double kSigma = 1.5;
-constexpr double kC1 = 0.01 * 0.01;
-constexpr double kC2 = 0.03 * 0.03;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// Normalised 1-D Gaussian taps, index 0 = offset -kRadius.
-std::array<double, 2 * kRadius + 1> gaussian_taps() {
-  std::array<double, 2 * kRadius + 1> taps{};
-  double sum = 0;
-  for (int k = -kRadius; k <= kRadius; ++k) sum += taps[k + kRadius] = std::exp(-(k * k) / (2 * kSigma * kSigma));
-  for (double& t : taps) t /= sum;
-  return taps;
-}
-
-// Weighted window moments: sum of weights, of x, y, x^2, y^2, x*y.
-struct Moments {
-  double w = 0, x = 0, y = 0, xx = 0, yy = 0, xy = 0;
-  void add(double g, const Moments& m) {
-    w += g * m.w;
-    x += g * m.x;
-    y += g * m.y;
-    xx += g * m.xx;
-    yy += g * m.yy;
-    xy += g * m.xy;
-  }
-};
-
-// Mean SSIM over the pixels with valid[i] != 0; only those pixels enter the windows. Returns the sum of
-// the SSIM map (the caller divides by the number of valid pixels).
-double ssim_sum(const FloatImage& a, const FloatImage& b, const std::vector<std::uint8_t>& valid) {
-  const int w = a.width, h = a.height;
-  const auto taps = gaussian_taps();
-  const std::size_t n = pixel_count(a);
-
-  // Horizontal pass straight from the pixels (an invalid pixel contributes nothing).
-  std::vector<Moments> horiz(n);
-  for (int y = 0; y < h; ++y) {
-    const std::size_t row = static_cast<std::size_t>(y) * w;
-    for (int x = 0; x < w; ++x) {
-      Moments acc;
-      const int lo = std::max(x - kRadius, 0), hi = std::min(x + kRadius, w - 1);
-      for (int xx = lo; xx <= hi; ++xx) {
-        const std::size_t j = row + xx;
-        if (!valid[j]) continue;
-        const double g = taps[xx - x + kRadius];
-        const double va = a.pixels[j], vb = b.pixels[j];
-        acc.w += g;
-        acc.x += g * va;
-        acc.y += g * vb;
-        acc.xx += g * va * va;
-        acc.yy += g * vb * vb;
-        acc.xy += g * va * vb;
-      }
-      horiz[row + x] = acc;
-    }
-  }
-
-  // Vertical pass, evaluated only where the map is averaged. A whole output row is accumulated one input row
-  // at a time (reading rows in memory order); each pixel still adds its rows in the order yy = lo..hi.
-  double sum = 0;
-  std::vector<Moments> column(static_cast<std::size_t>(w));
-  for (int y = 0; y < h; ++y) {
-    const int lo = std::max(y - kRadius, 0), hi = std::min(y + kRadius, h - 1);
-    const std::size_t row = static_cast<std::size_t>(y) * w;
-    std::fill(column.begin(), column.end(), Moments{});
-    for (int yy = lo; yy <= hi; ++yy) {
-      const double g = taps[yy - y + kRadius];
-      const Moments* in = &horiz[static_cast<std::size_t>(yy) * w];
-      for (int x = 0; x < w; ++x)
-        if (valid[row + x]) column[x].add(g, in[x]);
-    }
-    for (int x = 0; x < w; ++x) {
-      if (!valid[row + x]) continue;
-      const Moments& m = column[x];
-      // m.w > 0: the centre pixel itself is valid.
-      const double mx = m.x / m.w, my = m.y / m.w;
-      const double vx = std::max(m.xx / m.w - mx * mx, 0.0);
-      const double vy = std::max(m.yy / m.w - my * my, 0.0);
-      const double cxy = m.xy / m.w - mx * my;
-      sum += ((2 * mx * my + kC1) * (2 * cxy + kC2)) / ((mx * mx + my * my + kC1) * (vx + vy + kC2));
-    }
-  }
-  return sum;
-}
 
 }  // namespace
 
+PreparedReference::PreparedReference(const FloatImage& reference, const std::vector<std::uint8_t>& background)
+    : reference_(&reference), background_(&background) {
+  detail::check_image(reference, "reference");
+  check_background(background, reference);
+  std::vector<std::uint8_t> valid(pixel_count(reference), 0);
+  for (std::size_t i = 0; i < valid.size(); ++i)
+    valid[i] = is_compared(background, i) && std::isfinite(reference.pixels[i]);
+  moments_ = std::make_shared<const detail::ReferenceMoments>(detail::reference_moments(reference, std::move(valid)));
+}
+
 ErrorStats compare(const FloatImage& image, const FloatImage& reference, const std::vector<std::uint8_t>& background) {
   check_pair(image, "image", reference, "reference");
-  check_background(background, image);
+  return compare(image, PreparedReference(reference, background));
+}
+
+ErrorStats compare(const FloatImage& image, const PreparedReference& prepared) {
+  const FloatImage& reference = prepared.reference();
+  const std::vector<std::uint8_t>& background = prepared.background();
+  check_pair(image, "image", reference, "reference");
   const std::size_t n = pixel_count(image);
 
   ErrorStats s;
-  std::vector<std::uint8_t> valid(n, 0);
+  bool finite_where_reference_is = true;  // else the windows are the reference's over fewer pixels
   double sum = 0, sum_abs = 0, sum_sq = 0, max_abs = 0;
   long over = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (!is_compared(background, i)) continue;
     const float v = image.pixels[i], r = reference.pixels[i];
     image::count(s.health, v);
-    if (!std::isfinite(v) || !std::isfinite(r)) continue;
-    valid[i] = 1;
+    if (!std::isfinite(r)) continue;
+    if (!std::isfinite(v)) {
+      finite_where_reference_is = false;
+      continue;
+    }
     ++s.finite;
     const double e = static_cast<double>(v) - static_cast<double>(r), ae = std::abs(e);
     sum += e;
@@ -184,7 +120,13 @@ ErrorStats compare(const FloatImage& image, const FloatImage& reference, const s
   s.max = max_abs;
   s.psnr = mse == 0 ? std::numeric_limits<double>::infinity() : -10.0 * std::log10(mse);  // peak 1
   s.share_over_0_1 = static_cast<double>(over) / count;
-  s.ssim = ssim_sum(image, reference, valid) / count;
+  if (finite_where_reference_is) {
+    s.ssim = detail::ssim_sum(image, *prepared.moments_) / count;
+  } else {
+    std::vector<std::uint8_t> valid = prepared.moments_->valid;
+    for (std::size_t i = 0; i < n; ++i) valid[i] = valid[i] && std::isfinite(image.pixels[i]);
+    s.ssim = detail::ssim_sum(image, detail::reference_moments(reference, std::move(valid))) / count;
+  }
   return s;
 }
 

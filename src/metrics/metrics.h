@@ -4,6 +4,7 @@
 // out-of-[0, 1] counts. Non-finite pixels are counted, never averaged in.
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -12,6 +13,10 @@
 #include "metrics/breakdown.h"
 
 namespace aovar::metrics {
+
+namespace detail {
+struct ReferenceMoments;
+}
 
 struct ErrorStats {
   double rmse = 0, mae = 0, psnr = 0, ssim = 1, bias = 0, max = 0;
@@ -37,6 +42,27 @@ struct ErrorStats {
 // So nothing under the mask, nor a NaN or Inf, changes any metric but the counts.
 ErrorStats compare(const image::FloatImage& image, const image::FloatImage& reference,
                    const std::vector<std::uint8_t>& background = {});
+
+// compare()'s work that depends on the reference alone (its valid pixels and SSIM window sums), done once for
+// the many images compared against one reference. It refers to `reference` and `background`, which must
+// outlive it. std::invalid_argument as compare's for pixels that do not fill the size or a mask of the wrong
+// size.
+class PreparedReference {
+ public:
+  PreparedReference(const image::FloatImage& reference, const std::vector<std::uint8_t>& background = {});
+  const image::FloatImage& reference() const { return *reference_; }
+  const std::vector<std::uint8_t>& background() const { return *background_; }
+
+ private:
+  friend ErrorStats compare(const image::FloatImage& image, const PreparedReference& reference);
+  const image::FloatImage* reference_;
+  const std::vector<std::uint8_t>* background_;
+  std::shared_ptr<const detail::ReferenceMoments> moments_;
+};
+
+// The same as compare(image, reference.reference(), reference.background()), bit for bit: an image that is not
+// finite where the reference is has its windows summed again over its own valid pixels.
+ErrorStats compare(const image::FloatImage& image, const PreparedReference& reference);
 
 // Signed error heat map as an RGB PNG: white at 0, red where the image is darker (more occluded) than the
 // reference, blue where lighter, saturating at |error| = `scale`; background mid-grey (128); NaN/Inf (of

@@ -12,11 +12,23 @@ metrics::ErrorStats score(const image::FloatImage& image, const reference::Refer
 
 metrics::ErrorStats score(const image::FloatImage& image, const reference::ReferenceImage& truth,
                           const scene::View& view, float radius) {
-  metrics::ErrorStats s = score(image, truth);
+  return ViewScorer(truth, view, radius)(image);
+}
+
+ViewScorer::ViewScorer(const reference::ReferenceImage& truth, const scene::View& view, float radius)
+    : truth_(&truth), prepared_(truth.visibility, truth.background) {
   const image::FloatImage& depth = truth.depth;
-  if (depth.width != image.width || depth.height != image.height || depth.pixels.empty()) return s;
-  const double band = edge_band_px(view, radius, {image.width, image.height}, metrics::median_depth(depth, truth.background));
-  s.breakdown = metrics::error_breakdown(image, truth.visibility, truth.background, depth, band);
+  has_depth_ = depth.width == truth.visibility.width && depth.height == truth.visibility.height && !depth.pixels.empty();
+  if (!has_depth_) return;
+  split_depth_ = metrics::median_depth(depth, truth.background);
+  band_px_ = edge_band_px(view, radius, {depth.width, depth.height}, split_depth_);
+}
+
+metrics::ErrorStats ViewScorer::operator()(const image::FloatImage& image) const {
+  metrics::ErrorStats s = metrics::compare(image, prepared_);
+  if (has_depth_)
+    s.breakdown = metrics::error_breakdown(image, truth_->visibility, truth_->background, truth_->depth, band_px_,
+                                           split_depth_);
   return s;
 }
 

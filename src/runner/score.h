@@ -18,6 +18,21 @@ metrics::ErrorStats score(const image::FloatImage& image, const reference::Refer
 metrics::ErrorStats score(const image::FloatImage& image, const reference::ReferenceImage& truth,
                           const scene::View& view, float radius);
 
+// Scores the many images of one view against its reference: what depends on the reference alone (compare's
+// metrics::PreparedReference, the median depth and the edge band) is computed once. Bit for bit the score above.
+// It refers to `truth`, which must outlive it.
+class ViewScorer {
+ public:
+  ViewScorer(const reference::ReferenceImage& truth, const scene::View& view, float radius);
+  metrics::ErrorStats operator()(const image::FloatImage& image) const;
+
+ private:
+  const reference::ReferenceImage* truth_;
+  metrics::PreparedReference prepared_;
+  bool has_depth_ = false;  // a depth of the reference's size: the breakdown is known
+  double split_depth_ = 0, band_px_ = 0;
+};
+
 // The screen-edge band: the AO radius in pixels at `median_depth` (the shaders' ao_radius_px, from the frame
 // block they get: clip.z * clip.w / z), capped like it at a quarter of the shorter side. A tap reaches at
 // most that far from its pixel, so a pixel closer than this to an edge has taps that leave the frame; the

@@ -177,6 +177,32 @@ TEST(Metrics, SsimFallsWithNoiseAndBlur) {
   EXPECT_NEAR(metrics::compare(noisy, ref).ssim, metrics::compare(ref, noisy).ssim, 1e-12);
 }
 
+// One reference prepared, many images compared against it, interleaved with another reference of another size
+// (the comparisons' scratch buffers are reused): each SSIM is the direct window sum's, and the same image gives
+// the same bits every time. Widths below, at and above the window, odd and even; an image that is not finite
+// where its reference is takes the windows of its own pixels.
+TEST(Metrics, APreparedReferenceScoresEveryImageAsTheDirectSumDoes) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+  for (auto [w, h] : {std::pair{4, 9}, {11, 6}, {37, 29}, {64, 40}}) {
+    FloatImage ref = filled_image(w, h, 0), other = structured(w + 3, h + 2);
+    for (float& v : ref.pixels) v = uniform(rng);
+    std::vector<std::uint8_t> background(ref.pixels.size(), 0);
+    for (auto& b : background) b = uniform(rng) < 0.2f;
+    background[static_cast<std::size_t>(h / 2) * w + w / 2] = 0;  // compared: the hole below counts
+    const metrics::PreparedReference prepared(ref, background), prepared_other(other);
+    FloatImage holed = with_noise(ref, 0.2, 3);
+    holed.at(w / 2, h / 2) = kNaN;
+    for (const FloatImage& img : {with_noise(ref, 0.1, 1), holed}) {
+      const double first = metrics::compare(img, prepared).ssim;
+      const double between = metrics::compare(with_noise(other, 0.1, 2), prepared_other).ssim;
+      EXPECT_NEAR(first, direct_ssim(img, ref, background), 1e-9) << w << "x" << h;
+      EXPECT_NEAR(between, direct_ssim(with_noise(other, 0.1, 2), other, {}), 1e-9) << w << "x" << h;
+      EXPECT_EQ(metrics::compare(img, prepared).ssim, first) << w << "x" << h;
+    }
+  }
+}
+
 TEST(Metrics, SsimMatchesDirectWindowSum) {
   std::mt19937 rng(42);
   std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
