@@ -1,8 +1,10 @@
 #include "gpu/gpu.h"
 
+#include <algorithm>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -19,6 +21,7 @@
 #include "render/vulkan/vk_pipeline.h"
 #include "util/clock.h"
 #include "util/isolated.h"
+#include "util/parallel.h"
 
 namespace aovar::gpu {
 namespace {
@@ -97,15 +100,16 @@ Work plan_work(const compile::CompiledSpace& compiled, const std::vector<int>& v
   return w;
 }
 
-// The child's side: "d {device, driver}", then "p <pipeline> {u, s}" per pipeline; an exception is "e <what>".
-int compile_family(const Work& w, const std::string& family, const std::filesystem::path& icd,
-                   util::LineWriter& out) {
+// The child's side, for pipelines slice, slice + slices, ...: "d {device, driver}", then "p <pipeline> {u, s}"
+// per pipeline; an exception is "e <what>".
+int compile_family(const Work& w, const std::string& family, const std::filesystem::path& icd, std::size_t slice,
+                   std::size_t slices, util::LineWriter& out) {
   try {
     NullDevice device(family, icd);
     out.line("d " + nlohmann::json{{"device", device.device_name()}, {"driver", device.driver()}}.dump());
     // Test hook: a compiler crash in this family must cost this family only (tests/gpu/test_gpu.cpp).
     if (const char* crash = std::getenv("AOVAR_GPU_TEST_CRASH"); crash && family == crash) std::raise(SIGSEGV);
-    for (std::size_t i = 0; i < w.pipelines.size(); ++i) {
+    for (std::size_t i = slice; i < w.pipelines.size(); i += slices) {
       const UniquePipeline& p = w.pipelines[i];
       const ShaderStats unrolled = device.fragment_stats(p.unrolled);
       const ShaderStats shipped = p.loops_unrolled ? device.fragment_stats(p.shipped) : unrolled;
@@ -129,32 +133,42 @@ std::string ending(const util::ChildOutcome& how, const std::string& error, std:
   return "";
 }
 
+// Children per family: ACO compiles one pipeline at a time, so the pipelines are dealt out to a child per core;
+// a child's device costs little next to a few dozen pipelines.
+std::size_t compiling_children(std::size_t pipelines) {
+  constexpr std::size_t kPipelinesPerChild = 32;
+  return std::clamp<std::size_t>((pipelines + kPipelinesPerChild - 1) / kPipelinesPerChild, 1, util::pool_threads(0));
+}
+
 FamilyStats run_family(const Work& w, const std::string& family, const std::filesystem::path& icd) {
   FamilyStats f;
   f.family = family;
   f.compiler = "radv";
   std::vector<std::optional<std::pair<ShaderStats, ShaderStats>>> results(w.pipelines.size());
   std::size_t done = 0;
-  std::string error;
-  const auto how = util::run_isolated(
-      [&](util::LineWriter& out) { return compile_family(w, family, icd, out); },
-      [&](const std::string& line) {
-        if (line.size() < 2) return;
-        const std::string rest(line, 2);
-        if (line[0] == 'd') {
-          const auto j = nlohmann::json::parse(rest);
-          f.device = j.at("device").get<std::string>();
-          f.driver = j.at("driver").get<std::string>();
-        } else if (line[0] == 'p') {
-          const std::size_t space = rest.find(' ');
-          const auto j = nlohmann::json::parse(rest.substr(space + 1));
-          results.at(std::stoul(rest.substr(0, space))) = {stats_from_json(j.at("u")), stats_from_json(j.at("s"))};
-          ++done;
-        } else if (line[0] == 'e') {
-          error = rest;
-        }
-      });
-  f.error = ending(how, error, done, w.pipelines.size());
+  const std::size_t slices = compiling_children(w.pipelines.size());
+  std::vector<std::function<int(util::LineWriter&)>> children;
+  for (std::size_t k = 0; k < slices; ++k)
+    children.push_back([&, k](util::LineWriter& out) { return compile_family(w, family, icd, k, slices, out); });
+  std::vector<std::string> errors(slices);
+  const auto outcomes = util::run_isolated_all(children, [&](std::size_t child, const std::string& line) {
+    if (line.size() < 2) return;
+    const std::string rest(line, 2);
+    if (line[0] == 'd') {
+      const auto j = nlohmann::json::parse(rest);
+      f.device = j.at("device").get<std::string>();
+      f.driver = j.at("driver").get<std::string>();
+    } else if (line[0] == 'p') {
+      const std::size_t space = rest.find(' ');
+      const auto j = nlohmann::json::parse(rest.substr(space + 1));
+      results.at(std::stoul(rest.substr(0, space))) = {stats_from_json(j.at("u")), stats_from_json(j.at("s"))};
+      ++done;
+    } else if (line[0] == 'e') {
+      errors[child] = rest;
+    }
+  });
+  for (std::size_t k = 0; k < slices && f.error.empty(); ++k)
+    f.error = ending(outcomes[k], errors[k], done, w.pipelines.size());
   std::vector<int> index(w.pipelines.size(), -1);  // pipeline -> its place in f.pipelines (done ones only)
   for (std::size_t i = 0; i < w.pipelines.size(); ++i) {
     if (!results[i]) continue;

@@ -6,6 +6,7 @@
 #include <functional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace aovar::util {
 
@@ -41,5 +42,11 @@ inline constexpr int kUncaughtExit = 70;
 // child (SIGKILL), reaps it and propagates.
 ChildOutcome run_isolated(const std::function<int(LineWriter&)>& child,
                           const std::function<void(const std::string&)>& on_line);
+
+// Several children at once, each as run_isolated's: all are forked first, then each complete line goes to
+// on_line(child index, line) as it arrives (in order within a child, interleaved across them). Returns each
+// child's outcome, in their order. An exception from `on_line` kills and reaps every child and propagates.
+std::vector<ChildOutcome> run_isolated_all(const std::vector<std::function<int(LineWriter&)>>& children,
+                                           const std::function<void(std::size_t, const std::string&)>& on_line);
 
 }  // namespace aovar::util

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <functional>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
@@ -114,6 +115,56 @@ TEST(Isolated, AThrowingLineHandlerStopsTheChild) {
                    }),
                std::runtime_error);
   EXPECT_EQ(seen, 3);
+}
+
+// Children at once: every line reaches the parent with its child's index, in order within each child (the
+// second writes more than a pipe holds, interleaved with the others), and each child's end is its own: an exit
+// status, a signal with its cut-off line.
+TEST(Isolated, ChildrenAtOnceKeepTheirLinesAndEnds) {
+  std::vector<std::function<int(util::LineWriter&)>> children = {
+      [](util::LineWriter& out) {
+        out.line("a1");
+        out.line("a2");
+        return 0;
+      },
+      [](util::LineWriter& out) {
+        for (int i = 0; i < 2000; ++i) out.line("b" + std::to_string(i));
+        return 3;
+      },
+      [](util::LineWriter& out) -> int {
+        out.line("c1");
+        out.write("cut");
+        std::raise(SIGKILL);
+        return 0;
+      }};
+  std::vector<std::vector<std::string>> lines(children.size());
+  const auto outcomes = util::run_isolated_all(children, [&](std::size_t child, const std::string& line) {
+    lines.at(child).push_back(line);
+  });
+  ASSERT_EQ(outcomes.size(), 3u);
+  EXPECT_EQ(lines[0], (std::vector<std::string>{"a1", "a2"}));
+  ASSERT_EQ(lines[1].size(), 2000u);
+  for (int i = 0; i < 2000; ++i) EXPECT_EQ(lines[1][i], "b" + std::to_string(i));
+  EXPECT_EQ(lines[2], std::vector<std::string>{"c1"});
+  EXPECT_TRUE(outcomes[0].ok());
+  EXPECT_EQ(outcomes[1].exit_code, 3);
+  EXPECT_EQ(outcomes[2].signal, SIGKILL);
+  EXPECT_TRUE(outcomes[2].cut_off);
+  EXPECT_EQ(outcomes[2].partial, "cut");
+}
+
+TEST(Isolated, AThrowingLineHandlerStopsEveryChild) {
+  std::vector<std::function<int(util::LineWriter&)>> children(3, [](util::LineWriter& out) {
+    for (;;) out.line("again");
+    return 0;
+  });
+  int seen = 0;
+  EXPECT_THROW(util::run_isolated_all(children,
+                                      [&](std::size_t, const std::string&) {
+                                        if (++seen == 5) throw std::runtime_error("enough");
+                                      }),
+               std::runtime_error);
+  EXPECT_EQ(seen, 5);
 }
 
 }  // namespace
