@@ -74,4 +74,12 @@ std::vector<std::pair<std::string, const gpu::FetchTrace*>> TraceSet::keyed(int 
   return out;
 }
 
+std::unique_ptr<gpu::FetchTrace> TraceSet::take(const std::string& key) {
+  auto it = traces_.find(key);
+  if (it == traces_.end()) return nullptr;
+  std::unique_ptr<gpu::FetchTrace> out = std::move(it->second);
+  traces_.erase(it);
+  return out;
+}
+
 }  // namespace aovar::trace

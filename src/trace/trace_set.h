@@ -28,6 +28,9 @@ class TraceSet {
   // The same, by draw key, with nullptr for a draw the plan drops at this frame size. Draws whose key is in
   // `skip` (their traffic is known already) are neither traced nor returned.
   std::vector<std::pair<std::string, const gpu::FetchTrace*>> keyed(int variant, const std::set<std::string>& skip = {});
+  // Hands the trace of draw `key` out of the set (null when it holds none): for a caller that keeps what it needs
+  // of it. A later keyed() that does not skip the key traces it again.
+  std::unique_ptr<gpu::FetchTrace> take(const std::string& key);
   // The key and pass of each traceable draw of `variant`, without tracing anything.
   std::vector<std::pair<std::string, std::string>> draws_of(int variant) const;
   // The same of a plan (runner::plan_variant), without a runner.
