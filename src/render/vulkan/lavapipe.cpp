@@ -64,6 +64,7 @@ struct SharedVkPipeline {
 struct DrawState {
   std::shared_ptr<SharedVkPipeline> pipeline;
   VkExtent2D extent{};
+  VkRect2D scissor{};         // the viewport's pixels the draw shades (render::Draw::scissor, else all)
   VkDescriptorSet sets[2]{};  // per frame parity (one when nothing is double-buffered)
   VkDeviceSize params_offset = 0, params_range = 0;
   Buffer trace;  // trace builds only: Draw::trace_words words at binding kTrace
@@ -258,6 +259,9 @@ void LavapipePipeline::record_frame(int p, float far_plane, const SceneBuffers& 
     if (d.depth != DepthUse::none) ri.pDepthAttachment = &depth_target;
     vkCmdBeginRendering(cmd, &ri);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, s.pipeline->pipeline);
+    const VkViewport viewport{0, 0, float(s.extent.width), float(s.extent.height), 0.0f, 1.0f};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &s.scissor);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, dev->pipeline_layout, 0, 1, &s.sets[p % parities],
                             0, nullptr);
     if (d.geometry) {
@@ -348,10 +352,10 @@ class LavapipeBackend final : public Backend {
   vk::PipelineDesc describe_pipeline(const PipelinePlan& plan, const Draw& draw, VkExtent2D extent,
                                      const std::vector<VkShaderModule>& modules) const;
   VkPipeline create_pipeline(const PipelinePlan& plan, const Draw& draw, const vk::PipelineDesc& desc);
-  // The pipeline of `draw`: a recent one with the same key (its shaders' code, formats, depth use, extent and
-  // scissor), else created and kept.
-  std::shared_ptr<SharedVkPipeline> reuse_or_create(const PipelinePlan& plan, const Draw& draw, VkExtent2D extent,
-                                                    const std::vector<VkShaderModule>& modules,
+  // The pipeline of `draw` (described by `desc`): a recent one with the same key (its shaders' code, formats,
+  // depth use; the viewport is dynamic), else created and kept.
+  std::shared_ptr<SharedVkPipeline> reuse_or_create(const PipelinePlan& plan, const Draw& draw,
+                                                    const vk::PipelineDesc& desc,
                                                     const std::vector<std::string>& code_hashes);
   void create_frame_objects(const PipelinePlan& plan, LavapipePipeline& pp);
   void init_textures(LavapipePipeline& pp);
@@ -365,7 +369,8 @@ class LavapipeBackend final : public Backend {
   // Pipeline reuse. Most draws of a variant are another variant's (one blur program serves many methods, every
   // blur variant has its method's AO draw), and lavapipe compiles each pipeline's shaders with LLVM at creation
   // (15 % of the screen's stills on Sponza), so the most recently used pipelines are kept by key and handed out
-  // again. The key is the pipeline's whole description (describe_pipeline): the same key, the same pipeline.
+  // again. The key is the pipeline's whole description (describe_pipeline) but the viewport and scissor, which
+  // are dynamic state: the same key, the same pipeline, at any extent (an AO draw at 1/1, 1/2 and 1/4).
   struct KeptPipeline {
     std::shared_ptr<SharedVkPipeline> pipeline;
     std::uint64_t last_use = 0;
@@ -448,23 +453,23 @@ void LavapipeBackend::create_pipelines(const PipelinePlan& plan, LavapipePipelin
   for (std::size_t i = 0; i < plan.draws.size(); ++i) {
     const Draw& dr = plan.draws[i];
     if (pp.gbuffer && i == pp.gbuffer_draw) continue;  // the shared G-buffer's own pipeline draws it
-    pp.states[i].pipeline = reuse_or_create(plan, dr, pp.states[i].extent, shaders.modules, code_hashes);
+    DrawState& state = pp.states[i];
+    const vk::PipelineDesc desc = describe_pipeline(plan, dr, state.extent, shaders.modules);
+    state.scissor = desc.scissor.extent.width > 0 ? desc.scissor : VkRect2D{{0, 0}, state.extent};
+    state.pipeline = reuse_or_create(plan, dr, desc, code_hashes);
     dev_->check_validation(fmt::format("pipeline creation of draw {} ({} + {})", dr.name,
                                        plan.shaders[dr.vertex].program_key, plan.shaders[dr.fragment].program_key));
   }
 }
 
 std::shared_ptr<SharedVkPipeline> LavapipeBackend::reuse_or_create(const PipelinePlan& plan, const Draw& dr,
-                                                                   VkExtent2D extent,
-                                                                   const std::vector<VkShaderModule>& modules,
+                                                                   const vk::PipelineDesc& desc,
                                                                    const std::vector<std::string>& code_hashes) {
-  // The key is the description create_pipeline gets, with the shaders' code for their per-prepare modules.
-  const vk::PipelineDesc desc = describe_pipeline(plan, dr, extent, modules);
-  const VkRect2D& sc = desc.scissor;
-  std::string key = fmt::format("{}|{}|{}|{}|{}x{}|{},{},{}x{}|{}|{}", code_hashes.at(dr.vertex),
-                                code_hashes.at(dr.fragment), static_cast<int>(desc.depth), desc.geometry,
-                                desc.extent.width, desc.extent.height, sc.offset.x, sc.offset.y, sc.extent.width,
-                                sc.extent.height, fmt::join(desc.colour_formats, ","), desc.flags);
+  // The key is the description create_pipeline gets, with the shaders' code for their per-prepare modules; the
+  // viewport and scissor are dynamic (set while recording), so no extent is in it.
+  std::string key = fmt::format("{}|{}|{}|{}|{}|{}", code_hashes.at(dr.vertex), code_hashes.at(dr.fragment),
+                                static_cast<int>(desc.depth), desc.geometry, fmt::join(desc.colour_formats, ","),
+                                desc.flags);
   KeptPipeline& kept = kept_pipelines_[key];
   kept.last_use = ++pipeline_uses_;
   if (!kept.pipeline) {
@@ -495,6 +500,7 @@ vk::PipelineDesc LavapipeBackend::describe_pipeline(const PipelinePlan& plan, co
     desc.scissor = {{x0, y0}, {unsigned(w), unsigned(h)}};
   }
   desc.layout = dev_->pipeline_layout;
+  desc.dynamic_viewport = true;
   return desc;
 }
 

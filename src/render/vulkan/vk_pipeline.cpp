@@ -73,6 +73,11 @@ VkResult create_graphics_pipeline(VkDevice device, const PipelineDesc& d, VkPipe
   rendering.pColorAttachmentFormats = d.colour_formats.data();
   rendering.depthAttachmentFormat = d.depth != DepthUse::none ? kDepthFormat : VK_FORMAT_UNDEFINED;
 
+  const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+  dynamic.dynamicStateCount = 2;
+  dynamic.pDynamicStates = dynamic_states;
+
   VkGraphicsPipelineCreateInfo gci{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
   gci.pNext = &rendering;
   gci.flags = d.flags;
@@ -86,6 +91,7 @@ VkResult create_graphics_pipeline(VkDevice device, const PipelineDesc& d, VkPipe
   gci.pDepthStencilState = &ds;
   gci.pColorBlendState = &cb;
   gci.layout = d.layout;
+  if (d.dynamic_viewport) gci.pDynamicState = &dynamic;
   return vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &gci, nullptr, pipeline);
 }
 

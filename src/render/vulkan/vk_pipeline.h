@@ -21,6 +21,9 @@ struct PipelineDesc {
   DepthUse depth = DepthUse::none;
   VkExtent2D extent{1, 1};               // viewport, and scissor unless `scissor` has an extent
   VkRect2D scissor{{0, 0}, {0, 0}};      // a part of the viewport (trace builds: render::Draw::scissor)
+  // Viewport and scissor set while recording (vkCmdSetViewport, vkCmdSetScissor) instead of the two above, so
+  // one pipeline serves every extent: lavapipe compiles its shaders per pipeline, never per viewport.
+  bool dynamic_viewport = false;
   VkPipelineLayout layout = VK_NULL_HANDLE;
   VkPipelineCreateFlags flags = 0;
 };
