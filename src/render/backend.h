@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -123,7 +124,9 @@ class Backend {
   struct TracedDraw {
     std::string name, pass;
     int level = 0;                     // MIP level the draw writes
-    std::vector<std::uint32_t> words;  // Draw::trace_words of them
+    // Draw::trace_words of them, in the prepared pipeline's memory (a trace is tens of megabytes): valid until it
+    // renders again or is destroyed.
+    std::span<const std::uint32_t> words;
   };
   virtual std::vector<TracedDraw> read_traces(PreparedPipeline& pipeline);
 };

@@ -97,11 +97,13 @@ gpu::FetchTrace empty_trace(const render::Draw& d, const Window& w, render::Exte
 // of inputs bound to one level of a chain to that level, and keeping every read inside its level as
 // max(1, extent >> level) counts it (lavapipe's textureSize can report a level one texel larger at odd
 // sizes, so a template's own clamp may let a read one texel past the edge through).
-void fill_band(gpu::FetchTrace& t, const Window& band, const std::vector<std::uint32_t>& words,
+void fill_band(gpu::FetchTrace& t, const Window& band, std::span<const std::uint32_t> words,
                const std::map<int, int>& lod_offset) {
-  t.overflowed_pixels += words.at(0);
+  if (words.empty()) throw std::logic_error("trace: a traced draw came back without its overflow count");
+  t.overflowed_pixels += words[0];
   const std::size_t offset = std::size_t(band.y0 - t.y0) * t.width * t.max_taps;
-  std::copy(words.begin() + 1, words.end(), t.reads.begin() + std::ptrdiff_t(offset));
+  if (offset + words.size() - 1 > t.reads.size())
+    throw std::logic_error("trace: a band's words run past its trace's reads");
   // Per slot (3 bits: at most 8), looked up once: a band holds tens of millions of reads.
   std::array<int, 8> add_lod{}, width{}, height{};
   width.fill(-1);
@@ -110,15 +112,20 @@ void fill_band(gpu::FetchTrace& t, const Window& band, const std::vector<std::ui
     width.at(std::size_t(tex.slot)) = tex.width;
     height.at(std::size_t(tex.slot)) = tex.height;
   }
-  for (std::size_t k = offset; k < offset + words.size() - 1; ++k) {
-    if (t.reads[k] == gpu::kNoRead) continue;
-    gpu::TexelRead r = gpu::unpack_read(t.reads[k]);
+  for (std::size_t k = 0; k + 1 < words.size(); ++k) {  // one pass: copied and moved together
+    const std::uint32_t word = words[k + 1];
+    std::uint32_t& out = t.reads[offset + k];
+    if (word == gpu::kNoRead) {
+      out = word;
+      continue;
+    }
+    gpu::TexelRead r = gpu::unpack_read(word);
     r.lod += add_lod[std::size_t(r.slot)];
     if (const int w = width[std::size_t(r.slot)]; w >= 0) {
       r.x = std::min(r.x, std::max(1, w >> r.lod) - 1);
       r.y = std::min(r.y, std::max(1, height[std::size_t(r.slot)] >> r.lod) - 1);
     }
-    t.reads[k] = gpu::pack_read(r);
+    out = gpu::pack_read(r);
   }
 }
 

@@ -140,7 +140,7 @@ TrafficStats add_traffic(runner::VariantRunner& runner, const std::vector<int>& 
   };
   std::vector<Estimated> estimated;
   std::vector<std::pair<std::string, std::string>> fresh;
-  {
+  try {
     // Every unknown draw traced (once per draw) and simulated (once per draw and family), the simulations on a
     // worker while the next variant traces.
     SimulationQueue queue;
@@ -155,6 +155,9 @@ TrafficStats add_traffic(runner::VariantRunner& runner, const std::vector<int>& 
       trace_unknown(set, v, estimated.back().draws, families, cache, memo, stats, queue, fresh);
     }
     stats.simulate_seconds += queue.finish();
+  } catch (...) {
+    for (const auto& entry : fresh) memo.erase(entry);  // made before their results: none may be read later
+    throw;
   }
   for (const auto& [draw, family] : fresh) cache.store(draw, family, memo.at({draw, family}));
   // Each pass's draws merged, and its roofline redone on their traffic.

@@ -971,7 +971,7 @@ std::vector<Backend::TracedDraw> LavapipeBackend::read_traces(PreparedPipeline& 
     if (d.trace_words <= 0) continue;
     // Host-coherent memory, read after render() waited on the frame's fence.
     const auto* words = static_cast<const std::uint32_t*>(pp.states[i].trace.mapped);
-    out.push_back({d.name, d.pass, d.level, std::vector<std::uint32_t>(words, words + d.trace_words)});
+    out.push_back({d.name, d.pass, d.level, std::span<const std::uint32_t>(words, std::size_t(d.trace_words))});
   }
   return out;
 }
