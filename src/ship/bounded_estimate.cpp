@@ -197,6 +197,9 @@ BoundedEstimate estimate_in_error_order(table::CostTable& screen, const std::vec
     return rows;
   };
   trace::RowTracer tracer(request);
+  std::set<std::string> candidate_keys;
+  for (const BoundCandidate& c : candidates) candidate_keys.insert(c.key);
+  tracer.expect(candidate_keys);  // one compilation for every chunk
   // Most draws are shared (every blur variant of a method has its AO draw, one blur program serves many
   // methods), so a candidate's shared passes are often simulated before it is reached: their traced estimates
   // and the ALU time of its other passes bound its estimate before its own trace (trace::RowTracer::cached).

@@ -8,16 +8,27 @@
 #include <fmt/ranges.h>
 
 #include "compile/generate.h"
+#include "gpu/pass_loads.h"
 #include "runner/variant_runner.h"
 #include "scene/scene.h"
 
 namespace aovar::trace {
 
-// The rows' variants compiled for the Vulkan target (trace builds run there), with their index and loads.
+// The rows' variants compiled for the Vulkan target (trace builds run there), with their index. A variant's pass
+// loads are analysed when a row of it is first estimated, not for every variant compiled: most of a screen's
+// candidates are dropped before either.
 struct RowTracer::Compiled {
   compile::CompiledSpace compiled;
   std::map<std::string, int> index;
-  std::map<std::string, std::vector<gpu::PassLoad>> loads;
+  std::map<std::string, std::vector<gpu::PassLoad>> loads;  // by variant key, those analysed so far
+  std::map<std::string, analyze::ProgramCost> analysed;     // by program key (gpu::pass_loads)
+
+  // The loads of every variant of `keys` that this compilation holds, analysed now where they are not yet.
+  void analyse(const std::set<std::string>& keys) {
+    for (const std::string& key : keys)
+      if (auto it = index.find(key); it != index.end() && !loads.count(key))
+        loads[key] = gpu::pass_loads(render::plan_pipeline(compiled, it->second, variants::Target::vulkan), analysed);
+  }
 };
 
 namespace {
@@ -28,15 +39,11 @@ CompiledRows compile_rows(const std::set<std::string>& keys, const compile::RunS
   compile::CompileOptions co{scope};
   co.scope.targets = {variants::Target::vulkan};
   co.globs.assign(keys.begin(), keys.end());
-  CompiledRows out{compile::compile_space(co), {}, {}};
+  CompiledRows out{compile::compile_space(co), {}, {}, {}};
   if (!out.compiled.ok())
     throw std::runtime_error("trace: the rows' variants do not compile: " + out.compiled.diagnostics.front());
-  std::vector<int> all;
-  for (std::size_t i = 0; i < out.compiled.space.variants.size(); ++i) {
+  for (std::size_t i = 0; i < out.compiled.space.variants.size(); ++i)
     out.index[out.compiled.space.variants[i].key] = int(i);
-    all.push_back(int(i));
-  }
-  out.loads = gpu::variant_loads(out.compiled, all);
   return out;
 }
 
@@ -62,12 +69,30 @@ struct RowTracer::View {
 RowTracer::RowTracer(RowGpuRequest request) : request_(std::move(request)) {}
 RowTracer::~RowTracer() = default;
 
-const RowTracer::Compiled& RowTracer::compiled_for(const std::set<std::string>& keys) {
+void RowTracer::expect(const std::set<std::string>& keys) { expected_.insert(keys.begin(), keys.end()); }
+
+RowTracer::Compiled& RowTracer::compiled_for(const std::set<std::string>& keys) {
   if (!compiled_ || !std::includes(compiled_keys_.begin(), compiled_keys_.end(), keys.begin(), keys.end())) {
-    compiled_ = std::make_unique<Compiled>(compile_rows(keys, request_.scope));
-    compiled_keys_ = keys;
+    std::set<std::string> all = expected_;
+    all.insert(keys.begin(), keys.end());
+    runner_.reset();  // it renders the compilation it was made with
+    compiled_ = std::make_unique<Compiled>(compile_rows(all, request_.scope));
+    compiled_keys_ = std::move(all);
   }
+  compiled_->analyse(keys);
   return *compiled_;
+}
+
+runner::VariantRunner& RowTracer::runner() {
+  if (!runner_) {
+    runner::RunnerOptions ro;
+    ro.backend = render::backend_for(variants::Target::vulkan);  // trace builds run on the Vulkan target
+    ro.size = request_.gpu.frame;
+    ro.calibration = request_.calibration;
+    ro.device.threads = request_.scope.threads;
+    runner_ = std::make_unique<runner::VariantRunner>(compiled_->compiled, ro);
+  }
+  return *runner_;
 }
 
 RowTracer::View& RowTracer::view_of(const table::CostRow& row) {
@@ -98,12 +123,7 @@ TrafficStats RowTracer::trace(const std::vector<table::CostRow*>& rows) {
   for (table::CostRow* r : rows)
     if (!r->gpu.empty()) by_view[{r->scene, r->view}].push_back(r);
 
-  runner::RunnerOptions ro;
-  ro.backend = render::backend_for(variants::Target::vulkan);  // trace builds run on the Vulkan target
-  ro.size = request_.gpu.frame;
-  ro.calibration = request_.calibration;
-  ro.device.threads = request_.scope.threads;
-  runner::VariantRunner runner(c.compiled, ro);
+  runner::VariantRunner& runner = this->runner();
   TraceOptions options;
   options.window_share = request_.gpu.window;
   for (auto& [where, view_rows] : by_view) {

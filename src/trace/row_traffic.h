@@ -22,6 +22,9 @@
 namespace aovar::scene {
 struct Scene;
 }
+namespace aovar::runner {
+class VariantRunner;
+}
 
 namespace aovar::trace {
 
@@ -59,6 +62,8 @@ class RowTracer {
   RowTracer(const RowTracer&) = delete;
   RowTracer& operator=(const RowTracer&) = delete;
 
+  // The variants later calls will ask for: compiled with the first call's, once, rather than a chunk at a time.
+  void expect(const std::set<std::string>& keys);
   TrafficStats trace(const std::vector<table::CostRow*>& rows);  // add_row_traffic
   // Per row of `rows` (in order), pass -> its traced estimate on `family`, for the passes whose every draw on the
   // row's view was simulated by an earlier call or an earlier run (trace::cached_pass_estimates). Renders nothing.
@@ -70,13 +75,18 @@ class RowTracer {
  private:
   struct View;
   View& view_of(const table::CostRow& row);
-  const Compiled& compiled_for(const std::set<std::string>& keys);  // the last compilation when it holds them
+  // The last compilation when it holds `keys` (else one of them and the expected), their loads analysed.
+  Compiled& compiled_for(const std::set<std::string>& keys);
+  // The trace runner on the current compilation, kept across calls: its pipelines and G-buffers serve the next.
+  runner::VariantRunner& runner();
   RowGpuRequest request_;
   std::unique_ptr<Compiled> compiled_;
+  std::set<std::string> expected_;
   TrafficStats read_ahead_;  // draws `cached` read from the cache dir: reported by the next `trace`
   std::set<std::string> compiled_keys_;
   std::map<std::string, std::unique_ptr<scene::Scene>> scenes_;                  // by scene spec, loaded once
   std::map<std::pair<std::string, std::string>, std::unique_ptr<View>> views_;  // (scene, view)
+  std::unique_ptr<runner::VariantRunner> runner_;  // last: destroyed before the compilation and scenes it reads
 };
 
 // `measure --gpu` and `sweep --gpu`: each row's ISA statistics and roofline per family (gpu::costs_by_key),

@@ -13,4 +13,17 @@ bool glob_any(const std::vector<std::string>& patterns, std::string_view text) {
     if (glob_match(p, text)) return true;
   return false;
 }
+
+GlobSet::GlobSet(const std::vector<std::string>& patterns) : any_(patterns.empty()) {
+  for (const std::string& p : patterns)
+    if (p.find_first_of("*?[\\") == std::string::npos) literal_.insert(p);
+    else wild_.push_back(p);
+}
+
+bool GlobSet::matches(std::string_view text) const {
+  if (any_ || literal_.count(text)) return true;
+  for (const std::string& p : wild_)
+    if (glob_match(p, text)) return true;
+  return false;
+}
 }  // namespace aovar::util

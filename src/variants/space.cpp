@@ -150,6 +150,7 @@ VariantSpace build_space(const Manifest& m, const std::vector<std::string>& glob
   std::map<std::string, ProgramSpec> programs;
   std::map<std::string, std::vector<std::array<std::string, 2>>> pass_programs;  // variant -> program keys
   RuleWalk rules(m);
+  const util::GlobSet selected(globs);
 
   // The product in mixed radix, last axis fastest; `first_changed` is the lowest axis the step carried into.
   Point p{};
@@ -174,7 +175,7 @@ VariantSpace build_space(const Manifest& m, const std::vector<std::string>& glob
       if (!read[a]) collapsed[a] = -1;
     std::string key = variant_key(m, collapsed);
     if (variants.count(key)) continue;
-    if (!util::glob_any(globs, key) || exclude.count(key)) {
+    if (!selected.matches(key) || exclude.count(key)) {
       ++out.filtered_out;
       variants.emplace(key, VariantEntry{});  // remember, so the collapse count stays right
       continue;

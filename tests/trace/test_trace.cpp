@@ -215,6 +215,17 @@ TEST(TraceCut, ATraceWithoutAnImageRecordsWhatTheWholeFrameRecords) {
   for (std::size_t i = 0; i < all.size(); ++i) EXPECT_TRUE(reads_equal(all[i], whole[i])) << whole[i].pass;
 }
 
+// RADV's statistics on navi21 at 320x180 with the given cache dir, untraced (each test traces itself).
+trace::RowGpuRequest untraced_navi21_request(const std::filesystem::path& cache_dir) {
+  trace::RowGpuRequest request;
+  request.scope.manifest = test::source_dir() / "shader_src" / "aovar.toml";
+  request.scope.cache_dir = cache_dir;
+  request.gpu.families = {"navi21"};
+  request.gpu.frame = {320, 180};
+  request.gpu.trace = false;
+  return request;
+}
+
 // ship's screen bounds a candidate by the traffic other candidates' traces already simulated (issue 55). That
 // bound is only exact if RowTracer::cached gives each pass what a trace of the candidate then gives: SAO at 8
 // and at 12 samples share their z prefilter and their blur, not their AO draw. A second tracer on the same cache
@@ -225,12 +236,7 @@ TEST(RowTracer, CachedPassesAreWhatTheTraceGivesAndRenderNothing) {
   std::vector<table::CostRow> rows = {test::point_row("sao-s08-p0-ndep-zdep-rst-d32-bsep-x1-hp", 1.0, 0.1),
                                       test::point_row("sao-s12-p0-ndep-zdep-rst-d32-bsep-x1-hp", 1.0, 0.1)};
   std::vector<table::CostRow*> all = {&rows[0], &rows[1]};
-  trace::RowGpuRequest request;
-  request.scope.manifest = test::source_dir() / "shader_src" / "aovar.toml";
-  request.scope.cache_dir = dir / "cache";
-  request.gpu.families = {"navi21"};
-  request.gpu.frame = {320, 180};
-  request.gpu.trace = false;
+  trace::RowGpuRequest request = untraced_navi21_request(dir / "cache");
   trace::add_gpu_costs(all, request, [](const std::string&) {});
   const table::CostRow untraced = rows[1];
 
@@ -262,6 +268,40 @@ TEST(RowTracer, CachedPassesAreWhatTheTraceGivesAndRenderNothing) {
   const trace::TrafficStats reads = later.trace({});
   EXPECT_GT(reads.cached_draws, 0) << "the draws read from the cache dir are reported";
   EXPECT_EQ(reads.traced_draws, 0);
+}
+
+
+// ship compiles every candidate once (RowTracer::expect) and keeps one trace runner, with its pipelines and
+// G-buffers, across its chunks. A row traced in a later call gets, bit for bit, the estimate a tracer of its own
+// gives, and a row outside the expected set still compiles.
+TEST(RowTracer, RowsTracedInTurnOnOneRunnerGetWhatATracerOfTheirOwnGives) {
+  REQUIRE_RADV();
+  test::TempDir dir;
+  const std::vector<std::string> keys = {"sao-s08-p0-ndep-zdep-rst-d32-bsep-x1-hp",
+                                         "hbao-s04-p0-ndep-zdep-rst-d16-bbil-x2-hp",
+                                         "alchemy-s06-p0-nrg8-zdep-rst-d16-bsep-x1-hp"};
+  std::vector<table::CostRow> rows;
+  for (const std::string& k : keys) rows.push_back(test::point_row(k, 1.0, 0.1));
+  trace::RowGpuRequest request = untraced_navi21_request(dir / "kept");
+  std::vector<table::CostRow*> all;
+  for (auto& r : rows) all.push_back(&r);
+  trace::add_gpu_costs(all, request, [](const std::string&) {});
+  std::vector<table::CostRow> alone = rows;
+
+  trace::RowTracer tracer(request);
+  tracer.expect({keys[0], keys[1]});  // not keys[2]: its call compiles again
+  for (auto& r : rows) EXPECT_GT(tracer.trace({&r}).traced_draws, 0) << r.variant;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    trace::RowGpuRequest own = request;
+    own.scope.cache_dir = dir / ("alone" + std::to_string(i));  // nothing shared with the kept tracer
+    trace::add_row_traffic({&alone[i]}, own);
+    const table::GpuCost& kept = rows[i].gpu.at("navi21");
+    const table::GpuCost& fresh = alone[i].gpu.at("navi21");
+    EXPECT_EQ(kept.est_ms, fresh.est_ms) << keys[i];
+    ASSERT_EQ(kept.passes.size(), fresh.passes.size()) << keys[i];
+    for (std::size_t p = 0; p < kept.passes.size(); ++p)
+      EXPECT_EQ(kept.passes[p].est_ms, fresh.passes[p].est_ms) << keys[i] << " " << kept.passes[p].pass;
+  }
 }
 
 }  // namespace
