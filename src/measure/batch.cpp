@@ -121,20 +121,9 @@ void BatchMeasurer::status(const std::string& what) const {
 // key (scene, camera, size, radius, rays, mode) is part of every row's inputs; the image itself is traced
 // (or loaded from the cache) only for a view with rows to measure, or whose copy under images/reference/ is
 // missing, so a repeated run traces nothing.
-reference::ReferenceOptions BatchMeasurer::reference_options() const {
-  reference::ReferenceOptions ro;
-  ro.size = o_.size;
-  ro.radius = res_.radius;
-  ro.rays = o_.truth.rays;
-  ro.mode = o_.truth.mode;
-  ro.frame = o_.timing.camera_path ? o_.timing.warmup + o_.timing.reps : 0;
-  ro.cache_dir = o_.scope.cache_dir;
-  return ro;
-}
-
 const reference::ReferenceImage& BatchMeasurer::ground_truth(const scene::View& view) {
   if (auto it = truth_.find(view.name); it != truth_.end()) return it->second;
-  auto ref = reference::trace_reference(scene_, view, reference_options(), [&](double f, double elapsed) {
+  auto ref = reference::trace_reference(scene_, view, measure::reference_options(o_, res_.radius), [&](double f, double elapsed) {
     if (progress_)
       progress_(fmt::format("reference {}: {:.0f} %{}", view.name, 100 * f,
                             f > 0.01 ? fmt::format(", ETA {:.0f} s", elapsed * (1 - f) / f) : std::string()));
@@ -168,7 +157,7 @@ std::string BatchMeasurer::context(const runner::VariantRunner& runner, const sc
                                     res_.radius, c_.space.variants[sel_.baseline].key);
   if (o_.timing.camera_path) context += "|path";
   if (!o_.truth.temporal) context += "|still";  // a row without flicker is not one with it
-  if (o_.truth.enabled) context += "|truth:" + reference::cache_key(scene_, view, reference_options());
+  if (o_.truth.enabled) context += "|truth:" + reference::cache_key(scene_, view, measure::reference_options(o_, res_.radius));
   return context;
 }
 

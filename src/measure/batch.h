@@ -76,7 +76,6 @@ class BatchMeasurer {
                                 const std::string& where);
   void score_unknown_errors(runner::VariantRunner& runner, const std::vector<render::PreparedPipeline*>& pipelines,
                             const scene::View& view, Retire& rule);
-  reference::ReferenceOptions reference_options() const;
   const reference::ReferenceImage& ground_truth(const scene::View& view);
   const runner::ViewScorer& scorer(const scene::View& view);  // against ground_truth(view)
   void status(const std::string& what) const;

@@ -165,6 +165,17 @@ std::shared_ptr<const ScenePruning> prune_by_profile(const MeasureOptions& o, co
       profile::prune_scene(p, scene, chosen_views(scene, o.views), covered, progress));
 }
 
+reference::ReferenceOptions reference_options(const MeasureOptions& o, float radius) {
+  reference::ReferenceOptions ro;
+  ro.size = o.size;
+  ro.radius = radius;
+  ro.rays = o.truth.rays;
+  ro.mode = o.truth.mode;
+  ro.frame = o.timing.camera_path ? o.timing.warmup + o.timing.reps : 0;
+  ro.cache_dir = o.scope.cache_dir;
+  return ro;
+}
+
 trace::RowGpuRequest gpu_request(const MeasureOptions& o, const trace::GpuEstimateOptions& gpu) {
   return {o.scope, gpu, o.views_file, o.radius, o.calibration.values};
 }

@@ -129,6 +129,10 @@ std::vector<const scene::View*> chosen_views(const scene::Scene& scene, const st
 std::shared_ptr<const ScenePruning> prune_by_profile(const MeasureOptions& options, const scene::Scene& scene,
                                                      const std::vector<std::string>& covered, const Progress& progress);
 
+// The reference a measurement scores a view against: its size, rays, mode and cache root, at `radius` (the
+// options' or the scene's), on the frame its images show (the last of the camera path, else 0).
+reference::ReferenceOptions reference_options(const MeasureOptions& options, float radius);
+
 // The GPU estimate on a measurement's rows (trace::add_gpu_costs): in its run scope, rendered as it rendered.
 trace::RowGpuRequest gpu_request(const MeasureOptions& options, const trace::GpuEstimateOptions& gpu);
 

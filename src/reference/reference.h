@@ -32,6 +32,9 @@ struct ReferenceOptions {
   Mode mode = Mode::occlusion;
   int frame = 0;             // camera-path frame of the view (0 = its first pose)
   int threads = 0;           // TBB worker threads; 0 = all cores
+  // Traced on the calling thread alone, beside other work: an arena of one and no process-wide cap, so that other
+  // traces in the process keep their threads (threads is ignored). The image is the same either way.
+  bool alone = false;
   std::filesystem::path cache_dir;  // empty = no cache
 };
 

@@ -300,10 +300,10 @@ ReferenceImage trace(const scene::Scene& sc, const scene::View& view, const Refe
   out.depth = {w, h, std::vector<float>(static_cast<std::size_t>(w) * h, kInf)};
 
   // Threads: `threads` caps TBB process-wide while we run (Embree's BVH build runs on TBB too) and sizes
-  // the arena the work runs in.
-  const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
+  // the arena the work runs in. Alone: an arena of one (no worker slot) and no cap.
+  const int threads = o.alone ? 1 : o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
   std::unique_ptr<tbb::global_control> cap;
-  if (o.threads > 0)
+  if (o.threads > 0 && !o.alone)
     cap = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                 static_cast<std::size_t>(threads));
   tbb::task_arena arena(threads);

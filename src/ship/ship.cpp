@@ -6,6 +6,7 @@
 #include <iterator>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -22,6 +23,7 @@
 #include "ship/bounded_estimate.h"
 #include "ship/fit.h"
 #include "ship/profiled_space.h"
+#include "ship/reference_prefetch.h"
 #include "ship/shards.h"
 #include "table/on_views.h"
 #include "sweep/sweep.h"
@@ -403,8 +405,9 @@ class OtherViews {
  public:
   // `first`: the first view's rows, whose copies (same_code_as, measure/same_code.h) must stay copies.
   OtherViews(const ShipOptions& o, const Fitted& fit, const ShipResult& res, const std::set<std::string>& skip,
-             const table::CostTable& first, const Progress& say)
-      : o_(o), fit_(fit), views_(res.training.begin() + 1, res.training.end()), skip_(skip), say_(say) {
+             const table::CostTable& first, const Progress& say, ReferencePrefetch* prefetch)
+      : o_(o), fit_(fit), views_(res.training.begin() + 1, res.training.end()), skip_(skip), say_(say),
+        prefetch_(prefetch) {
     for (const auto& r : first.rows) {
       if (!r.same_code_as.empty()) copy_of_[r.variant] = r.same_code_as;
       static_of_.emplace(r.variant, r.static_cost);
@@ -430,6 +433,7 @@ class OtherViews {
       const auto progress = [&](const std::string& line) {
         if (say_) say_("screen: other views: " + line);
       };
+      if (prefetch_) prefetch_->wait_for(views_);  // their references: traced during the screen
       for (table::CostRow& row : sweep::measure_rows(so, progress))
         if (wanted.count(row.variant)) {
           if (auto it = static_of_.find(row.variant); it != static_of_.end()) row.static_cost = it->second;
@@ -452,6 +456,7 @@ class OtherViews {
   std::vector<std::string> views_;
   const std::set<std::string>& skip_;
   const Progress& say_;
+  ReferencePrefetch* prefetch_;
   std::map<std::string, std::vector<table::CostRow>> rows_;
   std::map<std::string, std::string> copy_of_;
   std::map<std::string, std::optional<table::StaticCost>> static_of_;
@@ -468,7 +473,7 @@ bool views_in_turn(const ShipOptions& o, const ShipResult& res) {
 // screen's rows.
 table::CostTable estimated_screen(const ShipOptions& o, const Fitted& fit, const std::vector<std::string>& views,
                                   const std::vector<std::string>& globs, const std::set<std::string>& skip,
-                                  ShipResult& res, const Progress& say) {
+                                  ShipResult& res, const Progress& say, ReferencePrefetch* prefetch) {
   Round r;
   r.name = round_name(true, false);
   const auto t0 = std::chrono::steady_clock::now();
@@ -480,7 +485,7 @@ table::CostTable estimated_screen(const ShipOptions& o, const Fitted& fit, const
   say(fmt::format("round {}: {} ({})", r.name, o.globs.empty() ? "the whole pruned space" : "the selection", r.timing));
   const table::CostTable screen = round_rows(o, fit, so, false, res, r, say);
   r.candidates = int(variants_of(screen).size());
-  OtherViews other_views(o, fit, res, skip, screen, say);
+  OtherViews other_views(o, fit, res, skip, screen, say, prefetch);
   RenderRest render_rest;
   if (in_turn) render_rest = [&](const std::vector<std::string>& keys) { return other_views.render(keys); };
   if (res.shard.empty()) {  // a shard screens its share and stops: the join estimates, eliminates and selects
@@ -523,8 +528,19 @@ table::CostTable estimated_screen(const ShipOptions& o, const Fitted& fit, const
 table::CostTable estimated_search(const ShipOptions& o, const Fitted& fit, const std::vector<std::string>& views,
                                   const std::vector<std::string>& globs, const std::set<std::string>& skip,
                                   ShipResult& res, const Progress& say) {
-  const table::CostTable screen = estimated_screen(o, fit, views, globs, skip, res, say);
+  // What the rounds after the screen ray-trace first, traced in its idle time: the other training views'
+  // references (views in turn renders them after the first view's estimate), and the held-out views'.
+  std::optional<ReferencePrefetch> prefetch;
+  if (o.shard.count <= 1) {
+    std::vector<std::string> later = res.holdout;
+    if (views_in_turn(o, res)) later.insert(later.begin(), res.training.begin() + 1, res.training.end());
+    measure::MeasureOptions front = round_options(o, fit, views, {}, skip, true).measure;
+    front.truth.enabled = true;  // as every round's sweep scores (sweep::plan_scenes)
+    prefetch.emplace(front, o.scene, later);
+  }
+  const table::CostTable screen = estimated_screen(o, fit, views, globs, skip, res, say, prefetch ? &*prefetch : nullptr);
   if (!res.shard.empty()) return screen;
+  if (prefetch) prefetch->wait_for(res.holdout);
   Round r;
   r.name = round_name(true, true);
   r.timing = "one render, estimate on " + fmt::format("{}", fmt::join(o.targets, ", "));
