@@ -7,12 +7,13 @@
 namespace aovar::gpu {
 
 std::map<std::string, std::vector<PassLoad>> variant_loads(const compile::CompiledSpace& compiled,
-                                                           const std::vector<int>& variants) {
+                                                           const std::vector<int>& variants,
+                                                           std::map<std::string, analyze::ProgramCost>* analysed) {
   std::map<std::string, std::vector<PassLoad>> loads;
-  std::map<std::string, analyze::ProgramCost> analysed;
+  std::map<std::string, analyze::ProgramCost> own;
   for (int v : variants) {
     const render::PipelinePlan plan = render::plan_pipeline(compiled, v, variants::Target::vulkan);
-    loads[plan.variant] = pass_loads(plan, analysed);
+    loads[plan.variant] = pass_loads(plan, analysed ? *analysed : own);
   }
   return loads;
 }

@@ -8,14 +8,17 @@
 #include <vector>
 
 #include "gpu/gpu.h"
+#include "gpu/pass_loads.h"
 #include "gpu/roofline.h"
 #include "table/gpu_cost.h"
 
 namespace aovar::gpu {
 
-// Each analysed variant's pass loads (gpu/pass_loads.h), by variant key, from the render plans.
+// Each analysed variant's pass loads (gpu/pass_loads.h), by variant key, from the render plans. `analysed`: the
+// programs' SPIR-V analyses to reuse and extend across calls (pass_loads); null: this call's own.
 std::map<std::string, std::vector<PassLoad>> variant_loads(const compile::CompiledSpace& compiled,
-                                                           const std::vector<int>& variants);
+                                                           const std::vector<int>& variants,
+                                                           std::map<std::string, analyze::ProgramCost>* analysed = nullptr);
 
 // variant key -> family -> cost, from an analysis already run. A family without a spec: statistics,
 // est_ms NaN. A failed family contributes the variants it completed; its error is appended to `errors`

@@ -8,7 +8,7 @@
 #include <fmt/ranges.h>
 
 #include "compile/generate.h"
-#include "gpu/pass_loads.h"
+#include "gpu/costs.h"
 #include "runner/variant_runner.h"
 #include "scene/scene.h"
 
@@ -25,9 +25,10 @@ struct RowTracer::Compiled {
 
   // The loads of every variant of `keys` that this compilation holds, analysed now where they are not yet.
   void analyse(const std::set<std::string>& keys) {
+    std::vector<int> missing;
     for (const std::string& key : keys)
-      if (auto it = index.find(key); it != index.end() && !loads.count(key))
-        loads[key] = gpu::pass_loads(render::plan_pipeline(compiled, it->second, variants::Target::vulkan), analysed);
+      if (auto it = index.find(key); it != index.end() && !loads.count(key)) missing.push_back(it->second);
+    loads.merge(gpu::variant_loads(compiled, missing, &analysed));
   }
 };
 
