@@ -15,6 +15,7 @@
 #include "shadergen/expand.h"
 #include "util/clock.h"
 #include "util/hash.h"
+#include "util/in_order.h"
 #include "util/intervals.h"
 #include "util/path_names.h"
 
@@ -218,16 +219,77 @@ void BatchMeasurer::measure_all(const std::vector<const scene::View*>& views, co
     runner::VariantRunner runner(c_, ro);
     res_.devices.push_back(runner.device());
     runner.use_scene(scene_);
-    for (const scene::View* view : views) measure_view(runner, *view, after_batch);
+    StillDevices devices{&runner, ro, {}};
+    for (const scene::View* view : views) measure_view(devices, *view, after_batch);
   }
 }
 
+runner::VariantRunner& BatchMeasurer::StillDevices::at(std::size_t i, const scene::Scene& scene) {
+  if (i == 0) return *first;
+  while (more.size() < i) {
+    more.push_back(std::make_unique<runner::VariantRunner>(first->compiled(), options));
+    more.back()->use_scene(scene);
+  }
+  return *more[i - 1];
+}
+
+// How many devices render this view's batches (TimingPlan::still_devices): more than one only for stills on a
+// backend that runs side by side, and never more than there are batches.
+std::size_t BatchMeasurer::still_devices(const runner::VariantRunner& runner, int batches) const {
+  if (!o_.timing.still_only || o_.timing.races() || o_.timing.still_devices <= 1 ||
+      !render::backend_info(runner.device().backend).side_by_side)
+    return 1;  // a race reads the batches before (Retire::earlier): one device, in order
+  return static_cast<std::size_t>(std::min(o_.timing.still_devices, batches));
+}
+
+// Prepares todo[lo, hi) on `runner` and renders them with the baseline's pipeline `ref_pipeline` of the same
+// runner: the stills, or the warm-up and the timed rounds; then their rows, finished against the batch's
+// baseline. `report`: status lines (only the thread that owns the progress callback).
+BatchMeasurer::BatchRows BatchMeasurer::run_batch(runner::VariantRunner& runner, render::PreparedPipeline& ref_pipeline,
+                                                  const Candidate& ref, const std::vector<Candidate>& todo,
+                                                  std::size_t lo, std::size_t hi, const scene::View& view,
+                                                  const std::string& where, TimingOptions& to, bool report) {
+  const auto prep_start = Clock::now();
+  BatchRows out;
+  out.run = RunRecord{runner.device().backend, view.name, static_cast<int>(hi - lo) + 1};
+  std::vector<std::unique_ptr<render::PreparedPipeline>> prepared;
+  std::vector<render::PreparedPipeline*> pointers{&ref_pipeline};
+  std::vector<int> still_frames{ref.plan.progressive ? 2 : 1};  // both halves of a progressive still
+  for (std::size_t i = lo; i < hi; ++i) {
+    if (report) status(fmt::format("{}: preparing {}", where, todo[i].plan.variant));
+    prepared.push_back(runner.prepare(todo[i].plan));
+    pointers.push_back(prepared.back().get());
+    still_frames.push_back(todo[i].plan.progressive ? 2 : 1);
+  }
+  out.run.prepare_s = seconds_since(prep_start);
+  out.timed = render_batch(runner, pointers, still_frames, view, to, where, report);
+  out.run.warmup_s = out.timed.wall_warmup_s;
+  out.run.timed_wall_s = out.timed.wall_timed_s;
+  out.run.timed_sum_s = out.timed.sum_timed_s;
+
+  const auto read_start = Clock::now();
+  const PipelineTiming& batch_ref = out.timed.pipelines[0];
+  const double ref_min = util::summarize(batch_ref.total_ms).min;
+  for (std::size_t i = lo; i < hi; ++i) {
+    const PipelineTiming& timing = out.timed.pipelines[i - lo + 1];
+    MeasureRow row = new_row(todo[i], runner.device(), view.name);
+    finish_row(row, runner, todo[i], *prepared[i - lo], timing, view);
+    row.rel_time = ref_min > 0 ? row.time_ms.min / ref_min : 0;
+    row.rel_time_median = median_ratio(timing, batch_ref);
+    row.rounds.ratios = round_ratios(timing, batch_ref);  // the id: measure_view's, when it keeps the batch
+    row.set_reps_reached(timing.stop);
+    out.rows.push_back(std::move(row));
+  }
+  out.run.readback_s = seconds_since(read_start);
+  return out;
+}
+
 // Reuse rows whose inputs are unchanged; everything else is measured in batches with the baseline, which is
-// re-measured whenever anything else is (rel_time needs it in the same rounds).
-void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::View& view,
-                                 const std::function<void()>& after_batch) {
+// re-measured whenever anything else is (rel_time needs it in the same rounds). Stills may render on several
+// devices (still_devices); the rows, the checkpoints and the baseline's row come in batch order either way.
+void BatchMeasurer::measure_view(StillDevices& devices, const scene::View& view, const std::function<void()>& after_batch) {
+  runner::VariantRunner& runner = *devices.first;
   const render::DeviceInfo& device = runner.device();
-  const std::string& backend = device.backend;
   const std::string ctx = context(runner, view);
   std::map<int, Twin> twin = twins(runner, view, ctx);
   std::vector<Candidate> todo;
@@ -243,68 +305,54 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
     add_twin_rows(twin, device, view.name);
     return;
   }
-  if (o_.truth.enabled) ground_truth(view);  // before the timing, which it would disturb
+  if (o_.truth.enabled) scorer(view);  // the reference before the timing, which it would disturb, and before threads
 
-  const std::string where = fmt::format("{} {}", backend, view.name);
-  auto prep_start = Clock::now();
-  auto ref_pipeline = runner.prepare(ref.plan);
-  PipelineTiming ref_timing;  // accumulates over batches
-  std::vector<EarlierRow> earlier;  // the race: this view's rows of the batches before (Retire::earlier)
-  double ref_first_ms = 0;
+  const std::string where = fmt::format("{} {}", device.backend, view.name);
   const int batch_size = std::max(1, o_.timing.batch - 1);
   const int batches = std::max<int>(1, static_cast<int>((todo.size() + batch_size - 1) / batch_size));
-  for (int b = 0; b < batches; ++b) {
-    const std::size_t lo = static_cast<std::size_t>(b) * batch_size, hi = std::min(todo.size(), lo + batch_size);
-    RunRecord run{backend, view.name, static_cast<int>(hi - lo) + 1};
-    std::vector<std::unique_ptr<render::PreparedPipeline>> prepared;
-    std::vector<render::PreparedPipeline*> pointers{ref_pipeline.get()};
-    for (std::size_t i = lo; i < hi; ++i) {
-      status(fmt::format("{}: batch {}/{}: preparing {}", where, b + 1, batches, todo[i].plan.variant));
-      prepared.push_back(runner.prepare(todo[i].plan));
-      pointers.push_back(prepared.back().get());
-    }
-    run.prepare_s = seconds_since(prep_start);
-
-    TimingOptions to{o_.timing.warmup, o_.timing.reps, res_.radius, o_.timing.camera_path, o_.timing.auto_reps, std::nullopt};
+  const std::size_t workers = still_devices(runner, batches);
+  std::vector<runner::VariantRunner*> runners;
+  std::vector<std::unique_ptr<render::PreparedPipeline>> ref_pipelines;  // the baseline's, one per device
+  for (std::size_t w = 0; w < workers; ++w) {
+    runners.push_back(&devices.at(w, scene_));
+    ref_pipelines.push_back(runners.back()->prepare(ref.plan));
+  }
+  PipelineTiming ref_timing;  // accumulates over batches
+  std::vector<EarlierRow> earlier;  // the race: this view's rows of the batches before (Retire::earlier)
+  std::vector<BatchRows> done(static_cast<std::size_t>(batches));
+  std::vector<TimingOptions> options(static_cast<std::size_t>(batches));
+  const auto work = [&](std::size_t w, std::size_t b) {
+    const std::size_t lo = b * static_cast<std::size_t>(batch_size), hi = std::min(todo.size(), lo + batch_size);
+    TimingOptions& to = options[b];
+    to = {o_.timing.warmup, o_.timing.reps, res_.radius, o_.timing.camera_path, o_.timing.auto_reps, std::nullopt};
+    // The race's rule reads the batches before: only with one device (still_devices: stills have no race).
     if (o_.timing.auto_reps && o_.timing.races()) to.retire = retire_rule(ref, todo, lo, hi, view.name, earlier);
-    auto still_frames = [&] {  // per pipeline, the frames its still needs (both halves of a progressive one)
-      std::vector<int> frames{ref.plan.progressive ? 2 : 1};
-      for (std::size_t i = lo; i < hi; ++i) frames.push_back(todo[i].plan.progressive ? 2 : 1);
-      return frames;
-    };
-    const RoundRobinResult timed =
-        render_batch(runner, pointers, still_frames(), view, to, fmt::format("{}: batch {}/{}", where, b + 1, batches));
-    if (to.retire) add_earlier_rows(earlier, *to.retire, timed);
-    run.warmup_s = timed.wall_warmup_s;
-    run.timed_wall_s = timed.wall_timed_s;
-    run.timed_sum_s = timed.sum_timed_s;
-    const PipelineTiming& batch_ref = timed.pipelines[0];
-    const std::string id = batch_id(where, b);
+    done[b] = run_batch(*runners[w], *ref_pipelines[w], ref, todo, lo, hi, view,
+                        fmt::format("{}: batch {}/{}", where, b + 1, batches), to, workers == 1);
+    done[b].run.device = static_cast<int>(w);
+    if (to.retire) add_earlier_rows(earlier, *to.retire, done[b].timed);
+  };
+  double ref_first_ms = 0;
+  const auto keep = [&](std::size_t b) {
+    BatchRows& out = done[b];
+    const PipelineTiming& batch_ref = out.timed.pipelines[0];
     if (b == 0) ref_first_ms = batch_ref.first_frame_ms;
-    const double ref_min = util::summarize(batch_ref.total_ms).min;
     ref_timing.total_ms.insert(ref_timing.total_ms.end(), batch_ref.total_ms.begin(), batch_ref.total_ms.end());
     ref_timing.draw_ms.insert(ref_timing.draw_ms.end(), batch_ref.draw_ms.begin(), batch_ref.draw_ms.end());
     ref_timing.stop = batch_ref.stop;
-
-    auto read_start = Clock::now();
-    for (std::size_t i = lo; i < hi; ++i) {
-      const PipelineTiming& timing = timed.pipelines[i - lo + 1];
-      MeasureRow row = new_row(todo[i], device, view.name);
-      finish_row(row, runner, todo[i], *prepared[i - lo], timing, view);
-      row.rel_time = ref_min > 0 ? row.time_ms.min / ref_min : 0;
-      row.rel_time_median = median_ratio(timing, batch_ref);
+    const std::string id = batch_id(where, static_cast<int>(b));
+    for (MeasureRow& row : out.rows) {
       row.rounds.id = id;
-      row.rounds.ratios = round_ratios(timing, batch_ref);
-      row.set_reps_reached(timing.stop);
       res_.rows.push_back(std::move(row));
       ++rows_measured_;
       last_measured_ = Clock::now();
     }
-    if (b == batches - 1) {  // the baseline's own row, from every round of every batch
+    if (b + 1 == done.size()) {  // the baseline's own row, from every round of every batch: device 0's pipeline,
+      const auto read_start = Clock::now();  // idle now (it renders batches 0, W, 2W, ..., all kept by now)
       MeasureRow row = new_row(ref, device, view.name);
       row.is_baseline = !sel_.baseline_selected;
       ref_timing.first_frame_ms = ref_first_ms;
-      finish_row(row, runner, ref, *ref_pipeline, ref_timing, view);
+      finish_row(row, runner, ref, *ref_pipelines[0], ref_timing, view);
       row.rel_time = row.rel_time_median = 1.0;
       row.rounds.id = table::Rounds::kAll;
       row.rounds.ratios.assign(ref_timing.total_ms.size(), 1.0);
@@ -312,13 +360,15 @@ void BatchMeasurer::measure_view(runner::VariantRunner& runner, const scene::Vie
       res_.rows.push_back(std::move(row));
       ++rows_measured_;
       last_measured_ = Clock::now();
+      out.run.readback_s += seconds_since(read_start);
     }
-    run.readback_s = seconds_since(read_start);
-    res_.runs.push_back(run);
+    res_.runs.push_back(out.run);
     add_twin_rows(twin, device, view.name);
+    if (workers > 1) status(fmt::format("{}: batch {}/{} on {} devices", where, b + 1, batches, workers));
     after_batch();
-    prep_start = Clock::now();
-  }
+    out = BatchRows{};  // its images and timings are in the rows now
+  };
+  util::run_in_order(done.size(), workers, work, keep);
 }
 
 Retire BatchMeasurer::retire_rule(const Candidate& reference, const std::vector<Candidate>& todo, std::size_t lo,
@@ -337,16 +387,16 @@ Retire BatchMeasurer::retire_rule(const Candidate& reference, const std::vector<
 // stills the race retires by scored between them when it must (race_scores_stills).
 RoundRobinResult BatchMeasurer::render_batch(runner::VariantRunner& runner, const std::vector<render::PreparedPipeline*>& pipelines,
                                              const std::vector<int>& still_frames, const scene::View& view, TimingOptions& to,
-                                             const std::string& where) {
+                                             const std::string& where, bool report) {
   if (o_.timing.still_only) return render_stills(runner.backend(), pipelines, still_frames, view, to);
   const StillsBeforeWarmUp stills{still_frames, [&] {
-                                    status(fmt::format("{}: scoring {} stills", where, pipelines.size()));
+                                    if (report) status(fmt::format("{}: scoring {} stills", where, pipelines.size()));
                                     score_unknown_errors(runner, pipelines, view, *to.retire);
                                   }};
   RoundRobinResult timed =
       warm_up(runner.backend(), pipelines, view, to, to.retire && o_.timing.race_scores_stills ? &stills : nullptr);
   time_rounds(runner.backend(), pipelines, view, to, timed, [&](const std::string& s) {
-    status(fmt::format("{}: {} ({} pipelines)", where, s, pipelines.size()));
+    if (report) status(fmt::format("{}: {} ({} pipelines)", where, s, pipelines.size()));
   });
   return timed;
 }

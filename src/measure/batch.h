@@ -5,6 +5,7 @@
 #include <chrono>
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -52,7 +53,23 @@ class BatchMeasurer {
     int representative;
     Candidate cand;
   };
-  void measure_view(runner::VariantRunner& runner, const scene::View& view, const std::function<void()>& after_batch);
+  // A backend's devices: its first, and those made when stills render side by side (TimingPlan::still_devices).
+  struct StillDevices {
+    runner::VariantRunner* first;
+    runner::RunnerOptions options;  // the first's, for the others
+    std::vector<std::unique_ptr<runner::VariantRunner>> more;
+    runner::VariantRunner& at(std::size_t i, const scene::Scene& scene);  // made, with the scene, when first asked
+  };
+  struct BatchRows {  // one rendered batch: its run record, its rounds (the baseline's first), its rows
+    RunRecord run;
+    RoundRobinResult timed;
+    std::vector<MeasureRow> rows;
+  };
+  void measure_view(StillDevices& devices, const scene::View& view, const std::function<void()>& after_batch);
+  std::size_t still_devices(const runner::VariantRunner& runner, int batches) const;
+  BatchRows run_batch(runner::VariantRunner& runner, render::PreparedPipeline& ref_pipeline, const Candidate& ref,
+                      const std::vector<Candidate>& todo, std::size_t lo, std::size_t hi, const scene::View& view,
+                      const std::string& where, TimingOptions& to, bool report);
   Candidate candidate(runner::VariantRunner& runner, int variant, const std::string& context) const;
   std::map<int, Twin> twins(runner::VariantRunner& runner, const scene::View& view, const std::string& context);
   bool twins_render_alike(runner::VariantRunner& runner, const scene::View& view, int representative, int twin);
@@ -73,7 +90,7 @@ class BatchMeasurer {
                      const std::string& view, const std::vector<EarlierRow>& earlier) const;
   RoundRobinResult render_batch(runner::VariantRunner& runner, const std::vector<render::PreparedPipeline*>& pipelines,
                                 const std::vector<int>& still_frames, const scene::View& view, TimingOptions& to,
-                                const std::string& where);
+                                const std::string& where, bool report);
   void score_unknown_errors(runner::VariantRunner& runner, const std::vector<render::PreparedPipeline*>& pipelines,
                             const scene::View& view, Retire& rule);
   const reference::ReferenceImage& ground_truth(const scene::View& view);

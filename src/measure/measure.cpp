@@ -367,7 +367,8 @@ json to_json(const MeasureResult& res, const MeasureOptions& o) {
                        {"precision", d.precision}});
   json runs = json::array();
   for (const auto& r : res.runs)
-    runs.push_back({{"backend", r.backend}, {"view", r.view}, {"pipelines", r.pipelines}, {"prepare_s", r.prepare_s},
+    runs.push_back({{"backend", r.backend}, {"view", r.view}, {"pipelines", r.pipelines}, {"device", r.device},
+                    {"prepare_s", r.prepare_s},
                     {"warmup_s", r.warmup_s}, {"timed_wall_s", r.timed_wall_s}, {"timed_sum_s", r.timed_sum_s},
                     {"readback_s", r.readback_s}});
   json rows = json::array();

@@ -41,6 +41,11 @@ struct TimingPlan {
   // No timed rounds: each variant renders only the frames its still needs and its rows carry no time
   // (time_ms.n = 0). aovar ship's screen with a GPU target, whose time is the estimate (render_stills).
   bool still_only = false;
+  // With still_only, on a backend that runs side by side (render::BackendInfo::side_by_side): devices that render
+  // a view's batches at once, batch b on device b % still_devices, the rows kept in batch order. lavapipe
+  // compiles a pipeline's shaders with LLVM on its one queue thread at its first draw, and the stills wait on
+  // that: two devices on two cores took half the wall time of one (bench/README, "Views in turn").
+  int still_devices = 1;
   // aovar ship's race: the still error each variant already showed on each view (its screen), by (key, view).
   // With auto_reps, a variant stops being timed on a view once a more accurate one of its batch, or of an
   // earlier batch, is faster beyond race_margin there (timing.h, Retire). Null: every row is timed to its
@@ -194,6 +199,7 @@ struct RepsReached {
 struct RunRecord {  // one batch on one backend and view: where the time went
   std::string backend, view;
   int pipelines = 0;
+  int device = 0;  // which of the backend's devices rendered it (TimingPlan::still_devices; else 0)
   double prepare_s = 0, warmup_s = 0, timed_wall_s = 0, timed_sum_s = 0, readback_s = 0;
 };
 

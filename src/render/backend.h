@@ -139,6 +139,9 @@ struct BackendInfo {
   // Why it cannot start on this machine, with what to install (one line); empty when it can. Cheap: it does
   // not create the backend (which would fix LP_NUM_THREADS for the process).
   std::function<std::string()> unavailable;
+  // Several of it may render at once, each made by its own `make` and used on its own thread: a Vulkan device
+  // is its own instance, queue and memory; a GL context is current on one thread of a process (OSMesa, EGL).
+  bool side_by_side = false;
 };
 
 // The backends aovar ships with, the default first (defined in render/registry.cpp, the one list of them).

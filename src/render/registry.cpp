@@ -11,7 +11,7 @@ namespace aovar::render {
 std::vector<BackendInfo> builtin_backends() {
   return {
       // Vulkan 1.3 on Mesa's CPU device (or any Vulkan device: BackendOptions::device).
-      {"lavapipe", variants::Target::vulkan, make_lavapipe_backend, lavapipe_unavailable},
+      {"lavapipe", variants::Target::vulkan, make_lavapipe_backend, lavapipe_unavailable, true},
       // OpenGL 4.5 core through OSMesa.
       {"osmesa", variants::Target::gl45, make_osmesa_backend, osmesa_unavailable},
       // OpenGL ES 3.0 through EGL surfaceless (libEGL opened at run time).

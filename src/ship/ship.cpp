@@ -31,6 +31,7 @@
 #include "util/fs.h"
 #include "util/glob.h"
 #include "util/hash.h"
+#include "util/parallel.h"
 #include "util/shell.h"
 #include "util/text.h"
 #include "variants/manifest.h"
@@ -83,6 +84,9 @@ sweep::SweepOptions round_options(const ShipOptions& o, const Fitted& fit, const
   m.skip = skip;
   m.size = o.size;
   m.timing.batch = batch_of(o);
+  // The stills render on a device per worker thread (TimingPlan::still_devices), at most 4: measured on 2 cores
+  // only, and each device keeps its own pipelines, G-buffers and scene.
+  m.timing.still_devices = static_cast<int>(std::min(4u, util::pool_threads(o.scope.jobs)));
   m.truth.rays = o.rays;
   m.calibration = fit.calibration;
   // The budget's variant is timed in every round: each candidate is compared with it in the same rounds.

@@ -208,6 +208,39 @@ TEST(Measure, StillOnlyRowsHaveTheTimedRowsErrorAndNoTime) {
   EXPECT_EQ(still.reused, 0) << "a row without time is not reused for a timed one, nor the other way";
 }
 
+// TimingPlan::still_devices: stills rendered on two lavapipe devices side by side, batch b on device b % 2, are
+// the stills one device renders: the same rows in the same order, every pixel and error bit for bit, a run
+// record per batch naming its device. Five variants (one progressive) and the baseline in batches of two.
+TEST(Measure, StillsOnTwoDevicesAreTheStillsOfOne) {
+  TempDir dir;
+  measure::MeasureOptions mo = stairs_full_and_half(dir);
+  mo.globs = {"alchemy-s04-p[01]-nrgb8-zdep-rst-d32-b*-x1-hp"};
+  mo.timing.reps = 1;
+  mo.timing.warmup = 0;
+  mo.timing.batch = 3;
+  mo.timing.still_only = true;
+  mo.truth.temporal = false;
+  const auto one = measure::run_measure(mo);
+  mo.timing.still_devices = 2;
+  const auto two = measure::run_measure(mo);
+  ASSERT_EQ(one.rows.size(), 6u);
+  ASSERT_EQ(two.rows.size(), one.rows.size());
+  for (std::size_t i = 0; i < one.rows.size(); ++i) {
+    SCOPED_TRACE(one.rows[i].variant);
+    ASSERT_EQ(two.rows[i].variant, one.rows[i].variant);
+    ASSERT_TRUE(one.rows[i].error && two.rows[i].error);
+    EXPECT_EQ(two.rows[i].error->rmse, one.rows[i].error->rmse);
+    EXPECT_EQ(two.rows[i].error->ssim, one.rows[i].error->ssim);
+    EXPECT_EQ(two.rows[i].result.pixels, one.rows[i].result.pixels);
+  }
+  ASSERT_EQ(one.runs.size(), 3u);
+  ASSERT_EQ(two.runs.size(), 3u);
+  for (std::size_t b = 0; b < 3; ++b) {
+    EXPECT_EQ(one.runs[b].device, 0) << "batch " << b;
+    EXPECT_EQ(two.runs[b].device, static_cast<int>(b % 2)) << "batch " << b;
+  }
+}
+
 // A real --reps auto measurement: every row went past the minimum and either reached the target or says
 // it stopped on the cap; measure.json holds each row's reach and the run's widest half-width.
 TEST(Measure, RepsAutoRowsReachTheTargetOrSayCap) {

@@ -126,7 +126,10 @@ Device::Device(const BackendOptions& options) {
   if (options.threads < 0)
     throw BackendError(fmt::format("lavapipe: thread count {} is negative (use 0 or more)", options.threads));
   // llvmpipe reads LP_NUM_THREADS when lavapipe creates its screen (while the instance enumerates devices).
-  setenv("LP_NUM_THREADS", std::to_string(options.threads).c_str(), 1);
+  // Set only when it differs: a second device beside the first (measure's stills side by side) then writes no
+  // environment while other threads may read it.
+  const std::string threads = std::to_string(options.threads);
+  if (const char* now = std::getenv("LP_NUM_THREADS"); !now || threads != now) setenv("LP_NUM_THREADS", threads.c_str(), 1);
   info.backend = "lavapipe";
   info.threads = options.threads;
   create_instance(options.validation);
