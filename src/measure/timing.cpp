@@ -56,10 +56,14 @@ namespace {
 // of a G-buffer then reads that draw this round and reports its time, so a row's frame is its format's
 // G-buffer of this round plus its own passes, and rows of one format carry the same G-buffer sample (the
 // scene's raster cancels from the sign of their per-round comparison). The order rotates like the frames'.
-// Then one untimed frame of the round's last pipeline: the first frame after a scene's raster ran about 0.9 ms
+// Then untimed frames of the round's last two pipelines: the first frame after a scene's raster ran about 0.9 ms
 // slower on lavapipe (Sponza@tessellate=2, 320x180; bench/verdicts), and the rotating order made that the
 // baseline's or the candidate's in turn, so the per-round ratios alternated and a verdict took more rounds.
-// After it, every timed frame follows another variant's passes.
+// With one untimed frame the next one still ran slow on that scene (ratios about 1.00 and 1.08 in alternate
+// rounds of one run) and the blur verdict came at round 9 instead of 6 in 6 runs of 18; with two, in none of 12.
+// After them, every timed frame follows other frames of the round's variants.
+constexpr std::size_t kUntimedAfterRaster = 2;
+
 void draw_gbuffers(render::Backend& backend, const std::vector<render::PreparedPipeline*>& pipelines,
                    const std::vector<std::size_t>& active, int round, const scene::View& view,
                    const TimingOptions& o, RoundRobinResult& r) {
@@ -72,8 +76,11 @@ void draw_gbuffers(render::Backend& backend, const std::vector<render::PreparedP
     backend.render_gbuffer(*pipelines[i], setup(view, r.pipelines[i].frames, o));
   }
   if (firsts.empty()) return;
-  const std::size_t last = active[(active.size() - 1 + static_cast<std::size_t>(round)) % active.size()];
-  backend.render(*pipelines[last], setup(view, r.pipelines[last].frames++, o));
+  const std::size_t n = active.size(), untimed = std::min<std::size_t>(kUntimedAfterRaster, n);
+  for (std::size_t k = n - untimed; k < n; ++k) {  // the round's last ones, in its order
+    const std::size_t i = active[(k + static_cast<std::size_t>(round)) % n];
+    backend.render(*pipelines[i], setup(view, r.pipelines[i].frames++, o));
+  }
 }
 
 }  // namespace
