@@ -320,11 +320,9 @@ void BatchMeasurer::measure_view(StillDevices& devices, const scene::View& view,
   PipelineTiming ref_timing;  // accumulates over batches
   std::vector<EarlierRow> earlier;  // the race: this view's rows of the batches before (Retire::earlier)
   std::vector<BatchRows> done(static_cast<std::size_t>(batches));
-  std::vector<TimingOptions> options(static_cast<std::size_t>(batches));
   const auto work = [&](std::size_t w, std::size_t b) {
     const std::size_t lo = b * static_cast<std::size_t>(batch_size), hi = std::min(todo.size(), lo + batch_size);
-    TimingOptions& to = options[b];
-    to = {o_.timing.warmup, o_.timing.reps, res_.radius, o_.timing.camera_path, o_.timing.auto_reps, std::nullopt};
+    TimingOptions to{o_.timing.warmup, o_.timing.reps, res_.radius, o_.timing.camera_path, o_.timing.auto_reps, std::nullopt};
     // The race's rule reads the batches before: only with one device (still_devices: stills have no race).
     if (o_.timing.auto_reps && o_.timing.races()) to.retire = retire_rule(ref, todo, lo, hi, view.name, earlier);
     done[b] = run_batch(*runners[w], *ref_pipelines[w], ref, todo, lo, hi, view,
